@@ -1,0 +1,86 @@
+#include "tactile_features/params_io.hpp"
+
+namespace tactile {
+
+using config::checkKeys;
+using config::read;
+using config::Where;
+
+ConfigResult loadFeatureParams(const YAML::Node& node, const Where& where, FeatureParams& p) {
+  if (!node) return ConfigResult::success();
+  ConfigResult r = checkKeys(node, where,
+                             {"rows", "cols", "pitch", "c_z", "threshold", "contact_threshold", "edge_ratio",
+                              "edge_ratio_exit", "alpha_hysteresis_deg", "isotropy_tol"});
+  if (!r) return r;
+  for (auto rr : {read(node, "rows", p.rows, where), read(node, "cols", p.cols, where),
+                  read(node, "pitch", p.pitch, where), read(node, "c_z", p.c_z, where),
+                  read(node, "contact_threshold", p.contact_threshold, where),
+                  read(node, "edge_ratio", p.edge_ratio, where), read(node, "edge_ratio_exit", p.edge_ratio_exit, where),
+                  read(node, "isotropy_tol", p.isotropy_tol, where)})
+    if (!rr) return rr;
+  if (node["alpha_hysteresis_deg"]) {
+    double deg = 0;
+    if (!(r = read(node, "alpha_hysteresis_deg", deg, where))) return r;
+    p.alpha_hysteresis = deg * kPi / 180.0;
+  }
+  if (const YAML::Node t = node["threshold"]) {
+    if (t.IsScalar() && t.Scalar() == "otsu") {
+      p.threshold_mode = ThresholdMode::Otsu;
+    } else {
+      p.threshold_mode = ThresholdMode::Fixed;
+      if (!(r = read(node, "threshold", p.threshold, where))) return r;
+    }
+  }
+  FeatureExtractor scratch;
+  ConfigResult v = scratch.configure(p);
+  if (!v) return ConfigResult::failure((where.file.empty() ? "" : where.file + ": ") + v.message());
+  return v;
+}
+
+ConfigResult loadCalibrationParams(const YAML::Node& node, const Where& where, int rows, int cols,
+                                   CalibrationParams& p) {
+  p.rows = rows;
+  p.cols = cols;
+  if (node) {
+    ConfigResult r = checkKeys(node, where, {"full_scale", "coeffs", "border_coeffs", "taxels"});
+    if (!r) return r;
+    int fs = p.full_scale;
+    if (!(r = read(node, "full_scale", fs, where))) return r;
+    if (fs < 1 || fs > 4095) return rangeError(where.child("full_scale").str(), fs, "must be in [1, 4095]");
+    p.full_scale = static_cast<uint16_t>(fs);
+    std::vector<double> v;
+    if (node["coeffs"]) {
+      if (!(r = read(node, "coeffs", v, where))) return r;
+      if (v.empty() || v.size() > 4) return rangeError(where.child("coeffs").str() + " (length)", v.size(), "must have 1..4 entries");
+      p.coeffs = {0, 0, 0, 0};
+      for (std::size_t i = 0; i < v.size(); ++i) p.coeffs[i] = v[i];
+    }
+    if (node["border_coeffs"]) {
+      if (!(r = read(node, "border_coeffs", v, where))) return r;
+      if (v.empty() || v.size() > 4)
+        return rangeError(where.child("border_coeffs").str() + " (length)", v.size(), "must have 1..4 entries");
+      p.border_coeffs = {0, 0, 0, 0};
+      for (std::size_t i = 0; i < v.size(); ++i) p.border_coeffs[i] = v[i];
+      p.use_border = true;
+    }
+    if (node["taxels"]) {
+      std::vector<std::vector<double>> t;
+      if (!(r = read(node, "taxels", t, where))) return r;
+      p.taxels.clear();
+      for (std::size_t i = 0; i < t.size(); ++i) {
+        if (t[i].empty() || t[i].size() > 4)
+          return rangeError(where.child("taxels[" + std::to_string(i) + "]").str() + " (length)", t[i].size(),
+                            "must have 1..4 entries");
+        std::array<double, 4> c{0, 0, 0, 0};
+        for (std::size_t k = 0; k < t[i].size(); ++k) c[k] = t[i][k];
+        p.taxels.push_back(c);
+      }
+    }
+  }
+  Calibration scratch;
+  ConfigResult v = scratch.configure(p);
+  if (!v) return ConfigResult::failure((where.file.empty() ? "" : where.file + ": ") + v.message());
+  return v;
+}
+
+}  // namespace tactile

@@ -1,0 +1,23 @@
+// Counting global operator new, to prove that per-cycle paths do not allocate.
+// Link tests/support/alloc_counter.cpp into the test executable; then
+//   tactile::test::AllocationScope scope;  ...code...;  EXPECT_EQ(scope.count(), 0);
+#pragma once
+
+#include <cstddef>
+
+namespace tactile {
+namespace test {
+
+std::size_t allocationCount();  ///< global count of operator new calls so far
+
+class AllocationScope {
+ public:
+  AllocationScope() : start_(allocationCount()) {}
+  std::size_t count() const { return allocationCount() - start_; }
+
+ private:
+  std::size_t start_;
+};
+
+}  // namespace test
+}  // namespace tactile

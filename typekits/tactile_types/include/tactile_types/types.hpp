@@ -1,0 +1,124 @@
+// Plain data types shared by the cores, the simulator, the RTT components and
+// the typekit. No RTT, no heap: every type here is a fixed-size aggregate, so it
+// can travel through an RTT data port without allocation (the typekit in
+// typekits/tactile_types/rtt serialises exactly these fields).
+// See conventions.hpp for units and frames.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "tactile_types/conventions.hpp"
+
+namespace tactile {
+
+/// Largest array supported without reallocation. The WTS family tops out well
+/// below this (WTS0614 = 6 x 14); frames carry their actual size.
+constexpr int kMaxRows = 16;
+constexpr int kMaxCols = 32;
+constexpr int kMaxTaxels = kMaxRows * kMaxCols;
+
+constexpr int kDefaultRows = 6;
+constexpr int kDefaultCols = 14;
+constexpr double kDefaultPitch = 0.0034;  // m
+
+/// Raw frame as delivered by the sensor: 12-bit counts, row-major, {s} layout.
+struct RawTactileFrame {
+  double time_s = 0.0;          ///< acquisition time (s), host time base
+  uint32_t seq = 0;             ///< acquisition counter
+  uint32_t device_time_ms = 0;  ///< the device's own millisecond timestamp
+  uint16_t rows = kDefaultRows;
+  uint16_t cols = kDefaultCols;
+  std::array<uint16_t, kMaxTaxels> counts{};  ///< raw counts, row-major
+};
+
+/// Calibrated frame: taxel forces in newtons, row-major, {s} layout.
+struct TactileFrame {
+  double time_s = 0.0;
+  uint32_t seq = 0;
+  uint16_t rows = kDefaultRows;
+  uint16_t cols = kDefaultCols;
+  uint16_t saturated_count = 0;  ///< taxels whose raw value reached full scale
+  std::array<double, kMaxTaxels> force{};  ///< N per taxel, row-major
+
+  double& at(int r, int c) { return force[static_cast<std::size_t>(r * cols + c)]; }
+  double at(int r, int c) const { return force[static_cast<std::size_t>(r * cols + c)]; }
+  int size() const { return static_cast<int>(rows) * static_cast<int>(cols); }
+};
+
+/// Contact type (Sec. 3.3, Eq. 5).
+enum class ContactType : uint8_t { None = 0, Point = 1, Edge = 2 };
+
+/// Status of one feature extraction. Values < kFeatureStatusInvalid carry
+/// usable features (possibly with a warning); the others carry none.
+enum class FeatureStatus : uint8_t {
+  Ok = 0,
+  NoContact = 1,     ///< no taxel above the contact threshold; features zero
+  Saturated = 2,     ///< features computed, but >= 1 taxel at full scale
+  InvalidInput = 10, ///< NaN/Inf in the frame; nothing propagated
+  BadDimensions = 11,///< frame size differs from the configured one
+  NotConfigured = 12 ///< step() before a successful configure()
+};
+constexpr uint8_t kFeatureStatusInvalid = 10;
+inline bool usable(FeatureStatus s) { return static_cast<uint8_t>(s) < kFeatureStatusInvalid; }
+
+/// Tactile features of one frame, all in {s} (Sec. 3, App. B).
+struct ContactFeatures {
+  double time_s = 0.0;  ///< time of the frame they were extracted from
+  uint32_t seq = 0;     ///< seq of that frame
+  double cop_x = 0.0, cop_y = 0.0;    ///< centre of pressure (m), Eq. B.2/B.3
+  double coc_x = 0.0, coc_y = 0.0;    ///< centre of contact (m), binarised image
+  double dzmp_x = 0.0, dzmp_y = 0.0;  ///< Eq. 3 (m)
+  double alpha_z = 0.0;               ///< edge angle (rad), Eq. B.5
+  double force = 0.0;                 ///< total normal force f (N)
+  double d_z = 0.0;                   ///< C_z * f (m), Eq. 2
+  double lambda1 = 0.0, lambda2 = 0.0;///< PCA eigenvalues (m^2), lambda1 >= lambda2
+  double max_taxel = 0.0;             ///< largest taxel force (N)
+  uint16_t area = 0;                  ///< taxels above the binarisation threshold
+  ContactType contact = ContactType::None;
+  FeatureStatus status = FeatureStatus::NotConfigured;
+};
+
+/// A pose: position (m) and unit quaternion (x, y, z, w).
+struct Pose {
+  std::array<double, 3> p{0.0, 0.0, 0.0};
+  std::array<double, 4> q{0.0, 0.0, 0.0, 1.0};
+};
+
+/// Servo status, ordered by severity. Every status keeps the command finite.
+enum class ServoStatus : uint8_t {
+  Ok = 0,
+  FreeMotion = 1,      ///< phase with P = 0 following its feed-forward twist
+  Holding = 2,         ///< stale or invalid features: holding the last pose
+  ContactLost = 3,     ///< contact lost, recovery behaviour active
+  Limited = 4,         ///< command clipped by a step limit or the workspace box
+  Done = 5,            ///< the phase program reached its final phase
+  ForceCeiling = 10,   ///< force ceiling hit: retreating
+  InvalidInput = 11,   ///< NaN/Inf pose or dt < 0: holding
+  NotConfigured = 12
+};
+
+/// Desired pose for the robot's Cartesian impedance controller, in {g}.
+struct PoseCommand {
+  double time_s = 0.0;
+  uint32_t seq = 0;
+  Pose pose;  ///< {g}T{e} desired (flange pose, what FRI commands)
+  ServoStatus status = ServoStatus::NotConfigured;
+};
+
+constexpr int kPhaseNameLen = 32;
+
+/// Where the phase program is, for ports and logs.
+struct PhaseState {
+  double time_s = 0.0;
+  double t_enter_s = 0.0;  ///< when the current phase was entered
+  uint16_t index = 0;      ///< phase index in the program
+  std::array<char, kPhaseNameLen> name{};  ///< NUL-terminated phase name
+  ServoStatus status = ServoStatus::NotConfigured;
+};
+
+const char* toString(ContactType t);
+const char* toString(FeatureStatus s);
+const char* toString(ServoStatus s);
+
+}  // namespace tactile

@@ -1,0 +1,41 @@
+#include "tactile_types/types.hpp"
+
+namespace tactile {
+
+const char* toString(ContactType t) {
+  switch (t) {
+    case ContactType::None: return "none";
+    case ContactType::Point: return "point";
+    case ContactType::Edge: return "edge";
+  }
+  return "unknown";
+}
+
+const char* toString(FeatureStatus s) {
+  switch (s) {
+    case FeatureStatus::Ok: return "ok";
+    case FeatureStatus::NoContact: return "no_contact";
+    case FeatureStatus::Saturated: return "saturated";
+    case FeatureStatus::InvalidInput: return "invalid_input";
+    case FeatureStatus::BadDimensions: return "bad_dimensions";
+    case FeatureStatus::NotConfigured: return "not_configured";
+  }
+  return "unknown";
+}
+
+const char* toString(ServoStatus s) {
+  switch (s) {
+    case ServoStatus::Ok: return "ok";
+    case ServoStatus::FreeMotion: return "free_motion";
+    case ServoStatus::Holding: return "holding";
+    case ServoStatus::ContactLost: return "contact_lost";
+    case ServoStatus::Limited: return "limited";
+    case ServoStatus::Done: return "done";
+    case ServoStatus::ForceCeiling: return "force_ceiling";
+    case ServoStatus::InvalidInput: return "invalid_input";
+    case ServoStatus::NotConfigured: return "not_configured";
+  }
+  return "unknown";
+}
+
+}  // namespace tactile
