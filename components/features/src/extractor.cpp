@@ -75,11 +75,10 @@ double FeatureExtractor::otsuThreshold(const double* values, int n) {
 }
 
 FeatureStatus FeatureExtractor::step(const TactileFrame& frame, ContactFeatures& out) {
-  const ContactFeatures zero{};
   auto fail = [&](FeatureStatus s) {
     const double t = frame.time_s;
     const uint32_t q = frame.seq;
-    out = zero;
+    out = ContactFeatures{};
     out.time_s = std::isfinite(t) ? t : 0.0;
     out.seq = q;
     out.status = s;
@@ -92,10 +91,6 @@ FeatureStatus FeatureExtractor::step(const TactileFrame& frame, ContactFeatures&
   const int n = rows * cols;
   const double* f = frame.force.data();
 
-  // Pass 0: reject NaN/Inf before anything is accumulated.
-  for (int i = 0; i < n; ++i)
-    if (!std::isfinite(f[i])) return fail(FeatureStatus::InvalidInput);
-
   // Binarisation threshold (fixed or Otsu).
   double thr = params_.threshold;
   if (params_.threshold_mode == ThresholdMode::Otsu) {
@@ -103,32 +98,47 @@ FeatureStatus FeatureExtractor::step(const TactileFrame& frame, ContactFeatures&
     for (int i = 0; i < n; ++i) clamped[static_cast<std::size_t>(i)] = f[i] > 0.0 ? f[i] : 0.0;
     thr = otsuThreshold(clamped.data(), n);
   }
-  last_threshold_ = thr;
 
-  // Pass 1: zeroth/first moments (Eq. B.1), max taxel, binarised image (CoC).
-  double m00 = 0, m10 = 0, m01 = 0, fmax = 0;
+  // One pass: raw moments up to second order (Eq. B.1), max taxel and the
+  // binarised image (CoC). Row sums keep the multiplications per taxel low.
+  // `raw` sums the unclamped inputs so that any NaN/Inf is caught at the end
+  // (the clamp below would otherwise turn NaN into 0).
+  double raw = 0.0;
+  double m00 = 0, m10 = 0, m01 = 0, m20 = 0, m11 = 0, m02 = 0, fmax = 0;
   double bx = 0, by = 0;
   int area = 0;
   for (int r = 0; r < rows; ++r) {
     const double y = ys_[static_cast<std::size_t>(r)];
+    const double* row = f + r * cols;
+    double s0 = 0, s1 = 0, s2 = 0, sb = 0;
+    int cnt = 0;
     for (int c = 0; c < cols; ++c) {
       const double x = xs_[static_cast<std::size_t>(c)];
-      const double v = f[r * cols + c] > 0.0 ? f[r * cols + c] : 0.0;
-      m00 += v;
-      m10 += x * v;
-      m01 += y * v;
-      if (v > fmax) fmax = v;
-      if (v > thr) {
-        bx += x;
-        by += y;
-        ++area;
-      }
+      raw += row[c];
+      const double v = row[c] > 0.0 ? row[c] : 0.0;
+      s0 += v;
+      s1 += x * v;
+      s2 += x * x * v;
+      fmax = v > fmax ? v : fmax;
+      const bool on = v > thr;
+      cnt += on;
+      sb += on ? x : 0.0;
     }
+    m00 += s0;
+    m10 += s1;
+    m01 += y * s0;
+    m20 += s2;
+    m11 += y * s1;
+    m02 += y * y * s0;
+    bx += sb;
+    by += y * cnt;
+    area += cnt;
   }
-  if (!std::isfinite(m00) || !std::isfinite(m10) || !std::isfinite(m01))
-    return fail(FeatureStatus::InvalidInput);  // overflow of finite inputs
+  last_threshold_ = thr;
+  if (!std::isfinite(raw) || !std::isfinite(m00) || !std::isfinite(m20 + m02 + m11))
+    return fail(FeatureStatus::InvalidInput);  // NaN/Inf input, or overflow of finite inputs
 
-  out = zero;
+  out = ContactFeatures{};
   out.time_s = frame.time_s;
   out.seq = frame.seq;
   out.force = m00;                  // f = sum of taxel forces
@@ -142,21 +152,12 @@ FeatureStatus FeatureExtractor::step(const TactileFrame& frame, ContactFeatures&
   mo.m01 = m01;
   if (m00 > 0.0) {
     const double cx = m10 / m00, cy = m01 / m00;  // Eq. B.2, B.3
-    // Pass 2: second central moments, normalised by M00 (pressure-weighted covariance).
-    double s20 = 0, s11 = 0, s02 = 0;
-    for (int r = 0; r < rows; ++r) {
-      const double dy = ys_[static_cast<std::size_t>(r)] - cy;
-      for (int c = 0; c < cols; ++c) {
-        const double dx = xs_[static_cast<std::size_t>(c)] - cx;
-        const double v = f[r * cols + c] > 0.0 ? f[r * cols + c] : 0.0;
-        s20 += dx * dx * v;
-        s11 += dx * dy * v;
-        s02 += dy * dy * v;
-      }
-    }
-    mo.mu20 = s20 / m00;
-    mo.mu11 = s11 / m00;
-    mo.mu02 = s02 / m00;
+    // Second central moments normalised by M00 (pressure-weighted covariance).
+    // Positions are O(1e-2 m), so the cancellation in m20/m00 - cx^2 costs
+    // ~1e-16 * 1e-4 m^2: far below any eigenvalue that matters.
+    mo.mu20 = std::max(0.0, m20 / m00 - cx * cx);
+    mo.mu11 = m11 / m00 - cx * cy;
+    mo.mu02 = std::max(0.0, m02 / m00 - cy * cy);
     out.cop_x = cx;
     out.cop_y = cy;
     if (area > 0) {
@@ -174,7 +175,7 @@ FeatureStatus FeatureExtractor::step(const TactileFrame& frame, ContactFeatures&
     const double a = mo.mu20, b = mo.mu11, c = mo.mu02;
     const double mean = 0.5 * (a + c);
     const double half = 0.5 * (a - c);
-    const double rad = std::hypot(half, b);
+    const double rad = std::sqrt(half * half + b * b);
     double l1 = mean + rad;
     double l2 = mean - rad;
     if (l2 < 0.0) l2 = 0.0;  // rounding on a rank-1 covariance
@@ -184,14 +185,14 @@ FeatureStatus FeatureExtractor::step(const TactileFrame& frame, ContactFeatures&
     double alpha = alpha_prev_;
     if (l1 > 0.0 && (l1 - l2) > params_.isotropy_tol * (l1 + l2)) {
       // Principal axis angle from x_s; 0.5*atan2 lies in (-pi/2, pi/2].
-      const double raw = 0.5 * std::atan2(2.0 * b, a - c);
-      alpha = raw;
+      const double wrapped = 0.5 * std::atan2(2.0 * b, a - c);
+      alpha = wrapped;
       // Branch hysteresis near +-pi/2 (see header): keep the representative
       // closest to the previous angle while it stays inside the band.
       const double h = params_.alpha_hysteresis;
       if (h > 0.0) {
-        double best = raw;
-        for (double cand : {raw - kPi, raw + kPi})
+        double best = wrapped;
+        for (double cand : {wrapped - kPi, wrapped + kPi})
           if (std::fabs(cand - alpha_prev_) < std::fabs(best - alpha_prev_)) best = cand;
         if (std::fabs(best) <= 0.5 * kPi + h) alpha = best;
       }
