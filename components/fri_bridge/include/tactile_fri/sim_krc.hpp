@@ -1,0 +1,169 @@
+// A simulated KUKA KRC speaking FRI over UDP on the loopback interface, with
+// fault injection, backed by a small plant interface. It is a test peer (it
+// reads the clock when pacing in real time), not a real-time core.
+//
+// Each cycle:
+//   1. apply the scheduled state/quality events of this cycle;
+//   2. advance the plant by one period towards the KRC's current set point
+//      (the last applied command in CMD; the measured pose otherwise: the
+//      robot holds still outside CMD);
+//   3. send one measurement packet (916 bytes) to 127.0.0.1:remote_port, subject
+//      to the injected faults (loss, duplicate, reorder, late, wrong size or id);
+//   4. wait for the reply whose reflSeqCount is this cycle's sendSeqCount (until
+//      the period's deadline in real time, or reply_timeout_s in fast mode) and
+//      check it: size/id, the remote's sendSeqCount increments by one, flags,
+//      MON echo of the measured pose, and the step between consecutive applied
+//      commands (the "no pose jump" check). Commands are applied only in CMD at
+//      quality >= OK, as on the real KRC.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include <kdl/frames.hpp>
+
+#include "tactile_fri/protocol.hpp"
+#include "tactile_fri/udp.hpp"
+#include "tactile_types/config_result.hpp"
+
+namespace tactile {
+namespace fri {
+
+/// What the simulated KRC reads back from the robot.
+struct PlantState {
+  std::array<double, kNumJoints> q{};     ///< measured joint positions (rad)
+  KDL::Frame pose = KDL::Frame::Identity();  ///< measured {g}T{e}
+  std::array<double, 6> wrench{};         ///< estimated external TCP wrench [Fx Fy Fz Tx Ty Tz] (N, N m)
+};
+
+/// The robot behind the simulated KRC (Cartesian impedance strategy): given the
+/// commanded flange pose and dt, produce the measured state. Keep it small so
+/// the LWR simulator (sim/lwr) can be adapted to it.
+class Plant {
+ public:
+  virtual ~Plant() = default;
+  virtual void reset(const KDL::Frame& initial_pose) = 0;
+  virtual void step(const KDL::Frame& commanded, double dt, PlantState& out) = 0;
+};
+
+/// Built-in plant: first-order tracking of the commanded pose with time constant
+/// tau (translation and rotation), no kinematics (joint positions constant at a
+/// fixed configuration), zero external wrench.
+class FirstOrderPlant : public Plant {
+ public:
+  explicit FirstOrderPlant(double tau_s = 0.02) : tau_(tau_s) {}
+  void reset(const KDL::Frame& initial_pose) override;
+  void step(const KDL::Frame& commanded, double dt, PlantState& out) override;
+
+ private:
+  double tau_;
+  PlantState state_{};
+};
+
+/// From cycle `cycle` on, the KRC reports this state and quality.
+struct StateEvent {
+  uint64_t cycle = 0;
+  State state = State::Mon;
+  Quality quality = Quality::Perfect;
+  uint16_t power = 0x7F;
+};
+
+/// Per-measurement fault probabilities, drawn from a seeded generator.
+struct FaultParams {
+  double loss = 0.0;        ///< measurement not sent
+  double duplicate = 0.0;   ///< measurement sent twice
+  double reorder = 0.0;     ///< measurement held back and sent after the next one
+  double late = 0.0;        ///< measurement sent after the reply deadline of its cycle
+  double wrong_size = 0.0;  ///< a truncated/padded datagram is sent instead
+  double wrong_id = 0.0;    ///< the datagram id is corrupted
+  double cmd_loss = 0.0;    ///< a received command is discarded (loss on the way back)
+  uint32_t seed = 1;
+};
+
+struct SimKrcParams {
+  uint16_t remote_port = kDefaultPort;  ///< the bridge's port on 127.0.0.1
+  double period_s = 0.001;               ///< measurement period (s), (0, 0.1]
+  bool real_time = true;                 ///< sleep to keep the period; false: run as fast as replies come
+  double reply_timeout_s = 0.01;         ///< fast mode: how long to wait for a reply (s)
+  KDL::Frame initial_pose = KDL::Frame(KDL::Rotation::RPY(3.14159265358979, 0.0, 0.0), KDL::Vector(0.5, 0.0, 0.4));
+  ControlStrategy control = ControlStrategy::CartImpedance;
+  StateEvent initial{};                  ///< state at cycle 0 (its `cycle` is ignored)
+  std::vector<StateEvent> schedule;      ///< sorted by cycle
+  FaultParams faults{};
+};
+
+struct SimKrcStats {
+  uint64_t cycles = 0;
+  uint64_t sent = 0;              ///< measurement datagrams sent (incl. duplicates, corrupted)
+  uint64_t inj_lost = 0, inj_duplicate = 0, inj_reorder = 0, inj_late = 0, inj_wrong_size = 0, inj_wrong_id = 0,
+           inj_cmd_lost = 0;
+  uint64_t replies = 0;           ///< replies matching the cycle's sendSeqCount
+  uint64_t stale_replies = 0;     ///< well-formed replies reflecting an older measurement
+  uint64_t malformed_replies = 0; ///< wrong size / id
+  uint64_t missed = 0;            ///< cycles without a matching reply
+  uint64_t remote_seq_errors = 0; ///< the remote's sendSeqCount did not increase by exactly 1
+  uint64_t flag_errors = 0;       ///< CMD reply without the Cartesian pose flag
+  uint64_t nonfinite_commands = 0;
+  uint64_t applied = 0;           ///< commands applied (CMD, quality >= OK)
+  uint64_t mon_echo_errors = 0;   ///< MON/power-off replies whose pose differs from the measured one by > 1e-5
+  double max_cmd_step_m = 0.0;    ///< largest translation between consecutive applied commands
+  double max_cmd_step_rad = 0.0;  ///< largest rotation between consecutive applied commands
+  double max_latency_s = 0.0;     ///< send -> matching reply
+  double sum_latency_s = 0.0;
+};
+
+class SimKrc {
+ public:
+  /// Opens a socket on 127.0.0.1 (ephemeral port) and resets the plant.
+  ConfigResult configure(const SimKrcParams& params, Plant& plant);
+  uint16_t localPort() const { return socket_.localPort(); }
+
+  /// One cycle (see the file comment).
+  void runCycle();
+  /// `cycles` cycles, or until *stop becomes true.
+  void run(uint64_t cycles, const std::atomic<bool>* stop = nullptr);
+
+  const SimKrcStats& stats() const { return stats_; }
+  const PlantState& plantState() const { return plant_state_; }
+  State state() const { return state_; }
+  Quality quality() const { return quality_; }
+  const KDL::Frame& setPoint() const { return set_point_; }
+
+ private:
+  void buildMeasurement();
+  void sendMeasurement(const uint8_t* buf, std::size_t n);
+  void handleReply(const uint8_t* buf, std::size_t n, double t_sent, double now);
+
+  SimKrcParams params_{};
+  Plant* plant_ = nullptr;
+  UdpSocket socket_;
+  sockaddr_in remote_{};
+  std::mt19937 rng_{1};
+  std::uniform_real_distribution<double> uni_{0.0, 1.0};
+  SimKrcStats stats_{};
+  PlantState plant_state_{};
+  State state_ = State::Mon;
+  Quality quality_ = Quality::Perfect;
+  uint16_t power_ = 0x7F;
+  std::size_t next_event_ = 0;
+  uint16_t seq_ = 0;
+  uint16_t last_remote_seq_ = 0;
+  bool have_remote_seq_ = false;
+  bool have_applied_ = false;
+  KDL::Frame set_point_ = KDL::Frame::Identity();
+  KDL::Frame last_applied_ = KDL::Frame::Identity();
+  MsrPacket msr_{};
+  CmdPacket cmd_{};
+  std::array<uint8_t, 2048> out_{};
+  std::array<uint8_t, 2048> in_{};
+  std::array<uint8_t, 2048> held_{};  // reordered packet waiting for the next cycle
+  std::size_t held_size_ = 0;
+  double t0_ = 0.0;
+  double answer_rate_ = 1.0;
+};
+
+}  // namespace fri
+}  // namespace tactile

@@ -1,0 +1,193 @@
+#include "tactile_fri/protocol.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <type_traits>
+
+namespace tactile {
+namespace fri {
+
+static_assert(std::is_trivially_copyable<MsrPacket>::value, "memcpy decoding needs a trivially copyable type");
+static_assert(std::is_trivially_copyable<CmdPacket>::value, "memcpy decoding needs a trivially copyable type");
+
+const char* toString(PacketStatus s) {
+  switch (s) {
+    case PacketStatus::Ok: return "ok";
+    case PacketStatus::NullBuffer: return "null_buffer";
+    case PacketStatus::TooShort: return "too_short";
+    case PacketStatus::TooLong: return "too_long";
+    case PacketStatus::SizeFieldMismatch: return "size_field_mismatch";
+    case PacketStatus::WrongDatagramId: return "wrong_datagram_id";
+    case PacketStatus::BadState: return "bad_state";
+    case PacketStatus::BadQuality: return "bad_quality";
+    case PacketStatus::BufferTooSmall: return "buffer_too_small";
+  }
+  return "unknown";
+}
+
+const char* toString(State s) {
+  switch (s) {
+    case State::Off: return "OFF";
+    case State::Mon: return "MON";
+    case State::Cmd: return "CMD";
+  }
+  return "INVALID";
+}
+
+const char* toString(Quality q) {
+  switch (q) {
+    case Quality::Unacceptable: return "UNACCEPTABLE";
+    case Quality::Bad: return "BAD";
+    case Quality::Ok: return "OK";
+    case Quality::Perfect: return "PERFECT";
+  }
+  return "INVALID";
+}
+
+namespace {
+
+// Common checks on a datagram's length and header, before anything is copied.
+PacketStatus checkDatagram(const uint8_t* data, std::size_t size, std::size_t expected_size, uint16_t expected_id) {
+  if (data == nullptr) return PacketStatus::NullBuffer;
+  if (size < expected_size) return PacketStatus::TooShort;
+  if (size > expected_size) return PacketStatus::TooLong;
+  Header h;
+  std::memcpy(&h, data, sizeof(Header));
+  if (h.packet_size != expected_size) return PacketStatus::SizeFieldMismatch;
+  if (h.datagram_id != expected_id) return PacketStatus::WrongDatagramId;
+  return PacketStatus::Ok;
+}
+
+}  // namespace
+
+PacketStatus decodeMeasurement(const uint8_t* data, std::size_t size, MsrPacket& out) noexcept {
+  const PacketStatus s = checkDatagram(data, size, kMsrPacketSize, kDatagramIdMsr);
+  if (s != PacketStatus::Ok) return s;
+  IntfState intf;
+  std::memcpy(&intf, data + offsetof(MsrPacket, intf), sizeof(IntfState));
+  if (intf.state > static_cast<uint16_t>(State::Cmd)) return PacketStatus::BadState;
+  if (intf.quality > static_cast<uint16_t>(Quality::Perfect)) return PacketStatus::BadQuality;
+  std::memcpy(&out, data, kMsrPacketSize);
+  return PacketStatus::Ok;
+}
+
+PacketStatus decodeCommand(const uint8_t* data, std::size_t size, CmdPacket& out) noexcept {
+  const PacketStatus s = checkDatagram(data, size, kCmdPacketSize, kDatagramIdCmd);
+  if (s != PacketStatus::Ok) return s;
+  std::memcpy(&out, data, kCmdPacketSize);
+  return PacketStatus::Ok;
+}
+
+PacketStatus encodeCommand(const CmdPacket& in, uint8_t* buf, std::size_t capacity, std::size_t& written) noexcept {
+  written = 0;
+  if (buf == nullptr) return PacketStatus::NullBuffer;
+  if (capacity < kCmdPacketSize) return PacketStatus::BufferTooSmall;
+  std::memcpy(buf, &in, kCmdPacketSize);
+  const uint16_t size = static_cast<uint16_t>(kCmdPacketSize);
+  const uint16_t id = kDatagramIdCmd;
+  std::memcpy(buf + offsetof(Header, packet_size), &size, 2);
+  std::memcpy(buf + offsetof(Header, datagram_id), &id, 2);
+  written = kCmdPacketSize;
+  return PacketStatus::Ok;
+}
+
+PacketStatus encodeMeasurement(const MsrPacket& in, uint8_t* buf, std::size_t capacity,
+                               std::size_t& written) noexcept {
+  written = 0;
+  if (buf == nullptr) return PacketStatus::NullBuffer;
+  if (capacity < kMsrPacketSize) return PacketStatus::BufferTooSmall;
+  std::memcpy(buf, &in, kMsrPacketSize);
+  const uint16_t size = static_cast<uint16_t>(kMsrPacketSize);
+  const uint16_t id = kDatagramIdMsr;
+  std::memcpy(buf + offsetof(Header, packet_size), &size, 2);
+  std::memcpy(buf + offsetof(Header, datagram_id), &id, 2);
+  written = kMsrPacketSize;
+  return PacketStatus::Ok;
+}
+
+void toFrame(const float (&m)[kCartFrameDim], KDL::Frame& f) noexcept {
+  f.M = KDL::Rotation(m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10]);
+  f.p = KDL::Vector(m[3], m[7], m[11]);
+}
+
+void fromFrame(const KDL::Frame& f, float (&m)[kCartFrameDim]) noexcept {
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) m[4 * r + c] = static_cast<float>(f.M(r, c));
+    m[4 * r + 3] = static_cast<float>(f.p(r));
+  }
+}
+
+void toFrame(const Pose& p, KDL::Frame& f) noexcept {
+  f.M = KDL::Rotation::Quaternion(p.q[0], p.q[1], p.q[2], p.q[3]);
+  f.p = KDL::Vector(p.p[0], p.p[1], p.p[2]);
+}
+
+void toPose(const KDL::Frame& f, Pose& p) noexcept {
+  f.M.GetQuaternion(p.q[0], p.q[1], p.q[2], p.q[3]);
+  p.p = {f.p.x(), f.p.y(), f.p.z()};
+}
+
+bool validFriPose(const float (&m)[kCartFrameDim], double tol) noexcept {
+  for (float v : m) {
+    if (!std::isfinite(v)) return false;
+  }
+  // |R^T R - I| entrywise
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      double d = 0.0;
+      for (int k = 0; k < 3; ++k) d += static_cast<double>(m[4 * k + i]) * static_cast<double>(m[4 * k + j]);
+      if (std::fabs(d - (i == j ? 1.0 : 0.0)) > tol) return false;
+    }
+  }
+  const double det = static_cast<double>(m[0]) * (double(m[5]) * m[10] - double(m[6]) * m[9]) -
+                     static_cast<double>(m[1]) * (double(m[4]) * m[10] - double(m[6]) * m[8]) +
+                     static_cast<double>(m[2]) * (double(m[4]) * m[9] - double(m[5]) * m[8]);
+  return det > 0.0;
+}
+
+bool validPose(const Pose& p, double tol) noexcept {
+  double n2 = 0.0;
+  for (double v : p.p) {
+    if (!std::isfinite(v)) return false;
+  }
+  for (double v : p.q) {
+    if (!std::isfinite(v)) return false;
+    n2 += v * v;
+  }
+  const double n = std::sqrt(n2);
+  return n >= 1.0 - tol && n <= 1.0 + tol;
+}
+
+double rotationAngle(const KDL::Rotation& r, KDL::Vector& axis) noexcept {
+  double x, y, z, w;
+  r.GetQuaternion(x, y, z, w);
+  if (w < 0.0) {  // the shorter way round
+    x = -x;
+    y = -y;
+    z = -z;
+    w = -w;
+  }
+  const double s = std::sqrt(x * x + y * y + z * z);
+  if (!(s > 0.0)) {
+    axis = KDL::Vector(0.0, 0.0, 1.0);
+    return 0.0;
+  }
+  axis = KDL::Vector(x / s, y / s, z / s);
+  return 2.0 * std::atan2(s, w);
+}
+
+std::array<double, 6> toWrench(const float (&ft)[kCartVecDim]) noexcept {
+  return {ft[0], ft[1], ft[2], ft[5], ft[4], ft[3]};
+}
+
+void fromWrench(const std::array<double, 6>& w, float (&ft)[kCartVecDim]) noexcept {
+  ft[0] = static_cast<float>(w[0]);
+  ft[1] = static_cast<float>(w[1]);
+  ft[2] = static_cast<float>(w[2]);
+  ft[3] = static_cast<float>(w[5]);
+  ft[4] = static_cast<float>(w[4]);
+  ft[5] = static_cast<float>(w[3]);
+}
+
+}  // namespace fri
+}  // namespace tactile

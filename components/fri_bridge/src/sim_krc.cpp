@@ -1,0 +1,264 @@
+#include "tactile_fri/sim_krc.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <thread>
+
+namespace tactile {
+namespace fri {
+
+namespace {
+double nowSeconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+constexpr std::array<double, kNumJoints> kHomeJoints{{0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0}};
+}  // namespace
+
+// ---- FirstOrderPlant ----------------------------------------------------------
+
+void FirstOrderPlant::reset(const KDL::Frame& initial_pose) {
+  state_ = PlantState{};
+  state_.q = kHomeJoints;
+  state_.pose = initial_pose;
+}
+
+void FirstOrderPlant::step(const KDL::Frame& commanded, double dt, PlantState& out) {
+  const double a = tau_ > 0.0 ? std::min(1.0, dt / tau_) : 1.0;
+  state_.pose.p = state_.pose.p + (commanded.p - state_.pose.p) * a;
+  KDL::Vector axis;
+  const double angle = rotationAngle(state_.pose.M.Inverse() * commanded.M, axis);
+  if (angle > 1e-12) state_.pose.M = state_.pose.M * KDL::Rotation::Rot2(axis, a * angle);
+  out = state_;
+}
+
+// ---- SimKrc -------------------------------------------------------------------
+
+ConfigResult SimKrc::configure(const SimKrcParams& p, Plant& plant) {
+  if (!(std::isfinite(p.period_s) && p.period_s > 0.0 && p.period_s <= 0.1))
+    return rangeError("sim_krc.period_s", p.period_s, "must be in (0, 0.1] (s)");
+  if (!(std::isfinite(p.reply_timeout_s) && p.reply_timeout_s >= 0.0 && p.reply_timeout_s <= 1.0))
+    return rangeError("sim_krc.reply_timeout_s", p.reply_timeout_s, "must be in [0, 1] (s)");
+  const double probs[] = {p.faults.loss,  p.faults.duplicate, p.faults.reorder, p.faults.late,
+                          p.faults.wrong_size, p.faults.wrong_id, p.faults.cmd_loss};
+  const char* names[] = {"loss", "duplicate", "reorder", "late", "wrong_size", "wrong_id", "cmd_loss"};
+  for (int i = 0; i < 7; ++i) {
+    if (!(probs[i] >= 0.0 && probs[i] <= 1.0))
+      return rangeError(std::string("sim_krc.faults.") + names[i], probs[i], "must be a probability in [0, 1]");
+  }
+  for (std::size_t i = 1; i < p.schedule.size(); ++i) {
+    if (p.schedule[i].cycle < p.schedule[i - 1].cycle)
+      return rangeError("sim_krc.schedule[" + std::to_string(i) + "].cycle", p.schedule[i].cycle,
+                        "must be >= the previous event's cycle (sorted)");
+  }
+  params_ = p;
+  plant_ = &plant;
+  UdpParams up;
+  up.bind_address = "127.0.0.1";
+  up.port = 0;
+  ConfigResult r = socket_.open(up);
+  if (!r) return r;
+  remote_ = loopbackAddress(p.remote_port);  // loopback only, by construction
+  rng_.seed(p.faults.seed);
+  stats_ = SimKrcStats{};
+  state_ = p.initial.state;
+  quality_ = p.initial.quality;
+  power_ = p.initial.power;
+  next_event_ = 0;
+  seq_ = 0;
+  have_remote_seq_ = false;
+  have_applied_ = false;
+  held_size_ = 0;
+  answer_rate_ = 1.0;
+  plant_->reset(p.initial_pose);
+  plant_->step(p.initial_pose, 0.0, plant_state_);
+  set_point_ = plant_state_.pose;
+  msr_ = MsrPacket{};
+  t0_ = nowSeconds();
+  return ConfigResult::success();
+}
+
+void SimKrc::buildMeasurement() {
+  MsrPacket& m = msr_;
+  m.head.send_seq = ++seq_;
+  m.head.refl_seq = last_remote_seq_;
+  m.head.packet_size = static_cast<uint16_t>(kMsrPacketSize);
+  m.head.datagram_id = kDatagramIdMsr;
+  m.intf.timestamp = static_cast<uint32_t>(static_cast<double>(stats_.cycles) * params_.period_s * 1000.0);
+  m.intf.state = static_cast<uint16_t>(state_);
+  m.intf.quality = static_cast<uint16_t>(quality_);
+  m.intf.desired_msr_sample_time = static_cast<float>(params_.period_s);
+  m.intf.desired_cmd_sample_time = static_cast<float>(params_.period_s);
+  m.intf.safety_limits = 0.0f;
+  m.intf.stat.answer_rate = static_cast<float>(answer_rate_);
+  m.intf.stat.miss_rate = static_cast<float>(1.0 - answer_rate_);
+  m.intf.stat.miss_counter = static_cast<uint32_t>(stats_.missed);
+  m.intf.stat.latency = stats_.replies ? static_cast<float>(stats_.sum_latency_s / double(stats_.replies)) : 0.0f;
+  m.robot.power = power_;
+  m.robot.control = static_cast<uint16_t>(params_.control);
+  for (int j = 0; j < kNumJoints; ++j) {
+    m.data.msr_jnt_pos[j] = static_cast<float>(plant_state_.q[static_cast<std::size_t>(j)]);
+    m.data.cmd_jnt_pos[j] = m.data.msr_jnt_pos[j];
+    m.robot.temperature[j] = 30.0f;
+  }
+  fromFrame(plant_state_.pose, m.data.msr_cart_pos);
+  fromFrame(set_point_, m.data.cmd_cart_pos);
+  fromWrench(plant_state_.wrench, m.data.est_ext_tcp_ft);
+}
+
+void SimKrc::sendMeasurement(const uint8_t* buf, std::size_t n) {
+  socket_.sendTo(remote_, buf, n);
+  ++stats_.sent;
+}
+
+void SimKrc::handleReply(const uint8_t* buf, std::size_t n, double t_sent, double now) {
+  if (params_.faults.cmd_loss > 0.0 && uni_(rng_) < params_.faults.cmd_loss) {
+    ++stats_.inj_cmd_lost;
+    return;
+  }
+  if (decodeCommand(buf, n, cmd_) != PacketStatus::Ok) {
+    ++stats_.malformed_replies;
+    return;
+  }
+  if (have_remote_seq_ && seqDelta(last_remote_seq_, cmd_.head.send_seq) != 1) ++stats_.remote_seq_errors;
+  have_remote_seq_ = true;
+  last_remote_seq_ = cmd_.head.send_seq;
+  if (cmd_.head.refl_seq != seq_) {
+    ++stats_.stale_replies;  // reflects an older measurement: ignored, as the KRC does
+    return;
+  }
+  ++stats_.replies;
+  const double lat = now - t_sent;
+  stats_.sum_latency_s += lat;
+  stats_.max_latency_s = std::max(stats_.max_latency_s, lat);
+  bool finite = true;
+  for (float v : cmd_.cmd.cart_pos) finite = finite && std::isfinite(v);
+  if (!finite || !validFriPose(cmd_.cmd.cart_pos)) {
+    ++stats_.nonfinite_commands;
+    return;
+  }
+  KDL::Frame c;
+  toFrame(cmd_.cmd.cart_pos, c);
+  if (state_ == State::Cmd && power_ != 0) {
+    if (!(cmd_.cmd.cmd_flags & flags::kCartPose)) {
+      ++stats_.flag_errors;
+      return;
+    }
+    if (quality_ >= Quality::Ok) {
+      if (have_applied_) {
+        stats_.max_cmd_step_m = std::max(stats_.max_cmd_step_m, (c.p - last_applied_.p).Norm());
+        KDL::Vector axis;
+        stats_.max_cmd_step_rad =
+            std::max(stats_.max_cmd_step_rad, rotationAngle(last_applied_.M.Inverse() * c.M, axis));
+      }
+      have_applied_ = true;
+      last_applied_ = c;
+      set_point_ = c;
+      ++stats_.applied;
+    }
+  } else {
+    // MON / power off: the remote must echo the measured pose (the one sent this cycle).
+    KDL::Frame measured;
+    toFrame(msr_.data.msr_cart_pos, measured);
+    KDL::Vector axis;
+    if ((c.p - measured.p).Norm() > 1e-5 || rotationAngle(measured.M.Inverse() * c.M, axis) > 1e-5)
+      ++stats_.mon_echo_errors;
+  }
+}
+
+void SimKrc::runCycle() {
+  if (plant_ == nullptr) return;
+  const double T = params_.period_s;
+  if (stats_.cycles == 0) t0_ = nowSeconds();
+  // 1. scheduled events
+  while (next_event_ < params_.schedule.size() && params_.schedule[next_event_].cycle <= stats_.cycles) {
+    const StateEvent& e = params_.schedule[next_event_++];
+    if (state_ == State::Cmd && e.state != State::Cmd) have_applied_ = false;
+    state_ = e.state;
+    quality_ = e.quality;
+    power_ = e.power;
+  }
+  // 2. plant: outside CMD (or at low quality) the robot holds where it is.
+  if (state_ != State::Cmd || power_ == 0) set_point_ = plant_state_.pose;
+  plant_->step(set_point_, T, plant_state_);
+  // 3. measurement + faults
+  buildMeasurement();
+  std::size_t n = 0;
+  encodeMeasurement(msr_, out_.data(), out_.size(), n);
+  bool expect_reply = true;
+  bool late = false;
+  bool held_now = false;
+  const FaultParams& f = params_.faults;
+  if (f.loss > 0.0 && uni_(rng_) < f.loss) {
+    ++stats_.inj_lost;
+    expect_reply = false;
+  } else if (f.wrong_size > 0.0 && uni_(rng_) < f.wrong_size) {
+    ++stats_.inj_wrong_size;
+    const std::size_t bad = static_cast<std::size_t>(uni_(rng_) * 1200.0);
+    sendMeasurement(out_.data(), bad == kMsrPacketSize ? bad + 1 : bad);
+    expect_reply = false;
+  } else if (f.wrong_id > 0.0 && uni_(rng_) < f.wrong_id) {
+    ++stats_.inj_wrong_id;
+    const uint16_t bad_id = kDatagramIdCmd;
+    std::memcpy(out_.data() + offsetof(Header, datagram_id), &bad_id, 2);
+    sendMeasurement(out_.data(), n);
+    expect_reply = false;
+  } else if (f.reorder > 0.0 && held_size_ == 0 && uni_(rng_) < f.reorder) {
+    ++stats_.inj_reorder;
+    std::memcpy(held_.data(), out_.data(), n);
+    held_size_ = n;
+    held_now = true;
+    expect_reply = false;
+  } else if (f.late > 0.0 && uni_(rng_) < f.late) {
+    ++stats_.inj_late;
+    late = true;
+    expect_reply = false;
+  } else {
+    sendMeasurement(out_.data(), n);
+    if (f.duplicate > 0.0 && uni_(rng_) < f.duplicate) {
+      ++stats_.inj_duplicate;
+      sendMeasurement(out_.data(), n);
+    }
+  }
+  if (held_size_ != 0 && !held_now) {
+    // a packet held back in an earlier cycle goes out after this cycle's one
+    sendMeasurement(held_.data(), held_size_);
+    held_size_ = 0;
+  }
+  const double t_sent = nowSeconds();
+  // 4. wait for the reply
+  const double deadline = params_.real_time ? t0_ + double(stats_.cycles + 1) * T
+                                            : (expect_reply ? t_sent + params_.reply_timeout_s : t_sent);
+  bool matched = false;
+  for (;;) {
+    const double now = nowSeconds();
+    const double remaining = deadline - now;
+    std::size_t rn = 0;
+    const UdpStatus s = socket_.receive(in_.data(), in_.size(), rn, remaining > 0 ? int64_t(remaining * 1e6) : 0);
+    if (s == UdpStatus::Ok || s == UdpStatus::Truncated) {
+      const uint64_t before = stats_.replies;
+      handleReply(in_.data(), s == UdpStatus::Truncated ? in_.size() + 1 : rn, t_sent, nowSeconds());
+      if (stats_.replies != before) {
+        matched = true;
+        if (!params_.real_time) break;
+      }
+      continue;
+    }
+    if (nowSeconds() >= deadline) break;
+  }
+  if (!matched) ++stats_.missed;
+  answer_rate_ = 0.99 * answer_rate_ + 0.01 * (matched ? 1.0 : 0.0);
+  if (late) sendMeasurement(out_.data(), n);
+  ++stats_.cycles;
+}
+
+void SimKrc::run(uint64_t cycles, const std::atomic<bool>* stop) {
+  for (uint64_t i = 0; i < cycles; ++i) {
+    if (stop != nullptr && stop->load(std::memory_order_relaxed)) break;
+    runCycle();
+  }
+}
+
+}  // namespace fri
+}  // namespace tactile

@@ -1,0 +1,136 @@
+// fri_sim_krc --port P [--cycles N] [--period-ms T] [--fast] [--schedule SPEC] [faults]
+//
+// A simulated KUKA KRC on loopback: sends FRI measurement packets to
+// 127.0.0.1:P (never anywhere else), backed by a first-order plant, and checks
+// the replies. Prints its statistics at the end; exit status 0 when no
+// protocol violation (MON echo, sequence, flags, non-finite command) was seen.
+//
+//   --schedule SPEC   comma-separated CYCLE:STATE:QUALITY[:POWER] events,
+//                     e.g. 0:MON:PERFECT,200:CMD:PERFECT,800:CMD:BAD,900:MON:OK
+//   --loss p --dup p --reorder p --late p --wrong-size p --wrong-id p --cmd-loss p --seed S
+//   --fast            do not sleep; wait for each reply up to --reply-timeout-ms (default 100)
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+#include "tactile_fri/sim_krc.hpp"
+
+using namespace tactile::fri;
+
+namespace {
+int usage(const std::string& msg) {
+  std::fprintf(stderr,
+               "fri_sim_krc: %s\nusage: fri_sim_krc --port P [--cycles N] [--period-ms T] [--fast] "
+               "[--reply-timeout-ms T] [--schedule C:STATE:QUALITY[:POWER],...] [--loss p] [--dup p] [--reorder p] "
+               "[--late p] [--wrong-size p] [--wrong-id p] [--cmd-loss p] [--seed S]\n",
+               msg.c_str());
+  return 1;
+}
+bool parseState(const std::string& s, State& st) {
+  if (s == "OFF") st = State::Off;
+  else if (s == "MON") st = State::Mon;
+  else if (s == "CMD") st = State::Cmd;
+  else return false;
+  return true;
+}
+bool parseQuality(const std::string& s, Quality& q) {
+  if (s == "UNACCEPTABLE") q = Quality::Unacceptable;
+  else if (s == "BAD") q = Quality::Bad;
+  else if (s == "OK") q = Quality::Ok;
+  else if (s == "PERFECT") q = Quality::Perfect;
+  else return false;
+  return true;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  SimKrcParams p;
+  long port = -1;
+  unsigned long long cycles = 1000;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const bool has = i + 1 < argc;
+    auto num = [&](double lo, double hi, double& v) {
+      char* end = nullptr;
+      v = std::strtod(argv[++i], &end);
+      return *end == '\0' && std::isfinite(v) && v >= lo && v <= hi;
+    };
+    double v = 0.0;
+    if (a == "--port" && has) {
+      if (!num(1, 65535, v)) return usage("--port must be in [1, 65535]");
+      port = long(v);
+    } else if (a == "--cycles" && has) {
+      if (!num(1, 1e12, v)) return usage("--cycles must be >= 1");
+      cycles = static_cast<unsigned long long>(v);
+    } else if (a == "--period-ms" && has) {
+      if (!num(0.01, 100, v)) return usage("--period-ms must be in [0.01, 100]");
+      p.period_s = v * 1e-3;
+    } else if (a == "--reply-timeout-ms" && has) {
+      if (!num(0, 1000, v)) return usage("--reply-timeout-ms must be in [0, 1000]");
+      p.reply_timeout_s = v * 1e-3;
+    } else if (a == "--fast") {
+      p.real_time = false;
+      p.reply_timeout_s = 0.1;
+    } else if (a == "--seed" && has) {
+      if (!num(0, 4294967295.0, v)) return usage("--seed must be a u32");
+      p.faults.seed = static_cast<uint32_t>(v);
+    } else if ((a == "--loss" || a == "--dup" || a == "--reorder" || a == "--late" || a == "--wrong-size" ||
+                a == "--wrong-id" || a == "--cmd-loss") && has) {
+      if (!num(0, 1, v)) return usage(a + " must be a probability in [0, 1]");
+      double& f = a == "--loss" ? p.faults.loss : a == "--dup" ? p.faults.duplicate : a == "--reorder" ? p.faults.reorder
+                  : a == "--late" ? p.faults.late : a == "--wrong-size" ? p.faults.wrong_size
+                  : a == "--wrong-id" ? p.faults.wrong_id : p.faults.cmd_loss;
+      f = v;
+    } else if (a == "--schedule" && has) {
+      std::string spec = argv[++i];
+      std::size_t pos = 0;
+      while (pos <= spec.size()) {
+        const std::size_t comma = spec.find(',', pos);
+        const std::string ev = spec.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+        StateEvent e;
+        char st[16] = {0}, q[16] = {0};
+        unsigned long long c = 0;
+        unsigned pw = 0x7F;
+        const int got = std::sscanf(ev.c_str(), "%llu:%15[A-Z]:%15[A-Z]:%x", &c, st, q, &pw);
+        if (got < 3 || !parseState(st, e.state) || !parseQuality(q, e.quality) || pw > 0xFFFF)
+          return usage("bad --schedule event '" + ev + "' (CYCLE:OFF|MON|CMD:UNACCEPTABLE|BAD|OK|PERFECT[:POWERHEX])");
+        e.cycle = c;
+        e.power = static_cast<uint16_t>(pw);
+        p.schedule.push_back(e);
+        if (comma == std::string::npos) break;
+        pos = comma + 1;
+      }
+    } else {
+      return usage("unknown or incomplete argument '" + a + "'");
+    }
+  }
+  if (port < 0) return usage("--port is required");
+  p.remote_port = static_cast<uint16_t>(port);
+  if (!p.schedule.empty() && p.schedule.front().cycle == 0) p.initial = p.schedule.front();
+
+  FirstOrderPlant plant;
+  SimKrc krc;
+  if (tactile::ConfigResult r = krc.configure(p, plant); !r) {
+    std::fprintf(stderr, "fri_sim_krc: %s\n", r.message().c_str());
+    return 1;
+  }
+  krc.run(cycles);
+  const SimKrcStats& s = krc.stats();
+  std::printf("fri_sim_krc: cycles %llu sent %llu replies %llu stale %llu malformed %llu missed %llu applied %llu "
+              "remote_seq_errors %llu flag_errors %llu nonfinite %llu mon_echo_errors %llu max_step %.6f m %.6f rad "
+              "latency mean %.1f us max %.1f us injected loss %llu dup %llu reorder %llu late %llu wrong_size %llu "
+              "wrong_id %llu cmd_loss %llu\n",
+              (unsigned long long)s.cycles, (unsigned long long)s.sent, (unsigned long long)s.replies,
+              (unsigned long long)s.stale_replies, (unsigned long long)s.malformed_replies,
+              (unsigned long long)s.missed, (unsigned long long)s.applied, (unsigned long long)s.remote_seq_errors,
+              (unsigned long long)s.flag_errors, (unsigned long long)s.nonfinite_commands,
+              (unsigned long long)s.mon_echo_errors, s.max_cmd_step_m, s.max_cmd_step_rad,
+              s.replies ? 1e6 * s.sum_latency_s / double(s.replies) : 0.0, 1e6 * s.max_latency_s,
+              (unsigned long long)s.inj_lost, (unsigned long long)s.inj_duplicate, (unsigned long long)s.inj_reorder,
+              (unsigned long long)s.inj_late, (unsigned long long)s.inj_wrong_size, (unsigned long long)s.inj_wrong_id,
+              (unsigned long long)s.inj_cmd_lost);
+  const bool clean = s.mon_echo_errors == 0 && s.flag_errors == 0 && s.nonfinite_commands == 0;
+  return clean ? 0 : 3;
+}
