@@ -1,0 +1,155 @@
+// wts_sim: a simulated Weiss WTS0614 on a pseudo-terminal.
+//
+//   wts_sim [--link PATH] [--rows 6 --cols 14] [--pattern blob|ramp|zero]
+//           [--recording FILE.csv] [--bit-flip P] [--drop-byte P] [--truncate P]
+//           [--bad-crc P] [--garbage P] [--stall P] [--stall-ms N] [--seed N]
+//           [--duration S]
+//
+// Prints "device: PATH" on stdout (the slave PTY, or the symlink given with
+// --link) and serves the WTS protocol there until SIGINT/SIGTERM or --duration.
+// --pattern blob: a 12-bit Gaussian press whose centre circles over the pad;
+// ramp: counts (r*cols+c)*40 + t; zero: all zero. --recording: one frame per
+// line, rows*cols raw counts in {s} order (what `wts_read --raw` prints), looped.
+// Fault probabilities are per packet (see sim_device.hpp).
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "tactile_wts/sim_device.hpp"
+
+namespace {
+volatile std::sig_atomic_t g_stop = 0;
+void onSignal(int) { g_stop = 1; }
+
+bool toDouble(const char* s, double& v) {
+  char* end = nullptr;
+  v = std::strtod(s, &end);
+  return end != s && *end == '\0';
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  tactile::wts::SimulatedWts::Params p;
+  std::string pattern = "blob", recording;
+  double duration = 0.0;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto val = [&](double& v) {
+      if (i + 1 >= argc || !toDouble(argv[i + 1], v)) {
+        std::fprintf(stderr, "wts_sim: %s needs a numeric value\n", a.c_str());
+        std::exit(2);
+      }
+      ++i;
+    };
+    auto prob = [&](double& v) {
+      val(v);
+      if (!(v >= 0.0 && v <= 1.0)) {
+        std::fprintf(stderr, "wts_sim: %s = %g: must be a probability in [0, 1]\n", a.c_str(), v);
+        std::exit(2);
+      }
+    };
+    double v = 0;
+    if (a == "--link" && i + 1 < argc) p.link = argv[++i];
+    else if (a == "--rows") { val(v); p.cells.rows = static_cast<int>(v); }
+    else if (a == "--cols") { val(v); p.cells.cols = static_cast<int>(v); }
+    else if (a == "--pattern" && i + 1 < argc) pattern = argv[++i];
+    else if (a == "--recording" && i + 1 < argc) recording = argv[++i];
+    else if (a == "--bit-flip") prob(p.faults.bit_flip);
+    else if (a == "--drop-byte") prob(p.faults.drop_byte);
+    else if (a == "--truncate") prob(p.faults.truncate);
+    else if (a == "--bad-crc") prob(p.faults.bad_crc);
+    else if (a == "--garbage") prob(p.faults.garbage);
+    else if (a == "--stall") prob(p.faults.stall);
+    else if (a == "--stall-ms") { val(v); p.faults.stall_ms = static_cast<int>(v); }
+    else if (a == "--seed") { val(v); p.faults.seed = static_cast<uint32_t>(v); }
+    else if (a == "--duration") { val(duration); }
+    else {
+      std::fprintf(stderr, "wts_sim: unknown or incomplete option %s (see the header of wts_sim.cpp)\n", a.c_str());
+      return 2;
+    }
+  }
+  const int rows = p.cells.rows, cols = p.cells.cols;
+  tactile::wts::SimulatedWts sim;
+  if (!recording.empty()) {
+    std::ifstream in(recording);
+    if (!in) {
+      std::fprintf(stderr, "wts_sim: cannot open %s\n", recording.c_str());
+      return 2;
+    }
+    std::vector<tactile::RawTactileFrame> frames;
+    std::string line;
+    long lineno = 0;
+    while (std::getline(in, line)) {
+      ++lineno;
+      if (line.empty() || line[0] == '#') continue;
+      tactile::RawTactileFrame f;
+      f.rows = static_cast<uint16_t>(rows);
+      f.cols = static_cast<uint16_t>(cols);
+      std::stringstream ss(line);
+      std::string cell;
+      int k = 0;
+      while (std::getline(ss, cell, ',')) {
+        double x = 0;
+        if (k >= rows * cols || !toDouble(cell.c_str(), x) || x < 0 || x > 4095) {
+          std::fprintf(stderr, "wts_sim: %s:%ld: value %d is not a count in [0, 4095] or too many values\n",
+                       recording.c_str(), lineno, k + 1);
+          return 2;
+        }
+        f.counts[static_cast<std::size_t>(k++)] = static_cast<uint16_t>(x);
+      }
+      if (k != rows * cols) {
+        std::fprintf(stderr, "wts_sim: %s:%ld: expected %d values, got %d\n", recording.c_str(), lineno, rows * cols, k);
+        return 2;
+      }
+      frames.push_back(f);
+    }
+    sim.setRecording(std::move(frames));
+  } else if (pattern == "blob" || pattern == "ramp" || pattern == "zero") {
+    const double pitch = 0.0034;
+    sim.setSource([=](uint32_t t_ms, tactile::RawTactileFrame& f) {
+      const double t = t_ms * 1e-3;
+      const double cx = 0.012 * std::cos(0.5 * t), cy = 0.004 * std::sin(0.5 * t);
+      for (int r = 0; r < rows; ++r)
+        for (int c = 0; c < cols; ++c) {
+          double v = 0;
+          if (pattern == "blob") {
+            const double x = (c - (cols - 1) / 2.0) * pitch, y = (r - (rows - 1) / 2.0) * pitch;
+            v = 2000.0 * std::exp(-((x - cx) * (x - cx) + (y - cy) * (y - cy)) / (2 * 0.004 * 0.004));
+          } else if (pattern == "ramp") {
+            v = std::fmod((r * cols + c) * 40.0 + t_ms, 4096.0);
+          }
+          f.counts[static_cast<std::size_t>(r * cols + c)] = static_cast<uint16_t>(v);
+        }
+    });
+  } else {
+    std::fprintf(stderr, "wts_sim: --pattern = %s: must be blob, ramp or zero\n", pattern.c_str());
+    return 2;
+  }
+  std::string why;
+  if (!sim.start(p, &why)) {
+    std::fprintf(stderr, "wts_sim: %s\n", why.c_str());
+    return 1;
+  }
+  std::signal(SIGINT, onSignal);
+  std::signal(SIGTERM, onSignal);
+  std::printf("device: %s\n", sim.path().c_str());
+  std::fflush(stdout);
+  const auto t0 = std::chrono::steady_clock::now();
+  while (!g_stop) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    if (duration > 0 && std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > duration) break;
+  }
+  const auto s = sim.stats();
+  sim.stop();
+  std::fprintf(stderr, "wts_sim: %llu commands, %llu frames, %llu faulted packets, %llu bad commands\n",
+               static_cast<unsigned long long>(s.commands), static_cast<unsigned long long>(s.frames),
+               static_cast<unsigned long long>(s.faults), static_cast<unsigned long long>(s.bad_commands));
+  return 0;
+}
