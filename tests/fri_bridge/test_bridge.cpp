@@ -1,0 +1,304 @@
+// FRI bridge core without the network: state/quality handling, sequence
+// checks, hold-on-loss, rate limiter, leaving CMD, invalid inputs, and zero
+// heap allocation per cycle.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "alloc_counter.hpp"
+#include "fri_test_util.hpp"
+#include "tactile_fri/bridge.hpp"
+
+using namespace tactile;
+using namespace tactile::fri;
+using namespace fri_test;
+
+namespace {
+
+constexpr double kT = 0.001;  // command period carried by the packets
+// Tolerance on per-step distances: the wire carries floats; a coordinate near
+// 0.5 m is quantised to 3e-8 m, so the difference of two can be off by 1e-7 m.
+constexpr double kPosTol = 2e-7;
+constexpr double kRotTol = 2e-6;  // rad, float rotation matrices (entries to 6e-8)
+
+struct Harness {
+  FriBridge bridge;
+  BridgeOutput out;
+  PoseCommand desired;
+  uint16_t seq = 100;
+  double now = 10.0;
+  KDL::Frame measured = startPose();
+
+  explicit Harness(BridgeParams p = BridgeParams{}) {
+    EXPECT_TRUE(bridge.configure(p).ok());
+    desired.status = ServoStatus::Ok;
+    setDesired(measured);
+  }
+  void setDesired(const KDL::Frame& f) {
+    toPose(f, desired.pose);
+    desired.time_s = now;
+  }
+  BridgeStatus send(State st, Quality q, uint16_t power = 0x7F) { return sendSeq(++seq, st, q, power); }
+  BridgeStatus sendSeq(uint16_t s, State st, Quality q, uint16_t power = 0x7F) {
+    now += kT;
+    desired.time_s = now;
+    const std::vector<uint8_t> b = makeMsr(s, st, q, measured, power, float(kT));
+    return bridge.stepDatagram(b.data(), b.size(), desired, now, out);
+  }
+  KDL::Frame commanded() const { return cmdPose(reinterpret_cast<const uint8_t*>(&out.cmd)); }
+};
+
+double dist(const KDL::Frame& a, const KDL::Frame& b) { return (a.p - b.p).Norm(); }
+double angle(const KDL::Frame& a, const KDL::Frame& b) {
+  KDL::Vector axis;
+  return rotationAngle(a.M.Inverse() * b.M, axis);
+}
+
+}  // namespace
+
+TEST(FriBridge, ConfigureNamesParameterAndRange) {
+  FriBridge b;
+  BridgeParams p;
+  p.max_lin_speed = -1.0;
+  ConfigResult r = b.configure(p);
+  EXPECT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("fri.max_lin_speed"), std::string::npos) << r.message();
+  EXPECT_NE(r.message().find("(0, 2]"), std::string::npos) << r.message();
+  p = BridgeParams{};
+  p.cart_damping[4] = 2.0;
+  r = b.configure(p);
+  EXPECT_NE(r.message().find("fri.cart_damping[4]"), std::string::npos) << r.message();
+  p = BridgeParams{};
+  p.nominal_period_s = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(b.configure(p).ok());
+  EXPECT_FALSE(b.configured());
+  BridgeOutput out;
+  const std::vector<uint8_t> pk = makeMsr(1, State::Mon, Quality::Perfect, startPose());
+  EXPECT_EQ(b.stepDatagram(pk.data(), pk.size(), PoseCommand{}, 0.0, out), BridgeStatus::NotConfigured);
+  EXPECT_FALSE(out.reply);
+}
+
+TEST(FriBridge, MonitorEchoesMeasuredPoseAndReflectsSequence) {
+  Harness h;
+  h.setDesired(KDL::Frame(KDL::Vector(1.0, 1.0, 1.0)));  // far away: must be ignored in MON
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_EQ(h.send(State::Mon, Quality::Perfect), BridgeStatus::Monitor);
+    ASSERT_TRUE(h.out.reply);
+    EXPECT_EQ(h.out.cmd.head.refl_seq, h.seq);
+    EXPECT_EQ(h.out.cmd.head.send_seq, i + 1);
+    EXPECT_EQ(h.out.cmd.head.packet_size, 376);
+    EXPECT_EQ(h.out.cmd.head.datagram_id, 0x1005);
+    EXPECT_EQ(h.out.cmd.cmd.cmd_flags, flags::kCartPose);
+    EXPECT_TRUE(KDL::Equal(h.commanded(), h.measured, 1e-6));
+    EXPECT_EQ(h.out.state_changed, i == 0);
+  }
+  // OFF state echoes too.
+  EXPECT_EQ(h.send(State::Off, Quality::Bad), BridgeStatus::Monitor);
+  EXPECT_TRUE(h.out.state_changed);
+  EXPECT_TRUE(KDL::Equal(h.commanded(), h.measured, 1e-6));
+}
+
+TEST(FriBridge, CommandIsRateLimitedTowardsDesired) {
+  BridgeParams p;
+  p.max_lin_speed = 0.1;
+  p.max_rot_speed = 0.5;
+  Harness h(p);
+  h.send(State::Mon, Quality::Perfect);
+  const KDL::Frame target(KDL::Rotation::RotZ(0.05) * h.measured.M, h.measured.p + KDL::Vector(0.01, 0.0, -0.005));
+  h.setDesired(target);
+  KDL::Frame prev = h.measured;
+  int limited = 0, steps = 0;
+  while (h.send(State::Cmd, Quality::Perfect) == BridgeStatus::Limited) {
+    ++limited;
+    ASSERT_LT(++steps, 1000);
+    EXPECT_LE(dist(prev, h.commanded()), p.max_lin_speed * kT + kPosTol);
+    EXPECT_LE(angle(prev, h.commanded()), p.max_rot_speed * kT + kRotTol);
+    prev = h.commanded();
+  }
+  EXPECT_EQ(h.out.status, BridgeStatus::Commanding);
+  // 0.0112 m at 0.1 m/s = 112 steps; 0.05 rad at 0.5 rad/s = 100 steps.
+  EXPECT_NEAR(limited, 112, 2);
+  EXPECT_TRUE(KDL::Equal(h.commanded(), target, 1e-6));
+  EXPECT_EQ(h.bridge.stats().limited, static_cast<uint64_t>(limited + 1) - 1);
+}
+
+TEST(FriBridge, DuplicatesAndOutOfOrderAreDroppedWithoutReply) {
+  Harness h;
+  h.sendSeq(500, State::Mon, Quality::Perfect);
+  ASSERT_TRUE(h.out.reply);
+  EXPECT_EQ(h.sendSeq(500, State::Mon, Quality::Perfect), BridgeStatus::DroppedDuplicate);
+  EXPECT_FALSE(h.out.reply);
+  EXPECT_EQ(h.sendSeq(499, State::Mon, Quality::Perfect), BridgeStatus::DroppedOutOfOrder);
+  EXPECT_FALSE(h.out.reply);
+  EXPECT_EQ(h.sendSeq(503, State::Mon, Quality::Perfect), BridgeStatus::Monitor);
+  EXPECT_EQ(h.out.lost_before, 2);
+  EXPECT_EQ(h.sendSeq(502, State::Mon, Quality::Perfect), BridgeStatus::DroppedOutOfOrder);
+  const BridgeStats& s = h.bridge.stats();
+  EXPECT_EQ(s.duplicates, 1u);
+  EXPECT_EQ(s.out_of_order, 2u);
+  EXPECT_EQ(s.lost, 2u);
+  EXPECT_EQ(s.replies, 2u);
+}
+
+TEST(FriBridge, SequenceWrapsAroundAndResyncsAfterRestart) {
+  Harness h;
+  h.sendSeq(65534, State::Mon, Quality::Perfect);
+  EXPECT_EQ(h.sendSeq(65535, State::Mon, Quality::Perfect), BridgeStatus::Monitor);
+  EXPECT_EQ(h.sendSeq(0, State::Mon, Quality::Perfect), BridgeStatus::Monitor);
+  EXPECT_EQ(h.sendSeq(2, State::Mon, Quality::Perfect), BridgeStatus::Monitor);
+  EXPECT_EQ(h.out.lost_before, 1);
+  // KRC restarted: the counter jumps backwards (40000 is 25538 behind 2 on the
+  // 16-bit circle); accepted after resync_after packets.
+  BridgeParams p;
+  int dropped = 0;
+  const uint16_t restart = 40000;
+  for (uint16_t s = restart; s < restart + p.resync_after; ++s) {
+    if (h.sendSeq(s, State::Mon, Quality::Perfect) == BridgeStatus::DroppedOutOfOrder) ++dropped;
+  }
+  EXPECT_EQ(dropped, p.resync_after - 1);
+  EXPECT_TRUE(h.out.reply);
+  EXPECT_EQ(h.bridge.stats().resyncs, 1u);
+  EXPECT_EQ(h.sendSeq(static_cast<uint16_t>(restart + p.resync_after), State::Mon, Quality::Perfect),
+            BridgeStatus::Monitor);
+  EXPECT_EQ(h.out.lost_before, 0);
+}
+
+TEST(FriBridge, PacketLossHoldsAndNeverCatchesUp) {
+  // Hold policy: after a gap of 200 packets the next command is within one
+  // limited step of the last one sent (no extrapolation, no catch-up).
+  BridgeParams p;
+  p.max_lin_speed = 0.05;
+  Harness h(p);
+  h.send(State::Mon, Quality::Perfect);
+  h.setDesired(KDL::Frame(h.measured.M, h.measured.p + KDL::Vector(0.0, 0.1, 0.0)));
+  for (int i = 0; i < 20; ++i) h.send(State::Cmd, Quality::Perfect);
+  const KDL::Frame before = h.commanded();
+  h.seq = static_cast<uint16_t>(h.seq + 200);  // 200 packets lost
+  h.now += 0.2;
+  EXPECT_EQ(h.send(State::Cmd, Quality::Perfect), BridgeStatus::Limited);
+  EXPECT_EQ(h.out.lost_before, 200);
+  EXPECT_NEAR(dist(before, h.commanded()), p.max_lin_speed * kT, kPosTol);
+}
+
+TEST(FriBridge, QualityBelowOkHoldsLastCommand) {
+  Harness h;
+  h.send(State::Mon, Quality::Perfect);
+  h.setDesired(KDL::Frame(h.measured.M, h.measured.p + KDL::Vector(0.05, 0.0, 0.0)));
+  for (int i = 0; i < 10; ++i) h.send(State::Cmd, Quality::Ok);
+  const KDL::Frame held = h.commanded();
+  for (Quality q : {Quality::Bad, Quality::Unacceptable, Quality::Bad}) {
+    EXPECT_EQ(h.send(State::Cmd, q), BridgeStatus::QualityLow);
+    ASSERT_TRUE(h.out.reply);
+    EXPECT_TRUE(KDL::Equal(h.commanded(), held, 1e-9));
+  }
+  EXPECT_EQ(h.bridge.stats().holds, 3u);
+  EXPECT_EQ(h.send(State::Cmd, Quality::Perfect), BridgeStatus::Limited);
+  EXPECT_NEAR(dist(held, h.commanded()), 0.05 * kT, kPosTol);
+}
+
+TEST(FriBridge, LeavingCmdGivesClearStatusAndReentryStartsAtMeasured) {
+  Harness h;
+  h.send(State::Mon, Quality::Perfect);
+  EXPECT_EQ(h.out.status, BridgeStatus::Monitor);
+  h.setDesired(KDL::Frame(h.measured.M, h.measured.p + KDL::Vector(0.0, 0.0, 0.05)));
+  for (int i = 0; i < 10; ++i) h.send(State::Cmd, Quality::Perfect);
+  // KRC drops to MON; meanwhile the robot was pushed elsewhere.
+  h.measured.p = h.measured.p + KDL::Vector(0.02, 0.0, 0.0);
+  EXPECT_EQ(h.send(State::Mon, Quality::Perfect), BridgeStatus::LeftCmd);
+  EXPECT_TRUE(h.out.state_changed);
+  EXPECT_TRUE(KDL::Equal(h.commanded(), h.measured, 1e-6));
+  EXPECT_EQ(h.send(State::Mon, Quality::Perfect), BridgeStatus::LeftCmd);  // sticky while out of CMD
+  // Back to CMD: the first command is within one step of the MEASURED pose.
+  EXPECT_EQ(h.send(State::Cmd, Quality::Perfect), BridgeStatus::Limited);
+  EXPECT_LE(dist(h.commanded(), h.measured), 0.05 * kT + kPosTol);
+}
+
+TEST(FriBridge, PowerOffEchoesMeasuredEvenInCmd) {
+  Harness h;
+  h.send(State::Mon, Quality::Perfect);
+  h.setDesired(KDL::Frame(h.measured.M, h.measured.p + KDL::Vector(0.0, 0.05, 0.0)));
+  EXPECT_EQ(h.send(State::Cmd, Quality::Perfect, 0), BridgeStatus::PowerOff);
+  EXPECT_TRUE(KDL::Equal(h.commanded(), h.measured, 1e-6));
+}
+
+TEST(FriBridge, InvalidOrStaleDesiredHolds) {
+  Harness h;
+  h.send(State::Mon, Quality::Perfect);
+  h.setDesired(KDL::Frame(h.measured.M, h.measured.p + KDL::Vector(0.0, 0.05, 0.0)));
+  for (int i = 0; i < 5; ++i) h.send(State::Cmd, Quality::Perfect);
+  const KDL::Frame held = h.commanded();
+  h.desired.pose.p[0] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(h.send(State::Cmd, Quality::Perfect), BridgeStatus::DesiredInvalid);
+  EXPECT_TRUE(KDL::Equal(h.commanded(), held, 1e-9));
+  h.setDesired(held);
+  h.desired.pose.q = {0.0, 0.0, 0.0, 0.0};  // not a rotation
+  EXPECT_EQ(h.send(State::Cmd, Quality::Perfect), BridgeStatus::DesiredInvalid);
+  h.setDesired(KDL::Frame(h.measured.M, h.measured.p + KDL::Vector(0.0, 0.05, 0.0)));
+  h.desired.status = ServoStatus::NotConfigured;  // no desired pose yet
+  EXPECT_EQ(h.send(State::Cmd, Quality::Perfect), BridgeStatus::DesiredInvalid);
+  h.desired.status = ServoStatus::Ok;
+  // Stale: the desired pose is older than max_desired_age_s.
+  const std::vector<uint8_t> b = makeMsr(++h.seq, State::Cmd, Quality::Perfect, h.measured);
+  h.bridge.stepDatagram(b.data(), b.size(), h.desired, h.now + 1.0, h.out);
+  EXPECT_EQ(h.out.status, BridgeStatus::DesiredStale);
+  EXPECT_TRUE(KDL::Equal(h.commanded(), held, 1e-9));
+  for (float v : h.out.cmd.cmd.cart_pos) EXPECT_TRUE(std::isfinite(v));
+}
+
+TEST(FriBridge, InvalidMeasuredPoseNeverBecomesACommand) {
+  Harness h;
+  h.measured.p = KDL::Vector(std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0);
+  EXPECT_EQ(h.send(State::Mon, Quality::Perfect), BridgeStatus::MeasurementInvalid);
+  EXPECT_FALSE(h.out.reply);
+  EXPECT_EQ(h.send(State::Cmd, Quality::Perfect), BridgeStatus::MeasurementInvalid);
+  EXPECT_FALSE(h.out.reply);  // nothing to hold yet
+  h.measured = startPose();
+  h.send(State::Cmd, Quality::Perfect);
+  const KDL::Frame held = h.commanded();
+  h.measured.M = KDL::Rotation(2, 0, 0, 0, 1, 0, 0, 0, 1);  // not a rotation
+  EXPECT_EQ(h.send(State::Cmd, Quality::Perfect), BridgeStatus::MeasurementInvalid);
+  ASSERT_TRUE(h.out.reply);  // in CMD: hold the last command
+  EXPECT_TRUE(KDL::Equal(h.commanded(), held, 1e-9));
+}
+
+TEST(FriBridge, InvalidKrcSampleTimeFallsBackToNominal) {
+  BridgeParams p;
+  p.nominal_period_s = 0.002;
+  Harness h(p);
+  h.send(State::Mon, Quality::Perfect);
+  const KDL::Frame start = h.commanded();
+  h.setDesired(KDL::Frame(h.measured.M, h.measured.p + KDL::Vector(0.1, 0.0, 0.0)));
+  const std::vector<uint8_t> b =
+      makeMsr(++h.seq, State::Cmd, Quality::Perfect, h.measured, 0x7F, std::numeric_limits<float>::infinity());
+  h.bridge.stepDatagram(b.data(), b.size(), h.desired, h.now, h.out);
+  EXPECT_NEAR(dist(start, h.commanded()), p.max_lin_speed * 0.002, kPosTol);
+}
+
+TEST(FriBridge, NoHeapAllocationPerCycle) {
+  Harness h;
+  std::vector<std::vector<uint8_t>> packets;
+  const KDL::Frame far(h.measured.M, h.measured.p + KDL::Vector(0.1, 0.0, 0.0));
+  for (int i = 0; i < 3000; ++i) {
+    const State st = i < 100 ? State::Mon : (i < 2800 ? State::Cmd : State::Mon);
+    const Quality q = (i > 1000 && i < 1100) ? Quality::Bad : Quality::Perfect;
+    uint16_t seq = static_cast<uint16_t>(i + 1);
+    if (i % 50 == 7) seq = static_cast<uint16_t>(i - 3);  // out of order
+    packets.push_back(makeMsr(seq, st, q, h.measured));
+  }
+  packets.push_back(std::vector<uint8_t>(100, 0xAB));  // malformed
+  h.setDesired(far);
+  uint8_t wire[kCmdPacketSize];
+  std::size_t replies = 0;
+  tactile::test::AllocationScope scope;
+  for (const auto& b : packets) {
+    h.bridge.stepDatagram(b.data(), b.size(), h.desired, h.now, h.out);
+    if (h.out.reply) {
+      std::size_t n = 0;
+      encodeCommand(h.out.cmd, wire, sizeof wire, n);
+      replies += n;
+    }
+  }
+  EXPECT_EQ(scope.count(), 0u);
+  EXPECT_GT(replies, 2900u * kCmdPacketSize);
+}
