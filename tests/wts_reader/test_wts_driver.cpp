@@ -200,6 +200,24 @@ TEST_F(WtsPty, UnplugGivesDisconnectedThenReconnects) {
   EXPECT_GE(d.stats().disconnects, 1u);
 }
 
+TEST_F(WtsPty, SilentStreamStopIsRestartedByTheWatchdog) {
+  params.restart_after_s = 0.2;
+  WtsDriver d;
+  ASSERT_TRUE(d.configure(params).ok());
+  ASSERT_EQ(d.open(), CmdStatus::Ok);
+  ASSERT_EQ(collect(d, 10, 2.0), 10);
+  sim.resetDevice();
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  EXPECT_FALSE(sim.streaming());
+  int bad = 0;
+  const double t0 = nowS();
+  EXPECT_EQ(collect(d, 200, 3.0, &bad), 200);
+  EXPECT_EQ(bad, 0);
+  EXPECT_GE(d.stats().restarts, 1u);
+  EXPECT_TRUE(sim.streaming());
+  EXPECT_LT(nowS() - t0, 2.0);
+}
+
 TEST_F(WtsPty, DeviceTareZeroesTheFrames) {
   sim.setSource([](uint32_t, tactile::RawTactileFrame& f) {
     for (int i = 0; i < 84; ++i) f.counts[static_cast<std::size_t>(i)] = static_cast<uint16_t>(500 + i);
@@ -288,6 +306,9 @@ TEST(WtsDriverConfig, ErrorsNameParameterAndRange) {
   p.reconnect_period_s = 0.0;
   EXPECT_NE(d.configure(p).message().find("wts.reconnect_period_s"), std::string::npos);
   p.reconnect_period_s = 0.5;
+  p.restart_after_s = 0.0;
+  EXPECT_NE(d.configure(p).message().find("wts.restart_after_s"), std::string::npos);
+  p.restart_after_s = 1.0;
   p.command_timeout_ms = 0;
   EXPECT_NE(d.configure(p).message().find("wts.command_timeout_ms"), std::string::npos);
   p.command_timeout_ms = 100;

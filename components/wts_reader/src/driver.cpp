@@ -50,6 +50,8 @@ ConfigResult WtsDriver::configure(const WtsParams& p) {
     return rangeError("wts.command_timeout_ms", p.command_timeout_ms, "must be in [1, 10000]");
   if (!(p.reconnect_period_s >= 0.01 && p.reconnect_period_s <= 60.0))
     return rangeError("wts.reconnect_period_s", p.reconnect_period_s, "must be in [0.01, 60] (s)");
+  if (!(p.restart_after_s >= 0.05 && p.restart_after_s <= 60.0))
+    return rangeError("wts.restart_after_s", p.restart_after_s, "must be in [0.05, 60] (s)");
   ConfigResult r = decoder_.configure(p.cells);
   if (!r) return r;
   p_ = p;
@@ -100,6 +102,7 @@ void WtsDriver::close() {
 
 CmdStatus WtsDriver::startAcquisition() {
   request_outstanding_ = false;
+  frame_clock_started_ = false;
   if (p_.periodic_ms == 0) return CmdStatus::Ok;
   const CmdStatus s = startPeriodic();
   if (s == CmdStatus::DeviceError && last_status_ == StatusCode::AlreadyRunning) return CmdStatus::Ok;
@@ -200,6 +203,12 @@ CmdStatus WtsDriver::transact(Command c, const uint8_t* payload, uint16_t n) {
   return last_status_ == StatusCode::Success ? CmdStatus::Ok : CmdStatus::DeviceError;
 }
 
+bool WtsDriver::kickPeriodic() {
+  const std::size_t len =
+      encodeStartPeriodic(p_.rle, static_cast<uint16_t>(p_.periodic_ms), tx_.data(), tx_.size());
+  return sendPacket(len) != CmdStatus::Disconnected;
+}
+
 CmdStatus WtsDriver::tare(bool on) {
   const uint8_t b = on ? 1 : 0;
   return transact(Command::Tare, &b, 1);
@@ -248,12 +257,27 @@ ReadStatus WtsDriver::poll(double now_s, int timeout_ms, RawTactileFrame& out) {
     last_attempt_s_ = now_s;
     if (port_.reopen() != IoStatus::Ok) return ReadStatus::Disconnected;
     parser_.reset();
-    if (startAcquisition() != CmdStatus::Ok) {
+    request_outstanding_ = false;
+    frame_clock_started_ = false;
+    if (p_.periodic_ms > 0 && !kickPeriodic()) {
       port_.close();
       return ReadStatus::Disconnected;
     }
     ++stats_.reconnects;
     return ReadStatus::Reconnected;
+  }
+  // periodic mode watchdog: no frame for restart_after_s -> send "start" again
+  if (!frame_clock_started_) {
+    frame_clock_started_ = true;
+    last_frame_s_ = now_s;
+  }
+  if (p_.periodic_ms > 0 && now_s - last_frame_s_ > p_.restart_after_s) {
+    last_frame_s_ = now_s;
+    ++stats_.restarts;
+    if (!kickPeriodic()) {
+      last_attempt_s_ = now_s;
+      return ReadStatus::Disconnected;
+    }
   }
   // single-frame mode: keep one request outstanding (re-send after a timeout)
   if (p_.periodic_ms == 0 &&
@@ -282,6 +306,7 @@ ReadStatus WtsDriver::poll(double now_s, int timeout_ms, RawTactileFrame& out) {
   }
   if (got_frame && have_latest_) {
     have_latest_ = false;
+    last_frame_s_ = now_s;
     latest_.time_s = now_s;
     latest_.seq = seq_++;
     out = latest_;

@@ -295,8 +295,8 @@ void SimulatedWts::handle(const PacketView& pkt) {
       }
       rle_ = (pkt.payload[0] & kFlagRle) != 0;
       delay_ms_ = getU16(pkt.payload + 1);
+      streaming_ = true;  // before the reply: the host may check right after the ack
       reply(pkt.id, StatusCode::Success, nullptr, 0);
-      streaming_ = true;
       return;
     case Command::StopPeriodic:
       streaming_ = false;

@@ -12,7 +12,10 @@
 // with "read single frame" (0x20), one request outstanding at a time.
 // On Disconnected the driver closes the port and, once reconnect_period_s has
 // passed (time is the caller's now_s), re-opens the same path, flushes and
-// restarts acquisition; that poll() returns Reconnected. Malformed bytes are
+// restarts acquisition; that poll() returns Reconnected. poll() never waits
+// for a reply: the restart commands are sent without waiting (their replies are
+// counted as other_packets), so one poll() is bounded by timeout_ms plus one
+// short write. Malformed bytes are
 // counted and skipped; only CRC-checked, size-checked frames are returned.
 #pragma once
 
@@ -36,6 +39,9 @@ struct WtsParams {
   int command_timeout_ms = 300;   ///< [1, 10000] reply timeout of a command
   double reconnect_period_s = 0.5;///< [0.01, 60] between re-open attempts
   bool check_matrix_info = true;  ///< on open: 0x30 reply must match cells (res_x, res_y)
+  /// Periodic mode: with no valid frame for this long, "start periodic" is sent
+  /// again (device reset or a lost start command). [0.05, 60] s.
+  double restart_after_s = 1.0;
 };
 
 enum class ReadStatus : uint8_t {
@@ -57,6 +63,7 @@ struct DriverStats {
   uint64_t bad_frames = 0;     ///< CRC-valid frame packets rejected by the decoder
   uint64_t disconnects = 0;
   uint64_t reconnects = 0;
+  uint64_t restarts = 0;       ///< "start periodic" re-sent by the watchdog
   uint64_t bytes = 0;
   uint64_t other_packets = 0;  ///< replies not awaited (e.g. late acks)
 };
@@ -113,6 +120,10 @@ class WtsDriver {
   double last_attempt_s_ = -1e300;
   bool want_open_ = false;
   uint32_t seq_ = 0;
+  double last_frame_s_ = 0.0;
+  bool frame_clock_started_ = false;
+  /// Sends "start periodic" without waiting for the reply (per-cycle path).
+  bool kickPeriodic();
   // awaited reply
   uint8_t await_id_ = 0xFF;
   bool await_done_ = false;

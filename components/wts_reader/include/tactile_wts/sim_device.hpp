@@ -76,6 +76,8 @@ class SimulatedWts {
   /// Simulate pulling the USB cable / plugging it back in.
   void unplug();
   bool replug();
+  /// Device reset behind the driver's back: periodic acquisition stops silently.
+  void resetDevice() { streaming_ = false; }
   /// Device status returned to every command except loop (to test error paths).
   void forceStatus(StatusCode s) { forced_status_.store(static_cast<uint16_t>(s)); }
 
