@@ -1,0 +1,153 @@
+// Rigid objects the tactile pad can touch, and their fast analytic evaluation
+// in the sensor frame {s}.
+//
+// The pad model (pad_sensor.hpp) needs, for a column (x, y) of the sensing
+// surface, the lowest point of the object along z_s: z_low(x, y) in {s}. The
+// penetration into the elastic layer is then delta = -z_low (Winkler
+// foundation, Eq. 2). Every object has an analytic z_low:
+//   plane  : half-space (a table top), n . p <= n . p0, n the outward normal;
+//   sphere : centre, radius;
+//   bar    : a capsule (cylinder of radius r around a segment, rounded ends):
+//            a straight bar whose top edge has the rounding radius r;
+//   bent_bar: a polyline of such capsules (union), e.g. a centreline bent in
+//            the xy and the xz planes (Sec. 5.2.1, Fig. 11);
+//   tray   : a rigid plate on a pivot bearing with a copper bar (capsule)
+//            glued underneath, the part the sensor holds (Sec. 5.3, Fig. 13);
+//            its two small rotation angles about the bearing are world state.
+// Object geometry is given in {g} (tray bar: in the tray frame, which is {g}
+// translated to the bearing point and rotated by the tray angles).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <kdl/frames.hpp>
+
+#include "tactile_types/config_result.hpp"
+
+namespace tactile {
+namespace sim {
+
+enum class ObjectType : uint8_t { Plane = 0, Sphere = 1, Bar = 2, BentBar = 3, Tray = 4 };
+const char* toString(ObjectType t);
+/// "plane" | "table" | "sphere" | "bar" | "bent_bar" | "tray" -> type; false if unknown.
+bool parseObjectType(const std::string& s, ObjectType& out);
+
+constexpr int kMaxObjects = 8;
+constexpr int kMaxVertices = 33;   ///< per bar polyline (32 segments)
+constexpr int kMaxSegments = 64;   ///< over all objects
+
+using Vec3 = std::array<double, 3>;
+
+/// Tray of Sec. 5.3 (Fig. 13). The tray frame {t} is {g} translated to the
+/// bearing point and rotated by Rx(roll_x) * Ry(roll_y) (small angles). The
+/// bearing is modelled as a pivot that lets the tray pitch about x_g (this
+/// sets the load on the sensor) and roll about y_g (the equilibrium axis,
+/// from the bearing to the holding point, is along y_g at rest; the roll
+/// makes the line load on the bar non-uniform), with optional torsional
+/// springs/dampers. The tray plate itself is not a contact body; only the
+/// bar glued underneath touches the pad.
+struct TrayParams {
+  Vec3 bearing{0.6, -0.4, 0.4};            ///< bearing point in {g} (m)
+  Vec3 bar_from{-0.05, 0.4, -0.006};       ///< bar centreline start in {t} (m)
+  Vec3 bar_to{0.05, 0.4, -0.006};          ///< bar centreline end in {t} (m)
+  double bar_radius = 0.003;               ///< m (rounded copper bar)
+  double tray_mass = 1.0;                  ///< kg (plate + bar)
+  Vec3 tray_com{0.0, 0.2, 0.0};            ///< in {t} (m)
+  double mass = 0.2;                       ///< the movable weight (kg), Sec. 5.3
+  Vec3 mass_from{0.0, 0.2, 0.0};           ///< weight position before the move, {t} (m)
+  Vec3 mass_to{0.06, 0.2, 0.0};            ///< after the move, {t} (m)
+  double move_start_s = 5.0;               ///< scripted move: start time (s)
+  double move_duration_s = 1.0;            ///< linear in time over this duration (s); 0 = jump
+  double pitch_stiffness = 0.0;            ///< torsional spring about x_g at the bearing (N m/rad)
+  double roll_stiffness = 0.0;             ///< about y_g (N m/rad)
+  double bearing_damping = 0.05;           ///< N m s/rad, both axes (dynamics)
+  double inertia_x = 0.0, inertia_y = 0.0; ///< about the bearing (kg m^2); 0 = from the masses
+  double initial_pitch = 0.0, initial_roll = 0.0;  ///< rad
+};
+
+struct ObjectParams {
+  std::string name;             ///< used in error messages
+  ObjectType type = ObjectType::Plane;
+  // plane
+  Vec3 point{0.0, 0.0, 0.0};    ///< a point of the plane, {g}
+  Vec3 normal{0.0, 0.0, 1.0};   ///< outward normal (out of the solid), {g}
+  // sphere
+  Vec3 center{0.0, 0.0, 0.0};
+  double radius = 0.01;         ///< sphere radius or bar rounding radius (m)
+  // bar / bent_bar: centreline vertices in {g} (2 for a bar, >= 2 for a bent bar)
+  std::vector<Vec3> vertices;
+  // tray
+  TrayParams tray;
+};
+
+/// A point mass of the tray, for its gravity torque.
+struct TrayPose {
+  double pitch = 0.0;  ///< rotation about x_g at the bearing (rad)
+  double roll = 0.0;   ///< rotation about y_g at the bearing (rad): the "tray angle"
+};
+
+/// The objects of a scene, evaluated in {s}. Fixed capacity, allocation-free
+/// after configure().
+class ObjectSet {
+ public:
+  ConfigResult configure(const std::vector<ObjectParams>& objects);
+  int size() const { return n_objects_; }
+  bool hasTray() const { return tray_index_ >= 0; }
+  int trayIndex() const { return tray_index_; }
+  const TrayParams& tray() const { return tray_; }
+  const ObjectParams& params(int i) const { return params_[static_cast<std::size_t>(i)]; }
+
+  /// Place all objects in {s}: T_gs = {g}T{s}; tray pose for the tray bar.
+  void pose(const KDL::Frame& T_gs, const TrayPose& tray);
+
+  /// Lowest object surface point along z_s over the column (x, y) in {s}
+  /// (+inf if no object crosses the column). `which` = object index.
+  double lowestZ(double x, double y, int& which) const;
+
+  /// Tray bar endpoints in {g} at a tray pose.
+  void trayBar(const TrayPose& tp, KDL::Vector& a, KDL::Vector& b) const;
+  /// Moving weight position in {t} at time t (scripted move).
+  KDL::Vector trayMassPosition(double t) const;
+  /// Gravity torque about the bearing (x_g, y_g components) at pose tp, time t.
+  void trayGravityTorque(const TrayPose& tp, double t, const KDL::Vector& g, double& tx, double& ty) const;
+  KDL::Vector bearing() const { return KDL::Vector(tray_.bearing[0], tray_.bearing[1], tray_.bearing[2]); }
+  double trayInertiaX() const { return tray_ix_; }
+  double trayInertiaY() const { return tray_iy_; }
+
+ private:
+  struct Segment {  // capsule cylinder part, in {s}
+    KDL::Vector p0, a;
+    double len = 0.0, r = 0.0;
+    double xmin = 0, xmax = 0, ymin = 0, ymax = 0;  // footprint bounding box (expanded by r)
+    int object = 0;
+  };
+  struct Ball {  // sphere / capsule end cap, in {s}
+    KDL::Vector c;
+    double r = 0.0;
+    int object = 0;
+  };
+  struct PlaneS {
+    KDL::Vector n;
+    double d = 0.0;
+    int object = 0;
+  };
+  void addCapsuleS(const KDL::Vector& a, const KDL::Vector& b, double r, int object, bool cap_a, bool cap_b);
+
+  std::vector<ObjectParams> params_;  // configure-time copy (names for messages)
+  int n_objects_ = 0;
+  int tray_index_ = -1;
+  TrayParams tray_;
+  double tray_ix_ = 0.0, tray_iy_ = 0.0;
+  // Posed geometry in {s}, rebuilt by pose().
+  std::array<Segment, kMaxSegments> seg_{};
+  std::array<Ball, kMaxSegments + kMaxObjects> ball_{};
+  std::array<PlaneS, kMaxObjects> plane_{};
+  int n_seg_ = 0, n_ball_ = 0, n_plane_ = 0;
+};
+
+}  // namespace sim
+}  // namespace tactile

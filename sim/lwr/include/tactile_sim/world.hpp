@@ -1,0 +1,137 @@
+// The simulated world: LWR arm + WTS0614 pad on its flange + the scene's
+// objects (table, sphere, bars, tray), at one of two fidelity levels.
+//
+//   World w;
+//   WorldParams p; ...;                       // or from a scene file (runner)
+//   ConfigResult r = w.configure(p);          // validates: names the parameter
+//   SimState s;
+//   for (each sim cycle, dt = 1 / sim_rate)
+//     w.step(flange_cmd_g, dt, s);            // physics; s.status
+//   on each WTS acquisition (140 Hz):
+//     w.acquire(raw, truth);                  // tactile image at the current state
+//   Calibration cal; cal.configure(w.calibration());   // as on the robot
+//
+// Fidelity (Sec. 4, Eq. 11):
+//   QuasiStatic: each step the flange settles at the impedance equilibrium
+//     K (x_d - x) + W_contact(x) = 0 (damped Newton with the analytic contact
+//     stiffness of the elastic foundation, warm-started from the previous
+//     equilibrium; the tray's two angles are solved jointly), then the joints
+//     follow by damped differential IK from the previous q (joint limits and
+//     singularities detected). Fine for servo-rate steps (no inertia).
+//   Dynamics: joint-space rigid-body dynamics (KDL::ChainDynParam) under the
+//     robot's Cartesian impedance torque (Eq. 11) and J^T W_contact,
+//     semi-implicit Euler; the tray angles are integrated too.
+//
+// Time is passed in: step() advances the world time by dt; acquire() stamps
+// the frame with the world time. Nothing reads a clock. step() and acquire()
+// do not allocate and do not throw.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "tactile_sim/lwr_arm.hpp"
+#include "tactile_sim/objects.hpp"
+#include "tactile_sim/pad_sensor.hpp"
+
+namespace tactile {
+namespace sim {
+
+enum class Fidelity : uint8_t { QuasiStatic = 0, Dynamics = 1 };
+const char* toString(Fidelity f);
+/// "quasi_static" | "dynamics" -> fidelity; false if unknown.
+bool parseFidelity(const std::string& s, Fidelity& out);
+
+struct WorldParams {
+  ArmParams arm;
+  PadParams pad;
+  Fidelity fidelity = Fidelity::QuasiStatic;
+  std::vector<ObjectParams> objects;
+  uint64_t seed = 1;                ///< noise seed (overrides pad.seed)
+  /// If set, the arm starts at this flange pose {g}T{e} (IK from arm.q_init);
+  /// otherwise at FK(arm.q_init).
+  bool use_initial_flange_pose = false;
+  tactile::Pose initial_flange_pose;
+  /// Extra constant wrench on the flange, {g} at the flange, [f; m] (tests, pushes).
+  std::array<double, 6> external_wrench{};
+  double force_ceiling = 150.0;     ///< N, |contact force| above this -> ForceCeiling
+  int qs_max_iterations = 12;       ///< quasi-static Newton iterations per step
+  double qs_tolerance = 1e-4;       ///< N (and N m) residual to stop the quasi-static solve
+  double qs_max_step = 0.005;       ///< m per Newton iteration (rad for rotations: x 10)
+};
+
+struct SimState {
+  double time_s = 0.0;
+  uint64_t step = 0;
+  JointVec q = JointVec::Zero(), qd = JointVec::Zero();
+  tactile::Pose flange_g;            ///< {g}T{e}
+  tactile::Pose sensor_g;            ///< {g}T{s}
+  KDL::Frame T_ge, T_gs;
+  tactile::Pose command_g;           ///< the flange command used this step (last valid)
+  /// True contact wrench on the sensor from all contacts, {s} about its origin,
+  /// [fx fy fz mx my mz] (what an ATI Nano17 under the sensor would read, sign
+  /// as a wrench acting on the sensor: pressing gives fz < 0).
+  std::array<double, 6> wrench_s{};
+  double normal_force = 0.0;         ///< N carried by the elastic layer (>= 0)
+  double housing_force = 0.0;        ///< N carried by the rigid housing (>= 0)
+  double tray_pitch = 0.0, tray_roll = 0.0;  ///< rad (roll = the tray angle, about the equilibrium axis)
+  double manipulability = 0.0;
+  int solver_iterations = 0;         ///< quasi-static Newton iterations used
+  SimStatus status = SimStatus::NotConfigured;
+};
+
+class World {
+ public:
+  /// Validates everything (errors name the parameter, the object and its
+  /// range; e.g. an object that starts inside the sensor) and places the arm.
+  ConfigResult configure(const WorldParams& params);
+  bool configured() const { return configured_; }
+  const WorldParams& params() const { return params_; }
+
+  /// Physics: advance by dt (s) toward the flange command {g}T{e}.
+  /// A NaN/Inf/zero-quaternion command is ignored (the last valid one is held,
+  /// status InvalidCommand); dt <= 0 or non-finite leaves the state unchanged.
+  SimStatus step(const tactile::Pose& flange_cmd_g, double dt, SimState& out);
+
+  /// WTS acquisition at the current state and world time.
+  void acquire(tactile::RawTactileFrame& raw, SensorTruth& truth);
+
+  /// Calibration that inverts the simulated taxel response.
+  tactile::CalibrationParams calibration() const { return pad_.calibration(); }
+
+  const SimState& state() const { return state_; }
+  const LwrArm& arm() const { return arm_; }
+  const PadSensor& pad() const { return pad_; }
+  const ObjectSet& objects() const { return objects_; }
+  double time() const { return state_.time_s; }
+  /// Tray moving-mass position in {g} now (for logs); zero without a tray.
+  std::array<double, 3> trayMassPosition() const;
+
+  /// Replace the constant external wrench (allocation-free).
+  void setExternalWrench(const std::array<double, 6>& w);
+
+ private:
+  SimStatus stepQuasiStatic(const KDL::Frame& T_cmd, double dt);
+  SimStatus stepDynamics(const KDL::Frame& T_cmd, double dt);
+  void placeObjects(const KDL::Frame& T_ge, const TrayPose& tp);
+  void fillState(SimStatus s);
+
+  bool configured_ = false;
+  WorldParams params_;
+  LwrArm arm_;
+  PadSensor pad_;
+  ObjectSet objects_;
+  ContactEval contact_;
+  SimState state_;
+  KDL::Frame T_eq_;                 ///< quasi-static equilibrium flange pose (warm start)
+  KDL::Frame T_cmd_;                ///< last valid command
+  TrayPose tray_;
+  Eigen::Vector2d tray_rate_ = Eigen::Vector2d::Zero();
+  Vec6 W_ext_ = Vec6::Zero();
+  uint32_t acq_seq_ = 0;
+  int last_iterations_ = 0;
+};
+
+}  // namespace sim
+}  // namespace tactile

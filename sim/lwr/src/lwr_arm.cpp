@@ -1,0 +1,294 @@
+#include "tactile_sim/lwr_arm.hpp"
+
+#include <cmath>
+#include <string>
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <kdl/chaindynparam.hpp>
+#include <kdl/chainfksolverpos_recursive.hpp>
+#include <kdl/chainjnttojacsolver.hpp>
+#include <kdl/rigidbodyinertia.hpp>
+#include <kdl/rotationalinertia.hpp>
+#include <kdl/segment.hpp>
+
+namespace tactile {
+namespace sim {
+
+const char* toString(SimStatus s) {
+  switch (s) {
+    case SimStatus::Ok: return "ok";
+    case SimStatus::InvalidCommand: return "invalid_command";
+    case SimStatus::NotConverged: return "not_converged";
+    case SimStatus::JointLimit: return "joint_limit";
+    case SimStatus::Singularity: return "singularity";
+    case SimStatus::ForceCeiling: return "force_ceiling";
+    case SimStatus::NumericalFailure: return "numerical_failure";
+    case SimStatus::NotConfigured: return "not_configured";
+  }
+  return "unknown";
+}
+
+KDL::Frame toFrame(const tactile::Pose& p) {
+  double n = std::sqrt(p.q[0] * p.q[0] + p.q[1] * p.q[1] + p.q[2] * p.q[2] + p.q[3] * p.q[3]);
+  if (!(n > 0.0)) n = 1.0;
+  return KDL::Frame(KDL::Rotation::Quaternion(p.q[0] / n, p.q[1] / n, p.q[2] / n, p.q[3] / n),
+                    KDL::Vector(p.p[0], p.p[1], p.p[2]));
+}
+
+tactile::Pose toPose(const KDL::Frame& f) {
+  tactile::Pose p;
+  p.p = {f.p.x(), f.p.y(), f.p.z()};
+  f.M.GetQuaternion(p.q[0], p.q[1], p.q[2], p.q[3]);
+  return p;
+}
+
+bool validPose(const tactile::Pose& p) {
+  double n2 = 0.0;
+  for (double v : p.p)
+    if (!std::isfinite(v)) return false;
+  for (double v : p.q) {
+    if (!std::isfinite(v)) return false;
+    n2 += v * v;
+  }
+  return n2 >= 0.25 && n2 <= 4.0;
+}
+
+namespace {
+constexpr double kAlpha[kLwrJoints] = {kPi / 2, -kPi / 2, -kPi / 2, kPi / 2, kPi / 2, -kPi / 2, 0.0};
+constexpr double kD[kLwrJoints] = {0.31, 0.0, 0.4, 0.0, 0.39, 0.0, 0.078};
+
+bool finite3(const std::array<double, 3>& v) {
+  return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+}
+
+Vec6 toVec(const KDL::Twist& t) {
+  Vec6 v;
+  v << t.vel.x(), t.vel.y(), t.vel.z(), t.rot.x(), t.rot.y(), t.rot.z();
+  return v;
+}
+}  // namespace
+
+LwrArm::LwrArm() = default;
+LwrArm::~LwrArm() = default;
+
+ConfigResult LwrArm::configure(const ArmParams& p) {
+  configured_ = false;
+  auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+  auto nonneg = [](double v) { return std::isfinite(v) && v >= 0.0; };
+  if (!positive(p.k_trans)) return rangeError("arm.k_trans", p.k_trans, "must be > 0 (N/m)");
+  if (!positive(p.k_rot)) return rangeError("arm.k_rot", p.k_rot, "must be > 0 (N m/rad)");
+  if (!nonneg(p.damping_ratio) || p.damping_ratio > 10.0)
+    return rangeError("arm.damping_ratio", p.damping_ratio, "must be in [0, 10]");
+  if (!nonneg(p.null_stiffness)) return rangeError("arm.null_stiffness", p.null_stiffness, "must be >= 0 (N m/rad)");
+  if (!nonneg(p.null_damping)) return rangeError("arm.null_damping", p.null_damping, "must be >= 0 (N m s/rad)");
+  if (!nonneg(p.joint_damping)) return rangeError("arm.joint_damping", p.joint_damping, "must be >= 0 (N m s/rad)");
+  if (!nonneg(p.min_manipulability) || p.min_manipulability > 1.0)
+    return rangeError("arm.min_manipulability", p.min_manipulability, "must be in [0, 1]");
+  if (!positive(p.max_joint_speed)) return rangeError("arm.max_joint_speed", p.max_joint_speed, "must be > 0 (rad/s)");
+  if (!finite3(p.gravity)) return ConfigResult::failure("arm.gravity: must be finite (m/s^2)");
+  if (p.ik_iterations < 1 || p.ik_iterations > 100)
+    return rangeError("arm.ik_iterations", p.ik_iterations, "must be in [1, 100]");
+  if (!positive(p.ik_damping) || p.ik_damping > 1.0) return rangeError("arm.ik_damping", p.ik_damping, "must be in (0, 1]");
+  if (!nonneg(p.tool_mass)) return rangeError("arm.tool_mass", p.tool_mass, "must be >= 0 (kg)");
+  if (!finite3(p.tool_com)) return ConfigResult::failure("arm.tool_com: must be finite (m)");
+  for (int i = 0; i < kLwrJoints; ++i) {
+    const std::string j = std::to_string(i);
+    const double lim = i % 2 == 0 ? 2.967 : 2.094;  // +-170 / +-120 deg hardware limits
+    if (!std::isfinite(p.q_min[i]) || p.q_min[i] < -lim - 1e-9 || !std::isfinite(p.q_max[i]) ||
+        p.q_max[i] > lim + 1e-9 || p.q_min[i] >= p.q_max[i])
+      return ConfigResult::failure("arm.q_min[" + j + "], arm.q_max[" + j + "] = " + std::to_string(p.q_min[i]) +
+                                   ", " + std::to_string(p.q_max[i]) + ": need -" + std::to_string(lim) +
+                                   " <= q_min < q_max <= " + std::to_string(lim) + " (rad)");
+    if (!std::isfinite(p.q_init[i]) || p.q_init[i] < p.q_min[i] || p.q_init[i] > p.q_max[i])
+      return rangeError("arm.q_init[" + j + "]", p.q_init[i],
+                        "must be within [q_min, q_max] = [" + std::to_string(p.q_min[i]) + ", " +
+                            std::to_string(p.q_max[i]) + "] (rad)");
+    const auto& L = p.links[i];
+    if (!positive(L.mass)) return rangeError("arm.links[" + j + "].mass", L.mass, "must be > 0 (kg)");
+    if (!finite3(L.com)) return ConfigResult::failure("arm.links[" + j + "].com: must be finite (m)");
+    if (!positive(L.inertia[0]) || !positive(L.inertia[1]) || !positive(L.inertia[2]))
+      return ConfigResult::failure("arm.links[" + j + "].inertia: must be > 0 (kg m^2)");
+  }
+
+  params_ = p;
+  chain_ = KDL::Chain();
+  for (int i = 0; i < kLwrJoints; ++i) {
+    const auto& L = p.links[i];
+    KDL::RigidBodyInertia I(L.mass, KDL::Vector(L.com[0], L.com[1], L.com[2]),
+                            KDL::RotationalInertia(L.inertia[0], L.inertia[1], L.inertia[2], 0, 0, 0));
+    if (i == kLwrJoints - 1 && p.tool_mass > 0.0)
+      I = I + KDL::RigidBodyInertia(p.tool_mass, KDL::Vector(p.tool_com[0], p.tool_com[1], p.tool_com[2]),
+                                    KDL::RotationalInertia(1e-4, 1e-4, 1e-4, 0, 0, 0));
+    chain_.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::RotZ), KDL::Frame::DH(0.0, kAlpha[i], kD[i], 0.0), I));
+  }
+  fk_ = std::make_unique<KDL::ChainFkSolverPos_recursive>(chain_);
+  jac_ = std::make_unique<KDL::ChainJntToJacSolver>(chain_);
+  dyn_ = std::make_unique<KDL::ChainDynParam>(chain_, KDL::Vector(p.gravity[0], p.gravity[1], p.gravity[2]));
+  kq_.resize(kLwrJoints);
+  kqd_.resize(kLwrJoints);
+  kout_.resize(kLwrJoints);
+  kjac_.resize(kLwrJoints);
+  kM_.resize(kLwrJoints);
+  for (int i = 0; i < kLwrJoints; ++i) {
+    q_rest_[i] = p.q_init[i];
+    q_min_[i] = p.q_min[i];
+    q_max_[i] = p.q_max[i];
+  }
+
+  // Damping from the damping ratio and the Cartesian inertia at q_init:
+  // Lambda = (J M^-1 J^T)^-1, D = 2 zeta sqrt(K * lambda) per block.
+  Eigen::Matrix<double, 7, 7> M;
+  massMatrix(q_rest_, M);
+  Jac67 J;
+  jacobian(q_rest_, J);
+  const Mat6 Linv = J * M.ldlt().solve(J.transpose());
+  double m_t = 3.0, i_r = 0.05;  // fallback for a singular q_init
+  Eigen::LDLT<Mat6> ll(Linv);
+  if (ll.info() == Eigen::Success && manipulability(J) > 1e-6) {
+    const Mat6 Lambda = ll.solve(Mat6::Identity());
+    const double mt = (Lambda(0, 0) + Lambda(1, 1) + Lambda(2, 2)) / 3.0;
+    const double ir = (Lambda(3, 3) + Lambda(4, 4) + Lambda(5, 5)) / 3.0;
+    if (std::isfinite(mt) && mt > 0.0) m_t = mt;
+    if (std::isfinite(ir) && ir > 0.0) i_r = ir;
+  }
+  d_trans_ = 2.0 * p.damping_ratio * std::sqrt(p.k_trans * m_t);
+  d_rot_ = 2.0 * p.damping_ratio * std::sqrt(p.k_rot * i_r);
+  configured_ = true;
+  reset(q_rest_);
+  return ConfigResult::success();
+}
+
+void LwrArm::reset(const JointVec& q) {
+  state_.q = q;
+  state_.qd.setZero();
+  refreshKinematics();
+}
+
+void LwrArm::forward(const JointVec& q, KDL::Frame& T) const {
+  kq_.data = q;
+  fk_->JntToCart(kq_, T);
+}
+
+void LwrArm::jacobian(const JointVec& q, Jac67& J) const {
+  kq_.data = q;
+  jac_->JntToJac(kq_, kjac_);
+  J = kjac_.data;
+}
+
+double LwrArm::manipulability(const Jac67& J) {
+  const Mat6 JJt = J * J.transpose();
+  const double d = JJt.determinant();
+  return d > 0.0 ? std::sqrt(d) : 0.0;
+}
+
+void LwrArm::massMatrix(const JointVec& q, Eigen::Matrix<double, 7, 7>& M) const {
+  kq_.data = q;
+  dyn_->JntToMass(kq_, kM_);
+  M = kM_.data;
+}
+
+void LwrArm::gravity(const JointVec& q, JointVec& g) const {
+  kq_.data = q;
+  dyn_->JntToGravity(kq_, kout_);
+  g = kout_.data;
+}
+
+void LwrArm::refreshKinematics() {
+  forward(state_.q, state_.T_ge);
+  jacobian(state_.q, J_);
+  state_.twist = J_ * state_.qd;
+  state_.manipulability = manipulability(J_);
+}
+
+Vec6 LwrArm::impedanceWrench(const KDL::Frame& T_cmd, const KDL::Frame& T, const Vec6& twist) const {
+  // x_d - x: translation p_d - p, rotation vector of R_d R^T, both in {g}.
+  const Vec6 e = toVec(KDL::diff(T, T_cmd));
+  Vec6 w;
+  w.head<3>() = params_.k_trans * e.head<3>() - d_trans_ * twist.head<3>();
+  w.tail<3>() = params_.k_rot * e.tail<3>() - d_rot_ * twist.tail<3>();
+  return w;
+}
+
+SimStatus LwrArm::checkState() {
+  SimStatus s = SimStatus::Ok;
+  for (int i = 0; i < kLwrJoints; ++i) {
+    if (state_.q[i] <= q_min_[i]) {
+      state_.q[i] = q_min_[i];
+      if (state_.qd[i] < 0.0) state_.qd[i] = 0.0;
+      s = SimStatus::JointLimit;
+    } else if (state_.q[i] >= q_max_[i]) {
+      state_.q[i] = q_max_[i];
+      if (state_.qd[i] > 0.0) state_.qd[i] = 0.0;
+      s = SimStatus::JointLimit;
+    }
+  }
+  refreshKinematics();
+  if (s == SimStatus::Ok && state_.manipulability < params_.min_manipulability) s = SimStatus::Singularity;
+  return s;
+}
+
+SimStatus LwrArm::stepDynamics(const KDL::Frame& T_cmd, const Vec6& W_ext, double dt) {
+  if (!configured_) return SimStatus::NotConfigured;
+  const ArmState saved = state_;
+  // State at the start of the step (J_, T_ge, twist are current).
+  const Vec6 W = impedanceWrench(T_cmd, state_.T_ge, state_.twist) + W_ext;  // Eq. 11 + contact
+  JointVec tau = J_.transpose() * W;
+  // Null-space posture term, projected with N = I - J^T (J#)^T, J# = J^T (J J^T + l^2 I)^-1.
+  const Mat6 JJt = J_ * J_.transpose() + 1e-6 * Mat6::Identity();
+  const Eigen::Matrix<double, 7, 6> Jpinv = J_.transpose() * JJt.ldlt().solve(Mat6::Identity());
+  const Eigen::Matrix<double, 7, 7> N = Eigen::Matrix<double, 7, 7>::Identity() - J_.transpose() * Jpinv.transpose();
+  tau += N * (params_.null_stiffness * (q_rest_ - state_.q) - params_.null_damping * state_.qd);
+  tau -= params_.joint_damping * state_.qd;
+  // M qdd + C qd + g = tau_cmd + tau_ext, tau_cmd containing g(q): gravity cancels.
+  kq_.data = state_.q;
+  kqd_.data = state_.qd;
+  dyn_->JntToMass(kq_, kM_);
+  dyn_->JntToCoriolis(kq_, kqd_, kout_);
+  const Eigen::Matrix<double, 7, 7> M = kM_.data;
+  const JointVec qdd = M.ldlt().solve(tau - kout_.data);
+  // Semi-implicit Euler.
+  state_.qd += dt * qdd;
+  for (int i = 0; i < kLwrJoints; ++i) {
+    const double v = params_.max_joint_speed;
+    if (state_.qd[i] > v) state_.qd[i] = v;
+    if (state_.qd[i] < -v) state_.qd[i] = -v;
+  }
+  state_.q += dt * state_.qd;
+  if (!state_.q.allFinite() || !state_.qd.allFinite()) {
+    state_ = saved;
+    return SimStatus::NumericalFailure;
+  }
+  return checkState();
+}
+
+SimStatus LwrArm::settle(const KDL::Frame& T_target, double dt) {
+  if (!configured_) return SimStatus::NotConfigured;
+  const ArmState saved = state_;
+  const double l2 = params_.ik_damping * params_.ik_damping;
+  JointVec q = state_.q;
+  KDL::Frame T;
+  Jac67 J;
+  for (int it = 0; it < params_.ik_iterations; ++it) {
+    forward(q, T);
+    const Vec6 e = toVec(KDL::diff(T, T_target));
+    if (e.head<3>().norm() < 1e-10 && e.tail<3>().norm() < 1e-10) break;
+    jacobian(q, J);
+    const Mat6 JJt = J * J.transpose() + l2 * Mat6::Identity();
+    const Vec6 y = JJt.ldlt().solve(e);
+    q += J.transpose() * y;  // Eq. 11's quasi-static case: joints follow the Cartesian equilibrium
+  }
+  if (!q.allFinite()) {
+    state_ = saved;
+    return SimStatus::NumericalFailure;
+  }
+  if (dt > 0.0)
+    state_.qd = (q - state_.q) / dt;
+  else
+    state_.qd.setZero();
+  state_.q = q;
+  return checkState();
+}
+
+}  // namespace sim
+}  // namespace tactile

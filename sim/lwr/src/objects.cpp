@@ -1,0 +1,239 @@
+#include "tactile_sim/objects.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tactile {
+namespace sim {
+
+const char* toString(ObjectType t) {
+  switch (t) {
+    case ObjectType::Plane: return "plane";
+    case ObjectType::Sphere: return "sphere";
+    case ObjectType::Bar: return "bar";
+    case ObjectType::BentBar: return "bent_bar";
+    case ObjectType::Tray: return "tray";
+  }
+  return "unknown";
+}
+
+bool parseObjectType(const std::string& s, ObjectType& out) {
+  if (s == "plane" || s == "table") out = ObjectType::Plane;
+  else if (s == "sphere") out = ObjectType::Sphere;
+  else if (s == "bar") out = ObjectType::Bar;
+  else if (s == "bent_bar") out = ObjectType::BentBar;
+  else if (s == "tray") out = ObjectType::Tray;
+  else return false;
+  return true;
+}
+
+namespace {
+bool finite3(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
+KDL::Vector V(const Vec3& v) { return KDL::Vector(v[0], v[1], v[2]); }
+std::string where(const ObjectParams& o, std::size_t i) {
+  return "objects[" + std::to_string(i) + "]" + (o.name.empty() ? std::string() : " (" + o.name + ")");
+}
+}  // namespace
+
+ConfigResult ObjectSet::configure(const std::vector<ObjectParams>& objects) {
+  n_objects_ = 0;
+  tray_index_ = -1;
+  if (objects.size() > static_cast<std::size_t>(kMaxObjects))
+    return rangeError("objects (count)", objects.size(), "must be <= " + std::to_string(kMaxObjects));
+  int segments = 0;
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    const ObjectParams& o = objects[i];
+    const std::string w = where(o, i);
+    switch (o.type) {
+      case ObjectType::Plane: {
+        if (!finite3(o.point) || !finite3(o.normal)) return ConfigResult::failure(w + ".point/normal: must be finite (m)");
+        const double n = V(o.normal).Norm();
+        if (!(n > 1e-9)) return rangeError(w + ".normal (norm)", n, "must be > 0");
+        break;
+      }
+      case ObjectType::Sphere:
+        if (!finite3(o.center)) return ConfigResult::failure(w + ".center: must be finite (m)");
+        if (!(o.radius > 0.0) || !(o.radius < 10.0)) return rangeError(w + ".radius", o.radius, "must be in (0, 10) m");
+        break;
+      case ObjectType::Bar:
+      case ObjectType::BentBar: {
+        const std::size_t nmin = 2, nmax = o.type == ObjectType::Bar ? 2 : static_cast<std::size_t>(kMaxVertices);
+        if (o.vertices.size() < nmin || o.vertices.size() > nmax)
+          return rangeError(w + ".vertices (count)", o.vertices.size(),
+                            "must be in [" + std::to_string(nmin) + ", " + std::to_string(nmax) + "]");
+        if (!(o.radius > 0.0) || !(o.radius < 1.0)) return rangeError(w + ".radius", o.radius, "must be in (0, 1) m");
+        for (std::size_t k = 0; k < o.vertices.size(); ++k) {
+          if (!finite3(o.vertices[k]))
+            return ConfigResult::failure(w + ".vertices[" + std::to_string(k) + "]: must be finite (m)");
+          if (k > 0 && (V(o.vertices[k]) - V(o.vertices[k - 1])).Norm() < 1e-6)
+            return ConfigResult::failure(w + ".vertices[" + std::to_string(k) + "]: coincides with the previous vertex");
+        }
+        segments += static_cast<int>(o.vertices.size()) - 1;
+        break;
+      }
+      case ObjectType::Tray: {
+        const TrayParams& t = o.tray;
+        if (tray_index_ >= 0) return ConfigResult::failure(w + ".type = tray: only one tray per scene");
+        if (!finite3(t.bearing) || !finite3(t.bar_from) || !finite3(t.bar_to) || !finite3(t.tray_com) ||
+            !finite3(t.mass_from) || !finite3(t.mass_to))
+          return ConfigResult::failure(w + ".tray: positions must be finite (m)");
+        if ((V(t.bar_to) - V(t.bar_from)).Norm() < 1e-6) return ConfigResult::failure(w + ".tray.bar_to: equals bar_from");
+        if (!(t.bar_radius > 0.0 && t.bar_radius < 0.1)) return rangeError(w + ".tray.bar_radius", t.bar_radius, "must be in (0, 0.1) m");
+        if (!(t.tray_mass > 0.0 && t.tray_mass < 100.0)) return rangeError(w + ".tray.tray_mass", t.tray_mass, "must be in (0, 100) kg");
+        if (!(t.mass >= 0.0 && t.mass < 100.0)) return rangeError(w + ".tray.mass", t.mass, "must be in [0, 100) kg");
+        if (!(std::isfinite(t.move_start_s))) return rangeError(w + ".tray.move_start_s", t.move_start_s, "must be finite (s)");
+        if (!(t.move_duration_s >= 0.0 && std::isfinite(t.move_duration_s)))
+          return rangeError(w + ".tray.move_duration_s", t.move_duration_s, "must be >= 0 (s)");
+        if (!(t.pitch_stiffness >= 0.0 && std::isfinite(t.pitch_stiffness)))
+          return rangeError(w + ".tray.pitch_stiffness", t.pitch_stiffness, "must be >= 0 (N m/rad)");
+        if (!(t.roll_stiffness >= 0.0 && std::isfinite(t.roll_stiffness)))
+          return rangeError(w + ".tray.roll_stiffness", t.roll_stiffness, "must be >= 0 (N m/rad)");
+        if (!(t.bearing_damping >= 0.0 && std::isfinite(t.bearing_damping)))
+          return rangeError(w + ".tray.bearing_damping", t.bearing_damping, "must be >= 0 (N m s/rad)");
+        if (!(t.inertia_x >= 0.0) || !(t.inertia_y >= 0.0))
+          return ConfigResult::failure(w + ".tray.inertia_x/inertia_y: must be >= 0 (kg m^2; 0 = from the masses)");
+        if (!(std::fabs(t.initial_pitch) < 0.5) || !(std::fabs(t.initial_roll) < 0.5))
+          return ConfigResult::failure(w + ".tray.initial_pitch/initial_roll: must be in (-0.5, 0.5) rad");
+        tray_index_ = static_cast<int>(i);
+        tray_ = t;
+        // Inertia about the bearing axes from point masses + a plate spread
+        // over the bar's lever (|y| up to the bar): I = m r^2 (+ m L^2 / 3 for the plate).
+        const double Ly = std::fabs(t.bar_from[1]) > std::fabs(t.bar_to[1]) ? std::fabs(t.bar_from[1]) : std::fabs(t.bar_to[1]);
+        const double Lx = 0.5 * std::fabs(t.bar_to[0] - t.bar_from[0]);
+        const double mx2 = t.mass * (t.mass_from[1] * t.mass_from[1] + t.mass_from[2] * t.mass_from[2]);
+        const double my2 = t.mass * (t.mass_from[0] * t.mass_from[0] + t.mass_from[2] * t.mass_from[2]);
+        tray_ix_ = t.inertia_x > 0.0 ? t.inertia_x : t.tray_mass * Ly * Ly / 3.0 + mx2;
+        tray_iy_ = t.inertia_y > 0.0 ? t.inertia_y : t.tray_mass * (Lx * Lx / 3.0 + 1e-4) + my2 + 1e-5;
+        segments += 1;
+        break;
+      }
+      default:
+        return rangeError(w + ".type", static_cast<int>(o.type), "unknown object type");
+    }
+  }
+  if (segments > kMaxSegments)
+    return rangeError("objects (bar segments in total)", segments, "must be <= " + std::to_string(kMaxSegments));
+  params_ = objects;
+  n_objects_ = static_cast<int>(objects.size());
+  return ConfigResult::success();
+}
+
+void ObjectSet::trayBar(const TrayPose& tp, KDL::Vector& a, KDL::Vector& b) const {
+  const KDL::Rotation R = KDL::Rotation::RotX(tp.pitch) * KDL::Rotation::RotY(tp.roll);
+  a = bearing() + R * V(tray_.bar_from);
+  b = bearing() + R * V(tray_.bar_to);
+}
+
+KDL::Vector ObjectSet::trayMassPosition(double t) const {
+  double s;
+  if (t <= tray_.move_start_s) s = 0.0;
+  else if (tray_.move_duration_s <= 0.0 || t >= tray_.move_start_s + tray_.move_duration_s) s = 1.0;
+  else s = (t - tray_.move_start_s) / tray_.move_duration_s;
+  return V(tray_.mass_from) + s * (V(tray_.mass_to) - V(tray_.mass_from));
+}
+
+void ObjectSet::trayGravityTorque(const TrayPose& tp, double t, const KDL::Vector& g, double& tx, double& ty) const {
+  const KDL::Rotation R = KDL::Rotation::RotX(tp.pitch) * KDL::Rotation::RotY(tp.roll);
+  const KDL::Vector tau = (R * V(tray_.tray_com)) * (tray_.tray_mass * g) + (R * trayMassPosition(t)) * (tray_.mass * g);
+  tx = tau.x();
+  ty = tau.y();
+}
+
+void ObjectSet::addCapsuleS(const KDL::Vector& a, const KDL::Vector& b, double r, int object, bool cap_a, bool cap_b) {
+  if (n_seg_ < kMaxSegments) {
+    Segment& s = seg_[static_cast<std::size_t>(n_seg_++)];
+    s.p0 = a;
+    KDL::Vector d = b - a;
+    s.len = d.Norm();
+    s.a = d / s.len;
+    s.r = r;
+    s.object = object;
+    s.xmin = std::min(a.x(), b.x()) - r;
+    s.xmax = std::max(a.x(), b.x()) + r;
+    s.ymin = std::min(a.y(), b.y()) - r;
+    s.ymax = std::max(a.y(), b.y()) + r;
+  }
+  if (cap_a && n_ball_ < static_cast<int>(ball_.size())) ball_[static_cast<std::size_t>(n_ball_++)] = Ball{a, r, object};
+  if (cap_b && n_ball_ < static_cast<int>(ball_.size())) ball_[static_cast<std::size_t>(n_ball_++)] = Ball{b, r, object};
+}
+
+void ObjectSet::pose(const KDL::Frame& T_gs, const TrayPose& tp) {
+  const KDL::Frame T_sg = T_gs.Inverse();
+  n_seg_ = n_ball_ = n_plane_ = 0;
+  for (int i = 0; i < n_objects_; ++i) {
+    const ObjectParams& o = params_[static_cast<std::size_t>(i)];
+    switch (o.type) {
+      case ObjectType::Plane: {
+        KDL::Vector n = V(o.normal);
+        n.Normalize();
+        const KDL::Vector ns = T_sg.M * n;
+        const KDL::Vector ps = T_sg * V(o.point);
+        plane_[static_cast<std::size_t>(n_plane_++)] = PlaneS{ns, KDL::dot(ns, ps), i};
+        break;
+      }
+      case ObjectType::Sphere:
+        ball_[static_cast<std::size_t>(n_ball_++)] = Ball{T_sg * V(o.center), o.radius, i};
+        break;
+      case ObjectType::Bar:
+      case ObjectType::BentBar: {
+        const std::size_t nv = o.vertices.size();
+        for (std::size_t k = 0; k + 1 < nv; ++k)
+          addCapsuleS(T_sg * V(o.vertices[k]), T_sg * V(o.vertices[k + 1]), o.radius, i, k == 0, true);
+        break;
+      }
+      case ObjectType::Tray: {
+        KDL::Vector a, b;
+        trayBar(tp, a, b);
+        addCapsuleS(T_sg * a, T_sg * b, tray_.bar_radius, i, true, true);
+        break;
+      }
+    }
+  }
+}
+
+double ObjectSet::lowestZ(double x, double y, int& which) const {
+  double zmin = std::numeric_limits<double>::infinity();
+  which = -1;
+  for (int i = 0; i < n_plane_; ++i) {
+    const PlaneS& p = plane_[static_cast<std::size_t>(i)];
+    if (p.n.z() < -1e-6) {  // the solid faces the sensing surface
+      const double z = (p.d - p.n.x() * x - p.n.y() * y) / p.n.z();
+      if (z < zmin) { zmin = z; which = p.object; }
+    }
+  }
+  for (int i = 0; i < n_ball_; ++i) {
+    const Ball& b = ball_[static_cast<std::size_t>(i)];
+    const double dx = x - b.c.x(), dy = y - b.c.y();
+    const double h2 = b.r * b.r - dx * dx - dy * dy;
+    if (h2 > 0.0) {
+      const double z = b.c.z() - std::sqrt(h2);
+      if (z < zmin) { zmin = z; which = b.object; }
+    }
+  }
+  for (int i = 0; i < n_seg_; ++i) {
+    const Segment& s = seg_[static_cast<std::size_t>(i)];
+    if (x < s.xmin || x > s.xmax || y < s.ymin || y > s.ymax) continue;
+    // Vertical line P(z) = (x, y, z) against the infinite cylinder around the
+    // axis p0 + t a: |w_perp + z e_perp|^2 = r^2, lower root, then 0 <= t <= len.
+    const double wx = x - s.p0.x(), wy = y - s.p0.y(), wz = -s.p0.z();
+    const double wa = wx * s.a.x() + wy * s.a.y() + wz * s.a.z();
+    const double px = wx - wa * s.a.x(), py = wy - wa * s.a.y(), pz = wz - wa * s.a.z();
+    const double az = s.a.z();
+    const double A = 1.0 - az * az;
+    if (A < 1e-12) continue;  // axis along z_s: the caps handle it
+    const double B = pz;      // w_perp . e_perp = w_perp . e_z (w_perp is orthogonal to a)
+    const double C = px * px + py * py + pz * pz - s.r * s.r;
+    const double disc = B * B - A * C;
+    if (disc < 0.0) continue;
+    const double z = (-B - std::sqrt(disc)) / A;
+    const double t = wa + z * az;
+    if (t >= 0.0 && t <= s.len && z < zmin) {
+      zmin = z;
+      which = s.object;
+    }
+  }
+  return zmin;
+}
+
+}  // namespace sim
+}  // namespace tactile

@@ -1,0 +1,276 @@
+#include "tactile_sim/pad_sensor.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "tactile_sim/lwr_arm.hpp"  // toFrame, validPose
+
+namespace tactile {
+namespace sim {
+
+ConfigResult PadSensor::configure(const PadParams& p) {
+  auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+  if (!validPose(p.mount)) return ConfigResult::failure("pad.mount: position must be finite and the quaternion non-zero");
+  if (p.rows < 1 || p.rows > kMaxRows) return rangeError("pad.rows", p.rows, "must be in [1, " + std::to_string(kMaxRows) + "]");
+  if (p.cols < 1 || p.cols > kMaxCols) return rangeError("pad.cols", p.cols, "must be in [1, " + std::to_string(kMaxCols) + "]");
+  if (!positive(p.pitch) || p.pitch > 0.05) return rangeError("pad.pitch", p.pitch, "must be in (0, 0.05] m");
+  if (!positive(p.modulus) || p.modulus > 1e12) return rangeError("pad.modulus", p.modulus, "must be in (0, 1e12] Pa/m");
+  if (!positive(p.layer_thickness) || p.layer_thickness > 0.05)
+    return rangeError("pad.layer_thickness", p.layer_thickness, "must be in (0, 0.05] m");
+  if (p.subsamples < 1 || p.subsamples > 32) return rangeError("pad.subsamples", p.subsamples, "must be in [1, 32]");
+  if (p.physics_subsamples < 1 || p.physics_subsamples > 6)
+    return rangeError("pad.physics_subsamples", p.physics_subsamples, "must be in [1, 6]");
+  const double ax = p.cols * p.pitch, ay = p.rows * p.pitch;
+  if (!(p.housing_size_x >= ax) || !std::isfinite(p.housing_size_x) || p.housing_size_x > 1.0)
+    return rangeError("pad.housing_size_x", p.housing_size_x,
+                      "must be in [cols * pitch = " + std::to_string(ax) + ", 1] m");
+  if (!(p.housing_size_y >= ay) || !std::isfinite(p.housing_size_y) || p.housing_size_y > 1.0)
+    return rangeError("pad.housing_size_y", p.housing_size_y,
+                      "must be in [rows * pitch = " + std::to_string(ay) + ", 1] m");
+  if (!(p.housing_recess >= 0.0) || p.housing_recess > 0.05) return rangeError("pad.housing_recess", p.housing_recess, "must be in [0, 0.05] m");
+  if (!positive(p.housing_modulus) || p.housing_modulus > 1e13)
+    return rangeError("pad.housing_modulus", p.housing_modulus, "must be in (0, 1e13] Pa/m");
+  if (!positive(p.housing_spacing) || p.housing_spacing > 0.05)
+    return rangeError("pad.housing_spacing", p.housing_spacing, "must be in (0, 0.05] m");
+  if (!(p.depth_limit > p.housing_recess) || p.depth_limit > 1.0)
+    return rangeError("pad.depth_limit", p.depth_limit, "must be in (housing_recess, 1] m");
+  if (p.full_scale < 16 || p.full_scale > 4095) return rangeError("pad.full_scale", p.full_scale, "must be in [16, 4095] counts");
+  if (!positive(p.response[0])) return rangeError("pad.response[0]", p.response[0], "must be > 0 (N/count)");
+  if (!(p.response[1] >= 0.0) || !std::isfinite(p.response[1])) return rangeError("pad.response[1]", p.response[1], "must be >= 0 (N/count^2)");
+  if (!(p.response[2] >= 0.0) || !std::isfinite(p.response[2])) return rangeError("pad.response[2]", p.response[2], "must be >= 0 (N/count^3)");
+  if (!positive(p.border_sensitivity) || p.border_sensitivity > 1.0)
+    return rangeError("pad.border_sensitivity", p.border_sensitivity, "must be in (0, 1]");
+  if (!(p.noise_counts >= 0.0) || p.noise_counts > 1000.0) return rangeError("pad.noise_counts", p.noise_counts, "must be in [0, 1000] counts");
+  if (!(p.threshold >= 0.0) || !std::isfinite(p.threshold)) return rangeError("pad.threshold", p.threshold, "must be >= 0 (N)");
+
+  // Layer samples (physics sampling), then the housing ring.
+  int n = 0;
+  const int k = p.physics_subsamples;
+  const double h = p.pitch / k;
+  for (int r = 0; r < p.rows; ++r)
+    for (int c = 0; c < p.cols; ++c)
+      for (int i = 0; i < k; ++i)
+        for (int j = 0; j < k; ++j) {
+          const double x = (c - (p.cols - 1) / 2.0) * p.pitch - 0.5 * p.pitch + (j + 0.5) * h;
+          const double y = (r - (p.rows - 1) / 2.0) * p.pitch - 0.5 * p.pitch + (i + 0.5) * h;
+          samples_[static_cast<std::size_t>(n++)] = Sample{x, y, 0.0, p.modulus * h * h, true};
+        }
+  const int nx = std::max(1, static_cast<int>(std::ceil(p.housing_size_x / p.housing_spacing - 1e-9)));
+  const int ny = std::max(1, static_cast<int>(std::ceil(p.housing_size_y / p.housing_spacing - 1e-9)));
+  const double hx = p.housing_size_x / nx, hy = p.housing_size_y / ny;
+  int nh = 0;
+  for (int i = 0; i < ny; ++i)
+    for (int j = 0; j < nx; ++j) {
+      const double x = -0.5 * p.housing_size_x + (j + 0.5) * hx;
+      const double y = -0.5 * p.housing_size_y + (i + 0.5) * hy;
+      if (std::fabs(x) < 0.5 * ax && std::fabs(y) < 0.5 * ay) continue;
+      if (n >= kMaxSamples)
+        return rangeError("pad.housing_spacing", p.housing_spacing, "too fine: more than " + std::to_string(kMaxSamples) + " samples");
+      samples_[static_cast<std::size_t>(n++)] = Sample{x, y, -p.housing_recess, p.housing_modulus * hx * hy, false};
+      ++nh;
+    }
+  params_ = p;
+  n_samples_ = n;
+  n_housing_ = nh;
+  T_es_ = toFrame(p.mount);
+  rng_.seed(p.seed);
+  normal_.reset();
+  image_ = TactileFrame();
+  image_.rows = static_cast<uint16_t>(p.rows);
+  image_.cols = static_cast<uint16_t>(p.cols);
+  for (int r = 0; r < p.rows; ++r)
+    for (int c = 0; c < p.cols; ++c) threshold_counts_[static_cast<std::size_t>(r * p.cols + c)] = countsFor(r, c, p.threshold);
+  return ConfigResult::success();
+}
+
+double PadSensor::forceFor(int r, int c, double n) const {
+  const auto& k = params_.response;
+  const double f = n * (k[0] + n * (k[1] + n * k[2]));
+  return isBorder(r, c) ? f / params_.border_sensitivity : f;
+}
+
+double PadSensor::countsFor(int r, int c, double force) const {
+  if (!(force > 0.0)) return 0.0;
+  const double s = isBorder(r, c) ? params_.border_sensitivity : 1.0;
+  const double target = force * s;  // centre-taxel polynomial value
+  const auto& k = params_.response;
+  // Monotone convex polynomial: Newton from the linear guess (>= root) converges monotonically.
+  double n = target / k[0];
+  const double nmax = 4.0 * params_.full_scale;
+  if (n > nmax) n = nmax;
+  for (int it = 0; it < 40; ++it) {
+    const double f = n * (k[0] + n * (k[1] + n * k[2])) - target;
+    const double df = k[0] + n * (2.0 * k[1] + 3.0 * n * k[2]);
+    const double step = f / df;
+    n -= step;
+    if (std::fabs(step) < 1e-9) break;
+  }
+  return n < 0.0 ? 0.0 : n;
+}
+
+tactile::CalibrationParams PadSensor::calibration() const {
+  tactile::CalibrationParams c;
+  c.rows = params_.rows;
+  c.cols = params_.cols;
+  c.full_scale = params_.full_scale;
+  c.coeffs = {0.0, params_.response[0], params_.response[1], params_.response[2]};
+  c.use_border = true;
+  const double s = params_.border_sensitivity;
+  c.border_coeffs = {0.0, params_.response[0] / s, params_.response[1] / s, params_.response[2] / s};
+  return c;
+}
+
+void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, ContactEval& out) const {
+  out.W_s.setZero();
+  out.K_s.setZero();
+  out.dW_dth.setZero();
+  out.tau_tray.setZero();
+  out.dtau_dth.setZero();
+  out.dtau_ds.setZero();
+  out.layer_force = out.housing_force = 0.0;
+  out.active = 0;
+  const int tray = objects.trayIndex();
+  const KDL::Vector zs = T_gs.M.UnitZ();
+  const KDL::Vector B = tray >= 0 ? objects.bearing() : KDL::Vector::Zero();
+  // Only the (z, wx, wy) block is non-zero: g = (0, 0, -1, -y, x, 0).
+  double Fz = 0, Mx = 0, My = 0, Kzz = 0, Kzx = 0, Kzy = 0, Kxx = 0, Kxy = 0, Kyy = 0;
+  for (int i = 0; i < n_samples_; ++i) {
+    const Sample& s = samples_[static_cast<std::size_t>(i)];
+    int which;
+    const double zl = objects.lowestZ(s.x, s.y, which);
+    const double d = s.z - zl;  // penetration into the layer (z = 0) or the housing (z = -recess)
+    if (!(d > 0.0) || -zl > params_.depth_limit) continue;
+    const double f = s.k * d;
+    ++out.active;
+    if (s.layer) out.layer_force += f; else out.housing_force += f;
+    const double gz = -1.0, gx = -s.y, gy = s.x;
+    Fz += gz * f;
+    Mx += gx * f;
+    My += gy * f;
+    Kzz += s.k;
+    Kzx += s.k * gz * gx;
+    Kzy += s.k * gz * gy;
+    Kxx += s.k * gx * gx;
+    Kxy += s.k * gx * gy;
+    Kyy += s.k * gy * gy;
+    if (which == tray && tray >= 0) {
+      const KDL::Vector pg = T_gs * KDL::Vector(s.x, s.y, s.z);
+      const KDL::Vector r = pg - B;
+      // h_j = -z_s . (a_j x r): penetration gained per unit tray angle (a_1 = x_g, a_2 = y_g).
+      const double h1 = -KDL::dot(zs, KDL::Vector(1, 0, 0) * r);
+      const double h2 = -KDL::dot(zs, KDL::Vector(0, 1, 0) * r);
+      const double g[6] = {0.0, 0.0, gz, gx, gy, 0.0};
+      for (int a = 2; a < 5; ++a) {
+        out.dW_dth(a, 0) += s.k * g[a] * h1;
+        out.dW_dth(a, 1) += s.k * g[a] * h2;
+        out.dtau_ds(0, a) += s.k * h1 * g[a];
+        out.dtau_ds(1, a) += s.k * h2 * g[a];
+      }
+      out.tau_tray(0) -= h1 * f;
+      out.tau_tray(1) -= h2 * f;
+      out.dtau_dth(0, 0) -= s.k * h1 * h1;
+      out.dtau_dth(0, 1) -= s.k * h1 * h2;
+      out.dtau_dth(1, 0) -= s.k * h2 * h1;
+      out.dtau_dth(1, 1) -= s.k * h2 * h2;
+    }
+  }
+  out.W_s(2) = Fz;
+  out.W_s(3) = Mx;
+  out.W_s(4) = My;
+  out.K_s(2, 2) = Kzz;
+  out.K_s(2, 3) = out.K_s(3, 2) = Kzx;
+  out.K_s(2, 4) = out.K_s(4, 2) = Kzy;
+  out.K_s(3, 3) = Kxx;
+  out.K_s(3, 4) = out.K_s(4, 3) = Kxy;
+  out.K_s(4, 4) = Kyy;
+}
+
+void PadSensor::maxPenetration(const ObjectSet& objects, double& layer, double& housing, int& object) const {
+  layer = housing = 0.0;
+  object = -1;
+  // Fine check over the image sampling (an object may sit between physics samples).
+  const int k = std::max(params_.subsamples, params_.physics_subsamples);
+  const double h = params_.pitch / k;
+  for (int r = 0; r < params_.rows * k; ++r)
+    for (int c = 0; c < params_.cols * k; ++c) {
+      const double x = -0.5 * params_.cols * params_.pitch + (c + 0.5) * h;
+      const double y = -0.5 * params_.rows * params_.pitch + (r + 0.5) * h;
+      int which;
+      const double d = -objects.lowestZ(x, y, which);
+      if (d > layer && d <= params_.depth_limit) { layer = d; object = which; }
+    }
+  for (int i = 0; i < n_samples_; ++i) {
+    const Sample& s = samples_[static_cast<std::size_t>(i)];
+    if (s.layer) continue;
+    int which;
+    const double zl = objects.lowestZ(s.x, s.y, which);
+    const double d = s.z - zl;
+    if (d > housing && -zl <= params_.depth_limit) {
+      housing = d;
+      if (layer <= 0.0) object = which;
+    }
+  }
+}
+
+void PadSensor::acquire(const ObjectSet& objects, const KDL::Frame& T_gs, double t, RawTactileFrame& raw, SensorTruth& truth) {
+  PadGeometry g;
+  g.rows = params_.rows;
+  g.cols = params_.cols;
+  g.pitch = params_.pitch;
+  g.modulus = params_.modulus;
+  g.subsamples = params_.subsamples;
+  const double lim = params_.depth_limit;
+  integratePad(
+      g,
+      [&objects, lim](double x, double y) {
+        int which;
+        const double d = -objects.lowestZ(x, y, which);
+        return d > lim ? -1.0 : d;
+      },
+      image_, &truth.layer);
+  image_.time_s = t;
+  // Housing share (physics sampling of the ring).
+  double Fh = 0, Mxh = 0, Myh = 0;
+  for (int i = 0; i < n_samples_; ++i) {
+    const Sample& s = samples_[static_cast<std::size_t>(i)];
+    if (s.layer) continue;
+    int which;
+    const double zl = objects.lowestZ(s.x, s.y, which);
+    const double d = s.z - zl;
+    if (!(d > 0.0) || -zl > lim) continue;
+    const double f = s.k * d;
+    Fh += f;
+    Mxh -= s.y * f;
+    Myh += s.x * f;
+  }
+  truth.time_s = t;
+  truth.housing_force = Fh;
+  truth.wrench_s = {0.0, 0.0, -(truth.layer.force + Fh), -truth.layer.moment_x + Mxh, -truth.layer.moment_y + Myh, 0.0};
+  truth.in_contact = truth.layer.force > 0.0;
+  const KDL::Vector cp = T_gs * KDL::Vector(truth.layer.cop_x, truth.layer.cop_y, 0.0);
+  truth.contact_point_g = {cp.x(), cp.y(), cp.z()};
+
+  // Taxel response (App. A): counts, noise, 12-bit quantisation, saturation, threshold.
+  raw.time_s = t;
+  raw.rows = static_cast<uint16_t>(params_.rows);
+  raw.cols = static_cast<uint16_t>(params_.cols);
+  const double fs = params_.full_scale;
+  int maxc = 0;
+  for (int r = 0; r < params_.rows; ++r)
+    for (int c = 0; c < params_.cols; ++c) {
+      const std::size_t i = static_cast<std::size_t>(r * params_.cols + c);
+      double n = countsFor(r, c, image_.force[i]);
+      if (params_.noise_counts > 0.0) n += params_.noise_counts * normal_(rng_);
+      n = std::round(n);
+      if (n < 0.0) n = 0.0;
+      if (n > fs) n = fs;
+      if (n < threshold_counts_[i]) n = 0.0;
+      raw.counts[i] = static_cast<uint16_t>(n);
+      if (static_cast<int>(n) > maxc) maxc = static_cast<int>(n);
+    }
+  truth.max_count = maxc;
+}
+
+}  // namespace sim
+}  // namespace tactile

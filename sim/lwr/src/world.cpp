@@ -1,0 +1,305 @@
+#include "tactile_sim/world.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+
+namespace tactile {
+namespace sim {
+
+const char* toString(Fidelity f) { return f == Fidelity::Dynamics ? "dynamics" : "quasi_static"; }
+
+bool parseFidelity(const std::string& s, Fidelity& out) {
+  if (s == "quasi_static") out = Fidelity::QuasiStatic;
+  else if (s == "dynamics") out = Fidelity::Dynamics;
+  else return false;
+  return true;
+}
+
+namespace {
+SimStatus worst(SimStatus a, SimStatus b) { return static_cast<uint8_t>(a) >= static_cast<uint8_t>(b) ? a : b; }
+
+Vec6 toVec(const KDL::Twist& t) {
+  Vec6 v;
+  v << t.vel.x(), t.vel.y(), t.vel.z(), t.rot.x(), t.rot.y(), t.rot.z();
+  return v;
+}
+
+/// A maps a flange twist ({g}, at the flange) to the sensor twist ({s}, at the
+/// sensor origin): A = [R^T, -R^T [r]x; 0, R^T], r = p_s - p_e in {g}, R = {g}R{s}.
+/// Wrenches map back with A^T (power preserving).
+Mat6 twistMap(const KDL::Frame& T_ge, const KDL::Frame& T_gs) {
+  Eigen::Matrix3d R;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) R(i, j) = T_gs.M(i, j);
+  const KDL::Vector rv = T_gs.p - T_ge.p;
+  Eigen::Matrix3d rx;
+  rx << 0, -rv.z(), rv.y(), rv.z(), 0, -rv.x(), -rv.y(), rv.x(), 0;
+  Mat6 A = Mat6::Zero();
+  A.topLeftCorner<3, 3>() = R.transpose();
+  A.topRightCorner<3, 3>() = -R.transpose() * rx;
+  A.bottomRightCorner<3, 3>() = R.transpose();
+  return A;
+}
+}  // namespace
+
+ConfigResult World::configure(const WorldParams& p) {
+  configured_ = false;
+  if (p.fidelity != Fidelity::QuasiStatic && p.fidelity != Fidelity::Dynamics)
+    return rangeError("fidelity", static_cast<int>(p.fidelity), "must be quasi_static or dynamics");
+  if (!(p.force_ceiling > 0.0) || !std::isfinite(p.force_ceiling))
+    return rangeError("force_ceiling", p.force_ceiling, "must be > 0 (N)");
+  if (p.qs_max_iterations < 1 || p.qs_max_iterations > 200)
+    return rangeError("qs_max_iterations", p.qs_max_iterations, "must be in [1, 200]");
+  if (!(p.qs_tolerance > 0.0) || !std::isfinite(p.qs_tolerance)) return rangeError("qs_tolerance", p.qs_tolerance, "must be > 0 (N)");
+  if (!(p.qs_max_step > 0.0) || p.qs_max_step > 0.1) return rangeError("qs_max_step", p.qs_max_step, "must be in (0, 0.1] m");
+  for (int i = 0; i < 6; ++i)
+    if (!std::isfinite(p.external_wrench[static_cast<std::size_t>(i)]))
+      return ConfigResult::failure("external_wrench[" + std::to_string(i) + "]: must be finite (N, N m)");
+
+  ConfigResult r = arm_.configure(p.arm);
+  if (!r) return r;
+  PadParams pad = p.pad;
+  pad.seed = p.seed;
+  r = pad_.configure(pad);
+  if (!r) return r;
+  r = objects_.configure(p.objects);
+  if (!r) return r;
+  params_ = p;
+  params_.pad.seed = p.seed;
+  for (int i = 0; i < 6; ++i) W_ext_[i] = p.external_wrench[static_cast<std::size_t>(i)];
+
+  // Initial posture.
+  if (p.use_initial_flange_pose) {
+    if (!validPose(p.initial_flange_pose))
+      return ConfigResult::failure("initial_flange_pose: position must be finite and the quaternion non-zero");
+    const KDL::Frame T0 = toFrame(p.initial_flange_pose);
+    SimStatus s = SimStatus::Ok;
+    for (int k = 0; k < 30; ++k) s = arm_.settle(T0);
+    const Vec6 e = toVec(KDL::diff(arm_.state().T_ge, T0));
+    if (fatal(s) || e.head<3>().norm() > 1e-5 || e.tail<3>().norm() > 1e-4)
+      return ConfigResult::failure(std::string("initial_flange_pose: not reachable from arm.q_init (residual ") +
+                                   std::to_string(e.head<3>().norm()) + " m, " + std::to_string(e.tail<3>().norm()) +
+                                   " rad; status " + toString(s) + "): choose q_init near the pose");
+    arm_.reset(arm_.state().q);
+  }
+  if (arm_.state().manipulability < p.arm.min_manipulability)
+    return rangeError("arm.q_init (manipulability)", arm_.state().manipulability,
+                      "initial posture is singular: must be >= arm.min_manipulability = " +
+                          std::to_string(p.arm.min_manipulability));
+
+  tray_ = TrayPose{};
+  tray_rate_.setZero();
+  if (objects_.hasTray()) {
+    tray_.pitch = objects_.tray().initial_pitch;
+    tray_.roll = objects_.tray().initial_roll;
+  }
+  T_eq_ = arm_.state().T_ge;
+  T_cmd_ = T_eq_;
+  placeObjects(T_eq_, tray_);
+
+  // An object that starts inside the sensor is a scene error.
+  double dl = 0, dh = 0;
+  int obj = -1;
+  pad_.maxPenetration(objects_, dl, dh, obj);
+  if (dl > pad.layer_thickness || dh > 0.0) {
+    const ObjectParams& o = objects_.params(obj < 0 ? 0 : obj);
+    const std::string name = "objects[" + std::to_string(obj) + "]" + (o.name.empty() ? "" : " (" + o.name + ")");
+    if (dh > 0.0)
+      return rangeError(name + ": starts inside the sensor housing, penetration", dh,
+                        "must be 0 at start (move the object or the initial pose)");
+    return rangeError(name + ": starts inside the sensor, layer penetration", dl,
+                      "must be <= pad.layer_thickness = " + std::to_string(pad.layer_thickness) + " m at start");
+  }
+  pad_.evaluate(objects_, state_.T_gs, contact_);
+  acq_seq_ = 0;
+  state_.time_s = 0.0;
+  state_.step = 0;
+  configured_ = true;
+  fillState(SimStatus::Ok);
+  return ConfigResult::success();
+}
+
+void World::setExternalWrench(const std::array<double, 6>& w) {
+  for (int i = 0; i < 6; ++i) {
+    const double v = w[static_cast<std::size_t>(i)];
+    W_ext_[i] = std::isfinite(v) ? v : 0.0;
+  }
+}
+
+std::array<double, 3> World::trayMassPosition() const {
+  if (!objects_.hasTray()) return {0.0, 0.0, 0.0};
+  const KDL::Rotation R = KDL::Rotation::RotX(tray_.pitch) * KDL::Rotation::RotY(tray_.roll);
+  const KDL::Vector p = objects_.bearing() + R * objects_.trayMassPosition(state_.time_s);
+  return {p.x(), p.y(), p.z()};
+}
+
+void World::placeObjects(const KDL::Frame& T_ge, const TrayPose& tp) {
+  state_.T_gs = T_ge * pad_.mount();
+  objects_.pose(state_.T_gs, tp);
+}
+
+SimStatus World::step(const tactile::Pose& cmd, double dt, SimState& out) {
+  if (!configured_) {
+    out.status = SimStatus::NotConfigured;
+    return out.status;
+  }
+  SimStatus s = SimStatus::Ok;
+  if (!(dt > 0.0) || !std::isfinite(dt) || dt > 1.0) {
+    state_.status = SimStatus::InvalidCommand;
+    out = state_;
+    return state_.status;
+  }
+  if (validPose(cmd))
+    T_cmd_ = toFrame(cmd);
+  else
+    s = SimStatus::InvalidCommand;
+  state_.time_s += dt;
+  ++state_.step;
+  s = worst(s, params_.fidelity == Fidelity::QuasiStatic ? stepQuasiStatic(T_cmd_, dt) : stepDynamics(T_cmd_, dt));
+  fillState(s);
+  out = state_;
+  return state_.status;
+}
+
+SimStatus World::stepQuasiStatic(const KDL::Frame& T_cmd, double dt) {
+  const bool tray = objects_.hasTray();
+  const KDL::Vector g(params_.arm.gravity[0], params_.arm.gravity[1], params_.arm.gravity[2]);
+  KDL::Frame T = T_eq_;
+  TrayPose th = tray_;
+  const double kx = tray ? objects_.tray().pitch_stiffness : 0.0, ky = tray ? objects_.tray().roll_stiffness : 0.0;
+  const double kt = arm_.kTrans(), kr = arm_.kRot();
+  const double tol = params_.qs_tolerance, maxs = params_.qs_max_step;
+  bool converged = false, evaluated = false;
+  int it = 0;
+  for (; it < params_.qs_max_iterations; ++it) {
+    placeObjects(T, th);
+    pad_.evaluate(objects_, state_.T_gs, contact_);
+    evaluated = true;
+    const Mat6 A = twistMap(T, state_.T_gs);
+    // Residual: impedance (Eq. 11, at rest) + external + contact wrench on the flange.
+    const Vec6 re = arm_.impedanceWrench(T_cmd, T, Vec6::Zero()) + W_ext_ + A.transpose() * contact_.W_s;
+    Eigen::Vector2d rt = Eigen::Vector2d::Zero();
+    if (tray) {
+      double gx, gy;
+      objects_.trayGravityTorque(th, state_.time_s, g, gx, gy);
+      rt << gx - kx * th.pitch + contact_.tau_tray(0), gy - ky * th.roll + contact_.tau_tray(1);
+    }
+    if (re.cwiseAbs().maxCoeff() < tol && rt.cwiseAbs().maxCoeff() < tol) {
+      converged = true;
+      break;
+    }
+    Mat6 Jee = -A.transpose() * contact_.K_s * A;
+    Jee.diagonal().head<3>().array() -= kt;
+    Jee.diagonal().tail<3>().array() -= kr;
+    Vec6 de;
+    Eigen::Vector2d dth = Eigen::Vector2d::Zero();
+    if (tray) {
+      Eigen::Matrix<double, 8, 8> J;
+      J.topLeftCorner<6, 6>() = Jee;
+      J.topRightCorner<6, 2>() = A.transpose() * contact_.dW_dth;
+      J.bottomLeftCorner<2, 6>() = contact_.dtau_ds * A;
+      J.bottomRightCorner<2, 2>() = contact_.dtau_dth;
+      J(6, 6) -= kx;
+      J(7, 7) -= ky;
+      // Keep the tray block invertible while the bar is off the pad (free fall
+      // of the tray is limited by the step limit below).
+      J(6, 6) -= 1e-3;
+      J(7, 7) -= 1e-3;
+      Eigen::Matrix<double, 8, 1> r8;
+      r8 << re, rt;
+      const Eigen::Matrix<double, 8, 1> d = J.partialPivLu().solve(-r8);
+      de = d.head<6>();
+      dth = d.tail<2>();
+    } else {
+      de = Jee.ldlt().solve(-re);
+    }
+    if (!de.allFinite() || !dth.allFinite()) return SimStatus::NumericalFailure;
+    // Step limit (damped Newton): translation <= maxs, rotation and tray <= 10 maxs.
+    double scale = 1.0;
+    const double nt = de.head<3>().norm(), nr = de.tail<3>().norm(), na = dth.cwiseAbs().maxCoeff();
+    if (nt > maxs) scale = std::min(scale, maxs / nt);
+    if (nr > 10 * maxs) scale = std::min(scale, 10 * maxs / nr);
+    if (na > 10 * maxs) scale = std::min(scale, 10 * maxs / na);
+    de *= scale;
+    dth *= scale;
+    T = KDL::addDelta(T, KDL::Twist(KDL::Vector(de[0], de[1], de[2]), KDL::Vector(de[3], de[4], de[5])));
+    th.pitch += dth(0);
+    th.roll += dth(1);
+    evaluated = false;
+  }
+  last_iterations_ = it;
+  tray_ = th;
+  SimStatus s = arm_.settle(T, dt);  // joints follow; limits / singularity detected
+  const KDL::Frame& Ta = arm_.state().T_ge;
+  const Vec6 e = toVec(KDL::diff(Ta, T));
+  T_eq_ = Ta;
+  if (!evaluated || e.head<3>().norm() > 1e-7 || e.tail<3>().norm() > 1e-6) {
+    placeObjects(Ta, tray_);
+    pad_.evaluate(objects_, state_.T_gs, contact_);
+  }
+  if (!converged) s = worst(s, SimStatus::NotConverged);
+  return s;
+}
+
+SimStatus World::stepDynamics(const KDL::Frame& T_cmd, double dt) {
+  // contact_ holds the contact at the current state (evaluated at the end of
+  // the previous step, or in configure()).
+  const Mat6 A = twistMap(arm_.state().T_ge, state_.T_gs);
+  const Vec6 W = A.transpose() * contact_.W_s + W_ext_;
+  if (objects_.hasTray()) {
+    const TrayParams& tp = objects_.tray();
+    const KDL::Vector g(params_.arm.gravity[0], params_.arm.gravity[1], params_.arm.gravity[2]);
+    double gx, gy;
+    objects_.trayGravityTorque(tray_, state_.time_s, g, gx, gy);
+    const double tx = gx - tp.pitch_stiffness * tray_.pitch - tp.bearing_damping * tray_rate_(0) + contact_.tau_tray(0);
+    const double ty = gy - tp.roll_stiffness * tray_.roll - tp.bearing_damping * tray_rate_(1) + contact_.tau_tray(1);
+    tray_rate_(0) += dt * tx / objects_.trayInertiaX();
+    tray_rate_(1) += dt * ty / objects_.trayInertiaY();
+    tray_.pitch += dt * tray_rate_(0);
+    tray_.roll += dt * tray_rate_(1);
+    // The pivot cannot swing the tray through the floor: bound the angles.
+    const double lim = 0.6;
+    if (std::fabs(tray_.pitch) > lim) { tray_.pitch = std::copysign(lim, tray_.pitch); tray_rate_(0) = 0; }
+    if (std::fabs(tray_.roll) > lim) { tray_.roll = std::copysign(lim, tray_.roll); tray_rate_(1) = 0; }
+  }
+  const SimStatus s = arm_.stepDynamics(T_cmd, W, dt);
+  placeObjects(arm_.state().T_ge, tray_);
+  pad_.evaluate(objects_, state_.T_gs, contact_);
+  last_iterations_ = 0;
+  return s;
+}
+
+void World::fillState(SimStatus s) {
+  const ArmState& a = arm_.state();
+  state_.q = a.q;
+  state_.qd = a.qd;
+  state_.T_ge = a.T_ge;
+  state_.T_gs = a.T_ge * pad_.mount();
+  state_.flange_g = toPose(state_.T_ge);
+  state_.sensor_g = toPose(state_.T_gs);
+  state_.command_g = toPose(T_cmd_);
+  for (int i = 0; i < 6; ++i) state_.wrench_s[static_cast<std::size_t>(i)] = contact_.W_s[i];
+  state_.normal_force = contact_.layer_force;
+  state_.housing_force = contact_.housing_force;
+  state_.tray_pitch = tray_.pitch;
+  state_.tray_roll = tray_.roll;
+  state_.manipulability = a.manipulability;
+  state_.solver_iterations = last_iterations_;
+  if (contact_.layer_force + contact_.housing_force > params_.force_ceiling) s = worst(s, SimStatus::ForceCeiling);
+  state_.status = s;
+}
+
+void World::acquire(tactile::RawTactileFrame& raw, SensorTruth& truth) {
+  if (!configured_) return;
+  placeObjects(state_.T_ge, tray_);
+  pad_.acquire(objects_, state_.T_gs, state_.time_s, raw, truth);
+  raw.seq = acq_seq_++;
+  raw.device_time_ms = static_cast<uint32_t>(std::llround(state_.time_s * 1000.0));
+}
+
+}  // namespace sim
+}  // namespace tactile
