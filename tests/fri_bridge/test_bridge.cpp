@@ -181,6 +181,46 @@ TEST(FriBridge, PacketLossHoldsAndNeverCatchesUp) {
   EXPECT_NEAR(dist(before, h.commanded()), p.max_lin_speed * kT, kPosTol);
 }
 
+TEST(FriBridge, RewindsToTheCommandTheKrcReflects) {
+  // Our reply k was lost: the next measurement reflects k-1. The new command
+  // is one limited step from command k-1 (what the KRC holds), not from k.
+  Harness h;
+  h.send(State::Mon, Quality::Perfect);
+  h.setDesired(KDL::Frame(h.measured.M, h.measured.p + KDL::Vector(0.05, 0.0, 0.0)));
+  auto sendRefl = [&h](uint16_t refl) {
+    std::vector<uint8_t> b = makeMsr(++h.seq, State::Cmd, Quality::Perfect, h.measured);
+    putU16(b, 2, refl);
+    h.now += kT;
+    h.desired.time_s = h.now;
+    return h.bridge.stepDatagram(b.data(), b.size(), h.desired, h.now, h.out);
+  };
+  for (int i = 0; i < 5; ++i) sendRefl(h.out.cmd.head.send_seq);  // KRC got every command
+  const uint16_t held_seq = h.out.cmd.head.send_seq;
+  const KDL::Frame held = h.commanded();
+  sendRefl(held_seq);  // this reply will be "lost"
+  const KDL::Frame lost = h.commanded();
+  EXPECT_NEAR(dist(held, lost), 0.05 * kT, kPosTol);
+  sendRefl(held_seq);  // the KRC still reflects held_seq
+  EXPECT_EQ(h.bridge.stats().rewinds, 1u);
+  EXPECT_NEAR(dist(held, h.commanded()), 0.05 * kT, kPosTol);
+  EXPECT_NEAR(dist(lost, h.commanded()), 0.0, kPosTol);
+  // A reflected seq that we never sent (or too old) is ignored: hold/continue.
+  sendRefl(static_cast<uint16_t>(h.out.cmd.head.send_seq - 1000));
+  EXPECT_EQ(h.bridge.stats().rewinds, 1u);
+  // Without rewinding, the step from the KRC's held command would be two steps.
+  BridgeParams p;
+  p.rewind_on_refl = false;
+  Harness g(p);
+  g.send(State::Mon, Quality::Perfect);
+  g.setDesired(KDL::Frame(g.measured.M, g.measured.p + KDL::Vector(0.05, 0.0, 0.0)));
+  g.send(State::Cmd, Quality::Perfect);
+  const KDL::Frame g_held = g.commanded();
+  g.send(State::Cmd, Quality::Perfect);  // "lost"
+  g.send(State::Cmd, Quality::Perfect);
+  EXPECT_NEAR(dist(g_held, g.commanded()), 2 * 0.05 * kT, kPosTol);
+  EXPECT_EQ(g.bridge.stats().rewinds, 0u);
+}
+
 TEST(FriBridge, QualityBelowOkHoldsLastCommand) {
   Harness h;
   h.send(State::Mon, Quality::Perfect);

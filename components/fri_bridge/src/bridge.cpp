@@ -95,6 +95,7 @@ void FriBridge::reset() noexcept {
   last_quality_ = Quality::Unacceptable;
   have_command_ = false;
   was_in_cmd_ = false;
+  sent_valid_.fill(false);
 }
 
 void FriBridge::fillReply(const MsrPacket& msr, const KDL::Frame& pose, BridgeOutput& out) noexcept {
@@ -119,6 +120,10 @@ void FriBridge::fillReply(const MsrPacket& msr, const KDL::Frame& pose, BridgeOu
     r.cart_stiffness[i] = static_cast<float>(params_.cart_stiffness[static_cast<std::size_t>(i)]);
     r.cart_damping[i] = static_cast<float>(params_.cart_damping[static_cast<std::size_t>(i)]);
   }
+  const std::size_t slot = static_cast<std::size_t>(send_seq_ % kRing);
+  sent_pose_[slot] = pose;
+  sent_seq_[slot] = send_seq_;
+  sent_valid_[slot] = true;
   out.reply = true;
   out.commanded = pose;
   ++stats_.replies;
@@ -218,6 +223,15 @@ BridgeStatus FriBridge::step(const MsrPacket& msr, const PoseCommand& desired, d
     if (!msr_valid) return out.status = BridgeStatus::MeasurementInvalid;
     limiter_.reset(measured);  // first command ever: start where the robot is
     have_command_ = true;
+  } else if (params_.rewind_on_refl && msr.head.refl_seq != send_seq_) {
+    // The KRC did not get our latest command(s): continue from the one it holds.
+    const uint16_t refl = msr.head.refl_seq;
+    const int behind = seqDelta(refl, send_seq_);
+    const std::size_t slot = static_cast<std::size_t>(refl % kRing);
+    if (behind > 0 && behind < kRing && sent_valid_[slot] && sent_seq_[slot] == refl) {
+      limiter_.reset(sent_pose_[slot]);
+      ++stats_.rewinds;
+    }
   }
   const double age = now_s - desired.time_s;
   if (!msr_valid) {

@@ -121,13 +121,14 @@ void SimKrc::handleReply(const uint8_t* buf, std::size_t n, double t_sent, doubl
     ++stats_.malformed_replies;
     return;
   }
-  if (have_remote_seq_ && seqDelta(last_remote_seq_, cmd_.head.send_seq) != 1) ++stats_.remote_seq_errors;
+  if (have_remote_seq_ && seqDelta(last_seen_remote_seq_, cmd_.head.send_seq) != 1) ++stats_.remote_seq_errors;
   have_remote_seq_ = true;
-  last_remote_seq_ = cmd_.head.send_seq;
+  last_seen_remote_seq_ = cmd_.head.send_seq;
   if (cmd_.head.refl_seq != seq_) {
     ++stats_.stale_replies;  // reflects an older measurement: ignored, as the KRC does
     return;
   }
+  last_remote_seq_ = cmd_.head.send_seq;  // reflected in the next measurement: the last command taken
   ++stats_.replies;
   const double lat = now - t_sent;
   stats_.sum_latency_s += lat;
@@ -146,11 +147,17 @@ void SimKrc::handleReply(const uint8_t* buf, std::size_t n, double t_sent, doubl
       return;
     }
     if (quality_ >= Quality::Ok) {
+      KDL::Vector axis;
       if (have_applied_) {
         stats_.max_cmd_step_m = std::max(stats_.max_cmd_step_m, (c.p - last_applied_.p).Norm());
-        KDL::Vector axis;
         stats_.max_cmd_step_rad =
             std::max(stats_.max_cmd_step_rad, rotationAngle(last_applied_.M.Inverse() * c.M, axis));
+      } else {
+        KDL::Frame measured;
+        toFrame(msr_.data.msr_cart_pos, measured);
+        stats_.max_entry_offset_m = std::max(stats_.max_entry_offset_m, (c.p - measured.p).Norm());
+        stats_.max_entry_offset_rad =
+            std::max(stats_.max_entry_offset_rad, rotationAngle(measured.M.Inverse() * c.M, axis));
       }
       have_applied_ = true;
       last_applied_ = c;
@@ -174,7 +181,7 @@ void SimKrc::runCycle() {
   // 1. scheduled events
   while (next_event_ < params_.schedule.size() && params_.schedule[next_event_].cycle <= stats_.cycles) {
     const StateEvent& e = params_.schedule[next_event_++];
-    if (state_ == State::Cmd && e.state != State::Cmd) have_applied_ = false;
+    if (e.state != State::Cmd || e.power == 0) have_applied_ = false;  // re-entry is checked as an entry
     state_ = e.state;
     quality_ = e.quality;
     power_ = e.power;

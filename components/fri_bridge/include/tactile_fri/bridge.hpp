@@ -20,6 +20,13 @@
 //  * Leaving CMD: status LeftCmd (sticky while the KRC stays out of CMD) and
 //    the measured pose is echoed again.
 //
+// Lost or late COMMANDS (on the way back): the KRC reflects the sendSeqCount
+// of the last command it received in reflSeqCount. When that is not our latest
+// command, the KRC is holding an older one; the bridge rewinds its limiter to
+// that command (kept in a 64-entry ring) and steps from there, so the KRC never
+// sees two consecutive applied commands further apart than one limited step
+// (`rewind_on_refl`; a refl older than the ring is ignored: hold).
+//
 // Packet loss and reordering - HOLD, never extrapolate: the limiter advances
 // at most v_max * T and w_max * T per reply, where T is the KRC's command
 // sample time (desiredCmdSampleTime, or nominal_period_s when the KRC's value
@@ -66,6 +73,7 @@ struct BridgeParams {
   double nominal_period_s = 0.001;  ///< s, (0, 0.1]: used when the KRC's desiredCmdSampleTime is not in (0, 0.1]
   double max_desired_age_s = 0.1;   ///< s, (0, 10]: older desired poses are not followed (hold)
   int resync_after = 8;             ///< [1, 1000] consecutive old packets accepted as a restarted sequence
+  bool rewind_on_refl = true;       ///< step from the command the KRC reflects (see above)
   bool command_impedance = false;   ///< also send Cartesian stiffness/damping (flags 0x1000|0x2000)
   std::array<double, 6> cart_stiffness{{2000.0, 2000.0, 2000.0, 200.0, 200.0, 200.0}};  ///< N/m x3 [0.01,5000], N m/rad x3 [0.01,300]
   std::array<double, 6> cart_damping{{0.7, 0.7, 0.7, 0.7, 0.7, 0.7}};  ///< normalised, [0.1, 1.0]
@@ -112,6 +120,7 @@ struct BridgeStats {
   uint64_t resyncs = 0;
   uint64_t limited = 0;
   uint64_t holds = 0;         ///< replies that repeated the last command
+  uint64_t rewinds = 0;       ///< limiter rewound to the command the KRC reflected
 };
 
 class FriBridge {
@@ -150,6 +159,10 @@ class FriBridge {
   bool have_state_ = false;
   State last_state_ = State::Off;
   Quality last_quality_ = Quality::Unacceptable;
+  static constexpr int kRing = 64;  // recently sent command poses, by sendSeqCount % kRing
+  std::array<KDL::Frame, kRing> sent_pose_{};
+  std::array<uint16_t, kRing> sent_seq_{};
+  std::array<bool, kRing> sent_valid_{};
   bool have_command_ = false;  // limiter_ holds a pose that was sent
   bool was_in_cmd_ = false;    // sticky LeftCmd
 };

@@ -12,6 +12,8 @@
 //   4. wait for the reply whose reflSeqCount is this cycle's sendSeqCount (until
 //      the period's deadline in real time, or reply_timeout_s in fast mode) and
 //      check it: size/id, the remote's sendSeqCount increments by one, flags,
+//      (the next measurement's reflSeqCount is the sendSeqCount of the last
+//      command taken, i.e. of the last reply that matched its measurement)
 //      MON echo of the measured pose, and the step between consecutive applied
 //      commands (the "no pose jump" check). Commands are applied only in CMD at
 //      quality >= OK, as on the real KRC.
@@ -111,6 +113,8 @@ struct SimKrcStats {
   uint64_t mon_echo_errors = 0;   ///< MON/power-off replies whose pose differs from the measured one by > 1e-5
   double max_cmd_step_m = 0.0;    ///< largest translation between consecutive applied commands
   double max_cmd_step_rad = 0.0;  ///< largest rotation between consecutive applied commands
+  double max_entry_offset_m = 0.0;   ///< first applied command after entering CMD vs the measured pose
+  double max_entry_offset_rad = 0.0;
   double max_latency_s = 0.0;     ///< send -> matching reply
   double sum_latency_s = 0.0;
 };
@@ -150,7 +154,8 @@ class SimKrc {
   uint16_t power_ = 0x7F;
   std::size_t next_event_ = 0;
   uint16_t seq_ = 0;
-  uint16_t last_remote_seq_ = 0;
+  uint16_t last_remote_seq_ = 0;       // last command taken (matching reply): reflected
+  uint16_t last_seen_remote_seq_ = 0;  // last well-formed command seen (sequence check)
   bool have_remote_seq_ = false;
   bool have_applied_ = false;
   KDL::Frame set_point_ = KDL::Frame::Identity();

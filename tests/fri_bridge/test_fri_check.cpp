@@ -1,0 +1,121 @@
+// fri_check end to end: the real executable, bound to an ephemeral port on
+// 127.0.0.1, against the simulated KRC in this process.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <chrono>
+#include <cstdio>
+#include <string>
+
+#include "fri_test_util.hpp"
+#include "tactile_fri/sim_krc.hpp"
+
+using namespace tactile::fri;
+using namespace fri_test;
+
+namespace {
+
+struct CheckRun {
+  std::string output;
+  int exit_code = -1;
+  SimKrcStats krc;
+  double max_displacement = 0.0;  // of the plant from its start pose
+};
+
+CheckRun runFriCheck(const std::string& args, const std::vector<StateEvent>& schedule, uint64_t krc_cycles,
+                     const FaultParams& faults = FaultParams{}) {
+  CheckRun r;
+  const std::string cmd = std::string(FRI_CHECK_PATH) + " --port 0 --bind 127.0.0.1 --idle-timeout 3 " + args + " 2>&1";
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (pipe == nullptr) return r;
+  char line[512];
+  if (std::fgets(line, sizeof line, pipe) == nullptr) {
+    ::pclose(pipe);
+    return r;
+  }
+  r.output = line;
+  const std::string first = line;
+  const std::size_t colon = first.find("127.0.0.1:");
+  EXPECT_NE(colon, std::string::npos) << first;
+  const unsigned port = static_cast<unsigned>(std::stoul(first.substr(colon + 10)));
+
+  SimKrcParams kp;
+  kp.remote_port = static_cast<uint16_t>(port);
+  kp.real_time = false;
+  kp.reply_timeout_s = 1.0;
+  kp.initial_pose = startPose();
+  kp.schedule = schedule;
+  kp.faults = faults;
+  FirstOrderPlant plant(0.02);
+  SimKrc krc;
+  EXPECT_TRUE(krc.configure(kp, plant).ok());
+  for (uint64_t i = 0; i < krc_cycles; ++i) {
+    const auto t0 = std::chrono::steady_clock::now();
+    krc.runCycle();
+    r.max_displacement = std::max(r.max_displacement, (krc.plantState().pose.p - startPose().p).Norm());
+    // A full reply timeout on loopback means fri_check has exited (it stops after --cycles).
+    if (std::chrono::steady_clock::now() - t0 > std::chrono::milliseconds(900)) break;
+  }
+  r.krc = krc.stats();
+  while (std::fgets(line, sizeof line, pipe) != nullptr) r.output += line;
+  const int status = ::pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
+
+const std::vector<StateEvent> kSchedule = {{0, State::Mon, Quality::Perfect, 0x7F},
+                                           {100, State::Cmd, Quality::Perfect, 0x7F},
+                                           {400, State::Cmd, Quality::Bad, 0x7F},
+                                           {450, State::Cmd, Quality::Ok, 0x7F},
+                                           {700, State::Mon, Quality::Perfect, 0x7F}};
+
+}  // namespace
+
+TEST(FriCheckTool, CircleMotionPrintsTransitionsAndStatistics) {
+  const CheckRun r = runFriCheck("--cycles 800 --motion circle --radius 0.02 --circle-period 1", kSchedule, 800);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "state MON quality PERFECT")) << r.output;
+  EXPECT_TRUE(contains(r.output, "state CMD quality PERFECT")) << r.output;
+  EXPECT_TRUE(contains(r.output, "state CMD quality BAD")) << r.output;
+  EXPECT_TRUE(contains(r.output, "bridge quality_low")) << r.output;
+  EXPECT_TRUE(contains(r.output, "bridge left_cmd")) << r.output;
+  EXPECT_TRUE(contains(r.output, "summary: cycles 800 received 800 replies 800 lost 0")) << r.output;
+  EXPECT_TRUE(contains(r.output, "latency: processing mean")) << r.output;
+  EXPECT_EQ(r.krc.replies, 800u);
+  EXPECT_EQ(r.krc.mon_echo_errors, 0u);
+  EXPECT_EQ(r.krc.remote_seq_errors, 0u);
+  EXPECT_EQ(r.krc.applied, 550u);
+  EXPECT_LE(r.krc.max_cmd_step_m, 0.05 * 0.001 + 2e-7);  // fri_check's default 0.05 m/s limit
+  EXPECT_LE(r.krc.max_entry_offset_m, 0.05 * 0.001 + 2e-7);
+  EXPECT_GT(r.max_displacement, 0.001);  // the circle moved the robot
+}
+
+TEST(FriCheckTool, HoldKeepsTheRobotStillAndReportsLoss) {
+  FaultParams f;
+  f.loss = 0.05;
+  f.seed = 7;
+  const CheckRun r = runFriCheck("--cycles 500 --motion hold", kSchedule, 600, f);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_LT(r.max_displacement, 1e-6);  // hold: float rounding only
+  EXPECT_TRUE(contains(r.output, "packet(s) lost")) << r.output;
+  EXPECT_TRUE(contains(r.output, "summary: cycles 500")) << r.output;
+  EXPECT_GT(r.krc.inj_lost, 10u);
+  EXPECT_EQ(r.krc.mon_echo_errors, 0u);
+}
+
+TEST(FriCheckTool, UsageErrorsExitWithStatusOne) {
+  for (const char* args : {"", "--port 70000", "--port 0 --motion zigzag", "--port 0 --cycles 0"}) {
+    const std::string cmd = std::string(FRI_CHECK_PATH) + " " + args + " 2>&1";
+    FILE* pipe = ::popen(cmd.c_str(), "r");
+    ASSERT_NE(pipe, nullptr);
+    std::string out;
+    char line[512];
+    while (std::fgets(line, sizeof line, pipe) != nullptr) out += line;
+    const int status = ::pclose(pipe);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1) << args << ": " << out;
+    EXPECT_TRUE(contains(out, "usage: fri_check")) << out;
+  }
+}

@@ -1,0 +1,290 @@
+// The real bridge (FriBridge + UdpSocket) against the simulated KRC over UDP
+// on 127.0.0.1 with ephemeral ports, with and without injected faults.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <thread>
+
+#include "alloc_counter.hpp"
+#include "fri_test_util.hpp"
+#include "tactile_fri/bridge.hpp"
+#include "tactile_fri/sim_krc.hpp"
+#include "tactile_fri/udp.hpp"
+
+using namespace tactile;
+using namespace tactile::fri;
+using namespace fri_test;
+
+namespace {
+
+double steadyNow() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// Float quantisation of poses on the wire (see test_bridge.cpp).
+constexpr double kPosTol = 2e-7;
+constexpr double kRotTol = 2e-6;
+
+/// The remote side as the RTT component will run it: triggered by each
+/// received datagram, one bridge step, one reply.
+class BridgeLoop {
+ public:
+  explicit BridgeLoop(const BridgeParams& p, const KDL::Frame& target) {
+    EXPECT_TRUE(bridge_.configure(p).ok());
+    UdpParams up;
+    up.bind_address = "127.0.0.1";
+    up.port = 0;
+    EXPECT_TRUE(sock_.open(up).ok());
+    desired_.status = ServoStatus::Ok;
+    toPose(target, desired_.pose);
+  }
+  uint16_t port() const { return sock_.localPort(); }
+  void start() {
+    thread_ = std::thread([this] { loop(); });
+  }
+  void stop() {
+    stop_ = true;
+    if (thread_.joinable()) thread_.join();
+  }
+  ~BridgeLoop() { stop(); }
+  const BridgeStats& stats() const { return bridge_.stats(); }
+  uint64_t seen(BridgeStatus s) const { return status_count_[static_cast<std::size_t>(s)]; }
+
+ private:
+  void loop() {
+    std::array<uint8_t, 2048> buf{};
+    uint8_t tx[kCmdPacketSize];
+    BridgeOutput out;
+    while (!stop_) {
+      std::size_t n = 0;
+      const UdpStatus s = sock_.receive(buf.data(), buf.size(), n, 20000);
+      if (s != UdpStatus::Ok && s != UdpStatus::Truncated) continue;
+      const double now = steadyNow();
+      desired_.time_s = now;
+      bridge_.stepDatagram(buf.data(), n, desired_, now, out);
+      ++status_count_[static_cast<std::size_t>(out.status)];
+      if (out.reply) {
+        std::size_t w = 0;
+        encodeCommand(out.cmd, tx, sizeof tx, w);
+        sock_.reply(tx, w);
+      }
+    }
+  }
+  FriBridge bridge_;
+  UdpSocket sock_;
+  PoseCommand desired_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+  std::array<uint64_t, 16> status_count_{};
+};
+
+SimKrcParams fastKrc(uint16_t port) {
+  SimKrcParams p;
+  p.remote_port = port;
+  p.period_s = 0.001;
+  p.real_time = false;       // faster than real time: wait for each reply instead of sleeping
+  p.reply_timeout_s = 0.5;   // generous: the machine is shared
+  p.initial_pose = startPose();
+  p.initial.state = State::Mon;
+  p.initial.quality = Quality::Perfect;
+  return p;
+}
+
+}  // namespace
+
+TEST(FriLoopback, CleanLinkMonCmdMon) {
+  BridgeParams bp;
+  bp.max_lin_speed = 0.05;
+  const KDL::Frame target(startPose().M, startPose().p + KDL::Vector(0.01, 0.0, 0.0));
+  BridgeLoop bridge(bp, target);
+  SimKrcParams kp = fastKrc(bridge.port());
+  kp.schedule = {{50, State::Cmd, Quality::Perfect, 0x7F}, {450, State::Mon, Quality::Perfect, 0x7F}};
+  FirstOrderPlant plant(0.02);
+  SimKrc krc;
+  ASSERT_TRUE(krc.configure(kp, plant).ok());
+  bridge.start();
+  krc.run(500);
+  bridge.stop();
+  const SimKrcStats& s = krc.stats();
+  EXPECT_EQ(s.replies, 500u);
+  EXPECT_EQ(s.missed, 0u);
+  EXPECT_EQ(s.stale_replies, 0u);
+  EXPECT_EQ(s.malformed_replies, 0u);
+  EXPECT_EQ(s.remote_seq_errors, 0u);
+  EXPECT_EQ(s.flag_errors, 0u);
+  EXPECT_EQ(s.mon_echo_errors, 0u);
+  EXPECT_EQ(s.applied, 400u);
+  EXPECT_LE(s.max_cmd_step_m, bp.max_lin_speed * 0.001 + kPosTol);
+  EXPECT_LE(s.max_entry_offset_m, bp.max_lin_speed * 0.001 + kPosTol);
+  // 10 mm at 50 mm/s = 200 commands, then 200 more cycles with tau = 20 ms: the
+  // plant sits on the target to well below 0.1 mm (exp(-10) * 10 mm).
+  EXPECT_LT((krc.plantState().pose.p - target.p).Norm(), 1e-4);
+  EXPECT_GT(bridge.seen(BridgeStatus::Limited), 150u);
+  EXPECT_GT(bridge.seen(BridgeStatus::Commanding), 100u);
+  EXPECT_EQ(bridge.seen(BridgeStatus::LeftCmd), 50u);
+  EXPECT_EQ(bridge.seen(BridgeStatus::Monitor), 50u);
+}
+
+TEST(FriLoopback, FaultsNeverProduceAJumpOrAWrongEcho) {
+  BridgeParams bp;
+  bp.max_lin_speed = 0.05;
+  bp.max_rot_speed = 0.25;
+  const KDL::Frame target(KDL::Rotation::RotZ(0.1) * startPose().M, startPose().p + KDL::Vector(0.0, 0.03, 0.0));
+  BridgeLoop bridge(bp, target);
+  SimKrcParams kp = fastKrc(bridge.port());
+  kp.schedule = {{100, State::Cmd, Quality::Perfect, 0x7F}, {600, State::Cmd, Quality::Bad, 0x7F},
+                 {700, State::Cmd, Quality::Ok, 0x7F},       {1000, State::Mon, Quality::Ok, 0x7F},
+                 {1100, State::Cmd, Quality::Perfect, 0x7F}, {1400, State::Cmd, Quality::Unacceptable, 0x7F},
+                 {1450, State::Mon, Quality::Bad, 0x7F},     {1500, State::Cmd, Quality::Perfect, 0x7F},
+                 {1800, State::Cmd, Quality::Perfect, 0x00}, {1900, State::Cmd, Quality::Perfect, 0x7F}};
+  kp.faults.loss = 0.03;
+  kp.faults.duplicate = 0.03;
+  kp.faults.reorder = 0.03;
+  kp.faults.late = 0.02;
+  kp.faults.wrong_size = 0.02;
+  kp.faults.wrong_id = 0.02;
+  kp.faults.seed = 12345;
+  kp.reply_timeout_s = 0.2;
+  FirstOrderPlant plant(0.02);
+  SimKrc krc;
+  ASSERT_TRUE(krc.configure(kp, plant).ok());
+  bridge.start();
+  krc.run(2500);
+  bridge.stop();
+  const SimKrcStats& s = krc.stats();
+  // every fault kind was exercised
+  EXPECT_GT(s.inj_lost, 20u);
+  EXPECT_GT(s.inj_duplicate, 20u);
+  EXPECT_GT(s.inj_reorder, 20u);
+  EXPECT_GT(s.inj_late, 10u);
+  EXPECT_GT(s.inj_wrong_size, 10u);
+  EXPECT_GT(s.inj_wrong_id, 10u);
+  // and the bridge saw them
+  const BridgeStats& b = bridge.stats();
+  EXPECT_EQ(b.duplicates, s.inj_duplicate);
+  EXPECT_GE(b.out_of_order, s.inj_reorder / 2);
+  EXPECT_EQ(b.malformed, s.inj_wrong_size + s.inj_wrong_id);
+  EXPECT_GT(b.lost, s.inj_lost);
+  EXPECT_GT(b.holds, 100u);  // the quality drops
+  EXPECT_GT(bridge.seen(BridgeStatus::LeftCmd), 50u);
+  EXPECT_GT(bridge.seen(BridgeStatus::PowerOff), 50u);
+  // safety: no jump, no wrong echo, nothing non-finite, protocol kept
+  EXPECT_LE(s.max_cmd_step_m, bp.max_lin_speed * 0.001 + kPosTol);
+  EXPECT_LE(s.max_cmd_step_rad, bp.max_rot_speed * 0.001 + kRotTol);
+  EXPECT_LE(s.max_entry_offset_m, bp.max_lin_speed * 0.001 + kPosTol);
+  EXPECT_LE(s.max_entry_offset_rad, bp.max_rot_speed * 0.001 + kRotTol);
+  EXPECT_EQ(s.mon_echo_errors, 0u);
+  EXPECT_EQ(s.nonfinite_commands, 0u);
+  EXPECT_EQ(s.flag_errors, 0u);
+  EXPECT_EQ(s.malformed_replies, 0u);
+  EXPECT_EQ(s.remote_seq_errors, 0u);
+  EXPECT_GT(s.applied, 1000u);
+}
+
+TEST(FriLoopback, CommandLossOnTheWayBackIsSeenByTheKrc) {
+  // Losing our replies: the KRC sees gaps in our sendSeqCount, never a jump.
+  BridgeParams bp;
+  const KDL::Frame target(startPose().M, startPose().p + KDL::Vector(0.0, 0.0, -0.02));
+  BridgeLoop bridge(bp, target);
+  SimKrcParams kp = fastKrc(bridge.port());
+  kp.initial.state = State::Cmd;
+  kp.faults.cmd_loss = 0.05;
+  kp.faults.seed = 99;
+  kp.reply_timeout_s = 0.2;  // a lost reply costs this wait
+  FirstOrderPlant plant(0.02);
+  SimKrc krc;
+  ASSERT_TRUE(krc.configure(kp, plant).ok());
+  bridge.start();
+  krc.run(300);
+  bridge.stop();
+  const SimKrcStats& s = krc.stats();
+  EXPECT_GT(s.inj_cmd_lost, 5u);
+  EXPECT_GE(s.missed, s.inj_cmd_lost);  // (a reply later than the timeout on a loaded machine adds a miss)
+  // The KRC reflects the last command it took; the bridge steps on from that
+  // one, so the applied commands never jump (below).
+  EXPECT_GE(bridge.stats().rewinds, s.inj_cmd_lost);
+  EXPECT_GT(s.remote_seq_errors, 0u);
+  EXPECT_LE(s.remote_seq_errors, s.inj_cmd_lost);
+  EXPECT_LE(s.max_cmd_step_m, bp.max_lin_speed * 0.001 + kPosTol);
+}
+
+TEST(FriUdp, StatusesForTimeoutTruncationPeerAndBind) {
+  UdpSocket a;
+  UdpParams up;
+  up.bind_address = "127.0.0.1";
+  up.port = 0;
+  ASSERT_TRUE(a.open(up).ok());
+  ASSERT_NE(a.localPort(), 0);
+  uint8_t buf[64];
+  std::size_t n = 99;
+  const double t0 = steadyNow();
+  EXPECT_EQ(a.receive(buf, sizeof buf, n, 20000), UdpStatus::Timeout);
+  const double waited = steadyNow() - t0;
+  EXPECT_GE(waited, 0.015);  // bounded wait: ~20 ms (lower bound with scheduling slack)
+  EXPECT_LT(waited, 1.0);
+  EXPECT_EQ(n, 0u);
+  EXPECT_EQ(a.reply(buf, 4), UdpStatus::NoPeer);
+  // oversize datagram: Truncated with its real size
+  UdpSocket b;
+  ASSERT_TRUE(b.open(up).ok());
+  std::vector<uint8_t> big(1000, 0x5A);
+  ASSERT_EQ(b.sendTo(loopbackAddress(a.localPort()), big.data(), big.size()), UdpStatus::Ok);
+  EXPECT_EQ(a.receive(buf, sizeof buf, n, 1000000), UdpStatus::Truncated);
+  EXPECT_EQ(n, 1000u);
+  // reply goes back to b
+  ASSERT_EQ(a.reply(buf, 8), UdpStatus::Ok);
+  EXPECT_EQ(b.receive(buf, sizeof buf, n, 1000000), UdpStatus::Ok);
+  EXPECT_EQ(n, 8u);
+  // errors name the parameter
+  UdpSocket c;
+  UdpParams clash = up;
+  clash.port = a.localPort();
+  ConfigResult r = c.open(clash);
+  EXPECT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("bind(127.0.0.1:"), std::string::npos) << r.message();
+  UdpParams bad = up;
+  bad.bind_address = "localhost:1";
+  r = c.open(bad);
+  EXPECT_NE(r.message().find("fri.udp.bind_address"), std::string::npos) << r.message();
+  EXPECT_EQ(c.receive(buf, sizeof buf, n, 0), UdpStatus::NotOpen);
+}
+
+TEST(FriUdp, NoHeapAllocationPerCycleOverTheSocket) {
+  // One thread plays both sides so that the scope counts exactly one cycle's
+  // work: send measurement, receive, bridge step, encode, reply, receive reply.
+  UdpParams up;
+  up.bind_address = "127.0.0.1";
+  up.port = 0;
+  UdpSocket remote, krc;
+  ASSERT_TRUE(remote.open(up).ok());
+  ASSERT_TRUE(krc.open(up).ok());
+  FriBridge bridge;
+  ASSERT_TRUE(bridge.configure(BridgeParams{}).ok());
+  std::vector<std::vector<uint8_t>> packets;
+  for (int i = 0; i < 500; ++i)
+    packets.push_back(makeMsr(static_cast<uint16_t>(i + 1), i < 100 ? State::Mon : State::Cmd, Quality::Perfect,
+                              startPose()));
+  const sockaddr_in to = loopbackAddress(remote.localPort());
+  PoseCommand desired;
+  desired.status = ServoStatus::Ok;
+  toPose(KDL::Frame(startPose().M, startPose().p + KDL::Vector(0.01, 0, 0)), desired.pose);
+  BridgeOutput out;
+  uint8_t rx[2048], tx[kCmdPacketSize];
+  std::size_t got_replies = 0;
+  tactile::test::AllocationScope scope;
+  for (const auto& p : packets) {
+    std::size_t n = 0;
+    krc.sendTo(to, p.data(), p.size());
+    if (remote.receive(rx, sizeof rx, n, 1000000) != UdpStatus::Ok) continue;
+    bridge.stepDatagram(rx, n, desired, 0.0, out);
+    if (!out.reply) continue;
+    std::size_t w = 0;
+    encodeCommand(out.cmd, tx, sizeof tx, w);
+    remote.reply(tx, w);
+    if (krc.receive(rx, sizeof rx, n, 1000000) == UdpStatus::Ok && n == kCmdPacketSize) ++got_replies;
+  }
+  EXPECT_EQ(scope.count(), 0u);
+  EXPECT_EQ(got_replies, packets.size());
+}
