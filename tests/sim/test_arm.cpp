@@ -1,1 +1,263 @@
+// LWR 4+ arm: kinematics against hand-computed / independent values, the
+// Jacobian against finite differences, the impedance law (Eq. 11) in both
+// fidelity levels, limits, singularities, bad input and allocations.
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Eigenvalues>
+
+#include "alloc_counter.hpp"
+#include "tactile_sim/lwr_arm.hpp"
+#include "tactile_sim/world.hpp"
+
+using namespace tactile;
+using namespace tactile::sim;
+
+namespace {
+JointVec J7(double a, double b, double c, double d, double e, double f, double g) {
+  JointVec q;
+  q << a, b, c, d, e, f, g;
+  return q;
+}
+const JointVec kGeneric = J7(0.3, -0.4, 0.2, 1.1, -0.3, -0.9, 0.5);
+}  // namespace
+
+TEST(LwrKinematics, StretchedPoseIsStraightUp) {
+  LwrArm arm;
+  ASSERT_TRUE(arm.configure(ArmParams()).ok());
+  KDL::Frame T;
+  arm.forward(JointVec::Zero(), T);
+  // Hand-computed: q = 0 stacks d = 0.31 + 0.4 + 0.39 + 0.078 along z_g, and
+  // the alphas sum to zero -> identity orientation. Tolerance: double rounding.
+  EXPECT_NEAR(T.p.x(), 0.0, 1e-12);
+  EXPECT_NEAR(T.p.y(), 0.0, 1e-12);
+  EXPECT_NEAR(T.p.z(), 1.178, 1e-12);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) EXPECT_NEAR(T.M(i, j), i == j ? 1.0 : 0.0, 1e-12);
+}
+
+TEST(LwrKinematics, HandComputedShoulderRotations) {
+  LwrArm arm;
+  ASSERT_TRUE(arm.configure(ArmParams()).ok());
+  KDL::Frame T;
+  // Joint 2 axis at q = 0 is z_1 = RotX(pi/2) z = -y_g. Rotating the vertical
+  // arm (0.868 m above the shoulder at z = 0.31) by +90 deg about -y_g lays it
+  // along -x_g.
+  arm.forward(J7(0, kPi / 2, 0, 0, 0, 0, 0), T);
+  EXPECT_NEAR(T.p.x(), -0.868, 1e-12);
+  EXPECT_NEAR(T.p.y(), 0.0, 1e-12);
+  EXPECT_NEAR(T.p.z(), 0.31, 1e-12);
+  // Joint 1 by +90 deg about z_g turns -x_g into -y_g.
+  arm.forward(J7(kPi / 2, kPi / 2, 0, 0, 0, 0, 0), T);
+  EXPECT_NEAR(T.p.x(), 0.0, 1e-12);
+  EXPECT_NEAR(T.p.y(), -0.868, 1e-12);
+  EXPECT_NEAR(T.p.z(), 0.31, 1e-12);
+}
+
+TEST(LwrKinematics, GenericPoseMatchesIndependentDhProduct) {
+  // Reference: numpy product of 4x4 standard-DH matrices (a = 0), computed
+  // independently of KDL for q = (0.3, -0.4, 0.2, 1.1, -0.3, -0.9, 0.5).
+  LwrArm arm;
+  ASSERT_TRUE(arm.configure(ArmParams()).ok());
+  KDL::Frame T;
+  arm.forward(kGeneric, T);
+  const double R[3][3] = {{-0.72435153, -0.09876847, 0.68231932},
+                          {0.01553668, 0.98709508, 0.15937976},
+                          {-0.68925574, 0.12604794, -0.7134693}};
+  const double p[3] = {0.54717652, 0.23750995, 0.6530593};
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(T.p(i), p[i], 1e-8);  // reference printed with 8-9 decimals
+    for (int j = 0; j < 3; ++j) EXPECT_NEAR(T.M(i, j), R[i][j], 1e-7);
+  }
+}
+
+TEST(LwrKinematics, JacobianMatchesFiniteDifferences) {
+  LwrArm arm;
+  ASSERT_TRUE(arm.configure(ArmParams()).ok());
+  Jac67 J;
+  arm.jacobian(kGeneric, J);
+  KDL::Frame T0, T1, Tm;
+  const double h = 1e-6;
+  for (int j = 0; j < kLwrJoints; ++j) {
+    JointVec qp = kGeneric, qm = kGeneric;
+    qp[j] += h;
+    qm[j] -= h;
+    arm.forward(qp, T1);
+    arm.forward(qm, Tm);
+    const KDL::Twist d = KDL::diff(Tm, T1, 2 * h);  // central difference, {g}, flange reference point
+    // Central differences at h = 1e-6: truncation O(h^2) ~ 1e-12, rounding ~1e-10.
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_NEAR(J(i, j), d.vel(i), 1e-7) << "row " << i << " joint " << j;
+      EXPECT_NEAR(J(i + 3, j), d.rot(i), 1e-7) << "row " << i + 3 << " joint " << j;
+    }
+  }
+}
+
+TEST(LwrDynamics, MassMatrixSymmetricPositiveDefinite) {
+  LwrArm arm;
+  ASSERT_TRUE(arm.configure(ArmParams()).ok());
+  Eigen::Matrix<double, 7, 7> M;
+  arm.massMatrix(kGeneric, M);
+  EXPECT_LT((M - M.transpose()).cwiseAbs().maxCoeff(), 1e-12);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 7, 7>> es(M);
+  EXPECT_GT(es.eigenvalues().minCoeff(), 0.0);
+  JointVec g;
+  arm.gravity(kGeneric, g);
+  EXPECT_GT(g.norm(), 1.0);  // ~15 kg arm off the vertical: tens of N m
+}
+
+namespace {
+WorldParams freeWorld(Fidelity f) {
+  WorldParams p;
+  p.fidelity = f;
+  return p;
+}
+}  // namespace
+
+class ImpedanceTest : public ::testing::TestWithParam<Fidelity> {};
+
+TEST_P(ImpedanceTest, ConstantWrenchGivesDisplacementFOverK) {
+  WorldParams p = freeWorld(GetParam());
+  p.external_wrench = {5.0, -3.0, 8.0, 0.2, -0.1, 0.3};
+  World w;
+  ASSERT_TRUE(w.configure(p).ok());
+  const KDL::Frame T0 = w.state().T_ge;
+  const Pose cmd = toPose(T0);
+  SimState s;
+  const double dt = 0.001;
+  const int n = GetParam() == Fidelity::QuasiStatic ? 5 : 6000;
+  for (int i = 0; i < n; ++i) ASSERT_FALSE(fatal(w.step(cmd, dt, s)));
+  const KDL::Twist d = KDL::diff(T0, s.T_ge);
+  // Quasi-static: Newton tolerance 1e-4 N / 1000 N/m = 1e-7 m -> 1e-6 m.
+  // Dynamics: after 6 s (damping ratio 0.7, ~10 time constants) the transient
+  // of the Cartesian and the null-space loops is below 2e-5 m / 2e-4 rad.
+  const double tol_p = GetParam() == Fidelity::QuasiStatic ? 1e-6 : 2e-5;
+  const double tol_r = GetParam() == Fidelity::QuasiStatic ? 1e-6 : 2e-4;
+  EXPECT_NEAR(d.vel.x(), 5.0 / 1000.0, tol_p);
+  EXPECT_NEAR(d.vel.y(), -3.0 / 1000.0, tol_p);
+  EXPECT_NEAR(d.vel.z(), 8.0 / 1000.0, tol_p);
+  EXPECT_NEAR(d.rot.x(), 0.2 / 100.0, tol_r);
+  EXPECT_NEAR(d.rot.y(), -0.1 / 100.0, tol_r);
+  EXPECT_NEAR(d.rot.z(), 0.3 / 100.0, tol_r);
+}
+
+INSTANTIATE_TEST_SUITE_P(Fidelities, ImpedanceTest, ::testing::Values(Fidelity::QuasiStatic, Fidelity::Dynamics));
+
+TEST(LwrDynamics, GravityCompensatedArmStaysAtRest) {
+  World w;
+  ASSERT_TRUE(w.configure(freeWorld(Fidelity::Dynamics)).ok());
+  const JointVec q0 = w.state().q;
+  const Pose cmd = toPose(w.state().T_ge);
+  SimState s;
+  for (int i = 0; i < 2000; ++i) ASSERT_EQ(w.step(cmd, 0.001, s), SimStatus::Ok);
+  // g(q) of Eq. 11 cancels the model's gravity exactly: nothing moves.
+  EXPECT_LT((s.q - q0).cwiseAbs().maxCoeff(), 1e-9);
+}
+
+TEST(LwrDynamics, StepResponseIsStableAndWellDamped) {
+  World w;
+  ASSERT_TRUE(w.configure(freeWorld(Fidelity::Dynamics)).ok());
+  KDL::Frame T0 = w.state().T_ge;
+  KDL::Frame Tc = T0;
+  Tc.p += KDL::Vector(0.0, 0.0, 0.05);
+  const Pose cmd = toPose(Tc);
+  SimState s;
+  double peak = 0.0, energy_last = 0.0;
+  for (int i = 0; i < 4000; ++i) {
+    ASSERT_FALSE(fatal(w.step(cmd, 0.001, s)));
+    const double z = s.T_ge.p.z() - T0.p.z();
+    peak = std::max(peak, z);
+    if (i == 3999) energy_last = s.qd.squaredNorm();
+  }
+  // zeta = 0.7 nominal gives ~5 % overshoot; allow 15 % since the damping is
+  // computed from the configure-time Cartesian inertia, not the current one.
+  EXPECT_LT(peak, 0.05 * 1.15);
+  EXPECT_GT(peak, 0.05 * 0.9);
+  EXPECT_NEAR(s.T_ge.p.z() - T0.p.z(), 0.05, 2e-4);  // settled after 4 s
+  EXPECT_LT(energy_last, 1e-6);                      // at rest: no sustained oscillation
+}
+
+TEST(LwrLimits, UnreachableCommandGivesFatalStatusAndFiniteState) {
+  for (Fidelity f : {Fidelity::QuasiStatic, Fidelity::Dynamics}) {
+    World w;
+    ASSERT_TRUE(w.configure(freeWorld(f)).ok());
+    KDL::Frame Tc = w.state().T_ge;
+    Tc.p = KDL::Vector(0.0, 0.0, 1.6);  // beyond the 1.178 m reach: stretches into a singularity / limit
+    SimState s;
+    SimStatus st = SimStatus::Ok;
+    for (int i = 0; i < 20000 && !fatal(st); ++i) st = w.step(toPose(Tc), 0.001, s);
+    EXPECT_TRUE(st == SimStatus::Singularity || st == SimStatus::JointLimit) << toString(st);
+    EXPECT_TRUE(s.q.allFinite());
+    EXPECT_TRUE(std::isfinite(s.flange_g.p[0]) && std::isfinite(s.flange_g.p[2]));
+  }
+}
+
+TEST(LwrLimits, JointLimitIsClampedAndReported) {
+  WorldParams p = freeWorld(Fidelity::Dynamics);
+  p.arm.q_max[6] = 0.2;  // narrow joint 7, then command a yaw of 1 rad about the flange axis
+  World w;
+  ASSERT_TRUE(w.configure(p).ok());
+  KDL::Frame Tc = w.state().T_ge;
+  Tc.M = w.state().T_ge.M * KDL::Rotation::RotZ(1.0);
+  SimState s;
+  SimStatus st = SimStatus::Ok;
+  for (int i = 0; i < 5000 && st != SimStatus::JointLimit; ++i) st = w.step(toPose(Tc), 0.001, s);
+  const JointVec qa = s.q;
+  EXPECT_EQ(st, SimStatus::JointLimit);
+  EXPECT_LE(qa[6], 0.2 + 1e-12);
+  EXPECT_GE(qa[6], -2.967);
+}
+
+TEST(LwrBadInput, ConfigureErrorsNameTheParameter) {
+  LwrArm arm;
+  ArmParams p;
+  p.k_trans = 0.0;
+  ConfigResult r = arm.configure(p);
+  EXPECT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("arm.k_trans"), std::string::npos) << r.message();
+  p = ArmParams();
+  p.q_init[3] = 3.0;
+  r = arm.configure(p);
+  EXPECT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("arm.q_init[3]"), std::string::npos) << r.message();
+  p = ArmParams();
+  p.q_max[1] = 2.5;  // beyond the +-120 deg hardware limit
+  r = arm.configure(p);
+  EXPECT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("arm.q_max[1]"), std::string::npos) << r.message();
+  p = ArmParams();
+  p.damping_ratio = std::nan("");
+  EXPECT_FALSE(arm.configure(p).ok());
+  // A singular start (stretched arm) is refused by the world.
+  WorldParams wp;
+  wp.arm.q_init = {0, 0, 0, 0, 0, 0, 0};
+  World w;
+  r = w.configure(wp);
+  EXPECT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("manipulability"), std::string::npos) << r.message();
+}
+
+TEST(LwrBadInput, NanCommandAndBadDtKeepStateFinite) {
+  for (Fidelity f : {Fidelity::QuasiStatic, Fidelity::Dynamics}) {
+    World w;
+    ASSERT_TRUE(w.configure(freeWorld(f)).ok());
+    const Pose good = toPose(w.state().T_ge);
+    Pose bad = good;
+    bad.p[0] = std::nan("");
+    SimState s;
+    EXPECT_EQ(w.step(bad, 0.001, s), SimStatus::InvalidCommand);
+    EXPECT_TRUE(s.q.allFinite());
+    bad = good;
+    bad.q = {0, 0, 0, 0};
+    EXPECT_EQ(w.step(bad, 0.001, s), SimStatus::InvalidCommand);
+    const double t = s.time_s;
+    EXPECT_EQ(w.step(good, 0.0, s), SimStatus::InvalidCommand);
+    EXPECT_EQ(w.step(good, -1.0, s), SimStatus::InvalidCommand);
+    EXPECT_EQ(w.step(good, std::numeric_limits<double>::infinity(), s), SimStatus::InvalidCommand);
+    EXPECT_EQ(s.time_s, t);  // time did not advance
+    EXPECT_EQ(w.step(good, 0.001, s), SimStatus::Ok);
+    EXPECT_NEAR(s.flange_g.p[0], good.p[0], 1e-6);
+  }
+}

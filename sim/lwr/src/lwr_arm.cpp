@@ -232,23 +232,30 @@ SimStatus LwrArm::stepDynamics(const KDL::Frame& T_cmd, const Vec6& W_ext, doubl
   if (!configured_) return SimStatus::NotConfigured;
   const ArmState saved = state_;
   // State at the start of the step (J_, T_ge, twist are current).
-  const Vec6 W = impedanceWrench(T_cmd, state_.T_ge, state_.twist) + W_ext;  // Eq. 11 + contact
+  // Stiffness part of Eq. 11 + contact wrench, explicit:
+  const Vec6 W = impedanceWrench(T_cmd, state_.T_ge, Vec6::Zero()) + W_ext;
   JointVec tau = J_.transpose() * W;
   // Null-space posture term, projected with N = I - J^T (J#)^T, J# = J^T (J J^T + l^2 I)^-1.
   const Mat6 JJt = J_ * J_.transpose() + 1e-6 * Mat6::Identity();
   const Eigen::Matrix<double, 7, 6> Jpinv = J_.transpose() * JJt.ldlt().solve(Mat6::Identity());
   const Eigen::Matrix<double, 7, 7> N = Eigen::Matrix<double, 7, 7>::Identity() - J_.transpose() * Jpinv.transpose();
-  tau += N * (params_.null_stiffness * (q_rest_ - state_.q) - params_.null_damping * state_.qd);
-  tau -= params_.joint_damping * state_.qd;
+  tau += N * (params_.null_stiffness * (q_rest_ - state_.q));
+  // Damping (Eq. 11's -D xdot, null-space and joint damping) as one joint-space
+  // matrix B, integrated implicitly: the wrist links are light, so explicit
+  // damping at 1 kHz would be unstable (dt * B / M > 2).
+  Eigen::Matrix<double, 6, 6> D = Eigen::Matrix<double, 6, 6>::Zero();
+  D.diagonal() << d_trans_, d_trans_, d_trans_, d_rot_, d_rot_, d_rot_;
+  Eigen::Matrix<double, 7, 7> B = J_.transpose() * D * J_ + params_.null_damping * N;
+  B.diagonal().array() += params_.joint_damping;
   // M qdd + C qd + g = tau_cmd + tau_ext, tau_cmd containing g(q): gravity cancels.
   kq_.data = state_.q;
   kqd_.data = state_.qd;
   dyn_->JntToMass(kq_, kM_);
   dyn_->JntToCoriolis(kq_, kqd_, kout_);
   const Eigen::Matrix<double, 7, 7> M = kM_.data;
-  const JointVec qdd = M.ldlt().solve(tau - kout_.data);
-  // Semi-implicit Euler.
-  state_.qd += dt * qdd;
+  // Semi-implicit Euler with implicit damping: (M + dt B) qd' = M qd + dt (tau - C).
+  const Eigen::Matrix<double, 7, 7> A = M + dt * B;
+  state_.qd = A.partialPivLu().solve(M * state_.qd + dt * (tau - kout_.data));
   for (int i = 0; i < kLwrJoints; ++i) {
     const double v = params_.max_joint_speed;
     if (state_.qd[i] > v) state_.qd[i] = v;
