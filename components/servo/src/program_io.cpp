@@ -1,0 +1,347 @@
+#include "tactile_servo/program_io.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <utility>
+
+#include "tactile_config/yaml_params.hpp"
+
+namespace tactile {
+
+using config::checkKeys;
+using config::read;
+using config::Where;
+
+namespace {
+
+const char* const kFfNames[6] = {"vx", "vy", "vz", "wx", "wy", "wz"};
+
+ConfigResult fail(const Where& w, const std::string& msg) { return ConfigResult::failure(w.str() + ": " + msg); }
+
+bool number(const YAML::Node& n, double& v) {
+  if (!n || !n.IsScalar()) return false;
+  try {
+    v = n.as<double>();
+  } catch (const YAML::Exception&) {
+    return false;
+  }
+  return true;
+}
+
+std::string list(const char* const* names, int n) {
+  std::string s;
+  for (int i = 0; i < n; ++i) s += std::string(i ? ", " : "") + names[i];
+  return s;
+}
+
+/// A 6-vector as a list of 6 numbers or a mapping over `names` (absent keys
+/// keep their value). `kind` is used in messages ("feature name", "axis").
+ConfigResult readVec6(const YAML::Node& n, const Where& w, const char* const* names, const char* kind, Vec6& v) {
+  if (!n) return ConfigResult::success();
+  if (n.IsSequence()) {
+    if (n.size() != 6) return fail(w, "must have 6 entries, has " + std::to_string(n.size()));
+    for (std::size_t i = 0; i < 6; ++i)
+      if (!number(n[i], v(static_cast<int>(i))))
+        return fail(w.child(std::to_string(i)), "cannot parse '" + YAML::Dump(n[i]) + "' as a number");
+    return ConfigResult::success();
+  }
+  if (!n.IsMap()) return fail(w, "must be a list of 6 numbers or a mapping");
+  for (const auto& kv : n) {
+    const std::string k = kv.first.as<std::string>();
+    int idx = -1;
+    for (int i = 0; i < 6; ++i)
+      if (k == names[i]) idx = i;
+    if (idx < 0) return fail(w.child(k), std::string("unknown ") + kind + " (allowed: " + list(names, 6) + ")");
+    if (!number(kv.second, v(idx))) return fail(w.child(k), "cannot parse '" + YAML::Dump(kv.second) + "' as a number");
+  }
+  return ConfigResult::success();
+}
+
+ConfigResult readMat6(const YAML::Node& n, const Where& w, Mat6& m) {
+  if (!n.IsSequence() || n.size() != 6)
+    return fail(w, "must be a 6x6 matrix (a list of 6 rows), has " + std::to_string(n.IsSequence() ? n.size() : 0) +
+                       " rows");
+  for (std::size_t r = 0; r < 6; ++r) {
+    const YAML::Node row = n[r];
+    if (!row.IsSequence() || row.size() != 6)
+      return fail(w.child(std::to_string(r)), "row must have 6 entries, has " +
+                                                  std::to_string(row.IsSequence() ? row.size() : 0));
+    for (std::size_t c = 0; c < 6; ++c)
+      if (!number(row[c], m(static_cast<int>(r), static_cast<int>(c))))
+        return fail(w.child(std::to_string(r)).child(std::to_string(c)), "cannot parse '" + YAML::Dump(row[c]) + "'");
+  }
+  return ConfigResult::success();
+}
+
+ConfigResult readFrame(const YAML::Node& n, const Where& w, KDL::Frame& f) {
+  if (!n) return ConfigResult::success();
+  ConfigResult r = checkKeys(n, w, {"xyz", "rpy_deg"});
+  if (!r) return r;
+  std::vector<double> xyz{0, 0, 0}, rpy{0, 0, 0};
+  if (!(r = read(n, "xyz", xyz, w)) || !(r = read(n, "rpy_deg", rpy, w))) return r;
+  if (xyz.size() != 3) return fail(w.child("xyz"), "must have 3 entries (m)");
+  if (rpy.size() != 3) return fail(w.child("rpy_deg"), "must have 3 entries (deg)");
+  const double d = kPi / 180.0;
+  f = KDL::Frame(KDL::Rotation::RPY(rpy[0] * d, rpy[1] * d, rpy[2] * d), KDL::Vector(xyz[0], xyz[1], xyz[2]));
+  return ConfigResult::success();
+}
+
+struct Defaults {
+  Vec6 kp = Vec6::Zero(), ki = Vec6::Zero(), ilim = Vec6::Constant(1e-3), umax = Vec6::Constant(1e9);
+};
+
+ConfigResult readGains(const YAML::Node& n, const Where& w, Vec6& kp, Vec6& ki, Vec6& ilim, Vec6& umax) {
+  ConfigResult r;
+  if (!(r = readVec6(n["kp"], w.child("kp"), kAxisNames, "axis", kp))) return r;
+  if (!(r = readVec6(n["ki"], w.child("ki"), kAxisNames, "axis", ki))) return r;
+  if (!(r = readVec6(n["integral_limit"], w.child("integral_limit"), kAxisNames, "axis", ilim))) return r;
+  if (!(r = readVec6(n["u_max"], w.child("u_max"), kAxisNames, "axis", umax))) return r;
+  return r;
+}
+
+ConfigResult readTransition(const YAML::Node& n, const Where& w, TransitionParams& t) {
+  ConfigResult r = checkKeys(n, w, {"on", "to", "cycles", "tolerance", "timeout_s", "force_n"});
+  if (!r) return r;
+  std::string on;
+  if (!(r = read(n, "on", on, w))) return r;
+  const char* const events[] = {"contact", "edge", "point", "aligned", "contact_lost", "force_above", "timeout"};
+  bool found = false;
+  for (int i = 0; i < 7; ++i)
+    if (on == events[i]) {
+      t.on = static_cast<TransitionEvent>(i);
+      found = true;
+    }
+  if (!found) return fail(w.child("on"), "'" + on + "': unknown event (allowed: " + list(events, 7) + ")");
+  if (!n["to"]) return fail(w.child("to"), "missing target phase");
+  if (!(r = read(n, "to", t.to, w))) return r;
+  if (!(r = read(n, "cycles", t.cycles, w))) return r;
+  if (!(r = read(n, "timeout_s", t.timeout_s, w))) return r;
+  if (!(r = read(n, "force_n", t.force_n, w))) return r;
+  if (t.on == TransitionEvent::Timeout && !n["timeout_s"]) return fail(w.child("timeout_s"), "required for 'timeout'");
+  if (t.on == TransitionEvent::ForceAbove && !n["force_n"]) return fail(w.child("force_n"), "required for 'force_above'");
+  if (const YAML::Node tol = n["tolerance"]) {
+    if (t.on != TransitionEvent::Aligned) return fail(w.child("tolerance"), "only for 'aligned'");
+    if (!tol.IsMap()) return fail(w.child("tolerance"), "must be a mapping feature: tolerance");
+    for (const auto& kv : tol) {
+      const std::string k = kv.first.as<std::string>();
+      int idx = -1;
+      for (int i = 0; i < kNumTol; ++i)
+        if (k == kToleranceNames[i]) idx = i;
+      const Where wk = w.child("tolerance").child(k);
+      if (idx < 0) return fail(wk, "unknown feature name (allowed: " + list(kToleranceNames, kNumTol) + ")");
+      double v = 0;
+      if (!number(kv.second, v)) return fail(wk, "cannot parse '" + YAML::Dump(kv.second) + "'");
+      if (!(v >= 0)) return rangeError(wk.str(), v, "must be >= 0 (feature units: m, rad or N)");
+      t.tolerance[static_cast<std::size_t>(idx)] = v;
+    }
+  } else if (t.on == TransitionEvent::Aligned) {
+    return fail(w.child("tolerance"), "required for 'aligned'");
+  }
+  return ConfigResult::success();
+}
+
+ConfigResult readPhase(const YAML::Node& n, const Where& w0, const Defaults& d, double c_z, PhaseParams& ph) {
+  if (!n.IsMap()) return fail(w0, "each phase must be a mapping");
+  if (!n["name"]) return fail(w0.child("name"), "missing phase name");
+  ConfigResult r = read(n, "name", ph.name, w0);
+  if (!r) return r;
+  const Where w{w0.file, "phases." + ph.name};
+  if (!(r = checkKeys(n, w, {"name", "s_d", "jacobian", "P", "kp", "ki", "integral_limit", "u_max", "feedforward",
+                             "requires_contact", "reset_integrator", "terminal", "transitions"})))
+    return r;
+  // s_d: rows of Δs, plus `force` (N) for the d_z row.
+  if (const YAML::Node sd = n["s_d"]) {
+    if (sd.IsMap() && sd["force"]) {
+      if (sd["d_z"]) return fail(w.child("s_d"), "give either d_z or force, not both");
+      YAML::Node copy = YAML::Clone(sd);
+      double f = 0;
+      if (!number(sd["force"], f)) return fail(w.child("s_d").child("force"), "cannot parse");
+      copy.remove("force");
+      if (!(r = readVec6(copy, w.child("s_d"), kToleranceNames, "feature name", ph.s_d))) return r;
+      ph.s_d(kZ) = c_z * f;  // Eq. 2: d_z = C_z f
+    } else if (!(r = readVec6(sd, w.child("s_d"), kToleranceNames, "feature name", ph.s_d))) {
+      return r;
+    }
+  }
+  // Jacobian (Eq. 8).
+  if (const YAML::Node j = n["jacobian"]) {
+    const Where wj = w.child("jacobian");
+    if (j.IsScalar()) {
+      if (j.Scalar() != "touch") return fail(wj, "'" + j.Scalar() + "': must be 'touch' or a mapping");
+      ph.jacobian = JacobianMode::Touch;
+    } else {
+      if (!(r = checkKeys(j, wj, {"beta", "point", "edge", "matrix"}))) return r;
+      if (j["beta"]) {
+        double b = -1;
+        if (!number(j["beta"], b) || (b != 0.0 && b != 1.0))
+          return fail(wj.child("beta"), "must be 0 (point) or 1 (edge)");
+        ph.jacobian = JacobianMode::Fixed;
+        ph.fixed_edge = b == 1.0;
+      } else if (j["matrix"]) {
+        if (!(r = readMat6(j["matrix"], wj.child("matrix"), ph.jinv_edge))) return r;
+        ph.jinv_point = ph.jinv_edge;
+        ph.jacobian = JacobianMode::Fixed;
+        ph.fixed_edge = true;
+      } else {
+        if (!j["point"] || !j["edge"]) return fail(wj, "give both 'point' and 'edge' 6x6 matrices");
+        if (!(r = readMat6(j["point"], wj.child("point"), ph.jinv_point))) return r;
+        if (!(r = readMat6(j["edge"], wj.child("edge"), ph.jinv_edge))) return r;
+        ph.jacobian = JacobianMode::Touch;
+      }
+    }
+  }
+  // P (Eq. 10).
+  if (const YAML::Node p = n["P"]) {
+    const Where wp = w.child("P");
+    if (p.IsSequence()) {
+      if (!(r = readMat6(p, wp, ph.P))) return r;
+    } else if (p.IsMap()) {
+      const char* const g[7] = {"x", "y", "z", "wx", "wy", "wz", "com"};
+      double v[7] = {0, 0, 0, 0, 0, 0, 0};
+      for (const auto& kv : p) {
+        const std::string k = kv.first.as<std::string>();
+        int idx = -1;
+        for (int i = 0; i < 7; ++i)
+          if (k == g[i]) idx = i;
+        if (idx < 0) return fail(wp.child(k), "unknown gamma (allowed: " + list(g, 7) + ")");
+        if (!number(kv.second, v[idx])) return fail(wp.child(k), "cannot parse '" + YAML::Dump(kv.second) + "'");
+      }
+      ph.P = projection(v[0], v[1], v[2], v[3], v[4], v[5], v[6]);
+    } else {
+      return fail(wp, "must be a mapping of gammas or a 6x6 matrix");
+    }
+  }
+  ph.kp = d.kp;
+  ph.ki = d.ki;
+  ph.integral_limit = d.ilim;
+  ph.u_max = d.umax;
+  if (!(r = readGains(n, w, ph.kp, ph.ki, ph.integral_limit, ph.u_max))) return r;
+  if (!(r = readVec6(n["feedforward"], w.child("feedforward"), kFfNames, "twist component", ph.feedforward))) return r;
+  for (auto rr : {read(n, "requires_contact", ph.requires_contact, w), read(n, "reset_integrator", ph.reset_integrator, w),
+                  read(n, "terminal", ph.terminal, w)})
+    if (!rr) return rr;
+  if (const YAML::Node ts = n["transitions"]) {
+    if (!ts.IsSequence()) return fail(w.child("transitions"), "must be a list");
+    for (std::size_t i = 0; i < ts.size(); ++i) {
+      TransitionParams t;
+      if (!(r = readTransition(ts[i], w.child("transitions[" + std::to_string(i) + "]"), t))) return r;
+      ph.transitions.push_back(t);
+    }
+  }
+  return ConfigResult::success();
+}
+
+ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoParams& out) {
+  ServoParams p;
+  p.source = file;
+  const Where top{file, ""};
+  ConfigResult r = checkKeys(root, top, {"controller", "safety", "phase_defaults", "phases"});
+  if (!r) return r;
+  if (const YAML::Node c = root["controller"]) {
+    const Where w = top.child("controller");
+    if (!(r = checkKeys(c, w, {"mode", "pose_update", "c_z", "motion_sign", "sensor_mount", "initial_phase"}))) return r;
+    std::string s;
+    if (c["mode"]) {
+      if (!(r = read(c, "mode", s, w))) return r;
+      if (s == "proposed") p.mode = ControllerMode::Proposed;
+      else if (s == "baseline") p.mode = ControllerMode::Baseline;
+      else return fail(w.child("mode"), "'" + s + "': must be proposed or baseline");
+    }
+    if (c["pose_update"]) {
+      if (!(r = read(c, "pose_update", s, w))) return r;
+      if (s == "integrated") p.pose_update = PoseUpdate::Integrated;
+      else if (s == "measured") p.pose_update = PoseUpdate::Measured;
+      else return fail(w.child("pose_update"), "'" + s + "': must be integrated (Eq. 15) or measured (Eq. 12)");
+    }
+    if (!(r = read(c, "c_z", p.c_z, w))) return r;
+    if (!(std::isfinite(p.c_z) && p.c_z > 0)) return rangeError(w.child("c_z").str(), p.c_z, "must be > 0 (m/N)");
+    if (!(r = readVec6(c["motion_sign"], w.child("motion_sign"), kAxisNames, "axis", p.motion_sign))) return r;
+    if (!(r = readFrame(c["sensor_mount"], w.child("sensor_mount"), p.sensor_mount))) return r;
+    if (!(r = read(c, "initial_phase", p.initial_phase, w))) return r;
+  }
+  if (const YAML::Node s = root["safety"]) {
+    const Where w = top.child("safety");
+    SafetyParams& sp = p.safety;
+    if (!(r = checkKeys(s, w, {"max_trans_step", "max_rot_step_deg", "workspace", "force_ceiling", "ceiling_retreat",
+                               "stale_timeout", "contact_loss"})))
+      return r;
+    double rot_deg = sp.max_rot_step * 180.0 / kPi;
+    for (auto rr : {read(s, "max_trans_step", sp.max_trans_step, w), read(s, "max_rot_step_deg", rot_deg, w),
+                    read(s, "force_ceiling", sp.force_ceiling, w), read(s, "ceiling_retreat", sp.ceiling_retreat, w),
+                    read(s, "stale_timeout", sp.stale_timeout, w)})
+      if (!rr) return rr;
+    sp.max_rot_step = rot_deg * kPi / 180.0;
+    if (const YAML::Node ws = s["workspace"]) {
+      const Where ww = w.child("workspace");
+      if (!(r = checkKeys(ws, ww, {"min", "max"}))) return r;
+      std::vector<double> mn(sp.workspace_min.begin(), sp.workspace_min.end()),
+          mx(sp.workspace_max.begin(), sp.workspace_max.end());
+      if (!(r = read(ws, "min", mn, ww)) || !(r = read(ws, "max", mx, ww))) return r;
+      if (mn.size() != 3 || mx.size() != 3) return fail(ww, "min and max must have 3 entries (m)");
+      for (std::size_t i = 0; i < 3; ++i) {
+        sp.workspace_min[i] = mn[i];
+        sp.workspace_max[i] = mx[i];
+      }
+    }
+    if (const YAML::Node cl = s["contact_loss"]) {
+      const Where wc = w.child("contact_loss");
+      if (!(r = checkKeys(cl, wc, {"mode", "backoff_distance", "search_speed", "search_max_distance"}))) return r;
+      std::string m;
+      if (cl["mode"]) {
+        if (!(r = read(cl, "mode", m, wc))) return r;
+        if (m == "hold") sp.contact_loss = ContactLossMode::Hold;
+        else if (m == "backoff") sp.contact_loss = ContactLossMode::Backoff;
+        else if (m == "search") sp.contact_loss = ContactLossMode::Search;
+        else return fail(wc.child("mode"), "'" + m + "': must be hold, backoff or search");
+      }
+      for (auto rr : {read(cl, "backoff_distance", sp.backoff_distance, wc), read(cl, "search_speed", sp.search_speed, wc),
+                      read(cl, "search_max_distance", sp.search_max_distance, wc)})
+        if (!rr) return rr;
+    }
+  }
+  Defaults d;
+  if (const YAML::Node pd = root["phase_defaults"]) {
+    const Where w = top.child("phase_defaults");
+    if (!(r = checkKeys(pd, w, {"kp", "ki", "integral_limit", "u_max"}))) return r;
+    if (!(r = readGains(pd, w, d.kp, d.ki, d.ilim, d.umax))) return r;
+    const std::pair<const char*, const Vec6*> vs[] = {{"kp", &d.kp}, {"ki", &d.ki}, {"integral_limit", &d.ilim}};
+    for (const auto& v : vs)
+      for (int i = 0; i < 6; ++i)
+        if (!((*v.second)(i) >= 0))
+          return rangeError(w.child(v.first).child(kAxisNames[i]).str(), (*v.second)(i), "must be >= 0");
+    for (int i = 0; i < 6; ++i)
+      if (!(d.umax(i) > 0)) return rangeError(w.child("u_max").child(kAxisNames[i]).str(), d.umax(i), "must be > 0");
+  }
+  const YAML::Node phases = root["phases"];
+  if (!phases || !phases.IsSequence() || phases.size() == 0)
+    return fail(top.child("phases"), "required: a non-empty list of phases");
+  for (std::size_t i = 0; i < phases.size(); ++i) {
+    PhaseParams ph;
+    if (!(r = readPhase(phases[i], top.child("phases[" + std::to_string(i) + "]"), d, p.c_z, ph))) return r;
+    p.phases.push_back(ph);
+  }
+  TactileServo scratch;  // full validation (ranges, targets, reachability)
+  if (!(r = scratch.configure(p))) return r;
+  out = p;
+  return ConfigResult::success();
+}
+
+}  // namespace
+
+ConfigResult loadServoProgram(const YAML::Node& root, const std::string& file, ServoParams& out) {
+  try {
+    return loadImpl(root, file, out);
+  } catch (const YAML::Exception& e) {
+    return ConfigResult::failure((file.empty() ? std::string("<memory>") : file) + ": " + e.what());
+  }
+}
+
+ConfigResult loadServoProgram(const std::string& file, ServoParams& out) {
+  YAML::Node root;
+  ConfigResult r = config::loadFile(file, root);
+  if (!r) return r;
+  return loadServoProgram(root, file, out);
+}
+
+}  // namespace tactile

@@ -1,0 +1,131 @@
+// Phase-program files: the shipped ones load; bad ones are rejected at
+// configure time with a message naming the file, the phase and the field.
+#include <cstdio>
+#include <fstream>
+
+#include "servo_test_util.hpp"
+
+using namespace tactile;
+using namespace servo_test;
+
+namespace {
+
+std::string writeTemp(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + "servo_" + name + ".yaml";
+  std::ofstream(path) << text;
+  return path;
+}
+
+// A valid two-phase program; `phase2` is spliced in as the second phase's body.
+std::string program(const std::string& phase1_extra, const std::string& phase2 = "") {
+  return "controller: {pose_update: measured}\n"
+         "phases:\n"
+         "  - name: approach\n"
+         "    P: {}\n"
+         "    requires_contact: false\n"
+         "    transitions: [{on: contact, to: hold}]\n" +
+         phase1_extra +
+         "  - name: hold\n" +
+         (phase2.empty() ? std::string("    P: {y: 1, z: 1}\n    kp: {y: 0.03, z: 0.03}\n") : phase2);
+}
+
+void expectRejected(const std::string& name, const std::string& text, std::initializer_list<const char*> parts) {
+  const std::string path = writeTemp(name, text);
+  ServoParams p;
+  const ConfigResult r = loadServoProgram(path, p);
+  ASSERT_FALSE(r.ok()) << name;
+  EXPECT_NE(r.message().find(path), std::string::npos) << r.message();
+  for (const char* part : parts) EXPECT_NE(r.message().find(part), std::string::npos) << name << ": " << r.message();
+}
+
+}  // namespace
+
+TEST(ServoProgramIo, ShippedProgramsLoadAndConfigure) {
+  for (const char* f : {"edge_exploration.yaml", "co_manipulation.yaml", "bent_bar.yaml"}) {
+    ServoParams p;
+    const ConfigResult r = loadServoProgram(programPath(f), p);
+    ASSERT_TRUE(r.ok()) << r.message();
+    TactileServo s;
+    EXPECT_TRUE(s.configure(p).ok());
+    // Default limits: below 1 mm and 0.5 deg per cycle.
+    EXPECT_LE(p.safety.max_trans_step, 0.001);
+    EXPECT_LE(p.safety.max_rot_step, 0.5 * kPi / 180 + 1e-12);
+  }
+  ServoParams p = loadShipped("edge_exploration.yaml");
+  EXPECT_EQ(p.initial_phase, "free_motion");
+  EXPECT_EQ(p.pose_update, PoseUpdate::Integrated);
+  EXPECT_EQ(p.safety.contact_loss, ContactLossMode::Search);
+  EXPECT_EQ(p.motion_sign, defaultMotionSign());
+  EXPECT_NEAR(p.sensor_mount.p.z(), 0.03, 1e-15);
+  EXPECT_NEAR(p.phases[0].feedforward(kZ), 0.01, 1e-15);
+  EXPECT_EQ(p.phases[2].transitions[0].on, TransitionEvent::Aligned);
+  EXPECT_EQ(p.phases[2].transitions[0].cycles, 20);
+  EXPECT_EQ(p.phases[2].transitions[0].tolerance[kTolAlphaZ], 0.035);
+  EXPECT_EQ(p.phases[2].transitions[0].tolerance[kTolCocX], -1.0);  // unused
+}
+
+TEST(ServoProgramIo, AlternativeFormsParse) {
+  const std::string text =
+      "controller: {mode: baseline, motion_sign: [-1, -1, 1, 1, -1, -1], sensor_mount: {xyz: [0, 0, 0.01], rpy_deg: [180, 0, 0]}}\n"
+      "phases:\n"
+      "  - name: only\n"
+      "    s_d: [0, 0, 0.002, 0, 0, 0]\n"
+      "    jacobian: {point: [[1,0,0,0,0,0],[0,1,0,0,0,0],[0,0,1,0,0,0],[0,0,0,0,0,0],[0,0,0,0,0,0],[0,0,0,0,0,0]],\n"
+      "               edge:  [[1,0,0,0,0,0],[0,1,0,0,0,0],[0,0,1,0,0,0],[0,1,0,0,-0.5,0],[1,0,0,-0.5,0,0],[0,0,0,0,0,1]]}\n"
+      "    P: [[1,0,0,0,0,0],[0,1,0,0,0,0],[0,0,1,0,0,0],[0,0,0,1,0,0],[0,0,0,0,1,0],[0,0,0,0,0,1]]\n"
+      "    kp: [0.1, 0.1, 0.1, 1, 1, 0.1]\n";
+  ServoParams p;
+  const ConfigResult r = loadServoProgram(writeTemp("alt", text), p);
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_EQ(p.mode, ControllerMode::Baseline);
+  EXPECT_EQ(p.phases[0].jinv_edge(3, 4), -0.5);
+  EXPECT_EQ(p.phases[0].P, Mat6::Identity());
+  EXPECT_EQ(p.phases[0].kp(kWX), 1.0);
+  EXPECT_NEAR(p.sensor_mount.M(1, 1), -1.0, 1e-15);
+}
+
+TEST(ServoProgramIo, BadProgramsNameFilePhaseField) {
+  expectRejected("unknown_feature", program("", "    s_d: {cop_z: 0}\n"), {"phases.hold", "s_d.cop_z", "unknown feature name"});
+  expectRejected("unknown_tol_feature",
+                 program("", "    transitions: [{on: aligned, to: approach, tolerance: {dzmp_q: 0.1}}]\n"),
+                 {"phases.hold", "tolerance.dzmp_q", "unknown feature name"});
+  expectRejected("short_jinv",
+                 program("", "    jacobian: {point: [[1,0,0,0,0,0]], edge: [[1,0,0,0,0,0]]}\n"),
+                 {"phases.hold", "jacobian.point", "6x6"});
+  expectRejected("short_P_row",
+                 program("", "    P: [[1,0,0,0,0,0],[0,1,0,0,0],[0,0,1,0,0,0],[0,0,0,1,0,0],[0,0,0,0,1,0],[0,0,0,0,0,1]]\n"),
+                 {"phases.hold", "P.1", "6 entries"});
+  expectRejected("short_sd", program("", "    s_d: [0, 0, 0, 0, 0]\n"), {"phases.hold", "s_d", "6 entries"});
+  expectRejected("negative_kp", program("", "    ki: {wy: -0.5}\n"), {"phases.hold", "ki.wy", "-0.5", ">= 0"});
+  expectRejected("negative_default", "phase_defaults: {kp: {x: -1}}\n" + program(""), {"phase_defaults.kp.x"});
+  expectRejected("unknown_target", program("", "    transitions: [{on: contact_lost, to: nowhere}]\n"),
+                 {"phases.hold", "transitions[0].to", "nowhere", "unknown phase"});
+  expectRejected("unreachable",
+                 program("", "    P: {z: 1}\n  - name: orphan\n    P: {z: 1}\n"),
+                 {"phases.orphan", "unreachable", "approach"});
+  expectRejected("unknown_key", program("", "    gain: 3\n"), {"phases.hold.gain", "unknown key"});
+  expectRejected("unknown_event", program("", "    transitions: [{on: bump, to: approach}]\n"),
+                 {"phases.hold", "transitions[0].on", "bump"});
+  expectRejected("unknown_gamma", program("", "    P: {q: 1}\n"), {"phases.hold", "P.q"});
+  expectRejected("bad_beta", program("", "    jacobian: {beta: 0.5}\n"), {"phases.hold", "jacobian.beta"});
+  expectRejected("aligned_without_tol", program("", "    transitions: [{on: aligned, to: approach}]\n"),
+                 {"phases.hold", "tolerance", "required"});
+  expectRejected("timeout_without_time", program("", "    transitions: [{on: timeout, to: approach}]\n"),
+                 {"phases.hold", "timeout_s"});
+  expectRejected("duplicate", program("", "    P: {z: 1}\n  - name: hold\n"), {"phases.hold", "duplicate"});
+  expectRejected("bad_sign", "controller: {motion_sign: {x: 2}}\n" + program(""), {"motion_sign.x", "+1 or -1"});
+  expectRejected("bad_initial", "controller: {initial_phase: zzz}\n" + program(""), {"initial_phase", "zzz"});
+  expectRejected("bad_safety", "safety: {max_trans_step: -1}\n" + program(""), {"safety.max_trans_step", "(0, 0.01]"});
+  expectRejected("bad_loss", "safety: {contact_loss: {mode: pray}}\n" + program(""), {"contact_loss.mode", "pray"});
+  expectRejected("not_a_number", program("", "    kp: {y: fast}\n"), {"phases.hold", "kp.y", "fast"});
+  expectRejected("no_phases", "controller: {mode: proposed}\n", {"phases", "non-empty"});
+  expectRejected("yaml_syntax", "phases: [ {name: a\n", {"YAML error"});
+}
+
+TEST(ServoProgramIo, MissingFileIsReported) {
+  ServoParams p;
+  const ConfigResult r = loadServoProgram("/nonexistent/dir/prog.yaml", p);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("/nonexistent/dir/prog.yaml"), std::string::npos);
+  EXPECT_NE(r.message().find("cannot open"), std::string::npos);
+}
