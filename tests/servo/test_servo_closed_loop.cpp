@@ -1,5 +1,6 @@
 // Closed-loop convergence against the simple compliant plant of
 // servo_test_util.hpp, with the shipped gains, at 100 Hz.
+#include <cstdio>
 #include <random>
 
 #include "servo_test_util.hpp"
@@ -95,6 +96,8 @@ TEST(ServoClosedLoop, EachAxisConvergesWithShippedGains) {
       EXPECT_GT(r.t_converged, 0.0) << "axis " << kAxisNames[c.axis] << " mode " << int(mode) << " final error "
                                     << r.final_error.transpose();
       EXPECT_LT(r.t_converged, 5.0);
+      std::printf("[ servo    ] axis %-2s (%s): |error| < 2 %% of the offset after %.2f s\n", kAxisNames[c.axis],
+                  mode == PoseUpdate::Integrated ? "Eq. 15" : "Eq. 12", r.t_converged);
       for (int k = 0; k < 6; ++k) EXPECT_LT(std::fabs(r.final_error(k)), 0.05 * std::fabs(c.offset) * g + 1e-6) << k;
     }
   }
@@ -176,4 +179,41 @@ TEST(ServoClosedLoop, EdgeExplorationProgramRunsAllPhases) {
   EXPECT_NEAR(speed_min, 0.01, 1e-4);
   // Slid to the end of the bar (0.08 m) along +x_s.
   EXPECT_GT(plant.relative(T_ge).vel.x() - x_enter_explore, 0.05);
+}
+
+// Sec. 5.2.1 in miniature: the sensor meets a bar that is tilted by 2 deg about
+// y_s (a bend in the xz plane). The proposed controller (J^-1 with DZMP_y,
+// bent_bar.yaml) rotates the sensor onto the bar; the baseline (Li et al.,
+// constant J^-1 without DZMP rows, same file otherwise) cannot: DZMP_y, i.e.
+// the uneven line load, stays.
+TEST(ServoClosedLoop, BentBarProposedAlignsBaselineDoesNot) {
+  for (ControllerMode mode : {ControllerMode::Proposed, ControllerMode::Baseline}) {
+    ServoParams p = loadShipped("bent_bar.yaml");
+    p.mode = mode;
+    p.sensor_mount = KDL::Frame::Identity();
+    TactileServo s;
+    ASSERT_TRUE(s.configure(p).ok());
+    Plant plant;
+    plant.infinite_edge = true;
+    plant.T_go = KDL::Frame(KDL::Rotation::RotX(kPi), KDL::Vector(0.5, 0.0, 0.2));
+    KDL::Frame T_ge = plant.T_go * KDL::Frame(KDL::Rotation::RotY(0.035), KDL::Vector(0, 0, 5.0 / 1800.0));
+    ServoInput in;
+    ServoOutput out;
+    for (int k = 1; k <= 500; ++k) {  // 5 s
+      in.time_s = k * kDt;
+      in.flange_measured = toPose(T_ge);
+      in.features = plant.features(T_ge, in.time_s);
+      s.step(in, kDt, out);
+      T_ge = toFrame(out.command.pose);
+    }
+    const double tilt = plant.relative(T_ge).rot.y();
+    if (mode == ControllerMode::Proposed) {
+      EXPECT_LT(std::fabs(tilt), 0.001);                        // aligned to < 0.06 deg
+      EXPECT_LT(std::fabs(in.features.dzmp_y), 0.0001);
+    } else {
+      EXPECT_NEAR(tilt, 0.035, 1e-9);                           // never rotated about y_s
+      EXPECT_NEAR(in.features.dzmp_y, -plant.g_y * 0.035, 1e-9);
+    }
+    EXPECT_NEAR(in.features.force, 5.0, 0.1);  // both hold the force on this linear plant
+  }
 }
