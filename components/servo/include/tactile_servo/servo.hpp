@@ -75,7 +75,17 @@
 //    `search_max_distance`, then hold). The "search along -z of {s}"
 //    is +z_s here because our z_s points out of the surface at the object.
 //
+// PHASE PROGRAM. Each cycle with valid features, the current phase's
+// transitions are evaluated in their listed order (first to fire wins; a
+// transition fires after its condition held for `cycles` consecutive valid
+// cycles) and the new phase acts in the same cycle. Events: contact, edge,
+// point (the extractor's contact type), aligned (chosen |Δs| rows, |Δforce|,
+// |CoC| below tolerances), contact_lost, force_above, timeout (time in phase).
+// While holding (stale/invalid input) transitions are not evaluated.
+//
 // Real-time: step() and requestPhase() do not allocate, throw, log or block.
+// They are not thread-safe: call them from the same thread (in RTT, run the
+// requestPhase operation in the component's own thread).
 #pragma once
 
 #include <Eigen/Core>
