@@ -67,7 +67,7 @@ PY
 status=0
 for t in parser frame; do
   echo "== fuzz_wts_$t: -runs=$RUNS -max_total_time=$MAXT"
-  (cd "$BUILD" && ./components/wts_reader/fuzz_wts_$t -runs="$RUNS" -max_total_time="$MAXT" -max_len=4096 \
+  (cd "$BUILD" && ./components/wts_reader/fuzz_wts_$t -runs="$RUNS" -max_total_time="$MAXT" -max_len=${MAXLEN:-2048} \
       -print_final_stats=1 "$CORPUS/$t" 2>&1 | tee "$BUILD/fuzz_wts_$t.log" | grep -E "^(INFO: seed|#[0-9]+ *DONE|Done|stat::number_of_executed_units|==[0-9]+==ERROR|SUMMARY)" ) || status=1
   grep -q "stat::number_of_executed_units" "$BUILD/fuzz_wts_$t.log" || status=1
 done

@@ -199,6 +199,42 @@ TEST(WtsParser, WrongCrcAndOversizeAreReportedThenRecovered) {
   EXPECT_GE(p.stats().oversize, 1u);
 }
 
+TEST(WtsParser, DeviceDirectionRejectsImpossibleHeadersAtOnce) {
+  const CellMap m = defaultMap();
+  uint16_t s[84];
+  blobFrame(6, 14, 2, 2, s);
+  const auto good = framePacket(m, s, 5, false);
+  uint8_t unknown[16];
+  const uint8_t pl[2] = {0, 0};
+  const std::size_t n = encodePacket(0x77, pl, 2, unknown, sizeof(unknown));  // CRC-valid, unknown id
+  // false preamble whose size (0x0400) is legal overall but not for a 0x21 reply
+  std::vector<uint8_t> stream = {0xAA, 0xAA, 0xAA, 0x21, 0x00, 0x04};
+  stream.insert(stream.end(), unknown, unknown + n);
+  stream.insert(stream.end(), good.begin(), good.end());
+  Parser dev(Direction::FromDevice);
+  const Collected c = parseAll(dev, stream, stream.size());
+  ASSERT_EQ(c.payloads.size(), 1u) << "only the frame is accepted";
+  EXPECT_EQ(c.ids[0], 0x00);
+  EXPECT_EQ(dev.stats().bad_headers, 2u);
+  EXPECT_EQ(dev.stats().crc_errors, 0u) << "no CRC attempted on impossible headers";
+  // Any: the false 0x21 header (size 1024) holds everything behind it until
+  // 1032 bytes have arrived -- the latency the direction filter avoids
+  Parser any;
+  const Collected c2 = parseAll(any, stream, stream.size());
+  EXPECT_TRUE(c2.ids.empty());
+  EXPECT_EQ(any.buffered(), stream.size());
+  EXPECT_TRUE(plausibleHeader(Direction::FromDevice, 0x20, 175));
+  EXPECT_TRUE(plausibleHeader(Direction::FromDevice, 0x20, 2));
+  EXPECT_FALSE(plausibleHeader(Direction::FromDevice, 0x20, 3));
+  EXPECT_FALSE(plausibleHeader(Direction::FromDevice, 0x00, 4));
+  EXPECT_FALSE(plausibleHeader(Direction::FromDevice, 0x00, 5 + 2 * tactile::kMaxTaxels + 1));
+  EXPECT_FALSE(plausibleHeader(Direction::FromDevice, 0xAA, 10));
+  // with the configured 6x14 size, a 0x00 header longer than 5 + 168 is refused
+  EXPECT_TRUE(plausibleHeader(Direction::FromDevice, 0x00, 173, 84));
+  EXPECT_FALSE(plausibleHeader(Direction::FromDevice, 0x00, 174, 84));
+  EXPECT_TRUE(plausibleHeader(Direction::FromDevice, 0x00, 174));
+}
+
 // ---- cell map: the one place where device order meets {s} ----------------------
 
 TEST(WtsCellMap, DefaultWts0614MappingHandWorked) {
@@ -453,7 +489,7 @@ TEST(WtsFuzzSmoke, RandomAndMutatedBytesNeverBreakTheParser) {
         }
       }
     }
-    Parser p;
+    Parser p(it % 3 == 0 ? Direction::Any : Direction::FromDevice);  // both filters
     tactile::RawTactileFrame f;
     const std::size_t chunk = 1 + rng() % 200;
     for (std::size_t off = 0; off < bytes.size();) {
@@ -466,7 +502,8 @@ TEST(WtsFuzzSmoke, RandomAndMutatedBytesNeverBreakTheParser) {
         int guard = 0;
         while ((st = p.next(v)) != ParseStatus::NeedMore) {
           ASSERT_LT(++guard, 100000) << "parser made no progress, case " << it;
-          ASSERT_TRUE(st == ParseStatus::Packet || st == ParseStatus::CrcError || st == ParseStatus::Oversize);
+          ASSERT_TRUE(st == ParseStatus::Packet || st == ParseStatus::CrcError || st == ParseStatus::Oversize ||
+                      st == ParseStatus::BadHeader);
           if (st == ParseStatus::Packet) {
             ++packets;
             const FrameStatus fs = d.decode(v, f);

@@ -21,9 +21,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     dec[1].configure(p);
     init = true;
   }
-  Parser parser;
+  // first byte: bits 0..5 pick the chunk size (split points), bit 6 the
+  // direction filter, bit 7 the filter's frame size (6x14 or kMaxTaxels)
+  const int max_cells = size && (data[0] & 0x80) ? 84 : tactile::kMaxTaxels;
+  Parser parser(size && (data[0] & 0x40) ? Direction::FromDevice : Direction::Any, max_cells);
   tactile::RawTactileFrame out;
-  // first byte picks the chunk size, so the fuzzer explores split points too
   const std::size_t chunk = size ? (data[0] % 64) + 1 : 1;
   std::size_t off = size ? 1 : 0;
   while (off < size) {
@@ -38,6 +40,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         if (++guard > 1 << 20) abort();  // next() must always make progress
         if (st == ParseStatus::Packet) {
           if (pkt.size > kMaxPayload) abort();
+          if ((data[0] & 0x40) && !plausibleHeader(Direction::FromDevice, pkt.id, pkt.size, max_cells)) abort();
           for (auto& d : dec) {
             const FrameStatus fs = d.decode(pkt, out);
             if (fs == FrameStatus::Ok) {

@@ -54,6 +54,7 @@ ConfigResult WtsDriver::configure(const WtsParams& p) {
     return rangeError("wts.restart_after_s", p.restart_after_s, "must be in [0.05, 60] (s)");
   ConfigResult r = decoder_.configure(p.cells);
   if (!r) return r;
+  parser_ = Parser(Direction::FromDevice, p.cells.rows * p.cells.cols);
   p_ = p;
   configured_ = true;
   return ConfigResult::success();

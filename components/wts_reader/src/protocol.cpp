@@ -65,6 +65,7 @@ const char* toString(ParseStatus s) {
     case ParseStatus::Packet: return "Packet";
     case ParseStatus::CrcError: return "CrcError";
     case ParseStatus::Oversize: return "Oversize";
+    case ParseStatus::BadHeader: return "BadHeader";
   }
   return "?";
 }
@@ -139,6 +140,31 @@ std::size_t encodeCells(const uint16_t* cells, int n, bool rle, uint8_t* out, st
 
 // ---- parser --------------------------------------------------------------------
 
+bool plausibleHeader(Direction d, uint8_t id, uint16_t size, int max_cells) {
+  if (size > kMaxPayload) return false;
+  if (max_cells < 1 || max_cells > kMaxTaxels) max_cells = kMaxTaxels;
+  const int kCells2 = 2 * max_cells;
+  switch (d) {
+    case Direction::Any:
+      return true;
+    case Direction::FromDevice:
+      switch (static_cast<Command>(id)) {
+        case Command::FrameData: return size >= 5 && size <= 5 + kCells2;
+        case Command::ReadSingleFrame: return size == 2 || (size >= 7 && size <= 7 + kCells2);
+        case Command::Loop: return size >= 2;
+        case Command::StartPeriodic:
+        case Command::StopPeriodic:
+        case Command::Tare:
+        case Command::Temperature: return size >= 2 && size <= 16;
+        case Command::MatrixInfo: return size >= 2 && size <= 32;
+        case Command::SensorType:
+        case Command::SystemInfo: return size >= 2 && size <= 128;
+      }
+      return false;
+  }
+  return false;
+}
+
 void Parser::reset() {
   start_ = len_ = pending_consume_ = 0;
 }
@@ -193,6 +219,11 @@ ParseStatus Parser::next(PacketView& out) {
       ++stats_.oversize;
       ++start_;  // resync from the next byte
       return ParseStatus::Oversize;
+    }
+    if (!plausibleHeader(dir_, buf_[start_ + 3], size, max_cells_)) {
+      ++stats_.bad_headers;
+      ++start_;
+      return ParseStatus::BadHeader;
     }
     const std::size_t total = kHeaderLen + size + kCrcLen;
     if (len_ - start_ < total) return ParseStatus::NeedMore;

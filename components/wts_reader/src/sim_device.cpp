@@ -357,7 +357,7 @@ void SimulatedWts::handle(const PacketView& pkt) {
 }
 
 void SimulatedWts::run() {
-  Parser parser;
+  Parser parser(Direction::Any);
   uint8_t buf[256];
   long long next_due = steadyMs();
   while (running_) {

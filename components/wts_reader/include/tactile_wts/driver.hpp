@@ -110,7 +110,7 @@ class WtsDriver {
   WtsParams p_;
   bool configured_ = false;
   SerialPort port_;
-  Parser parser_;
+  Parser parser_{Direction::FromDevice};
   FrameDecoder decoder_;
   RawTactileFrame latest_{};
   bool have_latest_ = false;

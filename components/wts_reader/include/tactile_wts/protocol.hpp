@@ -137,7 +137,22 @@ enum class ParseStatus : uint8_t {
   Packet = 1,    ///< `out` holds a packet whose CRC matched
   CrcError = 2,  ///< a candidate packet failed its CRC; resynchronising
   Oversize = 3,  ///< a candidate header declared size > kMaxPayload; resynchronising
+  BadHeader = 4, ///< id unknown or size impossible for that id (direction filter); resynchronising
 };
+
+/// Which packets a Parser accepts, checked on the 6-byte header before waiting
+/// for the payload, so a false preamble in noise is dropped at once instead of
+/// holding back good packets until a bogus size has arrived.
+///   Any:        every id, size <= kMaxPayload.
+///   FromDevice: replies/frames the WTS sends (what the driver reads):
+///               0x00 size 5..5+2*kMaxTaxels; 0x20 size 2 (error) or 7..7+2*kMaxTaxels;
+///               0x06 2..kMaxPayload; 0x21/0x22/0x23/0x46 2..16; 0x30 2..32;
+///               0x38/0x50 2..128; any other id is rejected.
+/// (The simulated device reads commands with Any, so it can answer unknown ids
+/// with E_CMD_UNKNOWN like a real device.)
+enum class Direction : uint8_t { Any = 0, FromDevice = 1 };
+/// `max_cells` bounds the frame sizes (a driver passes its configured rows*cols).
+bool plausibleHeader(Direction d, uint8_t id, uint16_t size, int max_cells = kMaxTaxels);
 const char* toString(ParseStatus s);
 
 struct ParserStats {
@@ -145,6 +160,7 @@ struct ParserStats {
   uint64_t crc_errors = 0;
   uint64_t oversize = 0;
   uint64_t skipped_bytes = 0;  ///< bytes discarded while looking for a preamble
+  uint64_t bad_headers = 0;    ///< headers refused by the direction filter
 };
 
 /// Incremental parser. Bytes go in with feed() (any chunking, down to one byte);
@@ -154,6 +170,8 @@ struct ParserStats {
 /// 2 * kMaxPacket; never allocates.
 class Parser {
  public:
+  explicit Parser(Direction d = Direction::Any, int max_cells = kMaxTaxels)
+      : dir_(d), max_cells_(max_cells < 1 || max_cells > kMaxTaxels ? kMaxTaxels : max_cells) {}
   /// Copies as many bytes as fit; returns how many were taken. Call next()
   /// until NeedMore, then feed the rest.
   std::size_t feed(const uint8_t* data, std::size_t n);
@@ -167,6 +185,8 @@ class Parser {
   std::array<uint8_t, 2 * kMaxPacket> buf_{};
   std::size_t start_ = 0, len_ = 0;
   std::size_t pending_consume_ = 0;  ///< bytes of the last returned packet, dropped on the next call
+  Direction dir_ = Direction::Any;
+  int max_cells_ = kMaxTaxels;
   ParserStats stats_;
 };
 
