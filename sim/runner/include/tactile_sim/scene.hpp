@@ -1,0 +1,81 @@
+// Scene files: what the headless runner simulates and how.
+//
+// A scene is a YAML file (sim/scenes/*.yaml). Paths inside it are relative to
+// the scene file. Every key is optional unless marked; unknown keys are errors.
+//
+//   name: edge_exploration            # required
+//   description: "..."
+//   figure: fig10                     # which paper figure the plots mirror (fig10 | fig12 | fig14 | none)
+//   program: ../../components/servo/programs/edge_exploration.yaml   # required: the phase program
+//   controller: proposed              # proposed | baseline (Li et al.); --controller overrides
+//   features_file: ../../components/features/params/wts0614.yaml     # `features:` map (same file as on the robot)
+//   duration: 60                      # s of simulated time
+//   seed: 1
+//   fidelity: quasi_static            # quasi_static | dynamics
+//   rates: {sim: 1000, servo: 100, wts: 140, features: 200}   # Hz (Table 2)
+//   sensor: {subsamples: 4, physics_subsamples: 1, noise_counts: 6, modulus: 1.5e7, ...}
+//   arm: {q_init_deg: [7 values], k_trans: 1000, k_rot: 100, damping_ratio: 0.7}
+//   initial_flange: {xyz: [x, y, z], rpy_deg: [r, p, y]}       # {g}T{e} at start (IK)
+//   objects:                          # only what the scene needs
+//     - {name: table, type: plane, point: [0,0,0], normal: [0,0,1]}
+//     - {name: ball, type: sphere, center: [..], radius: 0.02}
+//     - {name: bar, type: bar, radius: 0.003, vertices: [[..], [..]]}
+//     - {name: bent, type: bent_bar, radius: 0.003, vertices: [[..], [..], ...]}
+//     - {name: tray, type: tray, bearing: [..], bar_from: [..], bar_to: [..], bar_radius: .., tray_mass: ..,
+//        tray_com: [..], mass: 0.2, mass_from: [..], mass_to: [..], move_start_s: .., move_duration_s: ..,
+//        pitch_stiffness: .., roll_stiffness: .., bearing_damping: .., initial_pitch: .., initial_roll: ..}
+//   metrics:
+//     transient_s: 2.0                # ignored at the start of each force-servoing phase
+//     force_phases: [explore]         # phases whose force error is scored (default: all contact phases)
+//     alignment: {from: align, to: explore}   # alignment_time_s = t(to) - t(from)
+//     force_band_n: 1.0               # |f_true - f_desired| band for force_true_in_band_fraction
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "tactile_features/extractor.hpp"
+#include "tactile_servo/servo.hpp"
+#include "tactile_sim/world.hpp"
+#include "tactile_types/config_result.hpp"
+
+namespace tactile {
+namespace sim {
+
+struct Rates {
+  double sim = 1000.0;      ///< Hz: arm physics (the KRC's impedance loop)
+  double servo = 100.0;     ///< Hz: tactile servo (Table 2)
+  double wts = 140.0;       ///< Hz: WTS acquisition
+  double features = 200.0;  ///< Hz: feature extraction
+};
+
+struct SceneMetrics {
+  double transient_s = 2.0;
+  std::vector<std::string> force_phases;
+  std::string align_from, align_to;
+  double force_band_n = 1.0;
+};
+
+struct Scene {
+  std::string file;         ///< the scene file
+  std::string name, description, figure;
+  std::string program_file;
+  ControllerMode controller = ControllerMode::Proposed;
+  double duration = 30.0;
+  uint64_t seed = 1;
+  Rates rates;
+  FeatureParams features;
+  ServoParams servo;        ///< loaded from program_file
+  WorldParams world;
+  SceneMetrics metrics;
+};
+
+/// Load and validate a scene (and the program and feature files it names).
+/// Errors name the file and the field.
+ConfigResult loadScene(const std::string& file, Scene& out);
+
+/// Cross-checks after command-line overrides (rates, sub-samples...).
+ConfigResult validateScene(const Scene& s);
+
+}  // namespace sim
+}  // namespace tactile

@@ -1,0 +1,280 @@
+#include "tactile_sim/scene.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+
+#include "tactile_config/yaml_params.hpp"
+#include "tactile_features/params_io.hpp"
+#include "tactile_servo/program_io.hpp"
+
+namespace tactile {
+namespace sim {
+
+using config::checkKeys;
+using config::read;
+using config::Where;
+
+namespace {
+
+constexpr double kDeg = kPi / 180.0;
+
+ConfigResult fail(const Where& w, const std::string& msg) { return ConfigResult::failure(w.str() + ": " + msg); }
+
+std::string dirOf(const std::string& file) {
+  const auto p = file.find_last_of('/');
+  return p == std::string::npos ? std::string(".") : file.substr(0, p);
+}
+
+std::string resolve(const std::string& base_dir, const std::string& path) {
+  if (path.empty() || path[0] == '/') return path;
+  return base_dir + "/" + path;
+}
+
+ConfigResult readVec3(const YAML::Node& node, const char* key, Vec3& v, const Where& w) {
+  if (!node[key]) return ConfigResult::success();
+  std::vector<double> x;
+  ConfigResult r = read(node, key, x, w);
+  if (!r) return r;
+  if (x.size() != 3) return fail(w.child(key), "must have 3 entries, has " + std::to_string(x.size()));
+  for (double e : x)
+    if (!std::isfinite(e)) return fail(w.child(key), "must be finite");
+  v = {x[0], x[1], x[2]};
+  return ConfigResult::success();
+}
+
+ConfigResult readObject(const YAML::Node& n, const Where& w, ObjectParams& o) {
+  if (!n.IsMap()) return fail(w, "must be a mapping");
+  std::string type;
+  ConfigResult r = read(n, "type", type, w);
+  if (!r) return r;
+  if (type.empty()) return fail(w.child("type"), "required (plane | table | sphere | bar | bent_bar | tray)");
+  if (!parseObjectType(type, o.type))
+    return fail(w.child("type"), "unknown object type '" + type + "' (plane | table | sphere | bar | bent_bar | tray)");
+  if (!(r = read(n, "name", o.name, w))) return r;
+  switch (o.type) {
+    case ObjectType::Plane:
+      if (!(r = checkKeys(n, w, {"name", "type", "point", "normal"}))) return r;
+      if (!(r = readVec3(n, "point", o.point, w)) || !(r = readVec3(n, "normal", o.normal, w))) return r;
+      break;
+    case ObjectType::Sphere:
+      if (!(r = checkKeys(n, w, {"name", "type", "center", "radius"}))) return r;
+      if (!(r = readVec3(n, "center", o.center, w)) || !(r = read(n, "radius", o.radius, w))) return r;
+      break;
+    case ObjectType::Bar:
+    case ObjectType::BentBar: {
+      if (!(r = checkKeys(n, w, {"name", "type", "radius", "vertices"}))) return r;
+      if (!(r = read(n, "radius", o.radius, w))) return r;
+      std::vector<std::vector<double>> v;
+      if (!(r = read(n, "vertices", v, w))) return r;
+      o.vertices.clear();
+      for (std::size_t i = 0; i < v.size(); ++i) {
+        if (v[i].size() != 3) return fail(w.child("vertices[" + std::to_string(i) + "]"), "must have 3 entries (m)");
+        o.vertices.push_back({v[i][0], v[i][1], v[i][2]});
+      }
+      break;
+    }
+    case ObjectType::Tray: {
+      if (!(r = checkKeys(n, w, {"name", "type", "bearing", "bar_from", "bar_to", "bar_radius", "tray_mass", "tray_com",
+                                 "mass", "mass_from", "mass_to", "move_start_s", "move_duration_s", "pitch_stiffness",
+                                 "roll_stiffness", "bearing_damping", "inertia_x", "inertia_y", "initial_pitch",
+                                 "initial_roll"})))
+        return r;
+      TrayParams& t = o.tray;
+      for (auto rr : {readVec3(n, "bearing", t.bearing, w), readVec3(n, "bar_from", t.bar_from, w),
+                      readVec3(n, "bar_to", t.bar_to, w), readVec3(n, "tray_com", t.tray_com, w),
+                      readVec3(n, "mass_from", t.mass_from, w), readVec3(n, "mass_to", t.mass_to, w),
+                      read(n, "bar_radius", t.bar_radius, w), read(n, "tray_mass", t.tray_mass, w),
+                      read(n, "mass", t.mass, w), read(n, "move_start_s", t.move_start_s, w),
+                      read(n, "move_duration_s", t.move_duration_s, w),
+                      read(n, "pitch_stiffness", t.pitch_stiffness, w),
+                      read(n, "roll_stiffness", t.roll_stiffness, w),
+                      read(n, "bearing_damping", t.bearing_damping, w), read(n, "inertia_x", t.inertia_x, w),
+                      read(n, "inertia_y", t.inertia_y, w), read(n, "initial_pitch", t.initial_pitch, w),
+                      read(n, "initial_roll", t.initial_roll, w)})
+        if (!rr) return rr;
+      break;
+    }
+  }
+  return ConfigResult::success();
+}
+
+}  // namespace
+
+ConfigResult loadScene(const std::string& file, Scene& s) {
+  YAML::Node root;
+  ConfigResult r = config::loadFile(file, root);
+  if (!r) return r;
+  const Where w{file, ""};
+  if (!(r = checkKeys(root, w,
+                      {"name", "description", "figure", "program", "controller", "features_file", "duration", "seed",
+                       "fidelity", "rates", "sensor", "arm", "initial_flange", "objects", "metrics"})))
+    return r;
+  s = Scene{};
+  s.file = file;
+  const std::string dir = dirOf(file);
+  if (!(r = read(root, "name", s.name, w)) || !(r = read(root, "description", s.description, w)) ||
+      !(r = read(root, "figure", s.figure, w)))
+    return r;
+  if (s.name.empty()) return fail(w.child("name"), "required");
+
+  // Controller: the phase program (the same file the RTT servo component loads).
+  std::string program;
+  if (!(r = read(root, "program", program, w))) return r;
+  if (program.empty()) return fail(w.child("program"), "required: path of the phase program (relative to the scene)");
+  s.program_file = resolve(dir, program);
+  if (!(r = loadServoProgram(s.program_file, s.servo))) return ConfigResult::failure(file + ": program: " + r.message());
+  std::string mode = "proposed";
+  if (!(r = read(root, "controller", mode, w))) return r;
+  if (mode == "proposed")
+    s.controller = ControllerMode::Proposed;
+  else if (mode == "baseline")
+    s.controller = ControllerMode::Baseline;
+  else
+    return fail(w.child("controller"), "'" + mode + "' must be proposed | baseline");
+
+  std::string features_file;
+  if (!(r = read(root, "features_file", features_file, w))) return r;
+  if (!features_file.empty()) {
+    YAML::Node fr;
+    const std::string ff = resolve(dir, features_file);
+    if (!(r = config::loadFile(ff, fr))) return ConfigResult::failure(file + ": features_file: " + r.message());
+    if (!(r = loadFeatureParams(fr["features"], Where{ff, "features"}, s.features))) return r;
+  }
+
+  if (!(r = read(root, "duration", s.duration, w))) return r;
+  if (!(s.duration > 0.0) || !std::isfinite(s.duration)) return rangeError(w.child("duration").str(), s.duration, "must be > 0 (s)");
+  int seed = 1;
+  if (!(r = read(root, "seed", seed, w))) return r;
+  s.seed = static_cast<uint64_t>(seed);
+
+  std::string fidelity = "quasi_static";
+  if (!(r = read(root, "fidelity", fidelity, w))) return r;
+  if (!parseFidelity(fidelity, s.world.fidelity))
+    return fail(w.child("fidelity"), "'" + fidelity + "' must be quasi_static | dynamics");
+
+  if (const YAML::Node n = root["rates"]) {
+    const Where wr = w.child("rates");
+    if (!(r = checkKeys(n, wr, {"sim", "servo", "wts", "features"}))) return r;
+    for (auto rr : {read(n, "sim", s.rates.sim, wr), read(n, "servo", s.rates.servo, wr), read(n, "wts", s.rates.wts, wr),
+                    read(n, "features", s.rates.features, wr)})
+      if (!rr) return rr;
+  }
+
+  PadParams& pad = s.world.pad;
+  if (const YAML::Node n = root["sensor"]) {
+    const Where ws = w.child("sensor");
+    if (!(r = checkKeys(n, ws,
+                        {"subsamples", "physics_subsamples", "noise_counts", "modulus", "layer_thickness",
+                         "housing_size_x", "housing_size_y", "housing_recess", "housing_modulus", "border_sensitivity",
+                         "threshold"})))
+      return r;
+    for (auto rr : {read(n, "subsamples", pad.subsamples, ws), read(n, "physics_subsamples", pad.physics_subsamples, ws),
+                    read(n, "noise_counts", pad.noise_counts, ws), read(n, "modulus", pad.modulus, ws),
+                    read(n, "layer_thickness", pad.layer_thickness, ws),
+                    read(n, "housing_size_x", pad.housing_size_x, ws), read(n, "housing_size_y", pad.housing_size_y, ws),
+                    read(n, "housing_recess", pad.housing_recess, ws),
+                    read(n, "housing_modulus", pad.housing_modulus, ws),
+                    read(n, "border_sensitivity", pad.border_sensitivity, ws), read(n, "threshold", pad.threshold, ws)})
+      if (!rr) return rr;
+  }
+  // One mounting transform {e}T{s}: the program's (what the robot uses).
+  {
+    const KDL::Frame& m = s.servo.sensor_mount;
+    double x, y, z, qw;
+    m.M.GetQuaternion(x, y, z, qw);
+    pad.mount.p = {m.p.x(), m.p.y(), m.p.z()};
+    pad.mount.q = {x, y, z, qw};
+  }
+  pad.rows = s.features.rows;
+  pad.cols = s.features.cols;
+  pad.pitch = s.features.pitch;
+
+  if (const YAML::Node n = root["arm"]) {
+    const Where wa = w.child("arm");
+    if (!(r = checkKeys(n, wa, {"q_init_deg", "k_trans", "k_rot", "damping_ratio"}))) return r;
+    std::vector<double> q;
+    if (!(r = read(n, "q_init_deg", q, wa))) return r;
+    if (n["q_init_deg"]) {
+      if (q.size() != 7) return fail(wa.child("q_init_deg"), "must have 7 entries (deg)");
+      for (std::size_t i = 0; i < 7; ++i) s.world.arm.q_init[i] = q[i] * kDeg;
+    }
+    for (auto rr : {read(n, "k_trans", s.world.arm.k_trans, wa), read(n, "k_rot", s.world.arm.k_rot, wa),
+                    read(n, "damping_ratio", s.world.arm.damping_ratio, wa)})
+      if (!rr) return rr;
+  }
+  if (const YAML::Node n = root["initial_flange"]) {
+    const Where wi = w.child("initial_flange");
+    if (!(r = checkKeys(n, wi, {"xyz", "rpy_deg"}))) return r;
+    Vec3 xyz{0, 0, 0}, rpy{0, 0, 0};
+    if (!(r = readVec3(n, "xyz", xyz, wi)) || !(r = readVec3(n, "rpy_deg", rpy, wi))) return r;
+    const KDL::Rotation R = KDL::Rotation::RPY(rpy[0] * kDeg, rpy[1] * kDeg, rpy[2] * kDeg);
+    double x, y, z, qw;
+    R.GetQuaternion(x, y, z, qw);
+    s.world.use_initial_flange_pose = true;
+    s.world.initial_flange_pose.p = xyz;
+    s.world.initial_flange_pose.q = {x, y, z, qw};
+  }
+
+  if (const YAML::Node n = root["objects"]) {
+    if (!n.IsSequence()) return fail(w.child("objects"), "must be a list");
+    for (std::size_t i = 0; i < n.size(); ++i) {
+      ObjectParams o;
+      if (!(r = readObject(n[i], w.child("objects[" + std::to_string(i) + "]"), o))) return r;
+      if (o.name.empty()) o.name = "objects[" + std::to_string(i) + "]";
+      s.world.objects.push_back(o);
+    }
+  }
+
+  if (const YAML::Node n = root["metrics"]) {
+    const Where wm = w.child("metrics");
+    if (!(r = checkKeys(n, wm, {"transient_s", "force_phases", "alignment", "force_band_n"}))) return r;
+    for (auto rr : {read(n, "transient_s", s.metrics.transient_s, wm), read(n, "force_phases", s.metrics.force_phases, wm),
+                    read(n, "force_band_n", s.metrics.force_band_n, wm)})
+      if (!rr) return rr;
+    if (const YAML::Node a = n["alignment"]) {
+      const Where wa = wm.child("alignment");
+      if (!(r = checkKeys(a, wa, {"from", "to"})) || !(r = read(a, "from", s.metrics.align_from, wa)) ||
+          !(r = read(a, "to", s.metrics.align_to, wa)))
+        return r;
+    }
+  }
+  return validateScene(s);
+}
+
+ConfigResult validateScene(const Scene& s) {
+  const Where w{s.file, ""};
+  auto rate = [&](const char* name, double v) {
+    if (!(v > 0.0) || !std::isfinite(v)) return rangeError(w.child(std::string("rates.") + name).str(), v, "must be > 0 (Hz)");
+    return ConfigResult::success();
+  };
+  for (auto rr : {rate("sim", s.rates.sim), rate("servo", s.rates.servo), rate("wts", s.rates.wts),
+                  rate("features", s.rates.features)})
+    if (!rr) return rr;
+  for (auto [name, v] : {std::pair<const char*, double>{"servo", s.rates.servo}, {"wts", s.rates.wts},
+                         {"features", s.rates.features}})
+    if (v > s.rates.sim + 1e-9)
+      return rangeError(w.child(std::string("rates.") + name).str(), v,
+                        "must be <= rates.sim = " + std::to_string(s.rates.sim) + " Hz (the physics rate)");
+  if (s.world.pad.subsamples < 1 || s.world.pad.subsamples > 32)
+    return rangeError(w.child("sensor.subsamples").str(), s.world.pad.subsamples, "must be in [1, 32]");
+  auto known = [&](const std::string& ph) {
+    for (const auto& p : s.servo.phases)
+      if (p.name == ph) return true;
+    return false;
+  };
+  for (const auto& ph : s.metrics.force_phases)
+    if (!known(ph)) return fail(w.child("metrics.force_phases"), "unknown phase '" + ph + "' in " + s.program_file);
+  for (const auto& ph : {s.metrics.align_from, s.metrics.align_to})
+    if (!ph.empty() && !known(ph)) return fail(w.child("metrics.alignment"), "unknown phase '" + ph + "' in " + s.program_file);
+  // The world validates objects (inside the sensor, unknown geometry...) on configure.
+  World probe;
+  WorldParams wp = s.world;
+  wp.seed = s.seed;
+  const ConfigResult r = probe.configure(wp);
+  if (!r) return ConfigResult::failure(s.file + ": " + r.message());
+  return ConfigResult::success();
+}
+
+}  // namespace sim
+}  // namespace tactile

@@ -1,0 +1,165 @@
+// tactile_sim: the headless experiment runner.
+//
+//   tactile_sim run SCENE [--controller proposed|baseline] [--out DIR] [--seed N]
+//                         [--duration S] [--servo-rate HZ] [--sim-rate HZ]
+//                         [--wts-rate HZ] [--features-rate HZ] [--subsamples K]
+//                         [--fidelity quasi_static|dynamics] [--no-plots]
+//
+// Writes DIR/timeseries.csv, summary.json, snapshots.csv, contacts.csv and the
+// PNG plots (scripts/plot_run.py, Debian's /usr/bin/python3). A progress bar is
+// drawn on a terminal, nothing otherwise. Exit code: 0 ok, 2 bad scene or
+// arguments, 3 the simulation went unstable (NaN, joint limit, singularity,
+// force limit), 4 the servo's force ceiling tripped; the status is in summary.json.
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <string>
+
+#include "tactile_sim/runner.hpp"
+
+#ifndef TACTILE_SOURCE_DIR
+#define TACTILE_SOURCE_DIR "."
+#endif
+
+using namespace tactile;
+using namespace tactile::sim;
+
+namespace {
+
+void usage() {
+  std::cerr << "usage: tactile_sim run SCENE [--controller proposed|baseline] [--out DIR] [--seed N]\n"
+               "                         [--duration S] [--servo-rate HZ] [--sim-rate HZ] [--wts-rate HZ]\n"
+               "                         [--features-rate HZ] [--subsamples K] [--fidelity quasi_static|dynamics]\n"
+               "                         [--no-plots]\n";
+}
+
+bool number(const char* s, double& v) {
+  char* end = nullptr;
+  v = std::strtod(s, &end);
+  return end != s && *end == '\0';
+}
+
+int mkdirs(const std::string& dir) {
+  std::string cur;
+  for (std::size_t i = 0; i <= dir.size(); ++i) {
+    if (i == dir.size() || dir[i] == '/') {
+      if (!cur.empty() && ::mkdir(cur.c_str(), 0755) != 0 && errno != EEXIST) return -1;
+    }
+    if (i < dir.size()) cur += dir[i];
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 3 || std::string(argv[1]) != "run") {
+    usage();
+    return 2;
+  }
+  const std::string scene_file = argv[2];
+  Scene scene;
+  ConfigResult r = loadScene(scene_file, scene);
+  if (!r) {
+    std::cerr << "tactile_sim: " << r.message() << "\n";
+    return 2;
+  }
+  std::string out_dir = "runs/" + scene.name;
+  bool plots = true, out_given = false;
+  for (int i = 3; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&](double& v) {
+      if (i + 1 >= argc || !number(argv[i + 1], v)) {
+        std::cerr << "tactile_sim: " << a << " needs a number\n";
+        std::exit(2);
+      }
+      ++i;
+    };
+    double v = 0;
+    if (a == "--controller" && i + 1 < argc) {
+      const std::string m = argv[++i];
+      if (m == "proposed")
+        scene.controller = ControllerMode::Proposed;
+      else if (m == "baseline")
+        scene.controller = ControllerMode::Baseline;
+      else {
+        std::cerr << "tactile_sim: --controller must be proposed | baseline\n";
+        return 2;
+      }
+    } else if (a == "--out" && i + 1 < argc) {
+      out_dir = argv[++i];
+      out_given = true;
+    } else if (a == "--seed") {
+      value(v);
+      scene.seed = static_cast<uint64_t>(v);
+    } else if (a == "--duration") {
+      value(scene.duration);
+    } else if (a == "--servo-rate") {
+      value(scene.rates.servo);
+    } else if (a == "--sim-rate") {
+      value(scene.rates.sim);
+    } else if (a == "--wts-rate") {
+      value(scene.rates.wts);
+    } else if (a == "--features-rate") {
+      value(scene.rates.features);
+    } else if (a == "--subsamples") {
+      value(v);
+      scene.world.pad.subsamples = static_cast<int>(v);
+    } else if (a == "--fidelity" && i + 1 < argc) {
+      if (!parseFidelity(argv[++i], scene.world.fidelity)) {
+        std::cerr << "tactile_sim: --fidelity must be quasi_static | dynamics\n";
+        return 2;
+      }
+    } else if (a == "--no-plots") {
+      plots = false;
+    } else {
+      std::cerr << "tactile_sim: unknown argument " << a << "\n";
+      usage();
+      return 2;
+    }
+  }
+  if (!out_given && scene.controller == ControllerMode::Baseline) out_dir += "_baseline";
+  if (!(scene.duration > 0)) {
+    std::cerr << "tactile_sim: --duration must be > 0 (s)\n";
+    return 2;
+  }
+  Runner runner;
+  if (!(r = runner.configure(scene))) {
+    std::cerr << "tactile_sim: " << r.message() << "\n";
+    return 2;
+  }
+  if (mkdirs(out_dir) != 0) {
+    std::cerr << "tactile_sim: cannot create " << out_dir << "\n";
+    return 2;
+  }
+  const bool tty = ::isatty(2);
+  RunResult result;
+  runner.run(result, [&](double t, double T) {
+    if (!tty) return;
+    const int w = 40;
+    const int k = static_cast<int>(w * t / T + 0.5);
+    std::fprintf(stderr, "\r%-18s [%.*s%*s] %5.1f / %.1f s", scene.name.c_str(), k,
+                 "########################################", w - k, "", t, T);
+    std::fflush(stderr);
+  });
+  if (tty) std::fprintf(stderr, "\n");
+  std::string err;
+  if (!writeRun(out_dir, scene, result, err)) {
+    std::cerr << "tactile_sim: " << err << "\n";
+    return 2;
+  }
+  const Summary& s = result.summary;
+  std::printf("%s (%s): status %s, %.1f s simulated in %.2f s (%.0fx real time)\n", s.scene.c_str(),
+              s.controller.c_str(), s.status.c_str(), s.sim_time_s, s.wall_time_s, s.real_time_factor);
+  if (plots) {
+    const char* script_env = std::getenv("TACTILE_PLOT_SCRIPT");
+    const std::string script = script_env ? script_env : std::string(TACTILE_SOURCE_DIR) + "/scripts/plot_run.py";
+    const std::string cmd = "/usr/bin/python3 '" + script + "' '" + out_dir + "'";
+    if (std::system(cmd.c_str()) != 0) std::cerr << "tactile_sim: plotting failed (" << cmd << ")\n";
+  }
+  std::printf("results: %s\n", out_dir.c_str());
+  return s.exit_code;
+}
