@@ -286,6 +286,18 @@ TEST(FriBridge, InvalidOrStaleDesiredHolds) {
   for (float v : h.out.cmd.cmd.cart_pos) EXPECT_TRUE(std::isfinite(v));
 }
 
+TEST(FriBridge, SlightlyNonUnitDesiredQuaternionStillGivesARotation) {
+  // Regression (fuzz_fri_decode crash-7969...): |q| = 1.00098 is accepted by
+  // validPose (tolerance 1e-3) and must still command a proper rotation.
+  Harness h;
+  h.send(State::Mon, Quality::Perfect);
+  toPose(h.measured, h.desired.pose);
+  for (double& v : h.desired.pose.q) v *= 1.0009775;
+  EXPECT_EQ(h.send(State::Cmd, Quality::Perfect), BridgeStatus::Commanding);
+  ASSERT_TRUE(h.out.reply);
+  EXPECT_TRUE(validFriPose(h.out.cmd.cmd.cart_pos, 1e-5));
+}
+
 TEST(FriBridge, InvalidMeasuredPoseNeverBecomesACommand) {
   Harness h;
   h.measured.p = KDL::Vector(std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0);

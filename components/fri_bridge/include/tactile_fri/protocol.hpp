@@ -237,6 +237,8 @@ inline int seqDelta(uint16_t a, uint16_t b) { return static_cast<int16_t>(static
 
 void toFrame(const float (&m)[kCartFrameDim], KDL::Frame& f) noexcept;
 void fromFrame(const KDL::Frame& f, float (&m)[kCartFrameDim]) noexcept;
+/// The quaternion is normalised (a zero or non-finite one gives the identity;
+/// callers reject those with validPose() first).
 void toFrame(const Pose& p, KDL::Frame& f) noexcept;
 void toPose(const KDL::Frame& f, Pose& p) noexcept;
 
