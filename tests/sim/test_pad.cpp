@@ -1,1 +1,321 @@
+// WTS0614 pad model: elastic-foundation integrals against closed forms,
+// housing contact, taxel response (App. A), noise, quantisation, saturation,
+// threshold, calibration round trip, determinism and allocations.
+// Objects are placed with {g} = {s} (T_gs = identity) unless stated.
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "alloc_counter.hpp"
+#include "tactile_features/calibration.hpp"
+#include "tactile_sim/lwr_arm.hpp"
+#include "tactile_sim/pad_sensor.hpp"
+
+using namespace tactile;
+using namespace tactile::sim;
+
+namespace {
+ObjectParams flatPunch(double depth) {  // half-space z >= -depth in {s}, facing the pad
+  ObjectParams o;
+  o.name = "punch";
+  o.type = ObjectType::Plane;
+  o.point = {0.0, 0.0, -depth};
+  o.normal = {0.0, 0.0, -1.0};
+  return o;
+}
+ObjectParams sphere(double x, double y, double R, double depth) {
+  ObjectParams o;
+  o.name = "ball";
+  o.type = ObjectType::Sphere;
+  o.center = {x, y, R - depth};
+  o.radius = R;
+  return o;
+}
+struct Rig {
+  PadSensor pad;
+  ObjectSet objects;
+  KDL::Frame T = KDL::Frame::Identity();
+  explicit Rig(const std::vector<ObjectParams>& objs, PadParams p = PadParams()) {
+    EXPECT_TRUE(pad.configure(p).ok());
+    EXPECT_TRUE(objects.configure(objs).ok());
+    objects.pose(T, TrayPose{});
+  }
+};
+constexpr double kAx = 14 * 0.0034, kAy = 6 * 0.0034;  // active area (m)
+}  // namespace
+
+TEST(PadContact, FlatPunchForceIsModulusTimesDepthTimesArea) {
+  const double depth = 0.001, k = PadParams().modulus;
+  for (int ks : {1, 3}) {
+    PadParams p;
+    p.physics_subsamples = ks;
+    Rig rig({flatPunch(depth)}, p);
+    ContactEval e;
+    rig.pad.evaluate(rig.objects, rig.T, e);
+    // Uniform penetration: the integral is exact for any sampling (1e-9 relative).
+    EXPECT_NEAR(e.layer_force, k * depth * kAx * kAy, 1e-9 * e.layer_force);
+    EXPECT_EQ(e.housing_force, 0.0);  // 1 mm < 3 mm recess
+    EXPECT_NEAR(e.W_s(2), -e.layer_force, 1e-12);
+    EXPECT_NEAR(e.W_s(3), 0.0, 1e-12);  // centred: no moments
+    EXPECT_NEAR(e.W_s(4), 0.0, 1e-12);
+    // Contact stiffness of a flat punch: k A along z.
+    EXPECT_NEAR(e.K_s(2, 2), k * kAx * kAy, 1e-6 * k * kAx * kAy);
+  }
+  Rig rig({flatPunch(depth)});
+  RawTactileFrame raw;
+  SensorTruth truth;
+  rig.pad.acquire(rig.objects, rig.T, 0.0, raw, truth);
+  EXPECT_NEAR(truth.layer.force, k * depth * kAx * kAy, 1e-9 * truth.layer.force);
+  EXPECT_NEAR(truth.wrench_s[2], -truth.layer.force, 1e-12);
+}
+
+TEST(PadContact, SphereForceIsModulusTimesCapVolume) {
+  // Winkler: F = k * (volume of the sphere below the surface) = k pi d^2 (3R - d) / 3.
+  const double R = 0.01, d = 0.001, k = PadParams().modulus;
+  const double exact = k * kPi * d * d * (3 * R - d) / 3.0;
+  double err_coarse = 0, err_fine = 0;
+  for (int K : {2, 16}) {
+    PadParams p;
+    p.subsamples = K;
+    Rig rig({sphere(0.0017, 0.0, R, d)}, p);  // centred on a taxel-border line
+    RawTactileFrame raw;
+    SensorTruth truth;
+    rig.pad.acquire(rig.objects, rig.T, 0.0, raw, truth);
+    double sum = 0;
+    const TactileFrame& img = rig.pad.trueTaxelForces();
+    for (int i = 0; i < img.size(); ++i) sum += img.force[static_cast<std::size_t>(i)];
+    EXPECT_NEAR(sum, truth.layer.force, 1e-12);  // taxel forces add up to the truth
+    const double err = std::fabs(truth.layer.force - exact) / exact;
+    (K == 2 ? err_coarse : err_fine) = err;
+    EXPECT_NEAR(truth.layer.cop_x, 0.0017, 1e-4);
+  }
+  // Midpoint rule over a cap of radius 4.4 mm: 16 x 16 samples per taxel
+  // (0.21 mm) must be within 0.5 %, and finer must be better than 2 x 2.
+  EXPECT_LT(err_fine, 5e-3);
+  EXPECT_LT(err_fine, err_coarse);
+}
+
+TEST(PadContact, HousingContactPushesButGivesNoTaxelSignal) {
+  // A 3 mm ball over the housing ring at x = 28 mm (active area ends at 23.8),
+  // 3 mm below the layer surface = 1 mm into the housing (recess 2 mm).
+  Rig rig({sphere(0.028, 0.0, 0.003, 0.003)});
+  ContactEval e;
+  rig.pad.evaluate(rig.objects, rig.T, e);
+  EXPECT_EQ(e.layer_force, 0.0);
+  EXPECT_GT(e.housing_force, 1.0);
+  EXPECT_NEAR(e.W_s(2), -e.housing_force, 1e-12);
+  EXPECT_GT(e.W_s(4), 0.0);  // my = sum x f > 0 for x > 0
+  RawTactileFrame raw;
+  SensorTruth truth;
+  rig.pad.acquire(rig.objects, rig.T, 0.0, raw, truth);
+  for (int i = 0; i < 84; ++i) EXPECT_EQ(raw.counts[static_cast<std::size_t>(i)], 0);
+  EXPECT_EQ(truth.layer.force, 0.0);
+  EXPECT_GT(truth.housing_force, 1.0);
+  EXPECT_FALSE(truth.in_contact);
+  EXPECT_NEAR(truth.wrench_s[2], -truth.housing_force, 1e-12);
+}
+
+TEST(PadContact, ContactStiffnessMatchesFiniteDifference) {
+  // K_s = -dW_s/d(sensor twist) over the (z, wx, wy) block: the material
+  // stiffness of the foundation, used as the quasi-static Newton tangent.
+  // It leaves out the geometric term of tilting the columns against a sloped
+  // surface, of order F * slope (tilted punch: 24 N * 0.02 = 0.5 N/rad), so
+  // the tolerance is 1e-4 of the diagonal scale plus F * |slope|. For a
+  // curved bar only the z column (pure translation) is checked.
+  ObjectParams tilted = flatPunch(0.0005);
+  tilted.normal = {0.01, 0.02, -1.0};
+  ObjectParams bar;
+  bar.type = ObjectType::Bar;
+  bar.radius = 0.003;
+  bar.vertices = {{-0.1, 0.001, 0.003 - 0.0015 - 0.1 * 0.01}, {0.1, 0.001, 0.003 - 0.0015 + 0.1 * 0.01}};
+  for (const ObjectParams& obj : {tilted, bar}) {
+    const bool plane = obj.type == ObjectType::Plane;
+    Rig rig({obj});
+    ContactEval e0, ep, em;
+    rig.pad.evaluate(rig.objects, rig.T, e0);
+    ASSERT_GT(e0.layer_force, 0.5);
+    EXPECT_GT(std::fabs(e0.W_s(4)), 1e-4);  // non-uniform load: a moment about y_s
+    const double h = 1e-7;
+    for (int a : plane ? std::vector<int>{2, 3, 4} : std::vector<int>{2}) {
+      KDL::Vector v = KDL::Vector::Zero(), w = KDL::Vector::Zero();
+      if (a == 2) v = KDL::Vector(0, 0, h);
+      if (a == 3) w = KDL::Vector(h, 0, 0);
+      if (a == 4) w = KDL::Vector(0, h, 0);
+      const KDL::Frame Tp(rotationFromVector(w), v), Tm(rotationFromVector(-w), -v);
+      rig.objects.pose(Tp, TrayPose{});
+      rig.pad.evaluate(rig.objects, Tp, ep);
+      rig.objects.pose(Tm, TrayPose{});
+      rig.pad.evaluate(rig.objects, Tm, em);
+      for (int b : {2, 3, 4}) {
+        const double fd = -(ep.W_s(b) - em.W_s(b)) / (2 * h);
+        const double geo = a == 2 ? 0.0 : e0.layer_force * 0.03;
+        EXPECT_NEAR(e0.K_s(b, a), fd, 1e-4 * std::sqrt(std::fabs(e0.K_s(b, b) * e0.K_s(a, a))) + geo) << b << "," << a;
+      }
+    }
+  }
+}
+
+TEST(PadResponse, NoiseStatisticsQuantisationAndThreshold) {
+  // Uniform 1 N per taxel (flat punch), noise 6 counts (1 sigma).
+  const double f0 = 1.0;
+  const double depth = f0 / (PadParams().modulus * 0.0034 * 0.0034);
+  Rig rig({flatPunch(depth)});
+  const double n0 = rig.pad.countsFor(2, 5, f0);  // interior taxel
+  ASSERT_GT(n0, 100.0);
+  ASSERT_LT(n0, 4000.0);
+  RawTactileFrame raw;
+  SensorTruth truth;
+  const int N = 4000;
+  double s = 0, s2 = 0;
+  for (int i = 0; i < N; ++i) {
+    rig.pad.acquire(rig.objects, rig.T, 0.0, raw, truth);
+    const double c = raw.counts[2 * 14 + 5];
+    s += c;
+    s2 += c * c;
+  }
+  const double mean = s / N, sd = std::sqrt(s2 / N - mean * mean);
+  // Standard error of the mean 6 / sqrt(4000) = 0.1 count; rounding adds no bias.
+  EXPECT_NEAR(mean, n0, 0.5);
+  // Sample sd of 4000 normals: relative standard error ~1.1 %; rounding adds
+  // 1/12 count^2 of variance. Allow 5 %.
+  EXPECT_NEAR(sd, std::sqrt(36.0 + 1.0 / 12.0), 0.05 * 6.0);
+
+  // Noise-free: counts are the rounded response; border taxels weaker.
+  PadParams p;
+  p.noise_counts = 0.0;
+  Rig quiet({flatPunch(depth)}, p);
+  quiet.pad.acquire(quiet.objects, quiet.T, 0.0, raw, truth);
+  EXPECT_EQ(raw.counts[2 * 14 + 5], static_cast<uint16_t>(std::lround(quiet.pad.countsFor(2, 5, f0))));
+  EXPECT_LT(raw.counts[0], raw.counts[2 * 14 + 5]);  // corner taxel: border_sensitivity 0.6
+  EXPECT_NEAR(quiet.pad.countsFor(0, 0, f0) / quiet.pad.countsFor(2, 5, f0), 0.6, 0.1);
+
+  // Threshold (0.2 N): 0.15 N per taxel reads 0, 0.25 N does not.
+  for (double f : {0.15, 0.25}) {
+    Rig t({flatPunch(f / (PadParams().modulus * 0.0034 * 0.0034))}, p);
+    t.pad.acquire(t.objects, t.T, 0.0, raw, truth);
+    if (f < 0.2)
+      EXPECT_EQ(raw.counts[2 * 14 + 5], 0);
+    else
+      EXPECT_GT(raw.counts[2 * 14 + 5], 0);
+  }
+}
+
+TEST(PadResponse, SaturatesAtFullScale) {
+  PadParams p;
+  p.noise_counts = 0.0;
+  const double depth = 10.0 / (p.modulus * 0.0034 * 0.0034);  // 10 N per taxel >> ~3 N full scale
+  Rig rig({flatPunch(depth)}, p);
+  RawTactileFrame raw;
+  SensorTruth truth;
+  rig.pad.acquire(rig.objects, rig.T, 0.0, raw, truth);
+  for (int i = 0; i < 84; ++i) EXPECT_EQ(raw.counts[static_cast<std::size_t>(i)], 4095);
+  Calibration cal;
+  ASSERT_TRUE(cal.configure(rig.pad.calibration()).ok());
+  TactileFrame f;
+  EXPECT_EQ(cal.step(raw, f), CalibrationStatus::Saturated);
+  EXPECT_EQ(f.saturated_count, 84);
+}
+
+TEST(PadResponse, CalibrationInvertsTheResponse) {
+  PadParams p;
+  p.noise_counts = 0.0;
+  Rig rig({sphere(0.004, -0.002, 0.02, 0.0015)}, p);
+  RawTactileFrame raw;
+  SensorTruth truth;
+  rig.pad.acquire(rig.objects, rig.T, 0.0, raw, truth);
+  Calibration cal;
+  ASSERT_TRUE(cal.configure(rig.pad.calibration()).ok());
+  TactileFrame f;
+  ASSERT_EQ(cal.step(raw, f), CalibrationStatus::Ok);
+  const TactileFrame& tr = rig.pad.trueTaxelForces();
+  int checked = 0;
+  for (int r = 0; r < 6; ++r)
+    for (int c = 0; c < 14; ++c) {
+      const double ft = tr.at(r, c);
+      if (ft < 0.2) {
+        EXPECT_EQ(f.at(r, c), 0.0);
+        continue;
+      }
+      // Error bound: half a count times the local slope df/dn.
+      const double n = rig.pad.countsFor(r, c, ft);
+      const double slope = rig.pad.forceFor(r, c, n + 1.0) - rig.pad.forceFor(r, c, n);
+      EXPECT_NEAR(f.at(r, c), ft, 0.5 * slope + 1e-12) << r << "," << c;
+      ++checked;
+    }
+  EXPECT_GT(checked, 4);
+}
+
+TEST(PadResponse, DeterministicForASeed) {
+  auto run = [](uint64_t seed) {
+    PadParams p;
+    p.seed = seed;
+    Rig rig({flatPunch(0.0005)}, p);
+    RawTactileFrame raw;
+    SensorTruth truth;
+    std::vector<uint16_t> out;
+    for (int i = 0; i < 20; ++i) {
+      rig.pad.acquire(rig.objects, rig.T, 0.0, raw, truth);
+      out.insert(out.end(), raw.counts.begin(), raw.counts.begin() + 84);
+    }
+    return out;
+  };
+  EXPECT_EQ(run(7), run(7));
+  EXPECT_NE(run(7), run(8));
+}
+
+TEST(PadBadInput, ParametersAreValidated) {
+  PadSensor pad;
+  PadParams p;
+  p.subsamples = 0;
+  ConfigResult r = pad.configure(p);
+  EXPECT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("pad.subsamples"), std::string::npos) << r.message();
+  p = PadParams();
+  p.housing_size_x = 0.03;  // smaller than the 47.6 mm sensing area
+  r = pad.configure(p);
+  EXPECT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("pad.housing_size_x"), std::string::npos) << r.message();
+  p = PadParams();
+  p.response[0] = -1.0;
+  EXPECT_FALSE(pad.configure(p).ok());
+  p = PadParams();
+  p.modulus = std::nan("");
+  EXPECT_FALSE(pad.configure(p).ok());
+
+  ObjectSet objs;
+  ObjectParams o;
+  o.name = "weird";
+  o.type = static_cast<ObjectType>(99);
+  r = objs.configure({o});
+  EXPECT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("objects[0] (weird).type"), std::string::npos) << r.message();
+  ObjectType t;
+  EXPECT_FALSE(parseObjectType("pyramid", t));
+  EXPECT_TRUE(parseObjectType("bent_bar", t));
+  EXPECT_EQ(t, ObjectType::BentBar);
+  o.type = ObjectType::Bar;
+  o.vertices = {{0, 0, 0}};
+  r = objs.configure({o});
+  EXPECT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("vertices"), std::string::npos) << r.message();
+}
+
+TEST(PadAllocation, EvaluateAndAcquireDoNotAllocate) {
+  ObjectParams bent;
+  bent.type = ObjectType::BentBar;
+  bent.radius = 0.003;
+  bent.vertices = {{-0.2, 0, 0.002}, {-0.05, 0.001, 0.0015}, {0.05, -0.002, 0.0016}, {0.2, 0.01, 0.003}};
+  Rig rig({bent, flatPunch(-0.01)});
+  ContactEval e;
+  RawTactileFrame raw;
+  SensorTruth truth;
+  tactile::test::AllocationScope scope;
+  for (int i = 0; i < 10; ++i) {
+    rig.objects.pose(rig.T, TrayPose{});
+    rig.pad.evaluate(rig.objects, rig.T, e);
+    rig.pad.acquire(rig.objects, rig.T, 0.01 * i, raw, truth);
+  }
+  EXPECT_EQ(scope.count(), 0u);
+  EXPECT_GT(e.layer_force, 0.0);
+}

@@ -43,6 +43,18 @@ tactile::Pose toPose(const KDL::Frame& f) {
   return p;
 }
 
+KDL::Rotation rotationFromVector(const KDL::Vector& w) {
+  const double th2 = KDL::dot(w, w);
+  const double th = std::sqrt(th2);
+  // R = I + a [w]x + b [w]x^2, a = sin(th)/th, b = (1 - cos(th))/th^2 (series below 1e-4).
+  const double a = th < 1e-4 ? 1.0 - th2 / 6.0 : std::sin(th) / th;
+  const double b = th < 1e-4 ? 0.5 - th2 / 24.0 : (1.0 - std::cos(th)) / th2;
+  const double x = w.x(), y = w.y(), z = w.z();
+  return KDL::Rotation(1.0 - b * (y * y + z * z), -a * z + b * x * y, a * y + b * x * z,
+                       a * z + b * x * y, 1.0 - b * (x * x + z * z), -a * x + b * y * z,
+                       -a * y + b * x * z, a * x + b * y * z, 1.0 - b * (x * x + y * y));
+}
+
 bool validPose(const tactile::Pose& p) {
   double n2 = 0.0;
   for (double v : p.p)

@@ -226,7 +226,8 @@ SimStatus World::stepQuasiStatic(const KDL::Frame& T_cmd, double dt) {
     if (na > 10 * maxs) scale = std::min(scale, 10 * maxs / na);
     de *= scale;
     dth *= scale;
-    T = KDL::addDelta(T, KDL::Twist(KDL::Vector(de[0], de[1], de[2]), KDL::Vector(de[3], de[4], de[5])));
+    // (KDL::addDelta / KDL::Rot drop rotations below ~1e-6 rad.)
+    T = KDL::Frame(rotationFromVector(KDL::Vector(de[3], de[4], de[5])) * T.M, T.p + KDL::Vector(de[0], de[1], de[2]));
     th.pitch += dth(0);
     th.roll += dth(1);
     evaluated = false;

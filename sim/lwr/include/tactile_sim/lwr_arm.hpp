@@ -188,6 +188,9 @@ class LwrArm {
 /// tactile::Pose <-> KDL::Frame.
 KDL::Frame toFrame(const tactile::Pose& p);
 tactile::Pose toPose(const KDL::Frame& f);
+/// Rotation matrix of a rotation vector (Rodrigues), exact for small angles
+/// (KDL::Rot and KDL::addDelta return the identity below ~1e-6 rad).
+KDL::Rotation rotationFromVector(const KDL::Vector& w);
 /// Finite position and a quaternion of norm in [0.5, 2] (normalised on use).
 bool validPose(const tactile::Pose& p);
 

@@ -7,9 +7,9 @@
 //     47.6 mm) covered by an elastic layer whose undeformed surface is z = 0;
 //   * rigid housing: the rectangle housing_size_x x housing_size_y around the
 //     sensing area (default 64 x 34 mm: the sensor module with its mounting
-//     frame), its top face at z = -housing_recess (default 3 mm below the layer
-//     surface: a pressed 1 mm-radius... 3 mm-radius edge touches it above
-//     ~10 N). Contact there pushes the arm (stiff penalty, housing_modulus)
+//     frame), its top face at z = -housing_recess (default 2 mm below the layer
+//     surface: an edge of 3 mm radius across the whole pad reaches it at about
+//     22 N). Contact there pushes the arm (stiff penalty, housing_modulus)
 //     but produces no taxel signal: an edge that slides off the sensing area
 //     and is pushed further meets the housing with no warning in the image.
 //   Beyond the housing outline nothing touches (the flange and the arm links
@@ -18,11 +18,16 @@
 // Elastic layer (Winkler foundation, Eq. 2): pressure p = modulus * delta,
 // delta = penetration of the object into the layer measured along z_s. Forces
 // are along z_s only (frictionless, as assumed in Sec. 3.2). C_z, C_wx and C_wy
-// of Eq. 2 are not parameters: they follow from the foundation, e.g. for an
-// edge across the pad the tangent stiffness is dF/dz = 1.5 F / delta (a
-// 3 mm-radius bar over 47.6 mm pressed with 5 N: delta ~ 1.5 mm, ~3300 N/m
-// secant), and a non-uniform line load tilts the contact (moments ~ modulus *
-// integral of x^2 over the contact).
+// of Eq. 2 are not parameters: they follow from the foundation. For an edge
+// of rounding radius r across the pad, F = k L (4/3) sqrt(2 r) delta^1.5, so
+// dF/dz = 1.5 F / delta. Default modulus 5e7 Pa/m: a 3 mm-radius bar over
+// 47.6 mm pressed with 5 N sinks 0.74 mm (secant 6700 N/m, tangent 10^4 N/m;
+// contact 4.2 mm wide, so the centre taxel row carries ~0.3 N per taxel,
+// above the 0.2 N threshold). A softer layer (C_z = 1/1800 m/N as quoted for
+// the paper's edge needs ~1e7 Pa/m) spreads a 5 N edge over two rows at
+// < 0.2 N per taxel, i.e. an invisible edge: the default favours a visible
+// contact. A non-uniform line load tilts the contact: the moments are
+// k * integral of x^2 (about y_s) over the contact.
 //
 // Taxel response (App. A, Fig. A.15): the true taxel force f (N) maps to raw
 // counts n through the inverse of a monotone cubic f(n) = c1 n + c2 n^2 + c3 n^3
@@ -59,13 +64,13 @@ struct PadParams {
   int rows = kDefaultRows;
   int cols = kDefaultCols;
   double pitch = kDefaultPitch;     ///< m
-  double modulus = 1.5e7;           ///< foundation modulus of the layer (Pa/m)
-  double layer_thickness = 0.004;   ///< m; an object deeper than this at start is "inside the sensor"
+  double modulus = 5.0e7;           ///< foundation modulus of the layer (Pa/m)
+  double layer_thickness = 0.003;   ///< m; an object deeper than this at start is "inside the sensor"
   int subsamples = 4;               ///< K: K x K samples per taxel for the tactile image (acquire)
   int physics_subsamples = 1;       ///< samples per taxel side for the wrench the arm feels (step)
   double housing_size_x = 0.064;    ///< m, outline along x_s
   double housing_size_y = 0.034;    ///< m, outline along y_s
-  double housing_recess = 0.003;    ///< m, housing top face below the layer surface
+  double housing_recess = 0.002;    ///< m, housing top face below the layer surface
   double housing_modulus = 2.0e9;   ///< Pa/m, penalty modulus of the rigid housing
   double housing_spacing = 0.0034;  ///< m, sample spacing over the housing ring
   double depth_limit = 0.03;        ///< m; deeper "penetrations" are objects behind the sensor: ignored
