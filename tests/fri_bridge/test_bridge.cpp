@@ -298,6 +298,23 @@ TEST(FriBridge, SlightlyNonUnitDesiredQuaternionStillGivesARotation) {
   EXPECT_TRUE(validFriPose(h.out.cmd.cmd.cart_pos, 1e-5));
 }
 
+TEST(FriBridge, NonCartesianStrategyInCmdRepliesAJointHold) {
+  Harness h;
+  h.send(State::Mon, Quality::Perfect);
+  h.setDesired(KDL::Frame(h.measured.M, h.measured.p + KDL::Vector(0.05, 0.0, 0.0)));
+  std::vector<uint8_t> b = makeMsr(++h.seq, State::Cmd, Quality::Perfect, h.measured);
+  putU16(b, kOffControl, static_cast<uint16_t>(ControlStrategy::Position));
+  for (int j = 0; j < 7; ++j) {
+    putF32(b, kOffMsrJnt + 76 + 4 * std::size_t(j), 0.1f * float(j));   // cmdJntPos
+    putF32(b, kOffMsrJnt + 104 + 4 * std::size_t(j), 0.01f);            // cmdJntPosFriOffset
+  }
+  EXPECT_EQ(h.bridge.stepDatagram(b.data(), b.size(), h.desired, h.now, h.out), BridgeStatus::WrongStrategy);
+  ASSERT_TRUE(h.out.reply);
+  EXPECT_EQ(h.out.cmd.cmd.cmd_flags, flags::kJointPosition);
+  for (int j = 0; j < 7; ++j) EXPECT_FLOAT_EQ(h.out.cmd.cmd.jnt_pos[j], 0.1f * float(j) + 0.01f);
+  EXPECT_TRUE(KDL::Equal(h.commanded(), h.measured, 1e-6));
+}
+
 TEST(FriBridge, InvalidMeasuredPoseNeverBecomesACommand) {
   Harness h;
   h.measured.p = KDL::Vector(std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0);

@@ -43,6 +43,7 @@ const char* toString(BridgeStatus s) {
     case BridgeStatus::DesiredInvalid: return "desired_invalid";
     case BridgeStatus::DesiredStale: return "desired_stale";
     case BridgeStatus::MeasurementInvalid: return "measurement_invalid";
+    case BridgeStatus::WrongStrategy: return "wrong_strategy";
     case BridgeStatus::DroppedDuplicate: return "dropped_duplicate";
     case BridgeStatus::DroppedOutOfOrder: return "dropped_out_of_order";
     case BridgeStatus::Malformed: return "malformed";
@@ -98,7 +99,7 @@ void FriBridge::reset() noexcept {
   sent_valid_.fill(false);
 }
 
-void FriBridge::fillReply(const MsrPacket& msr, const KDL::Frame& pose, BridgeOutput& out) noexcept {
+void FriBridge::fillReply(const MsrPacket& msr, const KDL::Frame& pose, BridgeOutput& out, bool joint_hold) noexcept {
   CmdPacket& c = out.cmd;
   c.head.send_seq = ++send_seq_;
   c.head.refl_seq = msr.head.send_seq;
@@ -108,9 +109,10 @@ void FriBridge::fillReply(const MsrPacket& msr, const KDL::Frame& pose, BridgeOu
   RobotCommand& r = c.cmd;
   r.cmd_flags = flags::kCartPose;
   if (params_.command_impedance) r.cmd_flags |= flags::kCartStiffness | flags::kCartDamping;
+  if (joint_hold) r.cmd_flags = flags::kJointPosition;
   fromFrame(pose, r.cart_pos);
   for (int j = 0; j < kNumJoints; ++j) {
-    r.jnt_pos[j] = msr.data.msr_jnt_pos[j];
+    r.jnt_pos[j] = msr.data.cmd_jnt_pos[j] + msr.data.cmd_jnt_pos_fri_offset[j];
     r.add_jnt_trq[j] = 0.0f;
     r.jnt_stiffness[j] = 0.0f;
     r.jnt_damping[j] = 0.0f;
@@ -219,6 +221,17 @@ BridgeStatus FriBridge::step(const MsrPacket& msr, const PoseCommand& desired, d
 
   // ---- CMD, powered ----
   was_in_cmd_ = true;
+  if (msr.robot.control != static_cast<uint16_t>(ControlStrategy::CartImpedance)) {
+    out.status = BridgeStatus::WrongStrategy;
+    if (!msr_valid) {
+      have_command_ = false;
+      return out.status = BridgeStatus::MeasurementInvalid;
+    }
+    limiter_.reset(measured);  // should the strategy change to Cartesian, start from here
+    have_command_ = true;
+    fillReply(msr, measured, out, true);
+    return out.status;
+  }
   if (!have_command_) {
     if (!msr_valid) return out.status = BridgeStatus::MeasurementInvalid;
     limiter_.reset(measured);  // first command ever: start where the robot is

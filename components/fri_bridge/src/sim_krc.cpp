@@ -142,6 +142,11 @@ void SimKrc::handleReply(const uint8_t* buf, std::size_t n, double t_sent, doubl
   KDL::Frame c;
   toFrame(cmd_.cmd.cart_pos, c);
   if (state_ == State::Cmd && power_ != 0) {
+    if (params_.control != ControlStrategy::CartImpedance) {
+      // joint strategies: this plant only checks that the remote holds the joints
+      if (!(cmd_.cmd.cmd_flags & flags::kJointPosition)) ++stats_.flag_errors;
+      return;
+    }
     if (!(cmd_.cmd.cmd_flags & flags::kCartPose)) {
       ++stats_.flag_errors;
       return;

@@ -17,6 +17,11 @@
 //    limiter (max translational speed, max rotational speed) and is commanded.
 //  * CMD at quality < OK, invalid/stale desired pose, invalid measured pose:
 //    HOLD: the last commanded pose is repeated unchanged.
+//  * CMD with a control strategy other than Cartesian impedance (position 1,
+//    joint impedance 3): the bridge cannot apply Cartesian poses; it replies a
+//    joint hold (status WrongStrategy) and follows nothing.
+//  * Every reply carries jntPos = cmdJntPos + cmdJntPosFriOffset (the KRC's
+//    current joint set point), used by the KRC only when flag 0x1 is set.
 //  * Leaving CMD: status LeftCmd (sticky while the KRC stays out of CMD) and
 //    the measured pose is echoed again.
 //
@@ -90,6 +95,8 @@ enum class BridgeStatus : uint8_t {
   DesiredInvalid = 6,  ///< CMD: desired pose NaN/Inf/non-unit quaternion or never set: holding
   DesiredStale = 7,    ///< CMD: desired pose older than max_desired_age_s: holding
   MeasurementInvalid = 8,  ///< measured pose NaN/non-rotation; CMD: holding (reply), else no reply
+  WrongStrategy = 9,   ///< CMD, but the KRC's control strategy is not Cartesian impedance:
+                       ///< joint hold (flag 0x1, jntPos = cmdJntPos + cmdJntPosFriOffset), nothing else applied
   DroppedDuplicate = 10,   ///< same sendSeqCount as the last accepted packet: no reply
   DroppedOutOfOrder = 11,  ///< older sendSeqCount: no reply
   Malformed = 12,          ///< decode failed (see packet_status): no reply
@@ -144,7 +151,7 @@ class FriBridge {
   const MsrPacket& lastMeasurement() const noexcept { return msr_; }
 
  private:
-  void fillReply(const MsrPacket& msr, const KDL::Frame& pose, BridgeOutput& out) noexcept;
+  void fillReply(const MsrPacket& msr, const KDL::Frame& pose, BridgeOutput& out, bool joint_hold = false) noexcept;
 
   BridgeParams params_{};
   bool configured_ = false;
