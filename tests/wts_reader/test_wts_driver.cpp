@@ -22,6 +22,7 @@
 
 #include "alloc_counter.hpp"
 #include "tactile_wts/driver.hpp"
+#include "tactile_wts/params_io.hpp"
 #include "tactile_wts/sim_device.hpp"
 #include "wts_test_util.hpp"
 
@@ -319,6 +320,37 @@ TEST(WtsDriverConfig, ErrorsNameParameterAndRange) {
   EXPECT_EQ(unconfigured.poll(0.0, 0, f), ReadStatus::NotConfigured);
 }
 
+TEST(WtsParamsYaml, LoadsEveryKeyAndRejectsBadOnes) {
+  WtsParams p;
+  const tactile::config::Where where{"params.yaml", "wts"};
+  YAML::Node n = YAML::Load(
+      "{device: /dev/ttyACM3, rows: 6, cols: 14, transpose: false, flip_rows: true, flip_cols: true,"
+      " periodic_ms: 5, rle: true, command_timeout_ms: 100, reconnect_period_s: 0.2, restart_after_s: 2.0,"
+      " check_matrix_info: false}");
+  ASSERT_TRUE(loadWtsParams(n, where, p).ok());
+  EXPECT_EQ(p.device, "/dev/ttyACM3");
+  EXPECT_FALSE(p.cells.transpose);
+  EXPECT_TRUE(p.cells.flip_rows);
+  EXPECT_TRUE(p.cells.flip_cols);
+  EXPECT_EQ(p.periodic_ms, 5);
+  EXPECT_TRUE(p.rle);
+  EXPECT_EQ(p.command_timeout_ms, 100);
+  EXPECT_DOUBLE_EQ(p.reconnect_period_s, 0.2);
+  EXPECT_DOUBLE_EQ(p.restart_after_s, 2.0);
+  EXPECT_FALSE(p.check_matrix_info);
+  auto r = loadWtsParams(YAML::Load("{periodic_ms: 5000}"), where, p);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("params.yaml"), std::string::npos) << r.message();
+  EXPECT_NE(r.message().find("wts.periodic_ms = 5000"), std::string::npos) << r.message();
+  EXPECT_NE(r.message().find("[0, 1000]"), std::string::npos) << r.message();
+  r = loadWtsParams(YAML::Load("{perodic_ms: 5}"), where, p);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("perodic_ms"), std::string::npos) << r.message();
+  r = loadWtsParams(YAML::Load("{rows: six}"), where, p);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("wts.rows"), std::string::npos) << r.message();
+}
+
 TEST(WtsDriverConfig, MissingDeviceFailsCleanly) {
   WtsDriver d;
   WtsParams p;
@@ -445,6 +477,21 @@ TEST_F(WtsReadTool, RawAndNewtonCsvInSensingOrder) {
     // default calibration 0.002 N/count: 1000 counts = 2 N (printed %.6g: exact)
     for (const auto& r : n) EXPECT_DOUBLE_EQ(r[37], 2.0);
   }
+}
+
+TEST_F(WtsReadTool, ParamsFileGivesDeviceAndCalibration) {
+  const std::string file = dir.path + "/params.yaml";
+  FILE* f = std::fopen(file.c_str(), "w");
+  ASSERT_NE(f, nullptr);
+  std::fprintf(f, "wts:\n  device: %s\n  periodic_ms: 5\n  rle: true\ncalibration:\n  coeffs: [0, 0.004]\n",
+               sim.path().c_str());
+  std::fclose(f);
+  int st = -1;
+  const auto rows = csv(run(std::string(WTS_READ_BIN) + " --params " + file + " --count 2", &st));
+  EXPECT_EQ(st, 0);
+  ASSERT_EQ(rows.size(), 2u);
+  for (const auto& r : rows) EXPECT_DOUBLE_EQ(r[37], 4.0);  // 1000 counts * 0.004 N/count
+  EXPECT_TRUE(sim.rleRequested());
 }
 
 TEST_F(WtsReadTool, PipesIntoTactileFeatures) {

@@ -2,8 +2,10 @@
 //
 //   wts_read --device PATH [--periodic-ms N] [--rle] [--count N] [--raw]
 //            [--rows 6 --cols 14] [--no-transpose] [--flip-rows] [--flip-cols]
-//            [--calib FILE.yaml] [--tare] [--timeout-ms N]
+//            [--params FILE.yaml] [--calib FILE.yaml] [--tare] [--timeout-ms N]
 //
+// --params reads the `wts:` section (params_io.hpp) and the `calibration:`
+// section of a parameter file; options after it override the file.
 // Output (stdout): rows*cols comma-separated values per line, row-major in the
 // {s} layout (conventions.hpp) -- the input format of `tactile_features`, so
 //   wts_read --device /dev/ttyACM0 --periodic-ms 10 | tactile_features -
@@ -25,6 +27,7 @@
 #include "tactile_features/calibration.hpp"
 #include "tactile_features/params_io.hpp"
 #include "tactile_wts/driver.hpp"
+#include "tactile_wts/params_io.hpp"
 
 namespace {
 
@@ -35,7 +38,7 @@ void usage() {
   std::fprintf(stderr,
                "usage: wts_read --device PATH [--periodic-ms N] [--rle] [--count N] [--raw]\n"
                "                [--rows R] [--cols C] [--no-transpose] [--flip-rows] [--flip-cols]\n"
-               "                [--calib FILE.yaml] [--tare] [--timeout-ms N]\n"
+               "                [--params FILE.yaml] [--calib FILE.yaml] [--tare] [--timeout-ms N]\n"
                "Prints one frame per line: rows*cols values, row-major {s} order, newtons (or counts with --raw).\n");
 }
 
@@ -100,6 +103,16 @@ int main(int argc, char** argv) {
       wp.cells.flip_rows = true;
     } else if (a == "--flip-cols") {
       wp.cells.flip_cols = true;
+    } else if (a == "--params" && i + 1 < argc) {
+      const std::string file = argv[++i];
+      YAML::Node root;
+      tactile::ConfigResult r = tactile::config::loadFile(file, root);
+      if (r) r = tactile::wts::loadWtsParams(root["wts"], tactile::config::Where{file, "wts"}, wp);
+      if (!r) {
+        std::fprintf(stderr, "wts_read: %s\n", r.message().c_str());
+        return 2;
+      }
+      if (root["calibration"]) calib_file = file;
     } else if (a == "--calib" && i + 1 < argc) {
       calib_file = argv[++i];
     } else if (a == "--tare") {
