@@ -119,3 +119,49 @@ TEST(FriCheckTool, UsageErrorsExitWithStatusOne) {
     EXPECT_TRUE(contains(out, "usage: fri_check")) << out;
   }
 }
+
+namespace {
+std::string runCapture(const std::string& cmd, int& exit_code) {
+  FILE* pipe = ::popen((cmd + " 2>&1").c_str(), "r");
+  std::string out;
+  if (pipe == nullptr) return out;
+  char line[1024];
+  while (std::fgets(line, sizeof line, pipe) != nullptr) out += line;
+  const int status = ::pclose(pipe);
+  exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return out;
+}
+}  // namespace
+
+TEST(FriCheckTool, AgainstTheSimKrcExecutable) {
+  // Both bench tools as users run them, on loopback.
+  FILE* check = ::popen((std::string(FRI_CHECK_PATH) +
+                         " --port 0 --bind 127.0.0.1 --idle-timeout 3 --cycles 400 --motion circle 2>&1").c_str(),
+                        "r");
+  ASSERT_NE(check, nullptr);
+  char line[512];
+  ASSERT_NE(std::fgets(line, sizeof line, check), nullptr);
+  const std::string first = line;
+  const std::size_t colon = first.find("127.0.0.1:");
+  ASSERT_NE(colon, std::string::npos) << first;
+  const std::string port = std::to_string(std::stoul(first.substr(colon + 10)));
+  int sim_exit = -1;
+  const std::string sim = runCapture(std::string(FRI_SIM_KRC_PATH) + " --port " + port +
+                                         " --cycles 400 --fast --schedule 0:MON:PERFECT,100:CMD:PERFECT,300:MON:OK",
+                                     sim_exit);
+  std::string out = first;
+  while (std::fgets(line, sizeof line, check) != nullptr) out += line;
+  const int status = ::pclose(check);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << out;
+  EXPECT_EQ(sim_exit, 0) << sim;
+  EXPECT_TRUE(contains(sim, "cycles 400 sent 400 replies 400")) << sim;
+  EXPECT_TRUE(contains(sim, "applied 200 ")) << sim;
+  EXPECT_TRUE(contains(sim, "mon_echo_errors 0 ")) << sim;
+  EXPECT_TRUE(contains(out, "summary: cycles 400")) << out;
+  EXPECT_TRUE(contains(out, "bridge left_cmd")) << out;
+  // usage errors of the simulator
+  int bad_exit = -1;
+  const std::string bad = runCapture(std::string(FRI_SIM_KRC_PATH) + " --port 1 --schedule 5:FOO:OK", bad_exit);
+  EXPECT_EQ(bad_exit, 1) << bad;
+  EXPECT_TRUE(contains(bad, "bad --schedule event '5:FOO:OK'")) << bad;
+}
