@@ -363,6 +363,57 @@ TEST(WtsDriverConfig, MissingDeviceFailsCleanly) {
   EXPECT_EQ(d.poll(0.0, 0, f), ReadStatus::Disconnected);
 }
 
+TEST(WtsSerialPort, RawModeBoundedReadsAndHangup) {
+  const int m = posix_openpt(O_RDWR | O_NOCTTY);
+  ASSERT_GE(m, 0);
+  ASSERT_EQ(grantpt(m), 0);
+  ASSERT_EQ(unlockpt(m), 0);
+  char name[128];
+  ASSERT_EQ(ptsname_r(m, name, sizeof(name)), 0);
+  SerialPort port;
+  ASSERT_EQ(port.open(name), IoStatus::Ok);
+  // termios as documented: raw 115200 8N1
+  const int fd = ::open(name, O_RDWR | O_NOCTTY);
+  ASSERT_GE(fd, 0);
+  termios tio{};
+  ASSERT_EQ(tcgetattr(fd, &tio), 0);
+  EXPECT_EQ(cfgetispeed(&tio), static_cast<speed_t>(B115200));
+  EXPECT_EQ(cfgetospeed(&tio), static_cast<speed_t>(B115200));
+  EXPECT_EQ(tio.c_cflag & CSIZE, static_cast<tcflag_t>(CS8));
+  EXPECT_EQ(tio.c_cflag & (PARENB | CSTOPB), 0u);
+  EXPECT_EQ(tio.c_lflag & (ICANON | ECHO | ISIG), 0u);
+  EXPECT_EQ(tio.c_iflag & (IXON | ICRNL), 0u);
+  ::close(fd);
+  // bounded read: nothing there -> Timeout after about the timeout (generous upper bound for a loaded machine)
+  uint8_t buf[64];
+  std::size_t got = 99;
+  const double t0 = nowS();
+  EXPECT_EQ(port.read(buf, sizeof(buf), 30, got), IoStatus::Timeout);
+  const double dt = nowS() - t0;
+  EXPECT_EQ(got, 0u);
+  EXPECT_GE(dt, 0.025);
+  EXPECT_LT(dt, 0.5);
+  // bytes pass unchanged (raw: no CR/LF translation, 0xFF, 0x00, ^C)
+  const uint8_t msg[] = {0x0D, 0x0A, 0xFF, 0x00, 0x03, 0x11, 0x13, 0xAA};
+  ASSERT_EQ(::write(m, msg, sizeof(msg)), static_cast<ssize_t>(sizeof(msg)));
+  ASSERT_EQ(port.read(buf, sizeof(buf), 200, got), IoStatus::Ok);
+  ASSERT_EQ(got, sizeof(msg));
+  EXPECT_EQ(std::memcmp(buf, msg, sizeof(msg)), 0);
+  ASSERT_EQ(port.write(msg, sizeof(msg), 100), IoStatus::Ok);
+  uint8_t back[16];
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  EXPECT_EQ(::read(m, back, sizeof(back)), static_cast<ssize_t>(sizeof(msg)));
+  // hangup: the master goes away -> Disconnected, port closed
+  ::close(m);
+  EXPECT_EQ(port.read(buf, sizeof(buf), 100, got), IoStatus::Disconnected);
+  EXPECT_FALSE(port.isOpen());
+  EXPECT_EQ(port.read(buf, sizeof(buf), 0, got), IoStatus::NotOpen);
+  EXPECT_EQ(port.write(msg, 1, 0), IoStatus::NotOpen);
+  SerialPort missing;
+  EXPECT_EQ(missing.open("/nonexistent/ttyUSB7"), IoStatus::OpenFailed);
+  EXPECT_EQ(missing.lastErrno(), ENOENT);
+}
+
 // poll() over a real PTY, driven from this thread only (no simulator thread,
 // whose allocations would count): frames, corrupted frames and garbage are
 // written to the master; the driver's single-frame requests are drained.
