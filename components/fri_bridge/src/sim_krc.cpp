@@ -240,8 +240,19 @@ void SimKrc::runCycle() {
   }
   const double t_sent = nowSeconds();
   // 4. wait for the reply
-  const double deadline = params_.real_time ? t0_ + double(stats_.cycles + 1) * T
-                                            : (expect_reply ? t_sent + params_.reply_timeout_s : t_sent);
+  double deadline = expect_reply ? t_sent + params_.reply_timeout_s : t_sent;
+  if (params_.real_time) {
+    // Next tick of the period grid, but at least half a period for the reply.
+    // After an overrun of more than two periods (host hiccup) the grid is
+    // re-anchored instead of sending a burst of catch-up packets.
+    deadline = t0_ + double(stats_.cycles + 1) * T;
+    if (t_sent - deadline > 2.0 * T) {
+      ++stats_.overruns;
+      t0_ = t_sent - double(stats_.cycles) * T;
+      deadline = t_sent + T;
+    }
+    deadline = std::max(deadline, t_sent + 0.5 * T);
+  }
   bool matched = false;
   for (;;) {
     const double now = nowSeconds();

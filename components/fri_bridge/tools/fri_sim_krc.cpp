@@ -118,13 +118,13 @@ int main(int argc, char** argv) {
   }
   krc.run(cycles);
   const SimKrcStats& s = krc.stats();
-  std::printf("fri_sim_krc: cycles %llu sent %llu replies %llu stale %llu malformed %llu missed %llu applied %llu "
+  std::printf("fri_sim_krc: cycles %llu sent %llu replies %llu stale %llu malformed %llu missed %llu overruns %llu applied %llu "
               "remote_seq_errors %llu flag_errors %llu nonfinite %llu mon_echo_errors %llu max_step %.6f m %.6f rad "
               "latency mean %.1f us max %.1f us injected loss %llu dup %llu reorder %llu late %llu wrong_size %llu "
               "wrong_id %llu cmd_loss %llu\n",
               (unsigned long long)s.cycles, (unsigned long long)s.sent, (unsigned long long)s.replies,
               (unsigned long long)s.stale_replies, (unsigned long long)s.malformed_replies,
-              (unsigned long long)s.missed, (unsigned long long)s.applied, (unsigned long long)s.remote_seq_errors,
+              (unsigned long long)s.missed, (unsigned long long)s.overruns, (unsigned long long)s.applied, (unsigned long long)s.remote_seq_errors,
               (unsigned long long)s.flag_errors, (unsigned long long)s.nonfinite_commands,
               (unsigned long long)s.mon_echo_errors, s.max_cmd_step_m, s.max_cmd_step_rad,
               s.replies ? 1e6 * s.sum_latency_s / double(s.replies) : 0.0, 1e6 * s.max_latency_s,

@@ -106,6 +106,7 @@ struct SimKrcStats {
   uint64_t stale_replies = 0;     ///< well-formed replies reflecting an older measurement
   uint64_t malformed_replies = 0; ///< wrong size / id
   uint64_t missed = 0;            ///< cycles without a matching reply
+  uint64_t overruns = 0;          ///< real time: host late by > 2 periods, period grid re-anchored
   uint64_t remote_seq_errors = 0; ///< the remote's sendSeqCount did not increase by exactly 1
   uint64_t flag_errors = 0;       ///< CMD reply without the Cartesian pose flag
   uint64_t nonfinite_commands = 0;
