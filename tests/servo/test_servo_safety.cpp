@@ -1,7 +1,9 @@
 // Extremes and safety: zero/huge gains, NaN/Inf, dt = 0 and negative, stale
 // features, force ceiling, contact-loss recovery, workspace box, phase
 // requests, transitions, zero heap allocation per step.
+#include <cstdio>
 #include <limits>
+#include <random>
 
 #include "alloc_counter.hpp"
 #include "servo_test_util.hpp"
@@ -380,4 +382,76 @@ TEST(ServoAllocation, StepNeverAllocates) {
   EXPECT_TRUE(seen[static_cast<int>(ServoStatus::Holding)]);
   EXPECT_TRUE(seen[static_cast<int>(ServoStatus::ForceCeiling)]);
   EXPECT_TRUE(seen[static_cast<int>(ServoStatus::FreeMotion)]);
+}
+
+// Fuzz: 200 000 random steps over the shipped programs with random features
+// (including NaN/Inf, huge values, random statuses and contact types), random
+// poses (including non-unit and zero quaternions), random dt (including 0,
+// negative, NaN) and random phase requests. Invariants: the command is always
+// finite, every increment respects the step limits, the command is a unit quaternion.
+TEST(ServoFuzz, RandomInputsNeverProduceNanOrOversizedSteps) {
+  std::mt19937 rng(12345);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  const double specials[] = {kNaN, kInf, -kInf, 1e300, -1e300, 0.0, 1e-300};
+  auto value = [&](double scale) {
+    const double r = u01(rng);
+    if (r < 0.03) return specials[static_cast<std::size_t>(u01(rng) * 7) % 7];
+    return (2 * u01(rng) - 1) * scale;
+  };
+  int steps = 0;
+  for (const char* file : {"edge_exploration.yaml", "co_manipulation.yaml", "bent_bar.yaml"}) {
+    for (PoseUpdate mode : {PoseUpdate::Integrated, PoseUpdate::Measured}) {
+      ServoParams p = loadShipped(file);
+      p.pose_update = mode;
+      TactileServo s;
+      ASSERT_TRUE(s.configure(p).ok());
+      ServoInput in;
+      ServoOutput out;
+      double t = 0.0;
+      for (int k = 0; k < 200000 / 6; ++k, ++steps) {
+        const double dt = u01(rng) < 0.05 ? value(0.1) : 0.01;
+        t += 0.01;
+        in.time_s = u01(rng) < 0.01 ? kNaN : t;
+        ContactFeatures& f = in.features;
+        f.time_s = u01(rng) < 0.05 ? t - 1.0 : t;
+        f.cop_x = value(0.03);
+        f.cop_y = value(0.015);
+        f.d_z = value(0.01);
+        f.coc_x = value(0.03);
+        f.coc_y = value(0.015);
+        f.alpha_z = value(1.6);
+        f.dzmp_x = f.cop_y - f.coc_y;
+        f.dzmp_y = f.cop_x - f.coc_x;
+        f.force = value(60.0);
+        f.contact = static_cast<ContactType>(static_cast<int>(u01(rng) * 3) % 3);
+        const FeatureStatus st[] = {FeatureStatus::Ok, FeatureStatus::NoContact, FeatureStatus::Saturated,
+                                    FeatureStatus::InvalidInput, FeatureStatus::BadDimensions};
+        f.status = st[static_cast<std::size_t>(u01(rng) * 5) % 5];
+        if (out.valid && u01(rng) < 0.9) {
+          in.flange_measured = out.command.pose;  // the robot follows
+          in.flange_measured.p[0] += value(0.001);
+        } else {
+          for (double& v : in.flange_measured.p) v = value(1.0);
+          for (double& v : in.flange_measured.q) v = value(1.0);
+        }
+        if (u01(rng) < 0.002) s.requestPhase(static_cast<int>(u01(rng) * 5));
+        const Pose before = out.command.pose;
+        const bool was_valid = out.valid;
+        s.step(in, dt, out);
+        ASSERT_TRUE(poseFinite(out.command.pose)) << file << " step " << k;
+        ASSERT_TRUE(out.u_s.allFinite());
+        ASSERT_LE(out.u_s.head<3>().norm(), p.safety.max_trans_step * (1 + 1e-12));
+        ASSERT_LE(out.u_s.tail<3>().norm(), p.safety.max_rot_step * (1 + 1e-12));
+        const auto& q = out.command.pose.q;
+        ASSERT_NEAR(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3], 1.0, 1e-9);
+        if (was_valid && mode == PoseUpdate::Integrated) {  // Eq. 15: the command moves by at most one step
+          // flange displacement <= translation step + lever arm |{e}p{s}| * rotation step
+          ASSERT_LE(transDist(before, out.command.pose),
+                    p.safety.max_trans_step + p.sensor_mount.p.Norm() * p.safety.max_rot_step + 1e-9) << toString(out.command.status)  << " u " << out.u_s.transpose() << " dt " << dt << " phase " << out.phase.name.data() << " before " << before.p[0] << " " << before.p[1] << " " << before.p[2] << " after " << out.command.pose.p[0] << " " << out.command.pose.p[1] << " " << out.command.pose.p[2];
+          ASSERT_LE(rotDist(before, out.command.pose), p.safety.max_rot_step + 1e-9);
+        }
+      }
+    }
+  }
+  std::printf("[ servo    ] fuzz: %d random steps, no NaN, no oversized step\n", steps);
 }

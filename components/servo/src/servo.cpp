@@ -405,10 +405,14 @@ ServoStatus TactileServo::applyIncrement(const KDL::Frame& base, Vec6 u_s, Servo
   // Eq. 12 / Eq. 15: x_d = x + u.
   const KDL::Frame T_gs_new = KDL::addDelta(T_gs, t_g, 1.0);
   KDL::Frame T_ge_new = T_gs_new * T_se_;
+  // Workspace box on the flange position. A base pose already outside the box
+  // widens it to include that pose: an increment may only move back towards
+  // the box, never jump onto it.
   bool clipped = false;
+  const KDL::Vector p0 = base.p;
   for (int i = 0; i < 3; ++i) {
-    const double lo = params_.safety.workspace_min[static_cast<std::size_t>(i)];
-    const double hi = params_.safety.workspace_max[static_cast<std::size_t>(i)];
+    const double lo = std::min(params_.safety.workspace_min[static_cast<std::size_t>(i)], p0(i));
+    const double hi = std::max(params_.safety.workspace_max[static_cast<std::size_t>(i)], p0(i));
     if (T_ge_new.p(i) < lo) { T_ge_new.p(i) = lo; clipped = true; }
     if (T_ge_new.p(i) > hi) { T_ge_new.p(i) = hi; clipped = true; }
   }

@@ -59,7 +59,8 @@
 // SAFETY (beyond the paper):
 //  * per-axis output limits per phase (u_max) and per-cycle translational and
 //    rotational step limits (norms) for every increment, recovery moves included;
-//  * a workspace box on the commanded flange position {g}p{e};
+//  * a workspace box on the commanded flange position {g}p{e} (from a pose
+//    already outside it, only motion back towards it is allowed: no jumps);
 //  * a force ceiling: features.force > ceiling -> status ForceCeiling, retreat
 //    along -z_s (away from the object) by `ceiling_retreat` at the step limit,
 //    then hold; latched until reset() or requestPhase();
