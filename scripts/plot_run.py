@@ -168,10 +168,11 @@ def fig14(run, ts, summary, snaps):
         a.set_xlabel("time (s)")
     a = ax[1, 1]
     if snaps:
-        first, last = snaps[0], snaps[-1]
+        worst = [x for x in snaps if x[1].startswith("largest")]
+        first, last = (worst[0] if worst else snaps[0]), snaps[-1]
         img = np.hstack([first[2], np.full((first[2].shape[0], 1), np.nan), last[2]])
         a.imshow(img, cmap="gray_r", interpolation="nearest")
-        a.set_title(f"(d) tactile image at t={first[0]:.1f} s and t={last[0]:.1f} s", fontsize=9)
+        a.set_title(f"(d) tactile image at t={first[0]:.1f} s ({first[1]}) and t={last[0]:.1f} s", fontsize=9)
     a.axis("off")
     fig.suptitle("Co-manipulation (cf. Fig. 14)")
     fig.tight_layout()

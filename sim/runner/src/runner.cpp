@@ -69,6 +69,8 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
   ContactType last_contact = ContactType::None;
   double t_last_servo = -1.0 / sc.rates.servo;
   bool first_contact_snap = false;
+  Snapshot worst{0.0, "largest |DZMP_y|", TactileFrame{}};
+  double worst_dzmp = -1.0;
   int done_rows = 0;
   Summary& sum = out.summary;
   sum.scene = sc.name;
@@ -144,6 +146,11 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
       row.feature_age = feats.status == FeatureStatus::NotConfigured ? kNaN : t - feats.time_s;
       out.rows.push_back(row);
 
+      if (feats.contact == ContactType::Edge && std::fabs(feats.dzmp_y) > worst_dzmp) {
+        worst_dzmp = std::fabs(feats.dzmp_y);
+        worst.t = t;
+        worst.frame = frame;
+      }
       if (pp.requires_contact && feats.contact != ContactType::None) {
         const KDL::Vector p = T_gs * KDL::Vector(feats.cop_x, feats.cop_y, 0.0);
         out.contacts.push_back({t, {p.x(), p.y(), p.z()}, truth.contact_point_g});
@@ -165,6 +172,7 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
     if (progress && i % progress_every == 0) progress(t, sc.duration);
   }
   if (progress) progress(state.time_s, sc.duration);
+  if (worst_dzmp >= 0.0) out.snapshots.push_back(worst);
   out.snapshots.push_back({state.time_s, "end", frame});
   sum.sim_time_s = state.time_s;
   sum.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
