@@ -64,7 +64,7 @@ struct TrayParams {
   double move_duration_s = 1.0;            ///< linear in time over this duration (s); 0 = jump
   double pitch_stiffness = 0.0;            ///< torsional spring about x_g at the bearing (N m/rad)
   double roll_stiffness = 0.0;             ///< about y_g (N m/rad)
-  double bearing_damping = 0.05;           ///< N m s/rad, both axes (dynamics)
+  double bearing_damping = 0.5;            ///< N m s/rad, both axes (dynamics; bearing friction, lumped)
   double inertia_x = 0.0, inertia_y = 0.0; ///< about the bearing (kg m^2); 0 = from the masses
   double initial_pitch = 0.0, initial_roll = 0.0;  ///< rad
 };

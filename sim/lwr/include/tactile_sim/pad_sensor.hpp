@@ -67,7 +67,7 @@ struct PadParams {
   double modulus = 5.0e7;           ///< foundation modulus of the layer (Pa/m)
   double layer_thickness = 0.003;   ///< m; an object deeper than this at start is "inside the sensor"
   int subsamples = 4;               ///< K: K x K samples per taxel for the tactile image (acquire)
-  int physics_subsamples = 1;       ///< samples per taxel side for the wrench the arm feels (step)
+  int physics_subsamples = 2;       ///< samples per taxel side for the wrench the arm feels (step)
   double housing_size_x = 0.064;    ///< m, outline along x_s
   double housing_size_y = 0.034;    ///< m, outline along y_s
   double housing_recess = 0.002;    ///< m, housing top face below the layer surface
