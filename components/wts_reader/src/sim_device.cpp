@@ -148,47 +148,52 @@ void SimulatedWts::unplug() {
 
 bool SimulatedWts::replug() {
   if (plugged_) return true;
-  tare_.fill(0);
+  {
+    std::lock_guard<std::mutex> lk(mu_);
+    tare_.fill(0);
+  }
   if (!openPty(nullptr)) return false;
   plugged_ = true;
   return true;
 }
 
 void SimulatedWts::sendPacket(std::vector<uint8_t>& pkt) {
-  SimFaults f;
-  {
-    std::lock_guard<std::mutex> lk(mu_);
-    f = faults_;
-  }
-  bool faulted = false;
+  bool faulted = false, stall = false;
+  int stall_ms = 0;
   std::vector<uint8_t> pre;
-  if (f.garbage > 0 && uniform() < f.garbage) {
-    const int n = 1 + static_cast<int>(uniform() * 32);
-    for (int i = 0; i < n; ++i) pre.push_back(static_cast<uint8_t>(uniform() * 256));
-    faulted = true;
+  {
+    std::lock_guard<std::mutex> lk(mu_);  // faults_ and rng_ are shared with setFaults()
+    const SimFaults& f = faults_;
+    if (f.garbage > 0 && uniform() < f.garbage) {
+      const int n = 1 + static_cast<int>(uniform() * 32);
+      for (int i = 0; i < n; ++i) pre.push_back(static_cast<uint8_t>(uniform() * 256));
+      faulted = true;
+    }
+    if (f.stall > 0 && uniform() < f.stall) {
+      stall = true;
+      stall_ms = f.stall_ms;
+      faulted = true;
+    }
+    if (f.bit_flip > 0 && uniform() < f.bit_flip && !pkt.empty()) {
+      const std::size_t i = static_cast<std::size_t>(uniform() * static_cast<double>(pkt.size())) % pkt.size();
+      pkt[i] = static_cast<uint8_t>(pkt[i] ^ (1u << (static_cast<unsigned>(uniform() * 8) & 7u)));
+      faulted = true;
+    }
+    if (f.drop_byte > 0 && uniform() < f.drop_byte && !pkt.empty()) {
+      const std::size_t i = static_cast<std::size_t>(uniform() * static_cast<double>(pkt.size())) % pkt.size();
+      pkt.erase(pkt.begin() + static_cast<std::ptrdiff_t>(i));
+      faulted = true;
+    }
+    if (f.truncate > 0 && uniform() < f.truncate) {
+      pkt.resize(static_cast<std::size_t>(uniform() * static_cast<double>(pkt.size())));
+      faulted = true;
+    }
+    if (f.bad_crc > 0 && uniform() < f.bad_crc && pkt.size() >= 2) {
+      pkt[pkt.size() - 1] ^= 0x5A;
+      faulted = true;
+    }
   }
-  if (f.stall > 0 && uniform() < f.stall) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(f.stall_ms));
-    faulted = true;
-  }
-  if (f.bit_flip > 0 && uniform() < f.bit_flip) {
-    const std::size_t i = static_cast<std::size_t>(uniform() * static_cast<double>(pkt.size())) % pkt.size();
-    pkt[i] = static_cast<uint8_t>(pkt[i] ^ (1u << (static_cast<unsigned>(uniform() * 8) & 7u)));
-    faulted = true;
-  }
-  if (f.drop_byte > 0 && uniform() < f.drop_byte) {
-    const std::size_t i = static_cast<std::size_t>(uniform() * static_cast<double>(pkt.size())) % pkt.size();
-    pkt.erase(pkt.begin() + static_cast<std::ptrdiff_t>(i));
-    faulted = true;
-  }
-  if (f.truncate > 0 && uniform() < f.truncate) {
-    pkt.resize(static_cast<std::size_t>(uniform() * static_cast<double>(pkt.size())));
-    faulted = true;
-  }
-  if (f.bad_crc > 0 && uniform() < f.bad_crc && pkt.size() >= 2) {
-    pkt[pkt.size() - 1] ^= 0x5A;
-    faulted = true;
-  }
+  if (stall) std::this_thread::sleep_for(std::chrono::milliseconds(stall_ms));
   pre.insert(pre.end(), pkt.begin(), pkt.end());
   std::lock_guard<std::mutex> lk(mu_);
   if (faulted) ++stats_.faults;
@@ -231,10 +236,15 @@ void SimulatedWts::sendFrame(uint8_t id, bool with_status) {
     }
   }
   const int n = map_.cells();
+  std::array<uint16_t, kMaxTaxels> tare_copy;
+  {
+    std::lock_guard<std::mutex> lk(mu_);
+    tare_copy = tare_;
+  }
   std::vector<uint16_t> dev(static_cast<std::size_t>(n));
   for (int k = 0; k < n; ++k) {
     const uint16_t v = f.counts[map_.toSensing(k)];
-    const uint16_t tare = tare_[static_cast<std::size_t>(k)];
+    const uint16_t tare = tare_copy[static_cast<std::size_t>(k)];
     uint16_t c = v > tare ? static_cast<uint16_t>(v - tare) : 0;
     if (c > p_.full_scale) c = p_.full_scale;
     dev[static_cast<std::size_t>(k)] = c;
@@ -311,8 +321,10 @@ void SimulatedWts::handle(const PacketView& pkt) {
           if (source_) source_(nowMs(), f);
           else if (!recording_.empty()) f = recording_[rec_index_ % recording_.size()];
         }
+        std::lock_guard<std::mutex> lk(mu_);
         for (int k = 0; k < map_.cells(); ++k) tare_[static_cast<std::size_t>(k)] = f.counts[map_.toSensing(k)];
       } else {
+        std::lock_guard<std::mutex> lk(mu_);
         tare_.fill(0);
       }
       reply(pkt.id, StatusCode::Success, nullptr, 0);
