@@ -1,2 +1,139 @@
+// Real-time factor of the simulator: simulated seconds per wall second
+// (counter "rtf"), for quasi-static vs dynamics and for the physics
+// sub-sampling K = 1/2/4 (and the image sub-sampling of the acquisition), in
+// one run. Scene: the sensor slides at 10 mm/s along a bar with a rounded
+// edge, pressed with ~5 N (the edge-exploration workload), WTS acquisition
+// at 140 Hz.
+//
+//   bench_sim --benchmark_counters_tabular=true
 #include <benchmark/benchmark.h>
+
+#include <cmath>
+
+#include "tactile_sim/world.hpp"
+
+using namespace tactile;
+using namespace tactile::sim;
+
+namespace {
+Pose downPose(double x, double y, double z) {
+  Pose p;
+  p.p = {x, y, z};
+  p.q = {0.0, 1.0, 0.0, 0.0};
+  return p;
+}
+
+constexpr double kBarTop = 0.043;
+
+WorldParams barScene(Fidelity f, int k_phys, int k_img) {
+  WorldParams p;
+  p.fidelity = f;
+  p.pad.physics_subsamples = k_phys;
+  p.pad.subsamples = k_img;
+  ObjectParams bar;
+  bar.name = "bar";
+  bar.type = ObjectType::Bar;
+  bar.radius = 0.003;
+  // Slightly inclined (1 cm over 0.6 m) so that the load is non-uniform.
+  bar.vertices = {{0.3, 0.0005, kBarTop - 0.003 - 0.005}, {0.9, 0.0005, kBarTop - 0.003 + 0.005}};
+  p.objects = {bar};
+  p.use_initial_flange_pose = true;
+  p.initial_flange_pose = downPose(0.58, 0.0, kBarTop + 0.02 + 0.0005);
+  return p;
+}
+
+// One benchmark iteration = one simulated second: sim steps at sim_rate,
+// acquisitions at 140 Hz.
+void runSecond(World& w, double sim_rate, double& t, SimState& s, RawTactileFrame& raw, SensorTruth& truth, double& next_acq) {
+  const double dt = 1.0 / sim_rate;
+  const int n = static_cast<int>(std::lround(sim_rate));
+  for (int i = 0; i < n; ++i) {
+    t += dt;
+    const double x = 0.58 + 0.01 * std::fmod(t, 10.0);  // 10 mm/s, wraps every 10 s
+    w.step(downPose(x, 0.0, kBarTop + 0.02 - 0.005), dt, s);
+    if (t >= next_acq) {
+      w.acquire(raw, truth);
+      next_acq += 1.0 / 140.0;
+    }
+  }
+}
+
+void BM_Sim(benchmark::State& state) {
+  const Fidelity f = state.range(0) == 0 ? Fidelity::QuasiStatic : Fidelity::Dynamics;
+  const double sim_rate = static_cast<double>(state.range(1));
+  const int k_phys = static_cast<int>(state.range(2));
+  const int k_img = static_cast<int>(state.range(3));
+  World w;
+  if (!w.configure(barScene(f, k_phys, k_img)).ok()) {
+    state.SkipWithError("configure failed");
+    return;
+  }
+  SimState s;
+  RawTactileFrame raw;
+  SensorTruth truth;
+  double t = 0.0, next_acq = 0.0;
+  runSecond(w, sim_rate, t, s, raw, truth, next_acq);  // settle into contact
+  double sim_s = 0.0;
+  for (auto _ : state) {
+    runSecond(w, sim_rate, t, s, raw, truth, next_acq);
+    sim_s += 1.0;
+    benchmark::DoNotOptimize(s.normal_force);
+  }
+  state.counters["rtf"] = benchmark::Counter(sim_s, benchmark::Counter::kIsRate);
+  state.counters["force_n"] = s.normal_force;
+  state.counters["status"] = static_cast<double>(s.status);
+  state.SetLabel(std::string(toString(f)) + (fatal(s.status) ? " FATAL" : ""));
+}
+// Args: fidelity (0 quasi-static, 1 dynamics), sim rate (Hz), physics K, image K.
+BENCHMARK(BM_Sim)
+    ->ArgNames({"dyn", "rate", "Kphys", "Kimg"})
+    ->Args({0, 100, 2, 4})
+    ->Args({0, 1000, 2, 4})
+    ->Args({0, 1000, 1, 4})
+    ->Args({0, 1000, 4, 4})
+    ->Args({1, 1000, 1, 4})
+    ->Args({1, 1000, 2, 4})
+    ->Args({1, 1000, 4, 4})
+    ->Args({1, 1000, 2, 1})
+    ->Args({1, 1000, 2, 8})
+    ->Unit(benchmark::kMillisecond);
+
+// Single calls, for the cost breakdown.
+void BM_Step(benchmark::State& state) {
+  const Fidelity f = state.range(0) == 0 ? Fidelity::QuasiStatic : Fidelity::Dynamics;
+  World w;
+  if (!w.configure(barScene(f, static_cast<int>(state.range(1)), 4)).ok()) {
+    state.SkipWithError("configure failed");
+    return;
+  }
+  SimState s;
+  double t = 0.0;
+  for (int i = 0; i < 500; ++i) w.step(downPose(0.58, 0.0, kBarTop + 0.02 - 0.005), 0.001, s);
+  for (auto _ : state) {
+    t += 0.001;
+    w.step(downPose(0.58 + 0.01 * std::fmod(t, 10.0), 0.0, kBarTop + 0.02 - 0.005), 0.001, s);
+    benchmark::DoNotOptimize(s.normal_force);
+  }
+}
+BENCHMARK(BM_Step)->ArgNames({"dyn", "Kphys"})->Args({0, 1})->Args({0, 2})->Args({0, 4})->Args({1, 1})->Args({1, 2})->Args({1, 4})->Unit(benchmark::kMicrosecond);
+
+void BM_Acquire(benchmark::State& state) {
+  World w;
+  if (!w.configure(barScene(Fidelity::QuasiStatic, 2, static_cast<int>(state.range(0)))).ok()) {
+    state.SkipWithError("configure failed");
+    return;
+  }
+  SimState s;
+  for (int i = 0; i < 10; ++i) w.step(downPose(0.58, 0.0, kBarTop + 0.02 - 0.005), 0.01, s);
+  RawTactileFrame raw;
+  SensorTruth truth;
+  for (auto _ : state) {
+    w.acquire(raw, truth);
+    benchmark::DoNotOptimize(raw.counts[40]);
+  }
+}
+BENCHMARK(BM_Acquire)->ArgNames({"Kimg"})->Arg(1)->Arg(4)->Arg(8)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+
 BENCHMARK_MAIN();

@@ -96,6 +96,45 @@ TEST(PadContact, SphereForceIsModulusTimesCapVolume) {
   EXPECT_LT(err_fine, err_coarse);
 }
 
+TEST(PadContact, AcquireMatchesIntegratePadWithFootprintCulling) {
+  // acquire() skips taxel cells outside the objects' footprint; the result
+  // must equal the reference integral of elastic_pad.hpp (no culling) to
+  // rounding (1e-12 N), for a bent bar crossing part of the pad.
+  ObjectParams bent;
+  bent.type = ObjectType::BentBar;
+  bent.radius = 0.003;
+  bent.vertices = {{-0.2, -0.004, 0.0025}, {0.0, 0.002, 0.0018}, {0.2, 0.03, 0.005}};
+  for (int K : {1, 3}) {
+    PadParams p;
+    p.subsamples = K;
+    Rig rig({bent}, p);
+    RawTactileFrame raw;
+    SensorTruth truth;
+    rig.pad.acquire(rig.objects, rig.T, 0.0, raw, truth);
+    PadGeometry g;
+    g.modulus = p.modulus;
+    g.subsamples = K;
+    TactileFrame ref;
+    PadTruth rt;
+    integratePad(
+        g,
+        [&](double x, double y) {
+          int w;
+          return -rig.objects.lowestZ(x, y, w);
+        },
+        ref, &rt);
+    ASSERT_GT(rt.force, 0.1);
+    EXPECT_NEAR(truth.layer.force, rt.force, 1e-12);
+    EXPECT_NEAR(truth.layer.moment_x, rt.moment_x, 1e-12);
+    EXPECT_NEAR(truth.layer.moment_y, rt.moment_y, 1e-12);
+    for (int i = 0; i < 84; ++i)
+      EXPECT_NEAR(rig.pad.trueTaxelForces().force[static_cast<std::size_t>(i)], ref.force[static_cast<std::size_t>(i)], 1e-12);
+    int zero = 0;
+    for (int i = 0; i < 84; ++i) zero += ref.force[static_cast<std::size_t>(i)] == 0.0;
+    EXPECT_GT(zero, 20);  // the bar covers only part of the pad
+  }
+}
+
 TEST(PadContact, HousingContactPushesButGivesNoTaxelSignal) {
   // A 3 mm ball over the housing ring at x = 28 mm (active area ends at 23.8),
   // 3 mm below the layer surface = 1 mm into the housing (recess 2 mm).

@@ -287,15 +287,19 @@ SimStatus LwrArm::settle(const KDL::Frame& T_target, double dt) {
   const double l2 = params_.ik_damping * params_.ik_damping;
   JointVec q = state_.q;
   KDL::Frame T;
-  Jac67 J;
+  bool have_jac = false, converged = false;
   for (int it = 0; it < params_.ik_iterations; ++it) {
     forward(q, T);
     const Vec6 e = toVec(KDL::diff(T, T_target));
-    if (e.head<3>().norm() < 1e-10 && e.tail<3>().norm() < 1e-10) break;
-    jacobian(q, J);
-    const Mat6 JJt = J * J.transpose() + l2 * Mat6::Identity();
+    if (e.head<3>().norm() < 1e-9 && e.tail<3>().norm() < 1e-9) {
+      converged = true;
+      break;
+    }
+    jacobian(q, J_);
+    const Mat6 JJt = J_ * J_.transpose() + l2 * Mat6::Identity();
     const Vec6 y = JJt.ldlt().solve(e);
-    q += J.transpose() * y;  // Eq. 11's quasi-static case: joints follow the Cartesian equilibrium
+    q += J_.transpose() * y;  // Eq. 11's quasi-static case: joints follow the Cartesian equilibrium
+    have_jac = true;
   }
   if (!q.allFinite()) {
     state_ = saved;
@@ -306,7 +310,21 @@ SimStatus LwrArm::settle(const KDL::Frame& T_target, double dt) {
   else
     state_.qd.setZero();
   state_.q = q;
-  return checkState();
+  // Limits; kinematics refreshed once (FK of the final q; the Jacobian of the
+  // last iterate is within the IK tolerance of the final one unless clamped).
+  bool clamped = false;
+  for (int i = 0; i < kLwrJoints; ++i) {
+    if (state_.q[i] < q_min_[i]) { state_.q[i] = q_min_[i]; clamped = true; }
+    if (state_.q[i] > q_max_[i]) { state_.q[i] = q_max_[i]; clamped = true; }
+  }
+  if (clamped || !have_jac) return checkState();
+  if (converged)
+    state_.T_ge = T;  // FK of exactly this q
+  else
+    forward(state_.q, state_.T_ge);
+  state_.twist = J_ * state_.qd;
+  state_.manipulability = manipulability(J_);
+  return state_.manipulability < params_.min_manipulability ? SimStatus::Singularity : SimStatus::Ok;
 }
 
 }  // namespace sim

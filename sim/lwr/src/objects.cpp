@@ -139,8 +139,31 @@ void ObjectSet::trayGravityTorque(const TrayPose& tp, double t, const KDL::Vecto
   ty = tau.y();
 }
 
+void ObjectSet::grow(double xmin, double xmax, double ymin, double ymax) {
+  if (!fp_any_) {
+    fp_ = {xmin, xmax, ymin, ymax};
+    fp_any_ = true;
+    return;
+  }
+  fp_[0] = std::min(fp_[0], xmin);
+  fp_[1] = std::max(fp_[1], xmax);
+  fp_[2] = std::min(fp_[2], ymin);
+  fp_[3] = std::max(fp_[3], ymax);
+}
+
 void ObjectSet::addCapsuleS(const KDL::Vector& a, const KDL::Vector& b, double r, int object, bool cap_a, bool cap_b) {
-  if (n_seg_ < kMaxSegments) {
+  // Only the part of the capsule whose centreline is below z = r can reach
+  // below the surface z = 0: clip the segment to it (footprint culling).
+  const double za = a.z(), zb = b.z();
+  double t0 = 0.0, t1 = 1.0;
+  if (za >= r && zb >= r) {
+    t1 = -1.0;  // entirely above: no contact possible
+  } else if (za >= r) {
+    t0 = (za - r) / (za - zb);
+  } else if (zb >= r) {
+    t1 = (za - r) / (za - zb);
+  }
+  if (t1 >= t0 && n_seg_ < kMaxSegments) {
     Segment& s = seg_[static_cast<std::size_t>(n_seg_++)];
     s.p0 = a;
     KDL::Vector d = b - a;
@@ -148,18 +171,27 @@ void ObjectSet::addCapsuleS(const KDL::Vector& a, const KDL::Vector& b, double r
     s.a = d / s.len;
     s.r = r;
     s.object = object;
-    s.xmin = std::min(a.x(), b.x()) - r;
-    s.xmax = std::max(a.x(), b.x()) + r;
-    s.ymin = std::min(a.y(), b.y()) - r;
-    s.ymax = std::max(a.y(), b.y()) + r;
+    const KDL::Vector c0 = a + t0 * d, c1 = a + t1 * d;
+    s.xmin = std::min(c0.x(), c1.x()) - r;
+    s.xmax = std::max(c0.x(), c1.x()) + r;
+    s.ymin = std::min(c0.y(), c1.y()) - r;
+    s.ymax = std::max(c0.y(), c1.y()) + r;
+    grow(s.xmin, s.xmax, s.ymin, s.ymax);
   }
-  if (cap_a && n_ball_ < static_cast<int>(ball_.size())) ball_[static_cast<std::size_t>(n_ball_++)] = Ball{a, r, object};
-  if (cap_b && n_ball_ < static_cast<int>(ball_.size())) ball_[static_cast<std::size_t>(n_ball_++)] = Ball{b, r, object};
+  if (cap_a && za < r && n_ball_ < static_cast<int>(ball_.size())) {
+    ball_[static_cast<std::size_t>(n_ball_++)] = Ball{a, r, object};
+    grow(a.x() - r, a.x() + r, a.y() - r, a.y() + r);
+  }
+  if (cap_b && zb < r && n_ball_ < static_cast<int>(ball_.size())) {
+    ball_[static_cast<std::size_t>(n_ball_++)] = Ball{b, r, object};
+    grow(b.x() - r, b.x() + r, b.y() - r, b.y() + r);
+  }
 }
 
 void ObjectSet::pose(const KDL::Frame& T_gs, const TrayPose& tp) {
   const KDL::Frame T_sg = T_gs.Inverse();
   n_seg_ = n_ball_ = n_plane_ = 0;
+  fp_any_ = false;
   for (int i = 0; i < n_objects_; ++i) {
     const ObjectParams& o = params_[static_cast<std::size_t>(i)];
     switch (o.type) {
@@ -168,12 +200,20 @@ void ObjectSet::pose(const KDL::Frame& T_gs, const TrayPose& tp) {
         n.Normalize();
         const KDL::Vector ns = T_sg.M * n;
         const KDL::Vector ps = T_sg * V(o.point);
-        plane_[static_cast<std::size_t>(n_plane_++)] = PlaneS{ns, KDL::dot(ns, ps), i};
+        if (ns.z() < -1e-6) {  // faces the sensing surface: may reach anywhere
+          plane_[static_cast<std::size_t>(n_plane_++)] = PlaneS{ns, KDL::dot(ns, ps), i};
+          grow(-1e9, 1e9, -1e9, 1e9);
+        }
         break;
       }
-      case ObjectType::Sphere:
-        ball_[static_cast<std::size_t>(n_ball_++)] = Ball{T_sg * V(o.center), o.radius, i};
+      case ObjectType::Sphere: {
+        const KDL::Vector c = T_sg * V(o.center);
+        if (c.z() < o.radius) {
+          ball_[static_cast<std::size_t>(n_ball_++)] = Ball{c, o.radius, i};
+          grow(c.x() - o.radius, c.x() + o.radius, c.y() - o.radius, c.y() + o.radius);
+        }
         break;
+      }
       case ObjectType::Bar:
       case ObjectType::BentBar: {
         const std::size_t nv = o.vertices.size();

@@ -133,10 +133,13 @@ void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, Conta
   const int tray = objects.trayIndex();
   const KDL::Vector zs = T_gs.M.UnitZ();
   const KDL::Vector B = tray >= 0 ? objects.bearing() : KDL::Vector::Zero();
+  double fx0, fx1, fy0, fy1;
+  if (!objects.footprint(fx0, fx1, fy0, fy1)) return;  // nothing reaches below the surface
   // Only the (z, wx, wy) block is non-zero: g = (0, 0, -1, -y, x, 0).
   double Fz = 0, Mx = 0, My = 0, Kzz = 0, Kzx = 0, Kzy = 0, Kxx = 0, Kxy = 0, Kyy = 0;
   for (int i = 0; i < n_samples_; ++i) {
     const Sample& s = samples_[static_cast<std::size_t>(i)];
+    if (s.x < fx0 || s.x > fx1 || s.y < fy0 || s.y > fy1) continue;
     int which;
     const double zl = objects.lowestZ(s.x, s.y, which);
     const double d = s.z - zl;  // penetration into the layer (z = 0) or the housing (z = -recess)
@@ -214,27 +217,54 @@ void PadSensor::maxPenetration(const ObjectSet& objects, double& layer, double& 
 }
 
 void PadSensor::acquire(const ObjectSet& objects, const KDL::Frame& T_gs, double t, RawTactileFrame& raw, SensorTruth& truth) {
-  PadGeometry g;
-  g.rows = params_.rows;
-  g.cols = params_.cols;
-  g.pitch = params_.pitch;
-  g.modulus = params_.modulus;
-  g.subsamples = params_.subsamples;
+  // Same Winkler integral as integratePad() (elastic_pad.hpp; a test checks
+  // they agree), but taxel cells outside the objects' footprint are skipped.
+  const int rows = params_.rows, cols = params_.cols, K = params_.subsamples;
+  const double pitch = params_.pitch, h = pitch / K, dA = h * h, kmod = params_.modulus;
   const double lim = params_.depth_limit;
-  integratePad(
-      g,
-      [&objects, lim](double x, double y) {
-        int which;
-        const double d = -objects.lowestZ(x, y, which);
-        return d > lim ? -1.0 : d;
-      },
-      image_, &truth.layer);
+  double fx0 = 0, fx1 = 0, fy0 = 0, fy1 = 0;
+  const bool any = objects.footprint(fx0, fx1, fy0, fy1);
+  image_.rows = static_cast<uint16_t>(rows);
+  image_.cols = static_cast<uint16_t>(cols);
+  image_.saturated_count = 0;
+  double F = 0, Mx = 0, My = 0;
+  for (int r = 0; r < rows; ++r) {
+    const double yc = (r - (rows - 1) / 2.0) * pitch;
+    const bool row_in = any && yc + 0.5 * pitch >= fy0 && yc - 0.5 * pitch <= fy1;
+    for (int c = 0; c < cols; ++c) {
+      const double xc = (c - (cols - 1) / 2.0) * pitch;
+      double f = 0.0;
+      if (row_in && xc + 0.5 * pitch >= fx0 && xc - 0.5 * pitch <= fx1) {
+        for (int i = 0; i < K; ++i) {
+          const double y = yc - 0.5 * pitch + (i + 0.5) * h;
+          for (int j = 0; j < K; ++j) {
+            const double x = xc - 0.5 * pitch + (j + 0.5) * h;
+            int which;
+            const double d = -objects.lowestZ(x, y, which);
+            if (d > 0.0 && d <= lim) {
+              const double df = kmod * d * dA;
+              f += df;
+              Mx += y * df;
+              My += x * df;
+            }
+          }
+        }
+      }
+      image_.force[static_cast<std::size_t>(r * cols + c)] = f;
+      F += f;
+    }
+  }
+  truth.layer.force = F;
+  truth.layer.cop_x = F > 0 ? My / F : 0.0;
+  truth.layer.cop_y = F > 0 ? Mx / F : 0.0;
+  truth.layer.moment_x = Mx;
+  truth.layer.moment_y = -My;
   image_.time_s = t;
   // Housing share (physics sampling of the ring).
   double Fh = 0, Mxh = 0, Myh = 0;
-  for (int i = 0; i < n_samples_; ++i) {
+  for (int i = 0; i < n_samples_ && any; ++i) {
     const Sample& s = samples_[static_cast<std::size_t>(i)];
-    if (s.layer) continue;
+    if (s.layer || s.x < fx0 || s.x > fx1 || s.y < fy0 || s.y > fy1) continue;
     int which;
     const double zl = objects.lowestZ(s.x, s.y, which);
     const double d = s.z - zl;

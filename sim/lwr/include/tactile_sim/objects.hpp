@@ -108,6 +108,15 @@ class ObjectSet {
   /// (+inf if no object crosses the column). `which` = object index.
   double lowestZ(double x, double y, int& which) const;
 
+  /// Bounding box in {s} (x, y) of every object part that reaches below the
+  /// sensing surface (z < 0) after pose(); false if nothing does (no contact
+  /// possible anywhere: layer and housing are both at z <= 0). Conservative:
+  /// lowestZ(x, y) >= 0 outside it.
+  bool footprint(double& xmin, double& xmax, double& ymin, double& ymax) const {
+    xmin = fp_[0]; xmax = fp_[1]; ymin = fp_[2]; ymax = fp_[3];
+    return fp_any_;
+  }
+
   /// Tray bar endpoints in {g} at a tray pose.
   void trayBar(const TrayPose& tp, KDL::Vector& a, KDL::Vector& b) const;
   /// Moving weight position in {t} at time t (scripted move).
@@ -147,6 +156,9 @@ class ObjectSet {
   std::array<Ball, kMaxSegments + kMaxObjects> ball_{};
   std::array<PlaneS, kMaxObjects> plane_{};
   int n_seg_ = 0, n_ball_ = 0, n_plane_ = 0;
+  std::array<double, 4> fp_{};  // union footprint xmin, xmax, ymin, ymax
+  bool fp_any_ = false;
+  void grow(double xmin, double xmax, double ymin, double ymax);
 };
 
 }  // namespace sim
