@@ -8,6 +8,8 @@
 // exits after N accepted measurement packets.
 //
 // Options:
+//   --params FILE        bridge/UDP parameters from the `fri:` mapping of FILE
+//                        (params/fri.yaml); other options override it
 //   --bind ADDR          local IPv4 address to bind (default 0.0.0.0)
 //   --radius M           circle radius (default 0.01 m), ramped in smoothly
 //   --circle-period S    circle period (default 10 s)
@@ -25,6 +27,7 @@
 #include <arpa/inet.h>
 
 #include "tactile_fri/bridge.hpp"
+#include "tactile_fri/params_io.hpp"
 #include "tactile_fri/udp.hpp"
 
 using namespace tactile;
@@ -72,6 +75,14 @@ int main(int argc, char** argv) {
   UdpParams up;
   BridgeParams bp;
   double radius = 0.01, circle_period = 10.0, idle_timeout = 10.0;
+  for (int i = 1; i + 1 < argc; ++i) {  // the parameter file first, so that options override it
+    if (std::string(argv[i]) == "--params") {
+      if (ConfigResult r = loadBridgeParamsFile(argv[i + 1], bp, up); !r) {
+        std::fprintf(stderr, "fri_check: %s\n", r.message().c_str());
+        return 1;
+      }
+    }
+  }
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool has = i + 1 < argc;
@@ -87,6 +98,8 @@ int main(int argc, char** argv) {
     } else if (a == "--motion" && has) {
       motion = argv[++i];
       if (motion != "hold" && motion != "circle") return usage("--motion must be hold or circle");
+    } else if (a == "--params" && has) {
+      ++i;  // loaded above
     } else if (a == "--bind" && has) {
       up.bind_address = argv[++i];
     } else if (a == "--radius" && has) {
@@ -105,8 +118,10 @@ int main(int argc, char** argv) {
       return usage(("unknown or incomplete argument '" + a + "'").c_str());
     }
   }
-  if (port < 0) return usage("--port is required");
-  up.port = static_cast<uint16_t>(port);
+  bool have_params = false;
+  for (int i = 1; i < argc; ++i) have_params = have_params || std::string(argv[i]) == "--params";
+  if (port < 0 && !have_params) return usage("--port (or --params FILE with fri.udp.port) is required");
+  if (port >= 0) up.port = static_cast<uint16_t>(port);
 
   FriBridge bridge;
   if (ConfigResult r = bridge.configure(bp); !r) {

@@ -1,0 +1,65 @@
+#include "tactile_fri/params_io.hpp"
+
+#include <vector>
+
+namespace tactile {
+namespace fri {
+
+using config::checkKeys;
+using config::read;
+using config::Where;
+
+namespace {
+ConfigResult readSix(const YAML::Node& node, const char* key, std::array<double, 6>& out, const Where& where) {
+  if (!node[key]) return ConfigResult::success();
+  std::vector<double> v;
+  ConfigResult r = read(node, key, v, where);
+  if (!r) return r;
+  if (v.size() != 6) return rangeError(where.child(key).str() + " (length)", v.size(), "must have 6 entries");
+  for (std::size_t i = 0; i < 6; ++i) out[i] = v[i];
+  return ConfigResult::success();
+}
+}  // namespace
+
+ConfigResult loadBridgeParams(const YAML::Node& node, const Where& where, BridgeParams& bp, UdpParams& up) {
+  if (node) {
+    ConfigResult r = checkKeys(node, where,
+                               {"max_lin_speed", "max_rot_speed", "nominal_period_s", "max_desired_age_s",
+                                "resync_after", "rewind_on_refl", "command_impedance", "cart_stiffness",
+                                "cart_damping", "udp"});
+    if (!r) return r;
+    for (auto rr : {read(node, "max_lin_speed", bp.max_lin_speed, where),
+                    read(node, "max_rot_speed", bp.max_rot_speed, where),
+                    read(node, "nominal_period_s", bp.nominal_period_s, where),
+                    read(node, "max_desired_age_s", bp.max_desired_age_s, where),
+                    read(node, "resync_after", bp.resync_after, where),
+                    read(node, "rewind_on_refl", bp.rewind_on_refl, where),
+                    read(node, "command_impedance", bp.command_impedance, where),
+                    readSix(node, "cart_stiffness", bp.cart_stiffness, where),
+                    readSix(node, "cart_damping", bp.cart_damping, where)})
+      if (!rr) return rr;
+    if (const YAML::Node u = node["udp"]) {
+      const Where uw = where.child("udp");
+      if (!(r = checkKeys(u, uw, {"bind_address", "port"}))) return r;
+      if (!(r = read(u, "bind_address", up.bind_address, uw))) return r;
+      int port = up.port;
+      if (!(r = read(u, "port", port, uw))) return r;
+      if (port < 0 || port > 65535) return rangeError(uw.child("port").str(), port, "must be in [0, 65535]");
+      up.port = static_cast<uint16_t>(port);
+    }
+  }
+  FriBridge scratch;
+  const ConfigResult v = scratch.configure(bp);
+  if (!v) return ConfigResult::failure((where.file.empty() ? std::string() : where.file + ": ") + v.message());
+  return v;
+}
+
+ConfigResult loadBridgeParamsFile(const std::string& file, BridgeParams& bp, UdpParams& up) {
+  YAML::Node root;
+  ConfigResult r = config::loadFile(file, root);
+  if (!r) return r;
+  return loadBridgeParams(root["fri"], Where{file, "fri"}, bp, up);
+}
+
+}  // namespace fri
+}  // namespace tactile
