@@ -42,14 +42,15 @@ WorldParams barScene(Fidelity f, int k_phys, int k_img) {
   return p;
 }
 
-// One benchmark iteration = one simulated second: sim steps at sim_rate,
-// acquisitions at 140 Hz.
+// One benchmark iteration = one simulated second: sim steps at sim_rate, the
+// command updated at the 100 Hz servo rate (Table 2), acquisitions at 140 Hz.
 void runSecond(World& w, double sim_rate, double& t, SimState& s, RawTactileFrame& raw, SensorTruth& truth, double& next_acq) {
   const double dt = 1.0 / sim_rate;
   const int n = static_cast<int>(std::lround(sim_rate));
   for (int i = 0; i < n; ++i) {
     t += dt;
-    const double x = 0.58 + 0.01 * std::fmod(t, 10.0);  // 10 mm/s, wraps every 10 s
+    const double ts = std::floor(t * 100.0 + 1e-9) / 100.0;  // servo sample time
+    const double x = 0.58 + 0.01 * std::fmod(ts, 10.0);     // 10 mm/s, wraps every 10 s
     w.step(downPose(x, 0.0, kBarTop + 0.02 - 0.005), dt, s);
     if (t >= next_acq) {
       w.acquire(raw, truth);

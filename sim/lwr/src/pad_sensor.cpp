@@ -291,7 +291,10 @@ void PadSensor::acquire(const ObjectSet& objects, const KDL::Frame& T_gs, double
     for (int c = 0; c < params_.cols; ++c) {
       const std::size_t i = static_cast<std::size_t>(r * params_.cols + c);
       double n = countsFor(r, c, image_.force[i]);
-      if (params_.noise_counts > 0.0) n += params_.noise_counts * normal_(rng_);
+      // A taxel more than 10 sigma below its threshold reads 0 whatever the
+      // noise draw: skip the draw (still deterministic for a seed).
+      if (params_.noise_counts > 0.0 && n + 10.0 * params_.noise_counts >= threshold_counts_[i])
+        n += params_.noise_counts * normal_(rng_);
       n = std::round(n);
       if (n < 0.0) n = 0.0;
       if (n > fs) n = fs;

@@ -20,6 +20,15 @@ bool parseFidelity(const std::string& s, Fidelity& out) {
 }
 
 namespace {
+bool sameFrame(const KDL::Frame& a, const KDL::Frame& b) {
+  for (int i = 0; i < 3; ++i)
+    if (a.p(i) != b.p(i)) return false;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (a.M(i, j) != b.M(i, j)) return false;
+  return true;
+}
+
 SimStatus worst(SimStatus a, SimStatus b) { return static_cast<uint8_t>(a) >= static_cast<uint8_t>(b) ? a : b; }
 
 Vec6 toVec(const KDL::Twist& t) {
@@ -116,6 +125,7 @@ ConfigResult World::configure(const WorldParams& p) {
   }
   pad_.evaluate(objects_, state_.T_gs, contact_);
   acq_seq_ = 0;
+  qs_valid_ = false;
   state_.time_s = 0.0;
   state_.step = 0;
   configured_ = true;
@@ -124,6 +134,7 @@ ConfigResult World::configure(const WorldParams& p) {
 }
 
 void World::setExternalWrench(const std::array<double, 6>& w) {
+  qs_valid_ = false;
   for (int i = 0; i < 6; ++i) {
     const double v = w[static_cast<std::size_t>(i)];
     W_ext_[i] = std::isfinite(v) ? v : 0.0;
@@ -167,6 +178,17 @@ SimStatus World::step(const tactile::Pose& cmd, double dt, SimState& out) {
 
 SimStatus World::stepQuasiStatic(const KDL::Frame& T_cmd, double dt) {
   const bool tray = objects_.hasTray();
+  // Unchanged command and a static world: the previous (converged) equilibrium holds.
+  bool moving = false;
+  if (tray) {
+    const TrayParams& tp = objects_.tray();
+    moving = state_.time_s - dt <= tp.move_start_s + tp.move_duration_s && state_.time_s >= tp.move_start_s;
+  }
+  if (qs_valid_ && !moving && sameFrame(T_cmd, qs_cmd_)) {
+    arm_.hold();
+    last_iterations_ = 0;
+    return qs_status_;
+  }
   const KDL::Vector g(params_.arm.gravity[0], params_.arm.gravity[1], params_.arm.gravity[2]);
   KDL::Frame T = T_eq_;
   TrayPose th = tray_;
@@ -243,6 +265,9 @@ SimStatus World::stepQuasiStatic(const KDL::Frame& T_cmd, double dt) {
     pad_.evaluate(objects_, state_.T_gs, contact_);
   }
   if (!converged) s = worst(s, SimStatus::NotConverged);
+  qs_valid_ = converged && !fatal(s);
+  qs_cmd_ = T_cmd;
+  qs_status_ = s;
   return s;
 }
 

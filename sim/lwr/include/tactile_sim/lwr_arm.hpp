@@ -160,6 +160,12 @@ class LwrArm {
   /// the finite difference over dt (zero when dt <= 0).
   SimStatus settle(const KDL::Frame& T_target, double dt = 0.0);
 
+  /// Quasi-static hold: zero joint and Cartesian velocity, pose unchanged.
+  void hold() {
+    state_.qd.setZero();
+    state_.twist.setZero();
+  }
+
   /// Joint-space inertia matrix at q (for tests / effective masses).
   void massMatrix(const JointVec& q, Eigen::Matrix<double, 7, 7>& M) const;
   /// Gravity torque g(q).

@@ -131,6 +131,11 @@ class World {
   Vec6 W_ext_ = Vec6::Zero();
   uint32_t acq_seq_ = 0;
   int last_iterations_ = 0;
+  // Quasi-static: the equilibrium is a function of the command and the world;
+  // when neither changed since a converged solve, step() only advances time.
+  bool qs_valid_ = false;
+  KDL::Frame qs_cmd_;
+  SimStatus qs_status_ = SimStatus::Ok;
 };
 
 }  // namespace sim
