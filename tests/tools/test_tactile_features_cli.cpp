@@ -11,15 +11,15 @@
 
 namespace {
 
-struct Run {
+struct CliRun {
   int code;
   std::string out, err;
 };
 
-Run run(const std::string& args) {
+CliRun run(const std::string& args) {
   const std::string errFile = testing::TempDir() + "cli_stderr.txt";
   const std::string cmd = std::string(TACTILE_FEATURES_BIN) + " " + args + " 2>" + errFile;
-  Run r{};
+  CliRun r{};
   FILE* p = popen(cmd.c_str(), "r");
   char buf[4096];
   std::size_t n;
@@ -56,7 +56,7 @@ std::vector<std::string> lines(const std::string& s) {
 TEST(TactileFeaturesCli, WritesOneJsonObjectPerFrameWithAllKeys) {
   const std::string file = testing::TempDir() + "frames_ok.csv";
   std::ofstream(file) << "# comment\n" << frameLine(2.0, 2, 6) << "\n\n" << frameLine(1.0, 4, 10) << "\n";
-  const Run r = run(file);
+  const CliRun r = run(file);
   EXPECT_EQ(r.code, 0) << r.err;
   const auto out = lines(r.out);
   ASSERT_EQ(out.size(), 2u);
@@ -79,7 +79,7 @@ TEST(TactileFeaturesCli, MalformedLinesAreNamedSkippedAndFailTheExitCode) {
                       << "1,2,abc\n"
                       << "nan," << frameLine(2.0, 2, 6).substr(2) << "\n"
                       << frameLine(1.0, 1, 3) << "\n";
-  const Run r = run(file);
+  const CliRun r = run(file);
   EXPECT_EQ(r.code, 1);
   EXPECT_EQ(lines(r.out).size(), 2u) << "good lines before and after the bad ones are processed";
   EXPECT_NE(r.err.find(":2: expected 84 values, got 83"), std::string::npos) << r.err;
@@ -90,7 +90,7 @@ TEST(TactileFeaturesCli, MalformedLinesAreNamedSkippedAndFailTheExitCode) {
 TEST(TactileFeaturesCli, OptionsAndUsageErrors) {
   const std::string file = testing::TempDir() + "frames_small.csv";
   std::ofstream(file) << "0,1,0,0\n";
-  Run r = run("--rows 2 --cols 2 --pitch 0.01 --threshold otsu " + file);
+  CliRun r = run("--rows 2 --cols 2 --pitch 0.01 --threshold otsu " + file);
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("\"cop_x\":0.005,"), std::string::npos) << r.out;
   r = run("--pitch -1 " + file);
@@ -104,7 +104,7 @@ TEST(TactileFeaturesCli, OptionsAndUsageErrors) {
 }
 
 TEST(TactileFeaturesCli, ShippedSampleRecordingIsClean) {
-  const Run r = run(TACTILE_SAMPLE_CSV);
+  const CliRun r = run(TACTILE_SAMPLE_CSV);
   EXPECT_EQ(r.code, 0) << r.err;
   const auto out = lines(r.out);
   EXPECT_GE(out.size(), 200u);
