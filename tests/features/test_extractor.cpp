@@ -486,3 +486,20 @@ TEST(FeatureRealTime, AllocationCounterDetectsAllocations) {
   (void)keep;
   EXPECT_GE(scope.count(), 1u);
 }
+
+TEST(FeatureContactType, ShortBlobsAreNotEdgesEvenWithZeroMinorSpread) {
+  FeatureExtractor ex = makeExtractor();
+  ContactFeatures out;
+  TactileFrame f = blankFrame();
+  f.at(2, 6) = f.at(2, 7) = 1.0;  // two taxels: lambda2 = 0, length sqrt(3) pitch
+  ex.step(f, out);
+  EXPECT_EQ(out.contact, ContactType::Point);
+  f.at(2, 8) = 1.0;  // three: length sqrt(8) pitch > 2.5 pitch
+  ex.reset();
+  ex.step(f, out);
+  EXPECT_EQ(out.contact, ContactType::Edge);
+  FeatureParams p;
+  p.edge_min_length = -1.0;
+  FeatureExtractor bad;
+  EXPECT_NE(bad.configure(p).message().find("features.edge_min_length"), std::string::npos);
+}

@@ -25,6 +25,8 @@ ConfigResult FeatureExtractor::configure(const FeatureParams& p) {
   if (!(p.edge_ratio_exit >= 1.0) || !(p.edge_ratio_exit <= p.edge_ratio))
     return rangeError("features.edge_ratio_exit", p.edge_ratio_exit,
                       "must be in [1, edge_ratio = " + std::to_string(p.edge_ratio) + "]");
+  if (!(p.edge_min_length >= 0.0) || !std::isfinite(p.edge_min_length))
+    return rangeError("features.edge_min_length", p.edge_min_length, "must be finite and >= 0 (m)");
   if (!(p.alpha_hysteresis >= 0.0) || !(p.alpha_hysteresis <= kPi / 4))
     return rangeError("features.alpha_hysteresis", p.alpha_hysteresis, "must be in [0, pi/4] (rad)");
   if (!(p.isotropy_tol >= 0.0) || !(p.isotropy_tol < 1.0))
@@ -206,7 +208,8 @@ FeatureStatus FeatureExtractor::step(const TactileFrame& frame, ContactFeatures&
   if (m00 > 0.0 && fmax > params_.contact_threshold) {
     const double l1 = out.lambda1, l2 = out.lambda2;
     const double ratio = type_prev_ == ContactType::Edge ? params_.edge_ratio_exit : params_.edge_ratio;
-    type = (l1 > 0.0 && l1 >= ratio * l2) ? ContactType::Edge : ContactType::Point;
+    const bool long_enough = 12.0 * l1 >= params_.edge_min_length * params_.edge_min_length;
+    type = (l1 > 0.0 && l1 >= ratio * l2 && long_enough) ? ContactType::Edge : ContactType::Point;
   }
   out.contact = type;
   type_prev_ = type;

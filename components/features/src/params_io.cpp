@@ -10,12 +10,13 @@ ConfigResult loadFeatureParams(const YAML::Node& node, const Where& where, Featu
   if (!node) return ConfigResult::success();
   ConfigResult r = checkKeys(node, where,
                              {"rows", "cols", "pitch", "c_z", "threshold", "contact_threshold", "edge_ratio",
-                              "edge_ratio_exit", "alpha_hysteresis_deg", "isotropy_tol"});
+                              "edge_ratio_exit", "edge_min_length", "alpha_hysteresis_deg", "isotropy_tol"});
   if (!r) return r;
   for (auto rr : {read(node, "rows", p.rows, where), read(node, "cols", p.cols, where),
                   read(node, "pitch", p.pitch, where), read(node, "c_z", p.c_z, where),
                   read(node, "contact_threshold", p.contact_threshold, where),
                   read(node, "edge_ratio", p.edge_ratio, where), read(node, "edge_ratio_exit", p.edge_ratio_exit, where),
+                  read(node, "edge_min_length", p.edge_min_length, where),
                   read(node, "isotropy_tol", p.isotropy_tol, where)})
     if (!rr) return rr;
   if (node["alpha_hysteresis_deg"]) {

@@ -12,7 +12,8 @@
 //   Q   = [mu20 mu11; mu11 mu02] / M00   (pressure-weighted covariance, m^2)
 //   lambda1 >= lambda2 = eig(Q);  alpha_z = angle of U1 from x_s  (Eq. B.4, B.5)
 //   contact type: none if max f_i < contact_threshold, else edge when
-//   lambda1 >= edge_ratio * lambda2 (Eq. 5), else point.
+//   lambda1 >= edge_ratio * lambda2 (Eq. 5) and sqrt(12 lambda1) >=
+//   edge_min_length (a line that short is a blob), else point.
 //
 // Deliberate choices, each documented where implemented:
 //  * Q is the pressure-weighted covariance (second central moments / M00),
@@ -57,6 +58,10 @@ struct FeatureParams {
   double contact_threshold = 0.2;             ///< N, >= 0: any taxel above -> contact
   double edge_ratio = 5.0;                    ///< lambda1/lambda2 to enter "edge", >= 1
   double edge_ratio_exit = 4.0;               ///< ratio below which an edge becomes a point, in [1, edge_ratio]
+  /// An edge must also be long: the length of a uniform line with the same
+  /// spread, sqrt(12 lambda1), must reach this (m, >= 0). Without it a
+  /// two-taxel blob (lambda2 = 0) would be an "edge". Default 2.5 pitches.
+  double edge_min_length = 2.5 * kDefaultPitch;
   double alpha_hysteresis = 10.0 * kPi / 180; ///< rad, in [0, pi/4]
   double isotropy_tol = 1e-6;                 ///< relative eigenvalue gap below which alpha_z is held, in [0, 1)
 };
