@@ -66,7 +66,7 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
   SimState state = world_.state();
   Pose cmd = state.flange_g;
   int last_phase = -1;
-  ContactType last_contact = ContactType::None;
+  int contact_run = 0, absent_run = 0;
   double t_last_servo = -1.0 / sc.rates.servo;
   bool first_contact_snap = false;
   Snapshot worst{0.0, "largest |DZMP_y|", TactileFrame{}};
@@ -113,9 +113,17 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
         out.snapshots.push_back({t, "first contact", frame});
         first_contact_snap = true;
       }
-      if (pp.requires_contact && last_contact != ContactType::None && feats.contact == ContactType::None)
-        ++sum.contact_lost_count;
-      last_contact = feats.contact;
+      // A loss is a contact that held for >= 5 servo cycles and then stayed
+      // absent for >= 5 cycles in a phase that needs it: single-frame
+      // flicker of a taxel at the firing threshold is not a loss.
+      if (feats.contact != ContactType::None) {
+        ++contact_run;
+        absent_run = 0;
+      } else {
+        ++absent_run;
+        if (pp.requires_contact && absent_run == 5 && contact_run >= 5) ++sum.contact_lost_count;
+        if (absent_run >= 5) contact_run = 0;
+      }
 
       LogRow row;
       row.t = t;

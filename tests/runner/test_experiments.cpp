@@ -1,0 +1,251 @@
+// The paper's experiments, reproduced headless and asserted on the runner's
+// summary (issue 4, item 5). Each test runs a shipped scene in-process with the
+// same cores the RTT components wrap; numbers come from the physics, not from
+// scripting. Tolerances are the issue's unless stated.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <string>
+
+#include "tactile_sim/runner.hpp"
+
+using namespace tactile;
+using namespace tactile::sim;
+
+namespace {
+
+const std::string kScenes = std::string(TACTILE_SOURCE_DIR) + "/sim/scenes/";
+
+RunResult runScene(const std::string& name, ControllerMode mode = ControllerMode::Proposed, Scene* out = nullptr) {
+  Scene sc;
+  const ConfigResult r = loadScene(kScenes + name, sc);
+  EXPECT_TRUE(r.ok()) << r.message();
+  sc.controller = mode;
+  Runner runner;
+  const ConfigResult c = runner.configure(sc);
+  EXPECT_TRUE(c.ok()) << c.message();
+  RunResult res;
+  runner.run(res);
+  if (out) *out = sc;
+  return res;
+}
+
+double tEnter(const RunResult& r, const std::string& phase) {
+  for (const auto& p : r.phases)
+    if (p.name == phase) return p.t_enter;
+  return NAN;
+}
+
+}  // namespace
+
+// (a) Edge exploration (Sec. 5.2, Fig. 9/10): contact from free motion, phase II
+// aligns, the switch to edge control happens on edge detection, phase IV
+// slides >= 0.15 m along the bar; alignment < 10 s (paper: ~100 s).
+TEST(Experiments, EdgeExploration) {
+  const RunResult r = runScene("edge_exploration.yaml");
+  const Summary& s = r.summary;
+  EXPECT_EQ(s.status, "ok");
+  EXPECT_EQ(s.exit_code, 0);
+  const double t1 = tEnter(r, "free_motion"), t2 = tEnter(r, "align"), t3 = tEnter(r, "edge_control"),
+               t4 = tEnter(r, "explore");
+  ASSERT_TRUE(std::isfinite(t2) && std::isfinite(t3) && std::isfinite(t4));
+  EXPECT_LT(t1, t2);
+  EXPECT_LT(t2, t3);
+  EXPECT_LT(t3, t4);
+  EXPECT_GT(t2, 0.5) << "contact must come from free motion, not from the start pose";
+  // The switch to edge control happened on an edge: the row at t3 sees an edge.
+  for (const auto& row : r.rows)
+    if (row.t >= t3 - 1e-9) {
+      EXPECT_EQ(row.contact, ContactType::Edge);
+      break;
+    }
+  EXPECT_LT(s.alignment_time_s, 10.0);
+  EXPECT_GE(s.path_length_m, 0.15);
+  // While sliding, the true force stays near the 5 N set point (the taxels'
+  // 0.2 N firing threshold hides some of the line load: true > measured).
+  EXPECT_NEAR(s.force_true_mean_n, 5.0, 1.0);
+  EXPECT_LT(s.force_true_rms_error_n, 1.0);
+  // Contact may flicker while the first taxels cross the 0.2 N firing
+  // threshold at the onset (counted in contact_lost_count), but it is never
+  // lost while sliding, until the bar's end ends the exploration.
+  EXPECT_LE(s.contact_lost_count, 3);
+  const double t_done = tEnter(r, "done");
+  int absent = 0, worst_absent = 0;
+  for (const auto& row : r.rows) {
+    if (row.t < t4 || (std::isfinite(t_done) && row.t >= t_done - 0.5)) continue;
+    absent = row.contact == ContactType::None ? absent + 1 : 0;
+    worst_absent = std::max(worst_absent, absent);
+  }
+  EXPECT_LT(worst_absent, 5) << "servo cycles without contact while sliding";
+  // The reconstructed cloud follows the true contact points (Fig. 9f).
+  ASSERT_GT(r.contacts.size(), 500u);
+  double worst = 0;
+  for (const auto& c : r.contacts) {
+    if (c.t < t4 + 2.0) continue;
+    double d2 = 0;
+    for (int k = 0; k < 3; ++k) d2 += (c.p[k] - c.truth[k]) * (c.p[k] - c.truth[k]);
+    worst = std::max(worst, std::sqrt(d2));
+  }
+  EXPECT_LT(worst, 0.005) << "CoP in {g} within 5 mm of the true pressure centre while sliding";
+}
+
+// (b) Bent bar (Sec. 5.2.1, Fig. 12): with DZMP control the true force stays
+// near 5 N while sliding at >= 10 mm/s; the Li et al. baseline drifts far.
+TEST(Experiments, BentBarProposedHoldsTheForceBaselineDrifts) {
+  const RunResult p = runScene("bent_bar.yaml", ControllerMode::Proposed);
+  const RunResult b = runScene("bent_bar.yaml", ControllerMode::Baseline);
+  EXPECT_EQ(p.summary.status, "ok");
+  EXPECT_GE(p.summary.slide_speed_mps, 0.010);
+  EXPECT_GE(p.summary.path_length_m, 0.2);
+  // 5 +- 1 N on the mean and RMS; the peak stays within 1.5 N: the firing
+  // threshold biases the true force ~0.9 N above the measured one on the
+  // curved part (the servo holds the *measured* force at 5 N; see README).
+  EXPECT_NEAR(p.summary.force_true_mean_n, 5.0, 1.0);
+  EXPECT_LT(p.summary.force_true_rms_error_n, 1.0);
+  EXPECT_LT(p.summary.force_true_max_n, 6.5);
+  // Baseline: far from 5 N (the paper reports up to 50 N), much of it on the
+  // rigid housing, which the taxels do not see.
+  EXPECT_GT(b.summary.force_true_max_n, 30.0);
+  EXPECT_GT(b.summary.force_true_rms_error_n, 5.0 * p.summary.force_true_rms_error_n);
+  double housing = 0;
+  for (const auto& row : b.rows) housing = std::max(housing, row.housing_force);
+  EXPECT_GT(housing, 10.0);
+}
+
+// (c) Co-manipulation (Sec. 5.3, Fig. 14): after the weight moves, the arm
+// translates along x until DZMP_y is back within 0.5 mm within 5 s; force
+// near 6 N; tray angle bounded.
+TEST(Experiments, CoManipulationRebalancesTheTray) {
+  const RunResult r = runScene("co_manipulation.yaml");
+  const Summary& s = r.summary;
+  EXPECT_EQ(s.status, "ok");
+  ASSERT_TRUE(std::isfinite(s.dzmp_recovery_time_s));
+  EXPECT_LT(s.dzmp_recovery_time_s, 5.0);
+  EXPECT_LT(std::fabs(s.dzmp_final_m), 0.0005);
+  EXPECT_GT(s.translation_x_m, 0.01) << "the arm moves along x_s towards the weight";
+  EXPECT_NEAR(s.force_true_mean_n, 6.0, 1.0);
+  EXPECT_LT(s.tray_angle_max_deg, 5.0);
+  // The imbalance was real: DZMP_y rose well above the 0.5 mm band first.
+  double peak = 0;
+  for (const auto& row : r.rows) peak = std::max(peak, std::fabs(row.f.dzmp_y));
+  EXPECT_GT(peak, 0.001);
+}
+
+// A point contact never becomes an edge: the touch-dependent Jacobian keeps beta = 0.
+TEST(Experiments, SphereStaysAPointContact) {
+  const RunResult r = runScene("sphere_table.yaml");
+  EXPECT_EQ(r.summary.status, "ok");
+  EXPECT_TRUE(std::isnan(tEnter(r, "edge_control")));
+  int point_rows = 0;
+  for (const auto& row : r.rows)
+    if (row.contact == ContactType::Point) {
+      ++point_rows;
+      EXPECT_EQ(row.beta, 0);
+    }
+  EXPECT_GT(point_rows, 1000);
+  EXPECT_NEAR(r.summary.force_true_mean_n, 5.0, 1.0);
+}
+
+TEST(Runner, DeterministicForASeedAndSeedSensitive) {
+  const RunResult a = runScene("co_manipulation.yaml");
+  const RunResult b = runScene("co_manipulation.yaml");
+  ASSERT_EQ(a.rows.size(), b.rows.size());
+  for (std::size_t i = 0; i < a.rows.size(); ++i) {
+    ASSERT_EQ(a.rows[i].f.force, b.rows[i].f.force) << i;
+    ASSERT_EQ(a.rows[i].act, b.rows[i].act) << i;
+  }
+  Scene sc;
+  ASSERT_TRUE(loadScene(kScenes + "co_manipulation.yaml", sc).ok());
+  sc.seed = 7;
+  Runner runner;
+  ASSERT_TRUE(runner.configure(sc).ok());
+  RunResult c;
+  runner.run(c);
+  bool differs = false;
+  for (std::size_t i = 0; i < std::min(a.rows.size(), c.rows.size()); ++i) differs |= a.rows[i].f.force != c.rows[i].f.force;
+  EXPECT_TRUE(differs) << "the sensor noise must follow the seed";
+}
+
+TEST(Runner, RatesAndStalenessFollowTable2) {
+  Scene sc;
+  const RunResult r = runScene("edge_exploration.yaml", ControllerMode::Proposed, &sc);
+  // Logged at the servo rate.
+  ASSERT_GT(r.rows.size(), 100u);
+  EXPECT_NEAR(r.rows[1].t - r.rows[0].t, 1.0 / sc.rates.servo, 1e-9);
+  // Features are at most one WTS period plus one extraction period old.
+  double worst = 0;
+  for (const auto& row : r.rows)
+    if (std::isfinite(row.feature_age)) worst = std::max(worst, row.feature_age);
+  EXPECT_LE(worst, 1.0 / sc.rates.wts + 1.0 / sc.rates.features + 1e-9);
+  EXPECT_GT(worst, 0.0);
+}
+
+// ------------------------------------------------------------ bad input
+
+namespace {
+std::string writeScene(const std::string& name, const std::string& body) {
+  const std::string dir = testing::TempDir();
+  const std::string path = dir + name;
+  std::ofstream(path) << "program: " << TACTILE_SOURCE_DIR << "/components/servo/programs/edge_exploration.yaml\n"
+                      << body;
+  return path;
+}
+}  // namespace
+
+TEST(SceneErrors, NameTheFileAndTheField) {
+  struct Case {
+    const char* file;
+    std::string body;
+    const char* expect;
+  };
+  const std::vector<Case> cases = {
+      {"unknown_key.yaml", "name: x\nspeed_of_light: 3\n", "speed_of_light: unknown key"},
+      {"zero_rate.yaml", "name: x\nrates: {servo: 0}\n", "rates.servo = 0: must be > 0 (Hz)"},
+      {"servo_above_sim.yaml", "name: x\nrates: {sim: 100, servo: 200}\n", "rates.servo = 200: must be <= rates.sim"},
+      {"unknown_object.yaml", "name: x\nobjects: [{type: teapot}]\n", "objects[0].type: unknown object type 'teapot'"},
+      {"inside.yaml",
+       "name: x\ninitial_flange: {xyz: [0.72, 0.0, 0.40], rpy_deg: [180, 0, 180]}\n"
+       "objects: [{name: ball, type: sphere, center: [0.72, 0.0, 0.36], radius: 0.03}]\n",
+       "ball"},
+      {"bad_fidelity.yaml", "name: x\nfidelity: magic\n", "fidelity: 'magic' must be quasi_static | dynamics"},
+      {"no_name.yaml", "duration: 3\n", "name: required"},
+  };
+  for (const auto& c : cases) {
+    const std::string path = writeScene(c.file, c.body);
+    Scene sc;
+    const ConfigResult r = loadScene(path, sc);
+    ASSERT_FALSE(r.ok()) << c.file;
+    EXPECT_NE(r.message().find(path), std::string::npos) << r.message();
+    EXPECT_NE(r.message().find(c.expect), std::string::npos) << c.file << ": " << r.message();
+  }
+  Scene sc;
+  const ConfigResult missing = loadScene("/nonexistent/scene.yaml", sc);
+  ASSERT_FALSE(missing.ok());
+  EXPECT_NE(missing.message().find("/nonexistent/scene.yaml: cannot open file"), std::string::npos);
+}
+
+TEST(Runner, AnUnstableRunStopsWithAStatusAndANonZeroExitCode) {
+  // Drive the sensor into a table far beyond the force limits: the world's
+  // force ceiling (or the servo's) must stop the run, never hang or go NaN.
+  const std::string path = writeScene(
+      "crash.yaml",
+      "name: crash\nduration: 20\ninitial_flange: {xyz: [0.72, 0.0, 0.40], rpy_deg: [180, 0, 180]}\n"
+      "objects: [{name: table, type: plane, point: [0, 0, 0.36], normal: [0, 0, 1]}]\n");
+  Scene sc;
+  ASSERT_TRUE(loadScene(path, sc).ok());
+  // A huge feed-forward towards the table in the free-motion phase, and no
+  // contact detection (threshold above any taxel force): nothing stops it but safety.
+  sc.servo.phases[0].feedforward(2) = 0.05;
+  sc.servo.safety.max_trans_step = 0.001;
+  sc.features.contact_threshold = 1e6;
+  Runner runner;
+  ASSERT_TRUE(runner.configure(sc).ok());
+  RunResult r;
+  runner.run(r);
+  EXPECT_NE(r.summary.exit_code, 0);
+  EXPECT_NE(r.summary.status, "ok");
+  EXPECT_LT(r.summary.sim_time_s, 20.0);
+  for (const auto& row : r.rows)
+    for (double v : row.act) ASSERT_TRUE(std::isfinite(v));
+}
