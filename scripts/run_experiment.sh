@@ -1,14 +1,29 @@
 #!/usr/bin/env bash
-# The main job: installs what is missing, builds, runs the headless experiment.
-# (Until the simulator lands this runs the feature extractor on the shipped
-# sample recording and compares it with the recording's analytic truth.)
+# The main job: installs what is missing, builds, and runs the paper's
+# experiments headless against the simulated LWR 4+ and WTS0614:
+#   edge exploration (Sec. 5.2, Fig. 9/10), the bent bar with the proposed
+#   controller and the Li et al. baseline (Sec. 5.2.1, Fig. 12), tray
+#   co-manipulation (Sec. 5.3, Fig. 14), and a sphere (point contact).
+# Results and PNG plots go to out/<scene>/.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$root/scripts/setup_deps.sh"
 bash "$root/scripts/build.sh"
-out="$root/out/sample"
+sim="$root/build/bin/tactile_sim"
+out="$root/out"
 mkdir -p "$out"
-"$root/build/bin/tactile_features" "$root/data/sample_recording.csv" > "$out/features.jsonl"
-/usr/bin/python3 "$root/scripts/feature_summary.py" "$out/features.jsonl" "$root/data/sample_recording_truth.csv"
-echo "features: $out/features.jsonl"
-echo "tactile_features tool: $root/build/bin/tactile_features"
+
+run() {  # run SCENE DIR [args]: a non-zero exit is reported, not fatal (the baseline is expected to fail)
+  local scene="$1" dir="$2"; shift 2
+  local rc=0
+  "$sim" run "$root/sim/scenes/$scene.yaml" --out "$out/$dir" "$@" || rc=$?
+  [ "$rc" -eq 0 ] || echo "  ($scene $*: exit code $rc, status in $out/$dir/summary.json)"
+}
+
+run edge_exploration edge_exploration
+run bent_bar bent_bar --controller proposed
+run bent_bar bent_bar_baseline --controller baseline
+run co_manipulation co_manipulation
+run sphere_table sphere_table
+/usr/bin/python3 "$root/scripts/plot_run.py" "$out/bent_bar" --compare "$out/bent_bar_baseline"
+/usr/bin/python3 "$root/scripts/experiment_report.py" "$out"
