@@ -1,0 +1,131 @@
+#!/usr/bin/python3
+"""Speed/accuracy trade of the headless simulator (issue 4, item 6).
+
+usage: sweep_tradeoff.py [--sim build/bin/tactile_sim] [--out out/tradeoff] [--quick]
+
+Runs the three experiments under a grid of settings (physics rate, sub-taxel
+samples, fidelity, servo rate), and reports, per setting, the wall time per
+simulated second against the error of each scene's key metrics relative to the
+finest setting (dynamics, 2 kHz physics, 8x8 sub-samples, 100 Hz servo).
+Writes tradeoff.csv, tradeoff.md and tradeoff.png into the output folder.
+"""
+import argparse
+import concurrent.futures
+import json
+import math
+import os
+import subprocess
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+# Scene -> key metrics (summary.json keys) compared with the finest setting.
+SCENES = {
+    "edge_exploration": ["alignment_time_s", "path_length_m", "force_true_mean_n"],
+    "bent_bar": ["force_true_mean_n", "force_true_rms_error_n", "slide_speed_mps"],
+    "co_manipulation": ["dzmp_recovery_time_s", "force_true_mean_n", "translation_x_m"],
+}
+
+FINEST = {"fidelity": "dynamics", "sim": 2000, "subsamples": 8, "servo": 100}
+GRID = [
+    FINEST,
+    {"fidelity": "dynamics", "sim": 1000, "subsamples": 4, "servo": 100},
+    {"fidelity": "quasi_static", "sim": 1000, "subsamples": 8, "servo": 100},
+    {"fidelity": "quasi_static", "sim": 1000, "subsamples": 4, "servo": 100},
+    {"fidelity": "quasi_static", "sim": 1000, "subsamples": 2, "servo": 100},
+    {"fidelity": "quasi_static", "sim": 1000, "subsamples": 1, "servo": 100},
+    {"fidelity": "quasi_static", "sim": 500, "subsamples": 4, "servo": 100},
+    {"fidelity": "quasi_static", "sim": 200, "subsamples": 4, "servo": 100},
+    {"fidelity": "quasi_static", "sim": 200, "subsamples": 2, "servo": 100},
+    {"fidelity": "quasi_static", "sim": 1000, "subsamples": 4, "servo": 50},
+]
+QUICK = [FINEST, GRID[3], GRID[7]]
+
+
+def label(s):
+    return f'{s["fidelity"]} {s["sim"]} Hz K={s["subsamples"]} servo {s["servo"]} Hz'
+
+
+def run(sim, scene, s, out):
+    d = os.path.join(out, "runs", f'{scene}_{s["fidelity"]}_{s["sim"]}_{s["subsamples"]}_{s["servo"]}')
+    cmd = [sim, "run", os.path.join(ROOT, "sim", "scenes", scene + ".yaml"), "--out", d, "--no-plots",
+           "--fidelity", s["fidelity"], "--sim-rate", str(s["sim"]), "--subsamples", str(s["subsamples"]),
+           "--servo-rate", str(s["servo"])]
+    if s["sim"] < 200:
+        cmd += ["--wts-rate", str(s["sim"]), "--features-rate", str(s["sim"])]
+    subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    return json.load(open(os.path.join(d, "summary.json")))
+
+
+def rel_err(v, ref):
+    if v is None or ref is None:
+        return float("nan")
+    return abs(v - ref) / max(abs(ref), 1e-9)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--sim", default=os.path.join(ROOT, "build", "bin", "tactile_sim"))
+    ap.add_argument("--out", default=os.path.join(ROOT, "out", "tradeoff"))
+    ap.add_argument("--quick", action="store_true", help="three settings only")
+    a = ap.parse_args()
+    os.makedirs(a.out, exist_ok=True)
+    grid = QUICK if a.quick else GRID
+    jobs = [(scene, s) for scene in SCENES for s in grid]
+    results = {}
+    with concurrent.futures.ThreadPoolExecutor(max_workers=2) as ex:
+        futs = {ex.submit(run, a.sim, scene, s, a.out): (scene, label(s)) for scene, s in jobs}
+        for i, f in enumerate(concurrent.futures.as_completed(futs)):
+            results[futs[f]] = f.result()
+            sys.stderr.write(f"\r{i + 1}/{len(jobs)} runs")
+    sys.stderr.write("\n")
+    rows = []
+    for scene, keys in SCENES.items():
+        ref = results[(scene, label(FINEST))]
+        for s in grid:
+            r = results[(scene, label(s))]
+            errs = [rel_err(r.get(k), ref.get(k)) for k in keys]
+            wall_per_s = r["wall_time_s"] / max(r["sim_time_s"], 1e-9)
+            rows.append((scene, label(s), wall_per_s, r["real_time_factor"], max(errs), errs, r["status"]))
+    with open(os.path.join(a.out, "tradeoff.csv"), "w") as f:
+        f.write("scene,setting,wall_s_per_sim_s,real_time_factor,max_rel_error,status\n")
+        for sc, lb, w, rtf, e, _, st in rows:
+            f.write(f"{sc},{lb},{w:.6f},{rtf:.1f},{e:.4f},{st}\n")
+    md = ["| scene | setting | wall s per sim s | real-time factor | max rel. error of key metrics | status |",
+          "| --- | --- | --- | --- | --- | --- |"]
+    for sc, lb, w, rtf, e, errs, st in rows:
+        md.append(f"| {sc} | {lb} | {w:.4f} | {rtf:.0f}x | {e * 100:.1f} % | {st} |")
+    md.append("")
+    md.append("Key metrics: " + "; ".join(f"{k}: {', '.join(v)}" for k, v in SCENES.items()) +
+              f". Reference: {label(FINEST)}.")
+    open(os.path.join(a.out, "tradeoff.md"), "w").write("\n".join(md) + "\n")
+    print("\n".join(md))
+    fig, ax = plt.subplots(figsize=(9, 5))
+    marks = {"edge_exploration": "o", "bent_bar": "s", "co_manipulation": "^"}
+    for sc, lb, w, rtf, e, _, st in rows:
+        if lb == label(FINEST):
+            continue
+        ax.scatter(w, max(e, 1e-4) * 100, marker=marks[sc], s=40)
+        ax.annotate(lb.replace("quasi_static", "qs").replace("dynamics", "dyn"), (w, max(e, 1e-4) * 100),
+                    fontsize=6, xytext=(3, 3), textcoords="offset points")
+    for sc, m in marks.items():
+        ax.scatter([], [], marker=m, color="k", label=sc)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("wall time per simulated second (s)")
+    ax.set_ylabel("max relative error of the key metrics vs finest (%)")
+    ax.set_title("Speed / accuracy trade of the headless simulator")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(a.out, "tradeoff.png"), dpi=90)
+    print(f"written: {a.out}/tradeoff.csv, tradeoff.md, tradeoff.png")
+
+
+if __name__ == "__main__":
+    main()
