@@ -105,23 +105,25 @@ def main():
               f". Reference: {label(FINEST)}.")
     open(os.path.join(a.out, "tradeoff.md"), "w").write("\n".join(md) + "\n")
     print("\n".join(md))
-    fig, ax = plt.subplots(figsize=(9, 5))
+    fig, ax = plt.subplots(figsize=(11, 5.5))
     marks = {"edge_exploration": "o", "bent_bar": "s", "co_manipulation": "^"}
+    colors = {label(s): plt.cm.tab10(i % 10) for i, s in enumerate(grid)}
     for sc, lb, w, rtf, e, _, st in rows:
         if lb == label(FINEST):
             continue
-        ax.scatter(w, max(e, 1e-4) * 100, marker=marks[sc], s=40)
-        ax.annotate(lb.replace("quasi_static", "qs").replace("dynamics", "dyn"), (w, max(e, 1e-4) * 100),
-                    fontsize=6, xytext=(3, 3), textcoords="offset points")
+        ax.scatter(w, max(e, 1e-4) * 100, marker=marks[sc], s=50, color=colors[lb])
     for sc, m in marks.items():
         ax.scatter([], [], marker=m, color="k", label=sc)
+    for lb, c in colors.items():
+        if lb != label(FINEST):
+            ax.scatter([], [], marker="o", color=c, label=lb)
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("wall time per simulated second (s)")
     ax.set_ylabel("max relative error of the key metrics vs finest (%)")
     ax.set_title("Speed / accuracy trade of the headless simulator")
     ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
     fig.tight_layout()
     fig.savefig(os.path.join(a.out, "tradeoff.png"), dpi=90)
     print(f"written: {a.out}/tradeoff.csv, tradeoff.md, tradeoff.png")
