@@ -195,6 +195,49 @@ TEST(PadContact, ContactStiffnessMatchesFiniteDifference) {
   }
 }
 
+TEST(PadContact, NonUniformLineLoadShiftsPressureCentreFromContactCentre) {
+  // Eq. 2 / Eq. 3: an edge pressing harder at one end (bar inclined in the
+  // x-z plane) moves the pressure centre away from the contact centre:
+  // DZMP_y = CoP_x - CoC_x has the sign of the deeper end and grows with the
+  // slope; a level edge gives DZMP_y = 0. CoC from the binarised true taxel
+  // image (threshold 0.2 N).
+  double prev = 0.0;
+  for (double slope : {0.0, 0.005, 0.01, 0.02, -0.01}) {
+    ObjectParams bar;
+    bar.type = ObjectType::Bar;
+    bar.radius = 0.003;
+    // Along a taxel row (y = 1.7 mm), 1 mm deep at x = 0, deeper where slope * x < 0.
+    bar.vertices = {{-0.1, 0.0017, 0.002 - 0.1 * slope}, {0.1, 0.0017, 0.002 + 0.1 * slope}};
+    PadParams p;
+    p.noise_counts = 0.0;
+    Rig rig({bar}, p);
+    RawTactileFrame raw;
+    SensorTruth truth;
+    rig.pad.acquire(rig.objects, rig.T, 0.0, raw, truth);
+    const TactileFrame& img = rig.pad.trueTaxelForces();
+    double n = 0, cx = 0;
+    for (int r = 0; r < 6; ++r)
+      for (int c = 0; c < 14; ++c)
+        if (img.at(r, c) >= 0.2) {
+          n += 1;
+          cx += (c - 6.5) * 0.0034;
+        }
+    ASSERT_GT(n, 0);
+    const double dzmp_y = truth.layer.cop_x - cx / n;
+    EXPECT_NEAR(truth.wrench_s[4], truth.layer.cop_x * truth.layer.force, 1e-12);  // my = sum x f
+    if (slope == 0.0) {
+      EXPECT_NEAR(dzmp_y, 0.0, 1e-9);
+    } else {
+      EXPECT_LT(dzmp_y * slope, 0.0) << slope;  // towards the deeper end (x < 0 for slope > 0)
+      if (slope > 0) {
+        EXPECT_GT(std::fabs(dzmp_y), prev) << slope;  // grows with the slope
+        prev = std::fabs(dzmp_y);
+      }
+    }
+  }
+  EXPECT_GT(prev, 0.002);  // 2 % slope: millimetres of DZMP
+}
+
 TEST(PadResponse, NoiseStatisticsQuantisationAndThreshold) {
   // Uniform 1 N per taxel (flat punch), noise 6 counts (1 sigma).
   const double f0 = 1.0;
