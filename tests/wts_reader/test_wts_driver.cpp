@@ -23,6 +23,8 @@
 #include "alloc_counter.hpp"
 #include "tactile_wts/driver.hpp"
 #include "tactile_wts/params_io.hpp"
+#include "tactile_features/calibration.hpp"
+#include "tactile_sim/elastic_pad.hpp"
 #include "tactile_wts/sim_device.hpp"
 #include "wts_test_util.hpp"
 
@@ -110,6 +112,53 @@ TEST_F(WtsPty, StreamsPeriodicFramesExactlyPlainAndRle) {
     d.close();
     EXPECT_FALSE(sim.streaming()) << "close() stops periodic acquisition";
   }
+}
+
+// The elastic pad simulator (sim/contact) behind the simulated device: a
+// sphere pressed off-centre; its taxel forces are turned into 12-bit counts at
+// the inverse of the default calibration, sent over the PTY, decoded and
+// calibrated back to newtons.
+TEST_F(WtsPty, PadSimulatorFramesSurviveTheLinkToNewtons) {
+  constexpr double kNPerCount = 0.002;  // CalibrationParams default c1
+  tactile::sim::PadGeometry g;
+  tactile::TactileFrame truth_frame;
+  tactile::sim::PadTruth truth;
+  const double x0 = 0.006, y0 = -0.002, R = 0.02, depth = 0.002;
+  tactile::sim::integratePad(
+      g,
+      [&](double x, double y) {
+        const double r2 = (x - x0) * (x - x0) + (y - y0) * (y - y0);
+        return r2 >= R * R ? 0.0 : depth - (R - std::sqrt(R * R - r2));
+      },
+      truth_frame, &truth);
+  ASSERT_GT(truth.force, 1.0);
+  sim.setSource([&](uint32_t, tactile::RawTactileFrame& f) {
+    for (int i = 0; i < 84; ++i) {
+      const double c = std::round(truth_frame.force[static_cast<std::size_t>(i)] / kNPerCount);
+      f.counts[static_cast<std::size_t>(i)] = static_cast<uint16_t>(c > 4095 ? 4095 : c);
+    }
+  });
+  params.rle = true;
+  WtsDriver d;
+  ASSERT_TRUE(d.configure(params).ok());
+  ASSERT_EQ(d.open(), CmdStatus::Ok);
+  tactile::Calibration cal;
+  ASSERT_TRUE(cal.configure(tactile::CalibrationParams{}).ok());
+  tactile::RawTactileFrame raw;
+  bool got = false;
+  for (double t_end = nowS() + 2.0; nowS() < t_end && !got;) got = d.poll(nowS(), 20, raw) == ReadStatus::NewFrame;
+  ASSERT_TRUE(got);
+  tactile::TactileFrame f;
+  ASSERT_EQ(cal.step(raw, f), tactile::CalibrationStatus::Ok);
+  // tolerance: half a count of quantization per taxel (0.001 N), none saturates here
+  double sum = 0;
+  for (int r = 0; r < 6; ++r)
+    for (int c = 0; c < 14; ++c) {
+      EXPECT_NEAR(f.at(r, c), truth_frame.at(r, c), 0.5 * kNPerCount + 1e-12) << r << "," << c;
+      sum += f.at(r, c);
+    }
+  EXPECT_NEAR(sum, truth.force, 84 * 0.5 * kNPerCount);
+  EXPECT_EQ(f.saturated_count, 0);
 }
 
 TEST_F(WtsPty, SingleFramePolling) {
