@@ -161,6 +161,27 @@ TEST_F(WtsPty, PadSimulatorFramesSurviveTheLinkToNewtons) {
   EXPECT_EQ(f.saturated_count, 0);
 }
 
+TEST_F(WtsPty, ServesARecordingInOrder) {
+  std::vector<tactile::RawTactileFrame> rec(3);
+  for (int k = 0; k < 3; ++k)
+    for (int i = 0; i < 84; ++i) rec[static_cast<std::size_t>(k)].counts[static_cast<std::size_t>(i)] =
+        static_cast<uint16_t>(1000 * k + i);
+  sim.setRecording(rec);
+  params.periodic_ms = 0;  // one frame per request: no frame can be superseded by a newer one
+  WtsDriver d;
+  ASSERT_TRUE(d.configure(params).ok());
+  ASSERT_EQ(d.open(), CmdStatus::Ok);
+  tactile::RawTactileFrame f;
+  std::vector<int> order;
+  for (double t_end = nowS() + 2.0; nowS() < t_end && order.size() < 7;)
+    if (d.poll(nowS(), 20, f) == ReadStatus::NewFrame) {
+      const int k = f.counts[0] / 1000;
+      for (int i = 0; i < 84; ++i) ASSERT_EQ(f.counts[static_cast<std::size_t>(i)], 1000 * k + i);
+      order.push_back(k);
+    }
+  EXPECT_EQ(order, (std::vector<int>{0, 1, 2, 0, 1, 2, 0}));
+}
+
 TEST_F(WtsPty, SingleFramePolling) {
   params.periodic_ms = 0;
   params.rle = true;

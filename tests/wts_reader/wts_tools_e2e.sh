@@ -4,7 +4,8 @@
 # 1. ramp pattern, plain periodic: 5 CSV lines of 84 raw counts, each line a ramp
 #    with step 40 counts between consecutive {s} cells (mod 4096);
 # 2. same with RLE, single-frame polling and garbage between packets (--garbage 0.3);
-# 3. newtons piped into tactile_features: one JSON object per frame.
+# 3. the frames of (1) as a recording served by wts_sim come back byte-identical;
+# 4. newtons piped into tactile_features: one JSON object per frame.
 set -euo pipefail
 BIN=$1
 TMP=$(mktemp -d)
@@ -43,6 +44,12 @@ stop_sim
 start_sim --pattern ramp --garbage 0.3 --seed 5
 "$BIN/wts_read" --device "$TMP/wts0" --rle --count 5 --raw > "$TMP/b.csv" 2> "$TMP/b.err"
 check_ramp "$TMP/b.csv"
+stop_sim
+
+# 3. a recording: what `wts_read --raw` printed is what `wts_sim --recording` serves
+start_sim --recording "$TMP/a.csv"
+"$BIN/wts_read" --device "$TMP/wts0" --count 5 --raw > "$TMP/r.csv"   # single-frame polling: none skipped
+cmp "$TMP/a.csv" "$TMP/r.csv" || { echo "FAIL: recording round trip"; diff "$TMP/a.csv" "$TMP/r.csv" | head; exit 1; }
 stop_sim
 
 start_sim --pattern blob
