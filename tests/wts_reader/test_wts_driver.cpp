@@ -524,7 +524,10 @@ TEST(WtsDriverAlloc, PollDoesNotAllocateOverARealPty) {
       const auto& pkt = pkts[static_cast<std::size_t>(it) % pkts.size()];
       if (::write(m, pkt.data(), pkt.size()) != static_cast<ssize_t>(pkt.size())) ++other;
       t += 0.001;
-      const ReadStatus st = d.poll(t, 50, f);
+      // poll until this packet has been consumed (PTY delivery is asynchronous:
+      // it may arrive in pieces); returns as soon as bytes arrive
+      ReadStatus st = ReadStatus::NoData;
+      for (int tries = 0; tries < 5 && st == ReadStatus::NoData; ++tries) st = d.poll(t, 200, f);
       if (st == ReadStatus::NewFrame) {
         ++frames;
         if (!matchesPattern(f)) ++wrong;
