@@ -3,7 +3,12 @@
 //   tactile_sim run SCENE [--controller proposed|baseline] [--out DIR] [--seed N]
 //                         [--duration S] [--servo-rate HZ] [--sim-rate HZ]
 //                         [--wts-rate HZ] [--features-rate HZ] [--subsamples K]
-//                         [--fidelity quasi_static|dynamics] [--no-plots]
+//                         [--fidelity quasi_static|dynamics] [--through-fri] [--no-plots]
+//
+// --through-fri sends every 1 kHz command through the FRI protocol: the world
+// state is encoded as a KRC measurement packet, tactile::fri::FriBridge (rate
+// limiter, sequence and state handling) answers with a command packet, and the
+// decoded pose is what the simulated robot applies.
 //
 // Writes DIR/timeseries.csv, summary.json, snapshots.csv, contacts.csv and the
 // PNG plots (scripts/plot_run.py, Debian's /usr/bin/python3). A progress bar is
@@ -33,7 +38,7 @@ void usage() {
   std::cerr << "usage: tactile_sim run SCENE [--controller proposed|baseline] [--out DIR] [--seed N]\n"
                "                         [--duration S] [--servo-rate HZ] [--sim-rate HZ] [--wts-rate HZ]\n"
                "                         [--features-rate HZ] [--subsamples K] [--fidelity quasi_static|dynamics]\n"
-               "                         [--no-plots]\n";
+               "                         [--through-fri] [--no-plots]\n";
 }
 
 bool number(const char* s, double& v) {
@@ -113,6 +118,9 @@ int main(int argc, char** argv) {
         std::cerr << "tactile_sim: --fidelity must be quasi_static | dynamics\n";
         return 2;
       }
+    } else if (a == "--through-fri") {
+      scene.through_fri = true;
+      if (scene.fri_file.empty()) scene.fri_file = std::string(TACTILE_SOURCE_DIR) + "/components/fri_bridge/params/fri.yaml";
     } else if (a == "--no-plots") {
       plots = false;
     } else {

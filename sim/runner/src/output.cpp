@@ -61,7 +61,11 @@ std::string summaryJson(const Scene& sc, const RunResult& r) {
   o << "  \"dzmp_final_m\": " << num(s.dzmp_final_m) << ",\n";
   o << "  \"dzmp_recovery_time_s\": " << num(s.dzmp_recovery_time_s) << ",\n";
   o << "  \"translation_x_m\": " << num(s.translation_x_m) << ",\n";
-  o << "  \"tray_angle_max_deg\": " << num(s.tray_angle_max_deg) << "\n";
+  o << "  \"tray_angle_max_deg\": " << num(s.tray_angle_max_deg) << ",\n";
+  o << "  \"through_fri\": " << (sc.through_fri ? "true" : "false") << ",\n";
+  o << "  \"fri_replies\": " << s.fri_replies << ",\n";
+  o << "  \"fri_max_step_m\": " << num(s.fri_max_step_m) << ",\n";
+  o << "  \"fri_max_step_rad\": " << num(s.fri_max_step_rad) << "\n";
   o << "}\n";
   return o.str();
 }

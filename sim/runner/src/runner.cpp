@@ -1,6 +1,9 @@
 #include "tactile_sim/runner.hpp"
 
 #include <chrono>
+
+#include "tactile_fri/params_io.hpp"
+#include "tactile_fri/protocol.hpp"
 #include <cmath>
 #include <limits>
 
@@ -39,6 +42,15 @@ ConfigResult Runner::configure(const Scene& scene) {
   ServoParams sp = scene.servo;
   sp.mode = scene.controller;
   if (!(r = servo_.configure(sp))) return ConfigResult::failure(scene.program_file + ": " + r.message());
+  if (scene.through_fri) {
+    fri::BridgeParams bp;
+    fri::UdpParams up;
+    if (!scene.fri_file.empty() && !(r = fri::loadBridgeParamsFile(scene.fri_file, bp, up))) return r;
+    bp.nominal_period_s = 1.0 / scene.rates.sim;
+    if (!(r = bridge_.configure(bp))) return ConfigResult::failure(scene.file + ": fri: " + r.message());
+    fri_seq_ = fri_refl_ = 0;
+    fri_have_applied_ = false;
+  }
   return ConfigResult::success();
 }
 
@@ -171,7 +183,16 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
       // A terminal phase ends the run after one more second of holding.
       if (st == ServoStatus::Done && ++done_rows > static_cast<int>(sc.rates.servo)) break;
     }
-    const SimStatus ss = world_.step(cmd, dt, state);
+    Pose applied = cmd;
+    if (sc.through_fri) {
+      PoseCommand desired = sout.command;
+      desired.pose = cmd;
+      desired.time_s = t;
+      KDL::Frame f;
+      if (friCycle(state, desired, t, dt, f, sum)) applied = toPose(f);
+      else applied = state.command_g;  // no reply: the KRC keeps its last set point
+    }
+    const SimStatus ss = world_.step(applied, dt, state);
     if (fatal(ss)) {
       sum.status = std::string("sim_") + toString(ss);
       sum.exit_code = 3;
@@ -186,6 +207,55 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
   sum.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   sum.real_time_factor = sum.wall_time_s > 0 ? sum.sim_time_s / sum.wall_time_s : 0.0;
   computeSummary(out);
+}
+
+bool Runner::friCycle(const SimState& st, const PoseCommand& desired, double t, double dt, KDL::Frame& applied,
+                      Summary& sum) {
+  using namespace fri;
+  // The simulated KRC: CMD at perfect quality under Cartesian impedance, the
+  // world's measured state in the packet (what the real KRC sends each 1 ms).
+  MsrPacket& m = msr_;
+  m.head.send_seq = ++fri_seq_;
+  m.head.refl_seq = fri_refl_;
+  m.head.packet_size = static_cast<uint16_t>(kMsrPacketSize);
+  m.head.datagram_id = kDatagramIdMsr;
+  m.intf.timestamp = static_cast<uint32_t>(t * 1000.0);
+  const bool monitor = t < 0.05;  // the KRC starts in MON, then switches to CMD
+  m.intf.state = static_cast<uint16_t>(monitor ? State::Mon : State::Cmd);
+  m.intf.quality = static_cast<uint16_t>(Quality::Perfect);
+  m.intf.desired_msr_sample_time = static_cast<float>(dt);
+  m.intf.desired_cmd_sample_time = static_cast<float>(dt);
+  m.robot.power = 0x7F;
+  m.robot.control = static_cast<uint16_t>(ControlStrategy::CartImpedance);
+  for (int j = 0; j < kNumJoints; ++j) {
+    m.data.msr_jnt_pos[j] = static_cast<float>(st.q(j));
+    m.data.cmd_jnt_pos[j] = m.data.msr_jnt_pos[j];
+  }
+  fromFrame(st.T_ge, m.data.msr_cart_pos);
+  fromFrame(fri_have_applied_ ? fri_applied_ : st.T_ge, m.data.cmd_cart_pos);
+  std::size_t n = 0;
+  if (encodeMeasurement(m, wire_.data(), wire_.size(), n) != PacketStatus::Ok) return false;
+  BridgeOutput out;
+  bridge_.stepDatagram(wire_.data(), n, desired, t, out);
+  if (!out.reply) return false;
+  if (encodeCommand(out.cmd, wire_.data(), wire_.size(), n) != PacketStatus::Ok) return false;
+  if (decodeCommand(wire_.data(), n, cmd_) != PacketStatus::Ok) return false;
+  fri_refl_ = cmd_.head.send_seq;
+  ++sum.fri_replies;
+  if (monitor) return false;  // MON: the KRC does not apply commands
+  KDL::Frame c;
+  fri::toFrame(cmd_.cmd.cart_pos, c);
+  if (fri_have_applied_) {
+    sum.fri_max_step_m = std::max(sum.fri_max_step_m, (c.p - fri_applied_.p).Norm());
+    const KDL::Rotation dR = fri_applied_.M.Inverse() * c.M;
+    double x, y, z, w;
+    dR.GetQuaternion(x, y, z, w);
+    sum.fri_max_step_rad = std::max(sum.fri_max_step_rad, 2.0 * std::atan2(std::sqrt(x * x + y * y + z * z), std::fabs(w)));
+  }
+  fri_applied_ = c;
+  fri_have_applied_ = true;
+  applied = c;
+  return true;
 }
 
 void Runner::computeSummary(RunResult& out) const {

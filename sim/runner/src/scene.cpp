@@ -108,7 +108,8 @@ ConfigResult loadScene(const std::string& file, Scene& s) {
   const Where w{file, ""};
   if (!(r = checkKeys(root, w,
                       {"name", "description", "figure", "program", "controller", "features_file", "duration", "seed",
-                       "fidelity", "rates", "sensor", "arm", "initial_flange", "objects", "metrics"})))
+                       "fidelity", "rates", "sensor", "arm", "initial_flange", "objects", "metrics", "through_fri",
+                       "fri_file"})))
     return r;
   s = Scene{};
   s.file = file;
@@ -225,6 +226,11 @@ ConfigResult loadScene(const std::string& file, Scene& s) {
       s.world.objects.push_back(o);
     }
   }
+
+  if (!(r = read(root, "through_fri", s.through_fri, w))) return r;
+  std::string fri_file;
+  if (!(r = read(root, "fri_file", fri_file, w))) return r;
+  s.fri_file = fri_file.empty() ? std::string() : resolve(dir, fri_file);
 
   if (const YAML::Node n = root["metrics"]) {
     const Where wm = w.child("metrics");

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "tactile_features/calibration.hpp"
+#include "tactile_fri/bridge.hpp"
 #include "tactile_sim/scene.hpp"
 
 namespace tactile {
@@ -78,6 +79,10 @@ struct Summary {
   double force_true_mean_n = 0, force_true_max_n = 0, force_true_rms_error_n = 0, force_true_in_band_fraction = 0;
   double alignment_time_s = 0, path_length_m = 0, slide_speed_mps = 0;
   double dzmp_final_m = 0, tray_angle_max_deg = 0, dzmp_recovery_time_s = 0, translation_x_m = 0;
+  // Through FRI (scene through_fri): bridge replies and the largest step
+  // between consecutive commands the simulated KRC applied.
+  long fri_replies = 0;
+  double fri_max_step_m = 0, fri_max_step_rad = 0;
   int exit_code = 0;  ///< 0 ok, 3 simulator fatal (NaN, joint limit, singularity, force limit), 4 servo force ceiling
 };
 
@@ -102,12 +107,22 @@ class Runner {
 
  private:
   void computeSummary(RunResult& out) const;
+  /// The KRC side of one FRI cycle: measurement bytes from the world state,
+  /// the bridge's reply decoded into the pose the robot applies.
+  bool friCycle(const SimState& st, const PoseCommand& desired, double t, double dt, KDL::Frame& applied, Summary& sum);
 
   Scene scene_;
   World world_;
   Calibration calibration_;
   FeatureExtractor extractor_;
   TactileServo servo_;
+  fri::FriBridge bridge_;
+  fri::MsrPacket msr_{};
+  fri::CmdPacket cmd_{};
+  std::array<uint8_t, 2048> wire_{};
+  uint16_t fri_seq_ = 0, fri_refl_ = 0;
+  bool fri_have_applied_ = false;
+  KDL::Frame fri_applied_;
 };
 
 /// Writers for a run directory (timeseries.csv, summary.json, snapshots.csv,

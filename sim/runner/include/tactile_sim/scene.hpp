@@ -24,6 +24,9 @@
 //     - {name: tray, type: tray, bearing: [..], bar_from: [..], bar_to: [..], bar_radius: .., tray_mass: ..,
 //        tray_com: [..], mass: 0.2, mass_from: [..], mass_to: [..], move_start_s: .., move_duration_s: ..,
 //        pitch_stiffness: .., roll_stiffness: .., bearing_damping: .., initial_pitch: .., initial_roll: ..}
+//   through_fri: false                # route every physics-rate command through the FRI
+//                                     # protocol and tactile::fri::FriBridge (bytes on the wire)
+//   fri_file: ../../components/fri_bridge/params/fri.yaml             # bridge parameters (rate limiter...)
 //   metrics:
 //     transient_s: 2.0                # ignored at the start of each force-servoing phase
 //     force_phases: [explore]         # phases whose force error is scored (default: all contact phases)
@@ -68,6 +71,8 @@ struct Scene {
   ServoParams servo;        ///< loaded from program_file
   WorldParams world;
   SceneMetrics metrics;
+  bool through_fri = false;  ///< commands go through FRI packets and the bridge
+  std::string fri_file;      ///< bridge parameters (empty: defaults)
 };
 
 /// Load and validate a scene (and the program and feature files it names).
