@@ -163,26 +163,28 @@ void ObjectSet::addCapsuleS(const KDL::Vector& a, const KDL::Vector& b, double r
   } else if (zb >= r) {
     t1 = (za - r) / (za - zb);
   }
-  if (t1 >= t0 && n_seg_ < kMaxSegments) {
+  const KDL::Vector d = b - a;
+  const KDL::Vector c0 = a + t0 * d, c1 = a + t1 * d;
+  if (t1 >= t0 && n_seg_ < kMaxSegments &&
+      inRegion(std::min(c0.x(), c1.x()) - r, std::max(c0.x(), c1.x()) + r, std::min(c0.y(), c1.y()) - r,
+               std::max(c0.y(), c1.y()) + r)) {
     Segment& s = seg_[static_cast<std::size_t>(n_seg_++)];
     s.p0 = a;
-    KDL::Vector d = b - a;
     s.len = d.Norm();
     s.a = d / s.len;
     s.r = r;
     s.object = object;
-    const KDL::Vector c0 = a + t0 * d, c1 = a + t1 * d;
     s.xmin = std::min(c0.x(), c1.x()) - r;
     s.xmax = std::max(c0.x(), c1.x()) + r;
     s.ymin = std::min(c0.y(), c1.y()) - r;
     s.ymax = std::max(c0.y(), c1.y()) + r;
     grow(s.xmin, s.xmax, s.ymin, s.ymax);
   }
-  if (cap_a && za < r && n_ball_ < static_cast<int>(ball_.size())) {
+  if (cap_a && za < r && n_ball_ < static_cast<int>(ball_.size()) && inRegion(a.x() - r, a.x() + r, a.y() - r, a.y() + r)) {
     ball_[static_cast<std::size_t>(n_ball_++)] = Ball{a, r, object};
     grow(a.x() - r, a.x() + r, a.y() - r, a.y() + r);
   }
-  if (cap_b && zb < r && n_ball_ < static_cast<int>(ball_.size())) {
+  if (cap_b && zb < r && n_ball_ < static_cast<int>(ball_.size()) && inRegion(b.x() - r, b.x() + r, b.y() - r, b.y() + r)) {
     ball_[static_cast<std::size_t>(n_ball_++)] = Ball{b, r, object};
     grow(b.x() - r, b.x() + r, b.y() - r, b.y() + r);
   }
@@ -208,7 +210,7 @@ void ObjectSet::pose(const KDL::Frame& T_gs, const TrayPose& tp) {
       }
       case ObjectType::Sphere: {
         const KDL::Vector c = T_sg * V(o.center);
-        if (c.z() < o.radius) {
+        if (c.z() < o.radius && inRegion(c.x() - o.radius, c.x() + o.radius, c.y() - o.radius, c.y() + o.radius)) {
           ball_[static_cast<std::size_t>(n_ball_++)] = Ball{c, o.radius, i};
           grow(c.x() - o.radius, c.x() + o.radius, c.y() - o.radius, c.y() + o.radius);
         }

@@ -101,6 +101,11 @@ class ObjectSet {
   const TrayParams& tray() const { return tray_; }
   const ObjectParams& params(int i) const { return params_[static_cast<std::size_t>(i)]; }
 
+  /// Only the region (x, y in {s}) where lowestZ() will be asked matters
+  /// (the sensor outline): primitives outside it are dropped in pose().
+  /// Default: everywhere.
+  void setRegion(double xmin, double xmax, double ymin, double ymax) { region_ = {xmin, xmax, ymin, ymax}; }
+
   /// Place all objects in {s}: T_gs = {g}T{s}; tray pose for the tray bar.
   void pose(const KDL::Frame& T_gs, const TrayPose& tray);
 
@@ -157,6 +162,10 @@ class ObjectSet {
   std::array<PlaneS, kMaxObjects> plane_{};
   int n_seg_ = 0, n_ball_ = 0, n_plane_ = 0;
   std::array<double, 4> fp_{};  // union footprint xmin, xmax, ymin, ymax
+  std::array<double, 4> region_{-1e9, 1e9, -1e9, 1e9};
+  bool inRegion(double xmin, double xmax, double ymin, double ymax) const {
+    return xmax >= region_[0] && xmin <= region_[1] && ymax >= region_[2] && ymin <= region_[3];
+  }
   bool fp_any_ = false;
   void grow(double xmin, double xmax, double ymin, double ymax);
 };
