@@ -51,7 +51,8 @@ void runSecond(World& w, double sim_rate, double& t, SimState& s, RawTactileFram
   for (int i = 0; i < n; ++i) {
     t += dt;
     const double ts = std::floor(t * 100.0 + 1e-9) / 100.0;  // servo sample time
-    const double x = 0.58 + 0.01 * std::fmod(ts, 10.0);     // 10 mm/s, wraps every 10 s
+    const double ph = std::fmod(ts, 20.0);
+    const double x = 0.58 + 0.01 * (ph < 10.0 ? ph : 20.0 - ph);  // 10 mm/s back and forth over 0.1 m
     w.step(downPose(x, 0.0, kBarTop + 0.02 - 0.005), dt, s);
     if (t >= next_acq) {
       w.acquire(raw, truth);
@@ -117,7 +118,8 @@ void BM_Step(benchmark::State& state) {
   for (int i = 0; i < 500; ++i) w.step(downPose(0.58, 0.0, kBarTop + 0.02 - 0.005), 0.001, s);
   for (auto _ : state) {
     t += 0.001;
-    w.step(downPose(0.58 + 0.01 * std::fmod(t, 10.0), 0.0, kBarTop + 0.02 - 0.005), 0.001, s);
+    const double ph = std::fmod(t, 20.0);
+    w.step(downPose(0.58 + 0.01 * (ph < 10.0 ? ph : 20.0 - ph), 0.0, kBarTop + 0.02 - 0.005), 0.001, s);
     double f_now = s.normal_force;
     benchmark::DoNotOptimize(f_now);
   }
