@@ -168,6 +168,22 @@ TEST(WorldTray, TorqueBalanceAndMassMoveShiftThePressureCentre) {
   }
 }
 
+TEST(WorldTray, DroppedTrayRestsOnItsStopsWithFiniteState) {
+  for (Fidelity f : {Fidelity::QuasiStatic, Fidelity::Dynamics}) {
+    World w;
+    ASSERT_TRUE(w.configure(trayScene(f)).ok());
+    Pose cmd = toPose(w.state().T_ge);
+    cmd.p[0] += 0.1;  // slide the sensor 10 cm along x, off the end of the 10 cm bar
+    SimState s;
+    const double dt = f == Fidelity::QuasiStatic ? 0.01 : 0.001;
+    for (double t = 0; t < 2.0; t += dt) w.step(cmd, dt, s);
+    EXPECT_EQ(s.status, SimStatus::Ok) << toString(s.status);  // quasi-static converges on the stop
+    EXPECT_NEAR(s.tray_pitch, -0.6, 1e-9) << toString(f);  // the tray fell onto its stop
+    EXPECT_EQ(s.normal_force, 0.0);
+    EXPECT_TRUE(s.q.allFinite());
+  }
+}
+
 TEST(WorldQuasiStatic, SimRateDoesNotChangeTheEquilibria) {
   // Quasi-static stepping at 1 kHz with a 100 Hz command (the solve is skipped
   // while command and world are unchanged) must give the same states as

@@ -20,6 +20,8 @@ bool parseFidelity(const std::string& s, Fidelity& out) {
 }
 
 namespace {
+constexpr double kTrayAngleLimit = 0.6;  // rad, mechanical stops of the tray bearing
+
 bool sameFrame(const KDL::Frame& a, const KDL::Frame& b) {
   for (int i = 0; i < 3; ++i)
     if (a.p(i) != b.p(i)) return false;
@@ -212,6 +214,9 @@ SimStatus World::stepQuasiStatic(const KDL::Frame& T_cmd, double dt) {
       double gx, gy;
       objects_.trayGravityTorque(th, state_.time_s, g, gx, gy);
       rt << gx - kx * th.pitch + contact_.tau_tray(0), gy - ky * th.roll + contact_.tau_tray(1);
+      // On a stop, the stop's reaction takes whatever pushes into it.
+      if ((th.pitch <= -kTrayAngleLimit && rt(0) < 0) || (th.pitch >= kTrayAngleLimit && rt(0) > 0)) rt(0) = 0;
+      if ((th.roll <= -kTrayAngleLimit && rt(1) < 0) || (th.roll >= kTrayAngleLimit && rt(1) > 0)) rt(1) = 0;
     }
     if (re.cwiseAbs().maxCoeff() < tol && rt.cwiseAbs().maxCoeff() < tol) {
       converged = true;
@@ -253,8 +258,9 @@ SimStatus World::stepQuasiStatic(const KDL::Frame& T_cmd, double dt) {
     dth *= scale;
     // (KDL::addDelta / KDL::Rot drop rotations below ~1e-6 rad.)
     T = KDL::Frame(rotationFromVector(KDL::Vector(de[3], de[4], de[5])) * T.M, T.p + KDL::Vector(de[0], de[1], de[2]));
-    th.pitch += dth(0);
-    th.roll += dth(1);
+    // A tray that lost its support rests on its stops (+-kTrayAngleLimit).
+    th.pitch = std::clamp(th.pitch + dth(0), -kTrayAngleLimit, kTrayAngleLimit);
+    th.roll = std::clamp(th.roll + dth(1), -kTrayAngleLimit, kTrayAngleLimit);
     evaluated = false;
   }
   last_iterations_ = it;
@@ -291,7 +297,7 @@ SimStatus World::stepDynamics(const KDL::Frame& T_cmd, double dt) {
     tray_.pitch += dt * tray_rate_(0);
     tray_.roll += dt * tray_rate_(1);
     // The pivot cannot swing the tray through the floor: bound the angles.
-    const double lim = 0.6;
+    const double lim = kTrayAngleLimit;
     if (std::fabs(tray_.pitch) > lim) { tray_.pitch = std::copysign(lim, tray_.pitch); tray_rate_(0) = 0; }
     if (std::fabs(tray_.roll) > lim) { tray_.roll = std::copysign(lim, tray_.roll); tray_rate_(1) = 0; }
   }

@@ -49,7 +49,8 @@ using Vec3 = std::array<double, 3>;
 /// from the bearing to the holding point, is along y_g at rest; the roll
 /// makes the line load on the bar non-uniform), with optional torsional
 /// springs/dampers. The tray plate itself is not a contact body; only the
-/// bar glued underneath touches the pad.
+/// bar glued underneath touches the pad. Both angles rest on stops at
+/// +-0.6 rad (a tray that loses the sensor hangs there: watch tray_pitch).
 struct TrayParams {
   Vec3 bearing{0.6, -0.4, 0.4};            ///< bearing point in {g} (m)
   Vec3 bar_from{-0.05, 0.4, -0.006};       ///< bar centreline start in {t} (m)
