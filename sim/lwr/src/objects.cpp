@@ -173,6 +173,9 @@ void ObjectSet::addCapsuleS(const KDL::Vector& a, const KDL::Vector& b, double r
     s.len = d.Norm();
     s.a = d / s.len;
     s.r = r;
+    s.r2 = r * r;
+    const double A = 1.0 - s.a.z() * s.a.z();
+    s.inv_a = A < 1e-12 ? 0.0 : 1.0 / A;  // 0: axis along z_s, the caps handle it
     s.object = object;
     s.xmin = std::min(c0.x(), c1.x()) - r;
     s.xmax = std::max(c0.x(), c1.x()) + r;
@@ -231,50 +234,6 @@ void ObjectSet::pose(const KDL::Frame& T_gs, const TrayPose& tp) {
       }
     }
   }
-}
-
-double ObjectSet::lowestZ(double x, double y, int& which) const {
-  double zmin = std::numeric_limits<double>::infinity();
-  which = -1;
-  for (int i = 0; i < n_plane_; ++i) {
-    const PlaneS& p = plane_[static_cast<std::size_t>(i)];
-    if (p.n.z() < -1e-6) {  // the solid faces the sensing surface
-      const double z = (p.d - p.n.x() * x - p.n.y() * y) / p.n.z();
-      if (z < zmin) { zmin = z; which = p.object; }
-    }
-  }
-  for (int i = 0; i < n_ball_; ++i) {
-    const Ball& b = ball_[static_cast<std::size_t>(i)];
-    const double dx = x - b.c.x(), dy = y - b.c.y();
-    const double h2 = b.r * b.r - dx * dx - dy * dy;
-    if (h2 > 0.0) {
-      const double z = b.c.z() - std::sqrt(h2);
-      if (z < zmin) { zmin = z; which = b.object; }
-    }
-  }
-  for (int i = 0; i < n_seg_; ++i) {
-    const Segment& s = seg_[static_cast<std::size_t>(i)];
-    if (x < s.xmin || x > s.xmax || y < s.ymin || y > s.ymax) continue;
-    // Vertical line P(z) = (x, y, z) against the infinite cylinder around the
-    // axis p0 + t a: |w_perp + z e_perp|^2 = r^2, lower root, then 0 <= t <= len.
-    const double wx = x - s.p0.x(), wy = y - s.p0.y(), wz = -s.p0.z();
-    const double wa = wx * s.a.x() + wy * s.a.y() + wz * s.a.z();
-    const double px = wx - wa * s.a.x(), py = wy - wa * s.a.y(), pz = wz - wa * s.a.z();
-    const double az = s.a.z();
-    const double A = 1.0 - az * az;
-    if (A < 1e-12) continue;  // axis along z_s: the caps handle it
-    const double B = pz;      // w_perp . e_perp = w_perp . e_z (w_perp is orthogonal to a)
-    const double C = px * px + py * py + pz * pz - s.r * s.r;
-    const double disc = B * B - A * C;
-    if (disc < 0.0) continue;
-    const double z = (-B - std::sqrt(disc)) / A;
-    const double t = wa + z * az;
-    if (t >= 0.0 && t <= s.len && z < zmin) {
-      zmin = z;
-      which = s.object;
-    }
-  }
-  return zmin;
 }
 
 }  // namespace sim

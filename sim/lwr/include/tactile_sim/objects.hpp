@@ -19,6 +19,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -136,7 +137,7 @@ class ObjectSet {
  private:
   struct Segment {  // capsule cylinder part, in {s}
     KDL::Vector p0, a;
-    double len = 0.0, r = 0.0;
+    double len = 0.0, r = 0.0, r2 = 0.0, inv_a = 0.0;  // inv_a = 1 / (1 - a_z^2)
     double xmin = 0, xmax = 0, ymin = 0, ymax = 0;  // footprint bounding box (expanded by r)
     int object = 0;
   };
@@ -170,6 +171,51 @@ class ObjectSet {
   bool fp_any_ = false;
   void grow(double xmin, double xmax, double ymin, double ymax);
 };
+
+// Hot path (called per sample): defined inline.
+inline double ObjectSet::lowestZ(double x, double y, int& which) const {
+  double zmin = std::numeric_limits<double>::infinity();
+  which = -1;
+  for (int i = 0; i < n_plane_; ++i) {
+    const PlaneS& p = plane_[static_cast<std::size_t>(i)];
+    if (p.n.z() < -1e-6) {  // the solid faces the sensing surface
+      const double z = (p.d - p.n.x() * x - p.n.y() * y) / p.n.z();
+      if (z < zmin) { zmin = z; which = p.object; }
+    }
+  }
+  for (int i = 0; i < n_ball_; ++i) {
+    const Ball& b = ball_[static_cast<std::size_t>(i)];
+    const double dx = x - b.c.x(), dy = y - b.c.y();
+    const double h2 = b.r * b.r - dx * dx - dy * dy;
+    if (h2 > 0.0) {
+      const double z = b.c.z() - std::sqrt(h2);
+      if (z < zmin) { zmin = z; which = b.object; }
+    }
+  }
+  for (int i = 0; i < n_seg_; ++i) {
+    const Segment& s = seg_[static_cast<std::size_t>(i)];
+    if (x < s.xmin || x > s.xmax || y < s.ymin || y > s.ymax) continue;
+    // Vertical line P(z) = (x, y, z) against the infinite cylinder around the
+    // axis p0 + t a: |w_perp + z e_perp|^2 = r^2, lower root, then 0 <= t <= len.
+    const double wx = x - s.p0.x(), wy = y - s.p0.y(), wz = -s.p0.z();
+    const double wa = wx * s.a.x() + wy * s.a.y() + wz * s.a.z();
+    const double px = wx - wa * s.a.x(), py = wy - wa * s.a.y(), pz = wz - wa * s.a.z();
+    const double az = s.a.z();
+    if (s.inv_a == 0.0) continue;  // axis along z_s: the caps handle it
+    const double A = 1.0 - az * az;
+    const double B = pz;  // w_perp . e_perp = w_perp . e_z (w_perp is orthogonal to a)
+    const double C = px * px + py * py + pz * pz - s.r2;
+    const double disc = B * B - A * C;
+    if (disc < 0.0) continue;
+    const double z = (-B - std::sqrt(disc)) * s.inv_a;
+    const double t = wa + z * az;
+    if (t >= 0.0 && t <= s.len && z < zmin) {
+      zmin = z;
+      which = s.object;
+    }
+  }
+  return zmin;
+}
 
 }  // namespace sim
 }  // namespace tactile
