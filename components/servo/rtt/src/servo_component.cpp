@@ -76,7 +76,7 @@ void ServoComponent::updateHook() {
   if (req >= 0) servo_.requestPhase(req);
   features_in_.read(in_.features, false);  // keeps the last sample when nothing new
   if (flange_in_.read(in_.flange_measured, false) != RTT::NoData) have_pose_ = true;
-  const double now = RTT::os::TimeService::ticks2nsecs(RTT::os::TimeService::Instance()->getTicks()) * 1e-9;
+  const double now = RTT::os::TimeService::Instance()->secondsSince(0);
   double dt = now - last_time_;
   if (first_cycle_) dt = getPeriod() > 0.0 ? getPeriod() : 1e-3;
   first_cycle_ = false;

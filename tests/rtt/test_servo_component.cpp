@@ -1,0 +1,269 @@
+// tactile::ServoComponent in-process: SlaveActivity, RTT's TimeService driven
+// by hand, outputs compared with tactile::TactileServo run directly.
+#include <gtest/gtest.h>
+
+#include <rtt/InputPort.hpp>
+#include <rtt/OutputPort.hpp>
+#include <rtt/TaskContext.hpp>
+#include <rtt/extras/SlaveActivity.hpp>
+#include <rtt/os/TimeService.hpp>
+#include <rtt/os/main.h>
+
+#include <cmath>
+#include <string>
+
+#include "alloc_counter.hpp"
+#include "tactile_servo/program_io.hpp"
+#include "tactile_servo/servo.hpp"
+#include "tactile_servo_rtt/servo_component.hpp"
+
+namespace {
+
+using tactile::ContactFeatures;
+using tactile::PhaseState;
+using tactile::Pose;
+using tactile::PoseCommand;
+using tactile::ServoStatus;
+
+class Env : public ::testing::Environment {
+ public:
+  void SetUp() override {
+    __os_init(0, nullptr);
+    RTT::os::TimeService::Instance()->enableSystemClock(false);  // time advances only by secondsChange()
+  }
+  void TearDown() override { __os_exit(); }
+};
+const auto* const env = ::testing::AddGlobalTestEnvironment(new Env);
+
+const std::string kProgram = TACTILE_SERVO_PROGRAM_DIR "/edge_exploration.yaml";
+constexpr double kDt = 0.01;  // 100 Hz, the rate the program's gains are sized for
+
+double now() { return RTT::os::TimeService::Instance()->secondsSince(0); }
+
+struct Rig {
+  tactile::ServoComponent comp{"servo"};
+  RTT::OutputPort<ContactFeatures> features_out{"features_out"};
+  RTT::OutputPort<Pose> pose_out{"pose_out"};
+  RTT::InputPort<PoseCommand> command_in{"command_in"};
+  RTT::InputPort<PhaseState> phase_in{"phase_in"};
+  RTT::TaskContext io{"io"};  // declared last: destroyed before the ports it holds
+
+  explicit Rig(const std::string& program) {
+    comp.setActivity(new RTT::extras::SlaveActivity(kDt));
+    io.ports()->addPort(features_out);
+    io.ports()->addPort(pose_out);
+    io.ports()->addPort(command_in);
+    io.ports()->addPort(phase_in);
+    comp.properties()->getPropertyType<std::string>("program_file")->set(program);
+    EXPECT_TRUE(features_out.connectTo(comp.ports()->getPort("features")));
+    EXPECT_TRUE(pose_out.connectTo(comp.ports()->getPort("flange_pose")));
+    EXPECT_TRUE(comp.ports()->getPort("pose_command")->connectTo(&command_in));
+    EXPECT_TRUE(comp.ports()->getPort("phase")->connectTo(&phase_in));
+  }
+};
+
+ContactFeatures noContact(double t) {
+  ContactFeatures f;
+  f.time_s = t;
+  f.status = tactile::FeatureStatus::NoContact;
+  f.contact = tactile::ContactType::None;
+  return f;
+}
+
+ContactFeatures edge(double t, double cop_x, double alpha) {
+  ContactFeatures f;
+  f.time_s = t;
+  f.cop_x = cop_x;
+  f.coc_x = cop_x;
+  f.alpha_z = alpha;
+  f.force = 4.0;
+  f.d_z = 4.0 / 1800.0;
+  f.lambda1 = 1e-4;
+  f.lambda2 = 1e-6;
+  f.area = 14;
+  f.contact = tactile::ContactType::Edge;
+  f.status = tactile::FeatureStatus::Ok;
+  return f;
+}
+
+Pose startPose() {
+  Pose p;
+  p.p = {0.5, 0.0, 0.4};
+  p.q = {1.0, 0.0, 0.0, 0.0};  // sensor facing down
+  return p;
+}
+
+TEST(ServoComponent, InterfaceIsDeclaredAndDocumented) {
+  tactile::ServoComponent c("s");
+  for (const char* port : {"features", "flange_pose", "pose_command", "phase"}) {
+    ASSERT_NE(c.ports()->getPort(port), nullptr) << port;
+    EXPECT_FALSE(c.ports()->getPort(port)->getDescription().empty()) << port;
+  }
+  ASSERT_NE(c.properties()->getProperty("program_file"), nullptr);
+  for (const char* op : {"switchPhase", "phaseName", "lastError"}) {
+    EXPECT_TRUE(c.provides()->hasOperation(op)) << op;
+    EXPECT_FALSE(c.provides()->getDescription(op).empty()) << op;
+  }
+}
+
+TEST(ServoComponent, CommandsMatchTheCore) {
+  Rig rig(kProgram);
+  ASSERT_TRUE(rig.comp.configure()) << rig.comp.lastError();
+  ASSERT_TRUE(rig.comp.start());
+  tactile::TactileServo core;
+  tactile::ServoParams p;
+  ASSERT_TRUE(tactile::loadServoProgram(kProgram, p).ok());
+  ASSERT_TRUE(core.configure(p).ok());
+  tactile::ServoInput in;
+  tactile::ServoOutput want;
+  Pose pose = startPose();
+  int commands = 0;
+  double t_prev = 0.0;
+  for (int k = 0; k < 60; ++k) {
+    RTT::os::TimeService::Instance()->secondsChange(kDt);
+    const double t = now();
+    // The component's dt: the activity period on the first cycle, then the
+    // difference of TimeService readings.
+    const double dt = k == 0 ? kDt : t - t_prev;
+    t_prev = t;
+    // Free motion for 20 cycles, then an edge appears (phase changes follow).
+    const ContactFeatures f = k < 20 ? noContact(t) : edge(t, 0.002, 0.1);
+    rig.features_out.write(f);
+    rig.pose_out.write(pose);
+    ASSERT_TRUE(rig.comp.update());
+    in.time_s = t;
+    in.features = f;
+    in.flange_measured = pose;
+    core.step(in, dt, want);
+    PoseCommand got;
+    ASSERT_EQ(rig.command_in.read(got), RTT::NewData) << k;
+    ++commands;
+    // Same code, same inputs, same dt: bit-identical (tolerance 0).
+    EXPECT_EQ(got.pose.p, want.command.pose.p) << k;
+    EXPECT_EQ(got.pose.q, want.command.pose.q) << k;
+    EXPECT_EQ(got.status, want.command.status) << k;
+    PhaseState ph;
+    ASSERT_EQ(rig.phase_in.read(ph), RTT::NewData);
+    EXPECT_EQ(ph.index, want.phase.index) << k;
+    EXPECT_STREQ(ph.name.data(), want.phase.name.data());
+    pose = got.pose;  // an ideal robot follows the command
+  }
+  EXPECT_EQ(commands, 60);
+  // The run left phase I (free motion) once the edge appeared.
+  EXPECT_NE(rig.comp.phaseName(), "free_motion");
+  EXPECT_GT(pose.p[2], 0.0);
+}
+
+TEST(ServoComponent, FreeMotionMovesAlongTheApproachDirection) {
+  Rig rig(kProgram);
+  ASSERT_TRUE(rig.comp.configure());
+  ASSERT_TRUE(rig.comp.start());
+  EXPECT_EQ(rig.comp.phaseName(), "free_motion");
+  Pose pose = startPose();
+  for (int k = 0; k < 10; ++k) {
+    RTT::os::TimeService::Instance()->secondsChange(kDt);
+    rig.features_out.write(noContact(now()));
+    rig.pose_out.write(pose);
+    rig.comp.update();
+    PoseCommand c;
+    ASSERT_EQ(rig.command_in.read(c), RTT::NewData);
+    pose = c.pose;
+  }
+  // Sensor facing down ({s} z along -z_g): 10 cycles at 0.01 m/s, 10 ms: 1 mm down.
+  // Tolerance 1e-9 m: floating-point accumulation over 10 pose compositions.
+  EXPECT_NEAR(pose.p[2], 0.4 - 0.001, 1e-9);
+  EXPECT_NEAR(pose.p[0], 0.5, 1e-9);
+}
+
+TEST(ServoComponent, SwitchPhaseByName) {
+  Rig rig(kProgram);
+  EXPECT_FALSE(rig.comp.switchPhase("explore"));  // not configured
+  ASSERT_TRUE(rig.comp.configure());
+  ASSERT_TRUE(rig.comp.start());
+  EXPECT_FALSE(rig.comp.switchPhase("no_such_phase"));
+  EXPECT_TRUE(rig.comp.switchPhase("explore"));
+  RTT::os::TimeService::Instance()->secondsChange(kDt);
+  rig.features_out.write(edge(now(), 0.0, 0.0));
+  rig.pose_out.write(startPose());
+  rig.comp.update();
+  EXPECT_EQ(rig.comp.phaseName(), "explore");
+  PhaseState ph;
+  ASSERT_EQ(rig.phase_in.read(ph), RTT::NewData);
+  EXPECT_STREQ(ph.name.data(), "explore");
+  EXPECT_EQ(ph.index, 3);
+}
+
+TEST(ServoComponent, NoFlangePoseNoCommand) {
+  Rig rig(kProgram);
+  ASSERT_TRUE(rig.comp.configure());
+  ASSERT_TRUE(rig.comp.start());
+  RTT::os::TimeService::Instance()->secondsChange(kDt);
+  rig.features_out.write(noContact(now()));
+  rig.comp.update();
+  PoseCommand c;
+  EXPECT_EQ(rig.command_in.read(c), RTT::NoData);
+  PhaseState ph;
+  EXPECT_EQ(rig.phase_in.read(ph), RTT::NewData);  // the phase is still reported
+}
+
+TEST(ServoComponent, NaNPoseHoldsWithAFiniteCommand) {
+  Rig rig(kProgram);
+  ASSERT_TRUE(rig.comp.configure());
+  ASSERT_TRUE(rig.comp.start());
+  RTT::os::TimeService::Instance()->secondsChange(kDt);
+  rig.features_out.write(noContact(now()));
+  rig.pose_out.write(startPose());
+  rig.comp.update();
+  PoseCommand c;
+  ASSERT_EQ(rig.command_in.read(c), RTT::NewData);
+  Pose bad = startPose();
+  bad.p[1] = std::nan("");
+  RTT::os::TimeService::Instance()->secondsChange(kDt);
+  rig.features_out.write(noContact(now()));
+  rig.pose_out.write(bad);
+  rig.comp.update();
+  ASSERT_EQ(rig.command_in.read(c), RTT::NewData);
+  EXPECT_EQ(c.status, ServoStatus::InvalidInput);
+  for (double v : c.pose.p) EXPECT_TRUE(std::isfinite(v));
+  for (double v : c.pose.q) EXPECT_TRUE(std::isfinite(v));
+}
+
+TEST(ServoComponent, BadProgramFileMakesConfigureFail) {
+  {
+    Rig rig(TACTILE_SERVO_PROGRAM_DIR "/does_not_exist.yaml");
+    EXPECT_FALSE(rig.comp.configure());
+    EXPECT_NE(rig.comp.lastError().find("does_not_exist.yaml"), std::string::npos) << rig.comp.lastError();
+  }
+  {
+    Rig rig("");
+    EXPECT_FALSE(rig.comp.configure());
+    EXPECT_NE(rig.comp.lastError().find("program_file"), std::string::npos);
+  }
+}
+
+TEST(ServoComponent, UpdateCycleDoesNotAllocate) {
+  Rig rig(kProgram);
+  ASSERT_TRUE(rig.comp.configure());
+  ASSERT_TRUE(rig.comp.start());
+  Pose pose = startPose();
+  PoseCommand c;
+  PhaseState ph;
+  ContactFeatures f = noContact(0);
+  auto cycle = [&](int k) {
+    RTT::os::TimeService::Instance()->secondsChange(kDt);
+    f = k < 5 ? noContact(now()) : edge(now(), 0.001, 0.05);
+    rig.features_out.write(f);
+    rig.pose_out.write(pose);
+    rig.comp.update();
+    if (rig.command_in.read(c, false) == RTT::NewData) pose = c.pose;
+    rig.phase_in.read(ph, false);
+  };
+  cycle(0);  // warm-up through every connection
+  EXPECT_TRUE(rig.comp.switchPhase("edge_control"));
+  tactile::test::AllocationScope scope;
+  for (int k = 1; k < 100; ++k) cycle(k);
+  EXPECT_EQ(scope.count(), 0u);
+  EXPECT_EQ(rig.comp.phaseName().empty(), false);
+}
+
+}  // namespace

@@ -1,0 +1,101 @@
+// boost::serialization description of the shared plain types (types.hpp).
+//
+// The RTT typekit (typekit.cpp) builds its StructTypeInfo<T> from these
+// functions: RTT's type_discovery archive walks them to give every field a
+// name, so ports, properties and ops scripts can read and set members
+// ("features.cop_x", "frame.force[3]"). The field names are the C++ member
+// names. Fixed-size std::array members are exposed as C arrays (RTT carray),
+// enums as their own RTT types (integer or name, see typekit.cpp).
+//
+// Plain header: no RTT include, usable by any boost archive.
+#pragma once
+
+#include <boost/serialization/array_wrapper.hpp>
+#include <boost/serialization/nvp.hpp>
+#include <boost/serialization/serialization.hpp>
+
+#include <array>
+#include <cstddef>
+
+#include "tactile_types/types.hpp"
+
+namespace boost {
+namespace serialization {
+
+namespace tactile_detail {
+// make_nvp() needs an lvalue; the wrapper only holds a pointer and a count.
+// It must be const: RTT's type_discovery maps `const array_wrapper<T>&` to a
+// carray<T> member.
+template <class Archive, typename T, std::size_t N>
+void array(Archive& a, const char* name, std::array<T, N>& v) {
+  const auto w = boost::serialization::make_array(v.data(), N);
+  a& boost::serialization::make_nvp(name, w);
+}
+}  // namespace tactile_detail
+
+template <class Archive>
+void serialize(Archive& a, tactile::RawTactileFrame& f, const unsigned int) {
+  a& make_nvp("time_s", f.time_s);
+  a& make_nvp("seq", f.seq);
+  a& make_nvp("device_time_ms", f.device_time_ms);
+  a& make_nvp("rows", f.rows);
+  a& make_nvp("cols", f.cols);
+  tactile_detail::array(a, "counts", f.counts);
+}
+
+template <class Archive>
+void serialize(Archive& a, tactile::TactileFrame& f, const unsigned int) {
+  a& make_nvp("time_s", f.time_s);
+  a& make_nvp("seq", f.seq);
+  a& make_nvp("rows", f.rows);
+  a& make_nvp("cols", f.cols);
+  a& make_nvp("saturated_count", f.saturated_count);
+  tactile_detail::array(a, "force", f.force);
+}
+
+template <class Archive>
+void serialize(Archive& a, tactile::ContactFeatures& f, const unsigned int) {
+  a& make_nvp("time_s", f.time_s);
+  a& make_nvp("seq", f.seq);
+  a& make_nvp("cop_x", f.cop_x);
+  a& make_nvp("cop_y", f.cop_y);
+  a& make_nvp("coc_x", f.coc_x);
+  a& make_nvp("coc_y", f.coc_y);
+  a& make_nvp("dzmp_x", f.dzmp_x);
+  a& make_nvp("dzmp_y", f.dzmp_y);
+  a& make_nvp("alpha_z", f.alpha_z);
+  a& make_nvp("force", f.force);
+  a& make_nvp("d_z", f.d_z);
+  a& make_nvp("lambda1", f.lambda1);
+  a& make_nvp("lambda2", f.lambda2);
+  a& make_nvp("max_taxel", f.max_taxel);
+  a& make_nvp("area", f.area);
+  a& make_nvp("contact", f.contact);
+  a& make_nvp("status", f.status);
+}
+
+template <class Archive>
+void serialize(Archive& a, tactile::Pose& p, const unsigned int) {
+  tactile_detail::array(a, "p", p.p);
+  tactile_detail::array(a, "q", p.q);
+}
+
+template <class Archive>
+void serialize(Archive& a, tactile::PoseCommand& c, const unsigned int) {
+  a& make_nvp("time_s", c.time_s);
+  a& make_nvp("seq", c.seq);
+  a& make_nvp("pose", c.pose);
+  a& make_nvp("status", c.status);
+}
+
+template <class Archive>
+void serialize(Archive& a, tactile::PhaseState& s, const unsigned int) {
+  a& make_nvp("time_s", s.time_s);
+  a& make_nvp("t_enter_s", s.t_enter_s);
+  a& make_nvp("index", s.index);
+  tactile_detail::array(a, "name", s.name);
+  a& make_nvp("status", s.status);
+}
+
+}  // namespace serialization
+}  // namespace boost
