@@ -117,24 +117,6 @@ void fromFrame(const KDL::Frame& f, float (&m)[kCartFrameDim]) noexcept {
   }
 }
 
-void toFrame(const Pose& p, KDL::Frame& f) noexcept {
-  // Normalise first: KDL builds the matrix from the quaternion as given, and a
-  // quaternion of norm 1 + e gives a matrix scaled by about 1 + 2e, not a
-  // rotation (found by fuzz_fri_decode).
-  const double n = std::sqrt(p.q[0] * p.q[0] + p.q[1] * p.q[1] + p.q[2] * p.q[2] + p.q[3] * p.q[3]);
-  if (n > 0.0 && std::isfinite(n)) {
-    f.M = KDL::Rotation::Quaternion(p.q[0] / n, p.q[1] / n, p.q[2] / n, p.q[3] / n);
-  } else {
-    f.M = KDL::Rotation::Identity();
-  }
-  f.p = KDL::Vector(p.p[0], p.p[1], p.p[2]);
-}
-
-void toPose(const KDL::Frame& f, Pose& p) noexcept {
-  f.M.GetQuaternion(p.q[0], p.q[1], p.q[2], p.q[3]);
-  p.p = {f.p.x(), f.p.y(), f.p.z()};
-}
-
 bool validFriPose(const float (&m)[kCartFrameDim], double tol) noexcept {
   for (float v : m) {
     if (!std::isfinite(v)) return false;

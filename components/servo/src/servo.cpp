@@ -1,4 +1,5 @@
 #include "tactile_servo/servo.hpp"
+#include "tactile_types/kdl_pose.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -71,23 +72,6 @@ Vec6 defaultMotionSign() {
 namespace {
 
 bool finite6(const Vec6& v) { return v.allFinite(); }
-
-bool toFrame(const Pose& p, KDL::Frame& f) {
-  for (double v : p.p)
-    if (!std::isfinite(v)) return false;
-  for (double v : p.q)
-    if (!std::isfinite(v)) return false;
-  const double n = std::sqrt(p.q[0] * p.q[0] + p.q[1] * p.q[1] + p.q[2] * p.q[2] + p.q[3] * p.q[3]);
-  if (!(n > 0.5 && n < 1.5)) return false;  // not a rotation: refuse rather than guess
-  f = KDL::Frame(KDL::Rotation::Quaternion(p.q[0] / n, p.q[1] / n, p.q[2] / n, p.q[3] / n),
-                 KDL::Vector(p.p[0], p.p[1], p.p[2]));
-  return true;
-}
-
-void fromFrame(const KDL::Frame& f, Pose& p) {
-  p.p = {f.p.x(), f.p.y(), f.p.z()};
-  f.M.GetQuaternion(p.q[0], p.q[1], p.q[2], p.q[3]);
-}
 
 bool frameFinite(const KDL::Frame& f) {
   for (int i = 0; i < 3; ++i) {
@@ -380,7 +364,7 @@ bool TactileServo::limitIncrement(Vec6& u) const {
 
 ServoStatus TactileServo::finish(ServoStatus st, double now, ServoOutput& out) {
   const double t = std::isfinite(now) ? now : 0.0;
-  if (has_cmd_) fromFrame(cmd_, out.command.pose);
+  if (has_cmd_) toPose(cmd_, out.command.pose);
   out.valid = has_cmd_;
   out.command.time_s = t;
   out.command.seq = seq_;

@@ -29,20 +29,6 @@ const char* toString(SimStatus s) {
   return "unknown";
 }
 
-KDL::Frame toFrame(const tactile::Pose& p) {
-  double n = std::sqrt(p.q[0] * p.q[0] + p.q[1] * p.q[1] + p.q[2] * p.q[2] + p.q[3] * p.q[3]);
-  if (!(n > 0.0)) n = 1.0;
-  return KDL::Frame(KDL::Rotation::Quaternion(p.q[0] / n, p.q[1] / n, p.q[2] / n, p.q[3] / n),
-                    KDL::Vector(p.p[0], p.p[1], p.p[2]));
-}
-
-tactile::Pose toPose(const KDL::Frame& f) {
-  tactile::Pose p;
-  p.p = {f.p.x(), f.p.y(), f.p.z()};
-  f.M.GetQuaternion(p.q[0], p.q[1], p.q[2], p.q[3]);
-  return p;
-}
-
 KDL::Rotation rotationFromVector(const KDL::Vector& w) {
   const double th2 = KDL::dot(w, w);
   const double th = std::sqrt(th2);

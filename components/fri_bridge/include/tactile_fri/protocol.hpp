@@ -26,6 +26,7 @@
 
 #include <kdl/frames.hpp>
 
+#include "tactile_types/kdl_pose.hpp"
 #include "tactile_types/types.hpp"
 
 #if !defined(__BYTE_ORDER__) || (__BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__)
@@ -237,10 +238,10 @@ inline int seqDelta(uint16_t a, uint16_t b) { return static_cast<int16_t>(static
 
 void toFrame(const float (&m)[kCartFrameDim], KDL::Frame& f) noexcept;
 void fromFrame(const KDL::Frame& f, float (&m)[kCartFrameDim]) noexcept;
-/// The quaternion is normalised (a zero or non-finite one gives the identity;
-/// callers reject those with validPose() first).
-void toFrame(const Pose& p, KDL::Frame& f) noexcept;
-void toPose(const KDL::Frame& f, Pose& p) noexcept;
+// tactile::Pose <-> KDL::Frame: the project-wide conversion (strict
+// bool toFrame(pose, frame); callers reject invalid poses with validPose() first).
+using tactile::toFrame;
+using tactile::toPose;
 
 /// All 12 entries finite and the 3x3 part a rotation within `tol`
 /// (|R^T R - I|_max <= tol and det(R) > 0).

@@ -38,6 +38,7 @@
 #include <kdl/jntspaceinertiamatrix.hpp>
 
 #include "tactile_types/config_result.hpp"
+#include "tactile_types/kdl_pose.hpp"
 #include "tactile_types/types.hpp"
 
 namespace KDL {
@@ -192,8 +193,8 @@ class LwrArm {
 };
 
 /// tactile::Pose <-> KDL::Frame.
-KDL::Frame toFrame(const tactile::Pose& p);
-tactile::Pose toPose(const KDL::Frame& f);
+using tactile::toFrame;  // tactile_types/kdl_pose.hpp
+using tactile::toPose;
 /// Rotation matrix of a rotation vector (Rodrigues), exact for small angles
 /// (KDL::Rot and KDL::addDelta return the identity below ~1e-6 rad).
 KDL::Rotation rotationFromVector(const KDL::Vector& w);

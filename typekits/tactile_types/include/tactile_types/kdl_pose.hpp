@@ -1,0 +1,51 @@
+// tactile::Pose <-> KDL::Frame, the one conversion every layer uses (servo,
+// simulator, FRI bridge, runner). Header-only; include it where KDL is linked.
+// Pose = position (m) + unit quaternion (x, y, z, w), see conventions.hpp.
+#pragma once
+
+#include <cmath>
+#include <kdl/frames.hpp>
+
+#include "tactile_types/types.hpp"
+
+namespace tactile {
+
+/// Strict conversion for inputs from outside (ports, packets, commands):
+/// returns false and leaves `f` untouched when an entry is NaN/Inf or the
+/// quaternion's norm is not in (0.5, 1.5) (not a rotation: refuse rather than
+/// guess). Otherwise the quaternion is normalised first: KDL builds the matrix
+/// from the quaternion as given, and a norm of 1 + e would scale it by ~1 + 2e.
+inline bool toFrame(const Pose& p, KDL::Frame& f) noexcept {
+  for (double v : p.p)
+    if (!std::isfinite(v)) return false;
+  for (double v : p.q)
+    if (!std::isfinite(v)) return false;
+  const double n = std::sqrt(p.q[0] * p.q[0] + p.q[1] * p.q[1] + p.q[2] * p.q[2] + p.q[3] * p.q[3]);
+  if (!(n > 0.5 && n < 1.5)) return false;
+  f = KDL::Frame(KDL::Rotation::Quaternion(p.q[0] / n, p.q[1] / n, p.q[2] / n, p.q[3] / n),
+                 KDL::Vector(p.p[0], p.p[1], p.p[2]));
+  return true;
+}
+
+/// Lenient conversion for poses the code made itself: normalised quaternion;
+/// identity rotation if the quaternion cannot be normalised.
+inline KDL::Frame toFrame(const Pose& p) noexcept {
+  const double n = std::sqrt(p.q[0] * p.q[0] + p.q[1] * p.q[1] + p.q[2] * p.q[2] + p.q[3] * p.q[3]);
+  const KDL::Rotation R = (n > 0.0 && std::isfinite(n))
+                              ? KDL::Rotation::Quaternion(p.q[0] / n, p.q[1] / n, p.q[2] / n, p.q[3] / n)
+                              : KDL::Rotation::Identity();
+  return KDL::Frame(R, KDL::Vector(p.p[0], p.p[1], p.p[2]));
+}
+
+inline void toPose(const KDL::Frame& f, Pose& p) noexcept {
+  p.p = {f.p.x(), f.p.y(), f.p.z()};
+  f.M.GetQuaternion(p.q[0], p.q[1], p.q[2], p.q[3]);
+}
+
+inline Pose toPose(const KDL::Frame& f) noexcept {
+  Pose p;
+  toPose(f, p);
+  return p;
+}
+
+}  // namespace tactile
