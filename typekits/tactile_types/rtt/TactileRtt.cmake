@@ -47,7 +47,8 @@ function(tactile_rtt_library target kind)
   set_target_properties(${target} PROPERTIES
     OUTPUT_NAME ${target}-${OROCOS_TARGET}
     LIBRARY_OUTPUT_DIRECTORY ${dir}
-    INSTALL_RPATH "$ORIGIN:${CMAKE_INSTALL_PREFIX}/lib")
+    INSTALL_RPATH "${CMAKE_INSTALL_PREFIX}/lib"
+    INSTALL_RPATH_USE_LINK_PATH TRUE)  # liborocos-rtt etc. from their install dirs
   if(inst)
     install(TARGETS ${target} LIBRARY DESTINATION ${inst})
   endif()
