@@ -133,15 +133,14 @@ TEST(Experiments, BentBarProposedHoldsTheForceBaselineDrifts) {
     }
   ASSERT_GT(n, 100);
   EXPECT_NEAR(measured / n, 5.0, 0.25);
-  // The true force (the simulated Nano17) is higher: a 5 N line load over two
-  // rows of 14 taxels is ~0.18 N per taxel, at the 0.2 N firing threshold,
-  // and the curved part of the bar loads the pad unevenly, so taxels below the
-  // threshold read 0 and their share is not measured. Measured here: true
-  // mean ~6.2 N, i.e. the 5 +- 1 N band is missed by ~0.2 N on the
-  // mean; we assert what the physics gives and report the gap (README).
-  EXPECT_NEAR(p.summary.force_true_mean_n, 5.0, 1.5);
-  EXPECT_LT(p.summary.force_true_max_n, 7.0);
-  EXPECT_LT(p.summary.force_true_rms_error_n, 1.5);
+  // The true force (the simulated Nano17) stays within the paper's 5 +- 1 N
+  // after the transient. It sits above the measured force: taxels below the
+  // 0.2 N firing threshold read 0 (with this 5 mm edge radius the bias is
+  // ~0.6 N; with a 3 mm radius it is ~1.2 N and the band is missed, README).
+  EXPECT_NEAR(p.summary.force_true_mean_n, 5.0, 1.0);
+  EXPECT_LE(p.summary.force_true_max_n, 6.0);
+  EXPECT_GE(p.summary.force_true_in_band_fraction, 0.99);
+  EXPECT_LT(p.summary.force_true_rms_error_n, 1.0);
   // Baseline: far from 5 N (the paper reports up to 50 N), much of it on the
   // rigid housing, which the taxels do not see.
   EXPECT_GT(b.summary.force_true_max_n, 30.0);
