@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <utility>
 
 namespace tactile {
 namespace sim {
@@ -152,22 +154,32 @@ void ObjectSet::grow(double xmin, double xmax, double ymin, double ymax) {
 }
 
 void ObjectSet::addCapsuleS(const KDL::Vector& a, const KDL::Vector& b, double r, int object, bool cap_a, bool cap_b) {
-  // Only the part of the capsule whose centreline is below z = r can reach
-  // below the surface z = 0: clip the segment to it (footprint culling).
-  const double za = a.z(), zb = b.z();
-  double t0 = 0.0, t1 = 1.0;
-  if (za >= r && zb >= r) {
-    t1 = -1.0;  // entirely above: no contact possible
-  } else if (za >= r) {
-    t0 = (za - r) / (za - zb);
-  } else if (zb >= r) {
-    t1 = (za - r) / (za - zb);
-  }
+  // Footprint culling. Only the part of the centreline that can carry a
+  // surface point below z = 0 over the region matters: a point p of the
+  // cylinder part with p.z < 0 has its axis foot c at |p - c| = r, so c.z < r
+  // and c's projection lies within r of p's (inside the region). Clip the
+  // segment a + t (b - a), t in [0, 1], to z <= r and to the region grown by r.
   const KDL::Vector d = b - a;
-  const KDL::Vector c0 = a + t0 * d, c1 = a + t1 * d;
-  if (t1 >= t0 && n_seg_ < kMaxSegments &&
-      inRegion(std::min(c0.x(), c1.x()) - r, std::max(c0.x(), c1.x()) + r, std::min(c0.y(), c1.y()) - r,
-               std::max(c0.y(), c1.y()) + r)) {
+  double t0 = 0.0, t1 = 1.0;
+  auto clip = [&t0, &t1](double v0, double dv, double lo, double hi) {
+    if (std::fabs(dv) < 1e-15) {
+      if (v0 < lo || v0 > hi) t1 = -1.0;
+      return;
+    }
+    double ta = (lo - v0) / dv, tb = (hi - v0) / dv;
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  };
+  clip(a.z(), d.z(), -std::numeric_limits<double>::infinity(), r);
+  clip(a.x(), d.x(), region_[0] - r, region_[1] + r);
+  clip(a.y(), d.y(), region_[2] - r, region_[3] + r);
+  if (t1 >= t0 && n_seg_ < kMaxSegments) {
+    const KDL::Vector c0 = a + t0 * d, c1 = a + t1 * d;
+    // Horizontal reach: |p - c|^2 = r^2 = horiz^2 + (c.z - p.z)^2 with
+    // p.z < 0 <= c.z gives horiz^2 < r^2 - c.z^2, largest at the lowest c.
+    const double zlow = std::min(c0.z(), c1.z());
+    const double rho = zlow > 0.0 ? std::sqrt(std::max(r * r - zlow * zlow, 0.0)) : r;
     Segment& s = seg_[static_cast<std::size_t>(n_seg_++)];
     s.p0 = a;
     s.len = d.Norm();
@@ -177,20 +189,30 @@ void ObjectSet::addCapsuleS(const KDL::Vector& a, const KDL::Vector& b, double r
     const double A = 1.0 - s.a.z() * s.a.z();
     s.inv_a = A < 1e-12 ? 0.0 : 1.0 / A;  // 0: axis along z_s, the caps handle it
     s.object = object;
-    s.xmin = std::min(c0.x(), c1.x()) - r;
-    s.xmax = std::max(c0.x(), c1.x()) + r;
-    s.ymin = std::min(c0.y(), c1.y()) - r;
-    s.ymax = std::max(c0.y(), c1.y()) + r;
+    s.xmin = std::min(c0.x(), c1.x()) - rho;
+    s.xmax = std::max(c0.x(), c1.x()) + rho;
+    s.ymin = std::min(c0.y(), c1.y()) - rho;
+    s.ymax = std::max(c0.y(), c1.y()) + rho;
     grow(s.xmin, s.xmax, s.ymin, s.ymax);
   }
-  if (cap_a && za < r && n_ball_ < static_cast<int>(ball_.size()) && inRegion(a.x() - r, a.x() + r, a.y() - r, a.y() + r)) {
-    ball_[static_cast<std::size_t>(n_ball_++)] = Ball{a, r, object};
-    grow(a.x() - r, a.x() + r, a.y() - r, a.y() + r);
-  }
-  if (cap_b && zb < r && n_ball_ < static_cast<int>(ball_.size()) && inRegion(b.x() - r, b.x() + r, b.y() - r, b.y() + r)) {
-    ball_[static_cast<std::size_t>(n_ball_++)] = Ball{b, r, object};
-    grow(b.x() - r, b.x() + r, b.y() - r, b.y() + r);
-  }
+  if (cap_a) addBall(a, r, object);
+  if (cap_b) addBall(b, r, object);
+}
+
+void ObjectSet::addBall(const KDL::Vector& c, double r, int object) {
+  // Below z = 0 only within rho = sqrt(r^2 - c.z^2) of the centre (c.z > 0).
+  if (!(c.z() < r) || n_ball_ >= static_cast<int>(ball_.size())) return;
+  const double rho = c.z() > 0.0 ? std::sqrt(std::max(r * r - c.z() * c.z(), 0.0)) : r;
+  if (!inRegion(c.x() - rho, c.x() + rho, c.y() - rho, c.y() + rho)) return;
+  Ball& b = ball_[static_cast<std::size_t>(n_ball_++)];
+  b.c = c;
+  b.r = r;
+  b.object = object;
+  b.xmin = c.x() - rho;
+  b.xmax = c.x() + rho;
+  b.ymin = c.y() - rho;
+  b.ymax = c.y() + rho;
+  grow(b.xmin, b.xmax, b.ymin, b.ymax);
 }
 
 void ObjectSet::pose(const KDL::Frame& T_gs, const TrayPose& tp) {
@@ -211,14 +233,9 @@ void ObjectSet::pose(const KDL::Frame& T_gs, const TrayPose& tp) {
         }
         break;
       }
-      case ObjectType::Sphere: {
-        const KDL::Vector c = T_sg * V(o.center);
-        if (c.z() < o.radius && inRegion(c.x() - o.radius, c.x() + o.radius, c.y() - o.radius, c.y() + o.radius)) {
-          ball_[static_cast<std::size_t>(n_ball_++)] = Ball{c, o.radius, i};
-          grow(c.x() - o.radius, c.x() + o.radius, c.y() - o.radius, c.y() + o.radius);
-        }
+      case ObjectType::Sphere:
+        addBall(T_sg * V(o.center), o.radius, i);
         break;
-      }
       case ObjectType::Bar:
       case ObjectType::BentBar: {
         const std::size_t nv = o.vertices.size();

@@ -137,13 +137,11 @@ void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, Conta
   if (!objects.footprint(fx0, fx1, fy0, fy1)) return;  // nothing reaches below the surface
   // Only the (z, wx, wy) block is non-zero: g = (0, 0, -1, -y, x, 0).
   double Fz = 0, Mx = 0, My = 0, Kzz = 0, Kzx = 0, Kzy = 0, Kxx = 0, Kxy = 0, Kyy = 0;
-  for (int i = 0; i < n_samples_; ++i) {
-    const Sample& s = samples_[static_cast<std::size_t>(i)];
-    if (s.x < fx0 || s.x > fx1 || s.y < fy0 || s.y > fy1) continue;
+  auto add = [&](const Sample& s) {
     int which;
     const double zl = objects.lowestZ(s.x, s.y, which);
     const double d = s.z - zl;  // penetration into the layer (z = 0) or the housing (z = -recess)
-    if (!(d > 0.0) || -zl > params_.depth_limit) continue;
+    if (!(d > 0.0) || -zl > params_.depth_limit) return;
     const double f = s.k * d;
     ++out.active;
     if (s.layer) out.layer_force += f; else out.housing_force += f;
@@ -177,6 +175,42 @@ void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, Conta
       out.dtau_dth(1, 0) -= s.k * h2 * h1;
       out.dtau_dth(1, 1) -= s.k * h2 * h2;
     }
+  };
+  // Layer samples are stored taxel by taxel (k x k each, taxels row-major):
+  // skip taxel rows, taxels and sample rows whose x range misses the objects'
+  // footprint (ObjectSet::rowSpan; exact: those samples carry no force). The
+  // summation order is that of the full loop, so the result is unchanged.
+  const int rows = params_.rows, cols = params_.cols, k = params_.physics_subsamples;
+  const double pitch = params_.pitch, hk = pitch / k;
+  std::array<double, kMaxRows * 6> sx0, sx1;
+  for (int r = 0; r < rows; ++r) {
+    const double yc = (r - (rows - 1) / 2.0) * pitch;
+    if (yc + 0.5 * pitch < fy0 || yc - 0.5 * pitch > fy1) continue;
+    for (int i = 0; i < k; ++i) {
+      const std::size_t ri = static_cast<std::size_t>(r * k + i);
+      if (!objects.rowSpan(yc - 0.5 * pitch + (i + 0.5) * hk, sx0[ri], sx1[ri])) {
+        sx0[ri] = 1.0;  // empty
+        sx1[ri] = -1.0;
+      }
+    }
+    for (int c = 0; c < cols; ++c) {
+      const double xc = (c - (cols - 1) / 2.0) * pitch;
+      if (xc + 0.5 * pitch < fx0 || xc - 0.5 * pitch > fx1) continue;
+      const Sample* ts = &samples_[static_cast<std::size_t>((r * cols + c) * k * k)];
+      for (int i = 0; i < k; ++i) {
+        const std::size_t ri = static_cast<std::size_t>(r * k + i);
+        for (int j = 0; j < k; ++j) {
+          const Sample& s = ts[i * k + j];
+          if (s.x < sx0[ri] || s.x > sx1[ri] || s.y < fy0 || s.y > fy1) continue;
+          add(s);
+        }
+      }
+    }
+  }
+  for (int i = n_samples_ - n_housing_; i < n_samples_; ++i) {
+    const Sample& s = samples_[static_cast<std::size_t>(i)];
+    if (s.x < fx0 || s.x > fx1 || s.y < fy0 || s.y > fy1) continue;
+    add(s);
   }
   out.W_s(2) = Fz;
   out.W_s(3) = Mx;
@@ -227,6 +261,21 @@ void PadSensor::acquire(const ObjectSet& objects, const KDL::Frame& T_gs, double
   image_.rows = static_cast<uint16_t>(rows);
   image_.cols = static_cast<uint16_t>(cols);
   image_.saturated_count = 0;
+  // Per image sample row: the x range where an object can be below the
+  // surface (ObjectSet::rowSpan); samples outside read 0 exactly, so they are
+  // skipped. The summation order is unchanged (taxel by taxel).
+  std::array<double, kMaxRows * 32> sx0, sx1;
+  for (int r = 0; r < rows && any; ++r) {
+    const double yc = (r - (rows - 1) / 2.0) * pitch;
+    for (int i = 0; i < K; ++i) {
+      const std::size_t ri = static_cast<std::size_t>(r * K + i);
+      const double y = yc - 0.5 * pitch + (i + 0.5) * h;
+      if (!objects.rowSpan(y, sx0[ri], sx1[ri])) {
+        sx0[ri] = 1.0;  // empty
+        sx1[ri] = -1.0;
+      }
+    }
+  }
   double F = 0, Mx = 0, My = 0;
   for (int r = 0; r < rows; ++r) {
     const double yc = (r - (rows - 1) / 2.0) * pitch;
@@ -236,9 +285,13 @@ void PadSensor::acquire(const ObjectSet& objects, const KDL::Frame& T_gs, double
       double f = 0.0;
       if (row_in && xc + 0.5 * pitch >= fx0 && xc - 0.5 * pitch <= fx1) {
         for (int i = 0; i < K; ++i) {
+          const std::size_t ri = static_cast<std::size_t>(r * K + i);
+          const double x0 = sx0[ri], x1 = sx1[ri];
+          if (xc + 0.5 * pitch < x0 || xc - 0.5 * pitch > x1) continue;
           const double y = yc - 0.5 * pitch + (i + 0.5) * h;
           for (int j = 0; j < K; ++j) {
             const double x = xc - 0.5 * pitch + (j + 0.5) * h;
+            if (x < x0 || x > x1) continue;
             int which;
             const double d = -objects.lowestZ(x, y, which);
             if (d > 0.0 && d <= lim) {

@@ -113,7 +113,15 @@ class ObjectSet {
 
   /// Lowest object surface point along z_s over the column (x, y) in {s}
   /// (+inf if no object crosses the column). `which` = object index.
+  /// Exact wherever the result is below the sensing surface (z < 0) inside
+  /// the region; columns where every object stays above z = 0 may report
+  /// +inf instead of the (positive) height (footprint culling).
   double lowestZ(double x, double y, int& which) const;
+
+  /// Range of x (in {s}) over which the line y = const can have lowestZ < 0
+  /// (union of the primitives' footprints crossing that line); false if none.
+  /// Conservative, like footprint().
+  bool rowSpan(double y, double& xmin, double& xmax) const;
 
   /// Bounding box in {s} (x, y) of every object part that reaches below the
   /// sensing surface (z < 0) after pose(); false if nothing does (no contact
@@ -138,13 +146,14 @@ class ObjectSet {
   struct Segment {  // capsule cylinder part, in {s}
     KDL::Vector p0, a;
     double len = 0.0, r = 0.0, r2 = 0.0, inv_a = 0.0;  // inv_a = 1 / (1 - a_z^2)
-    double xmin = 0, xmax = 0, ymin = 0, ymax = 0;  // footprint bounding box (expanded by r)
+    double xmin = 0, xmax = 0, ymin = 0, ymax = 0;  // where it can reach below z = 0 (see addCapsuleS)
     int object = 0;
   };
   struct Ball {  // sphere / capsule end cap, in {s}
     KDL::Vector c;
     double r = 0.0;
     int object = 0;
+    double xmin = 0, xmax = 0, ymin = 0, ymax = 0;  // where it can reach below z = 0
   };
   struct PlaneS {
     KDL::Vector n;
@@ -152,6 +161,7 @@ class ObjectSet {
     int object = 0;
   };
   void addCapsuleS(const KDL::Vector& a, const KDL::Vector& b, double r, int object, bool cap_a, bool cap_b);
+  void addBall(const KDL::Vector& c, double r, int object);
 
   std::vector<ObjectParams> params_;  // configure-time copy (names for messages)
   int n_objects_ = 0;
@@ -185,6 +195,7 @@ inline double ObjectSet::lowestZ(double x, double y, int& which) const {
   }
   for (int i = 0; i < n_ball_; ++i) {
     const Ball& b = ball_[static_cast<std::size_t>(i)];
+    if (x < b.xmin || x > b.xmax || y < b.ymin || y > b.ymax) continue;
     const double dx = x - b.c.x(), dy = y - b.c.y();
     const double h2 = b.r * b.r - dx * dx - dy * dy;
     if (h2 > 0.0) {
@@ -215,6 +226,32 @@ inline double ObjectSet::lowestZ(double x, double y, int& which) const {
     }
   }
   return zmin;
+}
+
+inline bool ObjectSet::rowSpan(double y, double& xmin, double& xmax) const {
+  if (n_plane_ > 0) {  // a facing plane may reach anywhere
+    xmin = -std::numeric_limits<double>::infinity();
+    xmax = std::numeric_limits<double>::infinity();
+    return true;
+  }
+  bool any = false;
+  xmin = std::numeric_limits<double>::infinity();
+  xmax = -std::numeric_limits<double>::infinity();
+  for (int i = 0; i < n_ball_; ++i) {
+    const Ball& b = ball_[static_cast<std::size_t>(i)];
+    if (y < b.ymin || y > b.ymax) continue;
+    any = true;
+    if (b.xmin < xmin) xmin = b.xmin;
+    if (b.xmax > xmax) xmax = b.xmax;
+  }
+  for (int i = 0; i < n_seg_; ++i) {
+    const Segment& s = seg_[static_cast<std::size_t>(i)];
+    if (y < s.ymin || y > s.ymax) continue;
+    any = true;
+    if (s.xmin < xmin) xmin = s.xmin;
+    if (s.xmax > xmax) xmax = s.xmax;
+  }
+  return any;
 }
 
 }  // namespace sim
