@@ -26,8 +26,12 @@ Pose downPose(double x, double y, double z) {
 
 constexpr double kBarTop = 0.043;
 
-WorldParams barScene(Fidelity f, int k_phys, int k_img) {
+WorldParams barScene(Fidelity f, int k_phys, int k_img, bool dyn_every_step = false) {
   WorldParams p;
+  if (dyn_every_step) {  // M and C evaluated every step (no cache)
+    p.arm.dyn_refresh_q = 0.0;
+    p.arm.dyn_refresh_qd = 0.0;
+  }
   p.fidelity = f;
   p.pad.physics_subsamples = k_phys;
   p.pad.subsamples = k_img;
@@ -66,8 +70,9 @@ void BM_Sim(benchmark::State& state) {
   const double sim_rate = static_cast<double>(state.range(1));
   const int k_phys = static_cast<int>(state.range(2));
   const int k_img = static_cast<int>(state.range(3));
+  const bool every = state.range(4) != 0;
   World w;
-  if (!w.configure(barScene(f, k_phys, k_img)).ok()) {
+  if (!w.configure(barScene(f, k_phys, k_img, every)).ok()) {
     state.SkipWithError("configure failed");
     return;
   }
@@ -84,32 +89,36 @@ void BM_Sim(benchmark::State& state) {
     benchmark::DoNotOptimize(f_now);
   }
   state.counters["rtf"] = benchmark::Counter(sim_s, benchmark::Counter::kIsRate);
+  state.counters["MC_evals/s"] = static_cast<double>(w.arm().dynEvaluations()) / (sim_s + 1.0);
   char label[96];
   std::snprintf(label, sizeof label, "%s F=%.2fN status=%s", toString(f), s.normal_force, toString(s.status));
   state.SetLabel(label);
 }
-// Args: fidelity (0 quasi-static, 1 dynamics), sim rate (Hz), physics K, image K.
+// Args: fidelity (0 quasi-static, 1 dynamics), sim rate (Hz), physics K, image K,
+// MCevery (1: dynamics evaluates M and C every step, the reference for the cache).
 BENCHMARK(BM_Sim)
-    ->ArgNames({"dyn", "rate", "Kphys", "Kimg"})
-    ->Args({0, 100, 2, 4})
-    ->Args({0, 1000, 2, 4})
-    ->Args({0, 1000, 1, 4})
-    ->Args({0, 1000, 4, 4})
-    ->Args({0, 1000, 2, 1})
-    ->Args({0, 1000, 2, 2})
-    ->Args({1, 1000, 1, 4})
-    ->Args({1, 1000, 2, 4})
-    ->Args({1, 1000, 4, 4})
-    ->Args({1, 1000, 1, 1})
-    ->Args({1, 1000, 2, 1})
-    ->Args({1, 1000, 2, 8})
+    ->ArgNames({"dyn", "rate", "Kphys", "Kimg", "MCevery"})
+    ->Args({0, 100, 2, 4, 0})
+    ->Args({0, 1000, 2, 4, 0})
+    ->Args({0, 1000, 1, 4, 0})
+    ->Args({0, 1000, 4, 4, 0})
+    ->Args({0, 1000, 2, 1, 0})
+    ->Args({0, 1000, 2, 2, 0})
+    ->Args({1, 1000, 1, 4, 0})
+    ->Args({1, 1000, 1, 4, 1})
+    ->Args({1, 1000, 2, 4, 0})
+    ->Args({1, 1000, 2, 4, 1})
+    ->Args({1, 1000, 4, 4, 0})
+    ->Args({1, 1000, 1, 1, 0})
+    ->Args({1, 1000, 2, 1, 0})
+    ->Args({1, 1000, 2, 8, 0})
     ->Unit(benchmark::kMillisecond);
 
 // Single calls, for the cost breakdown.
 void BM_Step(benchmark::State& state) {
   const Fidelity f = state.range(0) == 0 ? Fidelity::QuasiStatic : Fidelity::Dynamics;
   World w;
-  if (!w.configure(barScene(f, static_cast<int>(state.range(1)), 4)).ok()) {
+  if (!w.configure(barScene(f, static_cast<int>(state.range(1)), 4, state.range(2) != 0)).ok()) {
     state.SkipWithError("configure failed");
     return;
   }
@@ -124,7 +133,16 @@ void BM_Step(benchmark::State& state) {
     benchmark::DoNotOptimize(f_now);
   }
 }
-BENCHMARK(BM_Step)->ArgNames({"dyn", "Kphys"})->Args({0, 1})->Args({0, 2})->Args({0, 4})->Args({1, 1})->Args({1, 2})->Args({1, 4})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Step)
+    ->ArgNames({"dyn", "Kphys", "MCevery"})
+    ->Args({0, 1, 0})
+    ->Args({0, 2, 0})
+    ->Args({0, 4, 0})
+    ->Args({1, 1, 0})
+    ->Args({1, 2, 0})
+    ->Args({1, 2, 1})
+    ->Args({1, 4, 0})
+    ->Unit(benchmark::kMicrosecond);
 
 void BM_Acquire(benchmark::State& state) {
   World w;

@@ -88,6 +88,10 @@ ConfigResult LwrArm::configure(const ArmParams& p) {
   if (p.ik_iterations < 1 || p.ik_iterations > 100)
     return rangeError("arm.ik_iterations", p.ik_iterations, "must be in [1, 100]");
   if (!positive(p.ik_damping) || p.ik_damping > 1.0) return rangeError("arm.ik_damping", p.ik_damping, "must be in (0, 1]");
+  if (!nonneg(p.dyn_refresh_q) || p.dyn_refresh_q > 0.1)
+    return rangeError("arm.dyn_refresh_q", p.dyn_refresh_q, "must be in [0, 0.1] rad");
+  if (!nonneg(p.dyn_refresh_qd) || p.dyn_refresh_qd > 1.0)
+    return rangeError("arm.dyn_refresh_qd", p.dyn_refresh_qd, "must be in [0, 1] rad/s");
   if (!nonneg(p.tool_mass)) return rangeError("arm.tool_mass", p.tool_mass, "must be >= 0 (kg)");
   if (!finite3(p.tool_com)) return ConfigResult::failure("arm.tool_com: must be finite (m)");
   for (int i = 0; i < kLwrJoints; ++i) {
@@ -153,6 +157,7 @@ ConfigResult LwrArm::configure(const ArmParams& p) {
   d_trans_ = 2.0 * p.damping_ratio * std::sqrt(p.k_trans * m_t);
   d_rot_ = 2.0 * p.damping_ratio * std::sqrt(p.k_rot * i_r);
   configured_ = true;
+  dyn_evaluations_ = 0;
   reset(q_rest_);
   return ConfigResult::success();
 }
@@ -160,6 +165,7 @@ ConfigResult LwrArm::configure(const ArmParams& p) {
 void LwrArm::reset(const JointVec& q) {
   state_.q = q;
   state_.qd.setZero();
+  dyn_valid_ = false;
   refreshKinematics();
 }
 
@@ -246,14 +252,24 @@ SimStatus LwrArm::stepDynamics(const KDL::Frame& T_cmd, const Vec6& W_ext, doubl
   Eigen::Matrix<double, 7, 7> B = J_.transpose() * D * J_ + params_.null_damping * N;
   B.diagonal().array() += params_.joint_damping;
   // M qdd + C qd + g = tau_cmd + tau_ext, tau_cmd containing g(q): gravity cancels.
-  kq_.data = state_.q;
-  kqd_.data = state_.qd;
-  dyn_->JntToMass(kq_, kM_);
-  dyn_->JntToCoriolis(kq_, kqd_, kout_);
-  const Eigen::Matrix<double, 7, 7> M = kM_.data;
+  // M and C qd are re-evaluated when q or qd moved beyond dyn_refresh_q/qd.
+  if (!dyn_valid_ || (state_.q - q_dyn_).cwiseAbs().maxCoeff() > params_.dyn_refresh_q ||
+      (state_.qd - qd_dyn_).cwiseAbs().maxCoeff() > params_.dyn_refresh_qd) {
+    kq_.data = state_.q;
+    kqd_.data = state_.qd;
+    dyn_->JntToMass(kq_, kM_);
+    dyn_->JntToCoriolis(kq_, kqd_, kout_);
+    M_dyn_ = kM_.data;
+    C_dyn_ = kout_.data;
+    q_dyn_ = state_.q;
+    qd_dyn_ = state_.qd;
+    dyn_valid_ = true;
+    ++dyn_evaluations_;
+  }
+  const Eigen::Matrix<double, 7, 7>& M = M_dyn_;
   // Semi-implicit Euler with implicit damping: (M + dt B) qd' = M qd + dt (tau - C).
   const Eigen::Matrix<double, 7, 7> A = M + dt * B;
-  state_.qd = A.partialPivLu().solve(M * state_.qd + dt * (tau - kout_.data));
+  state_.qd = A.partialPivLu().solve(M * state_.qd + dt * (tau - C_dyn_));
   for (int i = 0; i < kLwrJoints; ++i) {
     const double v = params_.max_joint_speed;
     if (state_.qd[i] > v) state_.qd[i] = v;

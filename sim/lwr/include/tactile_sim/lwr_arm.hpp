@@ -109,6 +109,13 @@ struct ArmParams {
   /// Quasi-static differential IK (settle()): iterations and damping.
   int ik_iterations = 6;
   double ik_damping = 1e-4;       ///< lambda of (J J^T + lambda^2 I)
+  /// Dynamics: M(q) and the Coriolis torque C(q, qd) qd (two KDL recursions)
+  /// are re-evaluated only when q moved by more than dyn_refresh_q (rad, max
+  /// over the joints) or qd changed by more than dyn_refresh_qd (rad/s) since
+  /// they were last evaluated; 0 and 0 = every step. The defaults keep the
+  /// relative error of M below ~1e-4 and that of C qd below ~1e-3 N m.
+  double dyn_refresh_q = 1e-4;
+  double dyn_refresh_qd = 1e-2;
 };
 
 /// Joint-space state of the arm.
@@ -190,6 +197,15 @@ class LwrArm {
   Jac67 J_ = Jac67::Zero();
   JointVec q_rest_ = JointVec::Zero(), q_min_ = JointVec::Zero(), q_max_ = JointVec::Zero();
   double d_trans_ = 0.0, d_rot_ = 0.0;
+  // Cached M(q_dyn_) and C(q_dyn_, qd_dyn_) qd_dyn_ (see ArmParams::dyn_refresh_q).
+  Eigen::Matrix<double, 7, 7> M_dyn_ = Eigen::Matrix<double, 7, 7>::Zero();
+  JointVec C_dyn_ = JointVec::Zero(), q_dyn_ = JointVec::Zero(), qd_dyn_ = JointVec::Zero();
+  bool dyn_valid_ = false;
+  long dyn_evaluations_ = 0;
+
+ public:
+  /// Number of M/C evaluations by stepDynamics() since configure() (for tests/benchmarks).
+  long dynEvaluations() const { return dyn_evaluations_; }
 };
 
 /// tactile::Pose <-> KDL::Frame.
