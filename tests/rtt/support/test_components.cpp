@@ -9,6 +9,10 @@
 //   tactile::IdealRobot      a stand-in robot: `flange_pose` := the last
 //       `pose_command` (perfect tracking), starting from the pose in its
 //       properties x, y, z, qx, qy, qz, qw.
+//   tactile::PhaseLog        records which phases a servo went through: input
+//       `phase` (connect it with a buffer policy), operations visited(name),
+//       waitFor(name, timeout_s) (polls, for scripts of running deployments),
+//       and sleep(s).
 //   tactile::OpsCheck        assertions for .ops scripts: expect(cond, what)
 //       prints "[PASS] what" / "[FAIL] what"; finish() prints a summary and ends
 //       the deployer process with exit code 0 (all passed, at least one check)
@@ -23,6 +27,10 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <chrono>
+#include <cstring>
+#include <thread>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -134,6 +142,55 @@ class IdealRobot : public RTT::TaskContext {
   Pose pose_;
 };
 
+class PhaseLog : public RTT::TaskContext {
+ public:
+  explicit PhaseLog(const std::string& name) : RTT::TaskContext(name), phase_in_("phase") {
+    addEventPort(phase_in_).doc("Phase state of a ServoComponent (use a buffered connection).");
+    addOperation("visited", &PhaseLog::visited, this, RTT::ClientThread)
+        .doc("True once a PhaseState with this name was received.")
+        .arg("name", "Phase name.");
+    addOperation("waitFor", &PhaseLog::waitFor, this, RTT::ClientThread)
+        .doc("Wait (polling every 5 ms) until the phase was visited or timeout_s passed (wall clock).")
+        .arg("name", "Phase name.")
+        .arg("timeout_s", "Longest wait (s).");
+    addOperation("sleep", &PhaseLog::sleep, this, RTT::ClientThread).doc("Sleep (wall clock).").arg("s", "Seconds.");
+    addAttribute("samples", samples_);
+  }
+  void updateHook() override {
+    while (phase_in_.read(ps_, false) == RTT::NewData) {
+      ++samples_;
+      const std::size_t i = ps_.index;
+      if (i < kSlots && !seen_[i].load(std::memory_order_acquire)) {
+        std::memcpy(names_[i].data(), ps_.name.data(), names_[i].size());
+        names_[i].back() = '\0';
+        seen_[i].store(true, std::memory_order_release);
+      }
+    }
+  }
+  bool visited(const std::string& name) const {
+    for (std::size_t i = 0; i < kSlots; ++i)
+      if (seen_[i].load(std::memory_order_acquire) && name == names_[i].data()) return true;
+    return false;
+  }
+  bool waitFor(const std::string& name, double timeout_s) const {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+    while (!visited(name)) {
+      if (std::chrono::steady_clock::now() > end) return false;
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    return true;
+  }
+  void sleep(double s) const { std::this_thread::sleep_for(std::chrono::duration<double>(s)); }
+
+ private:
+  static constexpr std::size_t kSlots = 32;
+  RTT::InputPort<PhaseState> phase_in_;
+  PhaseState ps_;
+  int samples_ = 0;
+  std::array<std::atomic<bool>, kSlots> seen_{};
+  std::array<std::array<char, kPhaseNameLen>, kSlots> names_{};
+};
+
 class OpsCheck : public RTT::TaskContext {
  public:
   explicit OpsCheck(const std::string& name) : RTT::TaskContext(name) {
@@ -172,3 +229,4 @@ ORO_CREATE_COMPONENT_LIBRARY()
 ORO_LIST_COMPONENT_TYPE(tactile::SyntheticTouch)
 ORO_LIST_COMPONENT_TYPE(tactile::IdealRobot)
 ORO_LIST_COMPONENT_TYPE(tactile::OpsCheck)
+ORO_LIST_COMPONENT_TYPE(tactile::PhaseLog)

@@ -1,0 +1,92 @@
+// The robot swap (rtt_lwr style): tactile::LwrSimComponent and
+// tactile::FriBridgeComponent expose the same robot-side ports (names, types,
+// directions), so ServoComponent connects to either BY NAME, as a deployment
+// script does; and the simulator offers the sensor ports the WTS reader and the
+// FeatureComponent use.
+#include <gtest/gtest.h>
+
+#include <rtt/TaskContext.hpp>
+#include <rtt/base/InputPortInterface.hpp>
+#include <rtt/base/OutputPortInterface.hpp>
+#include <rtt/extras/SlaveActivity.hpp>
+#include <rtt/os/TimeService.hpp>
+#include <rtt/os/main.h>
+
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include "tactile_features_rtt/feature_component.hpp"
+#include "tactile_fri_rtt/fri_bridge_component.hpp"
+#include "tactile_servo_rtt/servo_component.hpp"
+#include "tactile_sim_rtt/lwr_sim_component.hpp"
+
+namespace {
+
+class Env : public ::testing::Environment {
+ public:
+  void SetUp() override { __os_init(0, nullptr); }
+  void TearDown() override { __os_exit(); }
+};
+const auto* const env = ::testing::AddGlobalTestEnvironment(new Env);
+
+bool isInput(RTT::base::PortInterface* p) { return dynamic_cast<RTT::base::InputPortInterface*>(p) != nullptr; }
+
+// connect("Robot.<port>", "Servo.<port>") as the deployer does: by name, checking types.
+bool connectByName(RTT::TaskContext& from, const std::string& out_name, RTT::TaskContext& to,
+                   const std::string& in_name) {
+  RTT::base::PortInterface* out = from.ports()->getPort(out_name);
+  RTT::base::PortInterface* in = to.ports()->getPort(in_name);
+  if (!out || !in || isInput(out) || !isInput(in)) return false;
+  if (out->getTypeInfo() != in->getTypeInfo()) return false;
+  return out->connectTo(in);
+}
+
+// Runs the same wiring code against either robot component.
+void wireServoTo(RTT::TaskContext& robot) {
+  SCOPED_TRACE(robot.getName());
+  tactile::ServoComponent servo("servo");
+  EXPECT_TRUE(connectByName(servo, "pose_command", robot, "pose_command"));
+  EXPECT_TRUE(connectByName(robot, "flange_pose", servo, "flange_pose"));
+  EXPECT_TRUE(robot.ports()->getPort("pose_command")->connected());
+  EXPECT_TRUE(robot.ports()->getPort("flange_pose")->connected());
+  // and nothing connects the wrong way round
+  EXPECT_FALSE(connectByName(robot, "pose_command", servo, "flange_pose"));
+  robot.ports()->getPort("pose_command")->disconnect();
+  robot.ports()->getPort("flange_pose")->disconnect();
+}
+
+TEST(RobotSwap, SimAndFriExposeTheSameRobotPorts) {
+  tactile::LwrSimComponent sim("Robot");
+  tactile::FriBridgeComponent fri("Robot");
+  for (const char* name : {"pose_command", "flange_pose"}) {
+    RTT::base::PortInterface* a = sim.ports()->getPort(name);
+    RTT::base::PortInterface* b = fri.ports()->getPort(name);
+    ASSERT_NE(a, nullptr) << name;
+    ASSERT_NE(b, nullptr) << name;
+    EXPECT_EQ(a->getTypeInfo(), b->getTypeInfo()) << name;
+    EXPECT_EQ(a->getTypeInfo()->getTypeName(), b->getTypeInfo()->getTypeName()) << name;
+    EXPECT_EQ(isInput(a), isInput(b)) << name;
+  }
+  EXPECT_TRUE(isInput(sim.ports()->getPort("pose_command")));
+  EXPECT_FALSE(isInput(sim.ports()->getPort("flange_pose")));
+}
+
+TEST(RobotSwap, ServoConnectsToEitherByName) {
+  tactile::LwrSimComponent sim("sim");
+  wireServoTo(sim);
+  tactile::FriBridgeComponent fri("fri");
+  wireServoTo(fri);
+}
+
+TEST(RobotSwap, SimulatorFeedsTheFeatureComponentByName) {
+  tactile::LwrSimComponent sim("sim");
+  tactile::FeatureComponent features("features");
+  // the WTS reader's port (raw counts) and the calibrated frame input
+  EXPECT_TRUE(connectByName(sim, "raw_frame", features, "raw_frame"));
+  EXPECT_TRUE(connectByName(sim, "frame", features, "frame"));
+  sim.ports()->getPort("raw_frame")->disconnect();
+  sim.ports()->getPort("frame")->disconnect();
+}
+
+}  // namespace
