@@ -401,3 +401,44 @@ TEST(PadAllocation, EvaluateAndAcquireDoNotAllocate) {
   EXPECT_EQ(scope.count(), 0u);
   EXPECT_GT(e.layer_force, 0.0);
 }
+
+TEST(PadResponse, RepeatedAcquisitionEqualsAFullOne) {
+  // acquireRepeat() reuses the contact integral of the previous acquire()
+  // (World calls it when the sensor and the tray did not move): with the same
+  // noise stream it must give bit-identical frames and truth (exact equality:
+  // nothing is recomputed differently), and fresh noise on every call.
+  ObjectParams bar;
+  bar.type = ObjectType::Bar;
+  bar.radius = 0.003;
+  bar.vertices = {{-0.2, 0.0005, 0.0024}, {0.2, 0.0005, 0.0022}};
+  Rig full({bar}), rep({bar});
+  RawTactileFrame rf, rr;
+  SensorTruth tf, tr;
+  int differ = 0;
+  std::array<uint16_t, kMaxTaxels> prev{};
+  for (int i = 0; i < 5; ++i) {
+    const double t = 0.01 * i;
+    full.pad.acquire(full.objects, full.T, t, rf, tf);
+    if (i == 0)
+      rep.pad.acquire(rep.objects, rep.T, t, rr, tr);
+    else
+      rep.pad.acquireRepeat(t, rr, tr);
+    ASSERT_GT(tf.layer.force, 1.0);
+    EXPECT_EQ(rr.time_s, rf.time_s);
+    EXPECT_EQ(tr.time_s, t);
+    EXPECT_EQ(tr.layer.force, tf.layer.force);
+    EXPECT_EQ(tr.layer.cop_x, tf.layer.cop_x);
+    EXPECT_EQ(tr.layer.cop_y, tf.layer.cop_y);
+    EXPECT_EQ(tr.housing_force, tf.housing_force);
+    EXPECT_EQ(tr.max_count, tf.max_count);
+    for (int k = 0; k < 6; ++k) EXPECT_EQ(tr.wrench_s[static_cast<std::size_t>(k)], tf.wrench_s[static_cast<std::size_t>(k)]);
+    for (int k = 0; k < 84; ++k) {
+      EXPECT_EQ(rr.counts[static_cast<std::size_t>(k)], rf.counts[static_cast<std::size_t>(k)]);
+      EXPECT_EQ(rep.pad.trueTaxelForces().force[static_cast<std::size_t>(k)], full.pad.trueTaxelForces().force[static_cast<std::size_t>(k)]);
+    }
+    if (i > 0)
+      for (int k = 0; k < 84; ++k) differ += rr.counts[static_cast<std::size_t>(k)] != prev[static_cast<std::size_t>(k)];
+    prev = rr.counts;
+  }
+  EXPECT_GT(differ, 0);  // the noise is drawn anew on each repeat
+}

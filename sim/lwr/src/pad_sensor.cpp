@@ -333,7 +333,18 @@ void PadSensor::acquire(const ObjectSet& objects, const KDL::Frame& T_gs, double
   truth.in_contact = truth.layer.force > 0.0;
   const KDL::Vector cp = T_gs * KDL::Vector(truth.layer.cop_x, truth.layer.cop_y, 0.0);
   truth.contact_point_g = {cp.x(), cp.y(), cp.z()};
+  geometry_ = truth;
+  respond(t, raw, truth);
+}
 
+void PadSensor::acquireRepeat(double t, RawTactileFrame& raw, SensorTruth& truth) {
+  truth = geometry_;
+  truth.time_s = t;
+  image_.time_s = t;
+  respond(t, raw, truth);
+}
+
+void PadSensor::respond(double t, RawTactileFrame& raw, SensorTruth& truth) {
   // Taxel response (App. A): counts, noise, 12-bit quantisation, saturation, threshold.
   raw.time_s = t;
   raw.rows = static_cast<uint16_t>(params_.rows);

@@ -131,6 +131,7 @@ ConfigResult World::configure(const WorldParams& p) {
   pad_.evaluate(objects_, state_.T_gs, contact_);
   acq_seq_ = 0;
   qs_valid_ = false;
+  acq_valid_ = false;
   state_.time_s = 0.0;
   state_.step = 0;
   configured_ = true;
@@ -330,8 +331,16 @@ void World::fillState(SimStatus s) {
 
 void World::acquire(tactile::RawTactileFrame& raw, SensorTruth& truth) {
   if (!configured_) return;
-  placeObjects(state_.T_ge, tray_);
-  pad_.acquire(objects_, state_.T_gs, state_.time_s, raw, truth);
+  const KDL::Frame T_gs = state_.T_ge * pad_.mount();
+  if (acq_valid_ && sameFrame(T_gs, acq_T_gs_) && tray_.pitch == acq_tray_.pitch && tray_.roll == acq_tray_.roll) {
+    pad_.acquireRepeat(state_.time_s, raw, truth);  // nothing moved: same integral, new noise
+  } else {
+    placeObjects(state_.T_ge, tray_);
+    pad_.acquire(objects_, state_.T_gs, state_.time_s, raw, truth);
+    acq_valid_ = true;
+    acq_T_gs_ = state_.T_gs;
+    acq_tray_ = tray_;
+  }
   raw.seq = acq_seq_++;
   raw.device_time_ms = static_cast<uint32_t>(std::llround(state_.time_s * 1000.0));
 }

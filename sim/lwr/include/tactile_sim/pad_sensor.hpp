@@ -125,6 +125,11 @@ class PadSensor {
   /// sampling (subsamples). Consumes noise from the internal generator.
   /// Allocation-free.
   void acquire(const ObjectSet& objects, const KDL::Frame& T_gs, double t, RawTactileFrame& raw, SensorTruth& truth);
+  /// The same as acquire() with the objects and T_gs of the previous
+  /// acquire() (the caller guarantees that nothing moved): the contact
+  /// integral is reused, the response (noise, quantisation, threshold) is
+  /// drawn anew. Bit-identical to a full acquire() at the same placement.
+  void acquireRepeat(double t, RawTactileFrame& raw, SensorTruth& truth);
 
   /// Largest penetration (m) into the layer and into the housing at the
   /// current placement, and the object responsible (-1 if none).
@@ -157,6 +162,8 @@ class PadSensor {
   std::normal_distribution<double> normal_{0.0, 1.0};
   TactileFrame image_;
   std::array<double, kMaxTaxels> threshold_counts_{};
+  SensorTruth geometry_;  // contact part of the last acquire() (for acquireRepeat)
+  void respond(double t, RawTactileFrame& raw, SensorTruth& truth);
 };
 
 }  // namespace sim

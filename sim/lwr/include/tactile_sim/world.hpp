@@ -134,6 +134,11 @@ class World {
   // Quasi-static: the equilibrium is a function of the command and the world;
   // when neither changed since a converged solve, step() only advances time.
   bool qs_valid_ = false;
+  // Placement of the last acquisition: an unchanged sensor pose and tray
+  // reuse the contact integral (PadSensor::acquireRepeat).
+  bool acq_valid_ = false;
+  KDL::Frame acq_T_gs_;
+  TrayPose acq_tray_;
   KDL::Frame qs_cmd_;
   SimStatus qs_status_ = SimStatus::Ok;
 };
