@@ -17,9 +17,9 @@
 
 namespace {
 
-const std::string kParamFile = TACTILE_DEPLOYMENTS_DIR "/params/wts0614.yaml";
+const std::string kParamFile = TACTILE_DEPLOYMENTS_DIR "/../components/features/params/wts0614.yaml";
 
-// An edge across the pad, as raw counts (0.002 N/count).
+// An edge across the pad, as raw counts (up to 600 counts: 0.25 N with the file's calibration).
 tactile::RawTactileFrame edgeFrame() {
   tactile::RawTactileFrame raw;
   for (int r = 0; r < raw.rows; ++r)

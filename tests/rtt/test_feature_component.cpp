@@ -15,6 +15,7 @@
 #include <string>
 
 #include "alloc_counter.hpp"
+#include "support/raw_from_forces.hpp"
 #include "tactile_features/calibration.hpp"
 #include "tactile_features/extractor.hpp"
 #include "tactile_features_rtt/feature_component.hpp"
@@ -34,7 +35,8 @@ class Env : public ::testing::Environment {
 };
 const auto* const env = ::testing::AddGlobalTestEnvironment(new Env);
 
-const std::string kParamFile = TACTILE_DEPLOYMENTS_DIR "/params/wts0614.yaml";
+// The one sensor parameter file (the headless runner reads it too).
+const std::string kParamFile = TACTILE_DEPLOYMENTS_DIR "/../components/features/params/wts0614.yaml";
 
 std::string writeTemp(const std::string& name, const std::string& text) {
   const std::string path = ::testing::TempDir() + name;
@@ -42,8 +44,21 @@ std::string writeTemp(const std::string& name, const std::string& text) {
   return path;
 }
 
-// An edge (length > 0) or disc contact on the elastic pad, as raw counts with
-// the calibration gain of params/wts0614.yaml (0.002 N/count).
+// The calibration of kParamFile (to turn synthetic forces into raw counts).
+const tactile::Calibration& fileCalibration() {
+  static const tactile::Calibration cal = [] {
+    tactile::FeatureParams fp;
+    tactile::CalibrationParams cp;
+    tactile::Calibration c;
+    EXPECT_TRUE(tactile::loadSensorParamFile(kParamFile, fp, cp).ok());
+    EXPECT_TRUE(c.configure(cp).ok());
+    return c;
+  }();
+  return cal;
+}
+
+// An edge (length > 0) or disc contact on the elastic pad, as raw counts that
+// the calibration of kParamFile maps back to the pad's forces.
 RawTactileFrame pressed(double cx, double cy, double length, double angle, double depth, uint32_t seq) {
   tactile::sim::PadGeometry g;
   TactileFrame f;
@@ -55,11 +70,9 @@ RawTactileFrame pressed(double cx, double cy, double length, double angle, doubl
     return depth * (1.0 - (ex * ex + ey * ey) / (r * r));
   }, f);
   RawTactileFrame raw;
+  tactile::test::rawFromForces(fileCalibration(), f, raw);
   raw.seq = seq;
   raw.time_s = 0.001 * seq;
-  for (int i = 0; i < f.size(); ++i)
-    raw.counts[static_cast<std::size_t>(i)] =
-        static_cast<uint16_t>(std::min(4095.0, std::round(f.force[static_cast<std::size_t>(i)] / 0.002)));
   return raw;
 }
 

@@ -21,6 +21,7 @@
 //       script needs this to report a verdict.
 #include <rtt/Component.hpp>
 #include <rtt/InputPort.hpp>
+#include <rtt/Logger.hpp>
 #include <rtt/OutputPort.hpp>
 #include <rtt/TaskContext.hpp>
 #include <rtt/os/TimeService.hpp>
@@ -36,6 +37,10 @@
 #include <cstdlib>
 #include <string>
 
+#include "raw_from_forces.hpp"
+#include "tactile_config/yaml_params.hpp"
+#include "tactile_features/calibration.hpp"
+#include "tactile_features/params_io.hpp"
 #include "tactile_sim/elastic_pad.hpp"
 #include "tactile_types/types.hpp"
 
@@ -55,7 +60,11 @@ class SyntheticTouch : public RTT::TaskContext {
     addProperty("radius", radius_).doc("Indenter radius (m): half width of the pressed band.");
     addProperty("depth", depth_).doc("Penetration at the centre line (m); 0 = no contact.");
     addProperty("modulus", modulus_).doc("Foundation modulus of the pad (Pa/m).");
-    addProperty("counts_per_newton", counts_per_newton_).doc("Raw counts per newton (inverse of the calibration gain).");
+    addProperty("counts_per_newton", counts_per_newton_)
+        .doc("Raw counts per newton (inverse of a linear calibration gain); used when param_file is empty.");
+    addProperty("param_file", param_file_)
+        .doc("Sensor parameter file (`calibration:` map, e.g. components/features/params/wts0614.yaml): raw counts are "
+             "the inverse of that calibration, so a FeatureComponent reading the same file recovers the forces.");
     addProperty("full_scale", full_scale_).doc("Raw value at which a taxel saturates.");
     addPort(raw_out_).doc("Raw frame (counts).");
     addPort(frame_out_).doc("The same contact as forces (N per taxel).");
@@ -63,6 +72,18 @@ class SyntheticTouch : public RTT::TaskContext {
 
   bool configureHook() override {
     if (rows_ < 1 || rows_ > kMaxRows || cols_ < 1 || cols_ > kMaxCols || !(pitch_ > 0) || !(radius_ > 0)) return false;
+    use_calibration_ = !param_file_.empty();
+    if (use_calibration_) {
+      YAML::Node root;
+      CalibrationParams cp;
+      ConfigResult r = config::loadFile(param_file_, root);
+      if (r) r = loadCalibrationParams(root["calibration"], config::Where{param_file_, "calibration"}, rows_, cols_, cp);
+      if (r) r = calibration_.configure(cp);
+      if (!r) {
+        RTT::log(RTT::Error) << getName() << ": " << r.message() << RTT::endlog();
+        return false;
+      }
+    }
     raw_ = RawTactileFrame();
     raw_.rows = static_cast<uint16_t>(rows_);
     raw_.cols = static_cast<uint16_t>(cols_);
@@ -87,10 +108,14 @@ class SyntheticTouch : public RTT::TaskContext {
       return depth_ * (1.0 - d2);  // paraboloid / cylinder indenter; <= 0 outside
     };
     sim::integratePad(g, penetration, frame_);
-    const int n = rows_ * cols_;
-    for (int i = 0; i < n; ++i) {
-      const double c = std::round(frame_.force[static_cast<std::size_t>(i)] * counts_per_newton_);
-      raw_.counts[static_cast<std::size_t>(i)] = static_cast<uint16_t>(std::min<double>(c, full_scale_));
+    if (use_calibration_) {
+      test::rawFromForces(calibration_, frame_, raw_);
+    } else {
+      const int n = rows_ * cols_;
+      for (int i = 0; i < n; ++i) {
+        const double c = std::round(frame_.force[static_cast<std::size_t>(i)] * counts_per_newton_);
+        raw_.counts[static_cast<std::size_t>(i)] = static_cast<uint16_t>(std::min<double>(c, full_scale_));
+      }
     }
     // Stamped with RTT's TimeService, the clock of the servo component.
     raw_.time_s = frame_.time_s = RTT::os::TimeService::Instance()->secondsSince(0);
@@ -106,6 +131,9 @@ class SyntheticTouch : public RTT::TaskContext {
   double radius_ = 0.003, depth_ = 0.002, modulus_ = 2.0e7;
   double counts_per_newton_ = 500.0;
   int full_scale_ = 4095;
+  std::string param_file_;
+  bool use_calibration_ = false;
+  Calibration calibration_;
   uint32_t seq_ = 0;
   RTT::OutputPort<RawTactileFrame> raw_out_;
   RTT::OutputPort<TactileFrame> frame_out_;
