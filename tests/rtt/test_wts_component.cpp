@@ -1,0 +1,167 @@
+// tactile::WtsComponent in-process against the simulated WTS0614 on a PTY
+// (tactile::wts::SimulatedWts), and packet by packet on a bare PTY for the
+// allocation check (no simulator thread whose allocations would count).
+#include <gtest/gtest.h>
+
+#include <rtt/Activity.hpp>
+#include <rtt/InputPort.hpp>
+#include <rtt/TaskContext.hpp>
+#include <rtt/extras/SlaveActivity.hpp>
+#include <rtt/os/main.h>
+
+#include <fcntl.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "alloc_counter.hpp"
+#include "tactile_wts/sim_device.hpp"
+#include "tactile_wts_rtt/wts_component.hpp"
+#include "wts_test_util.hpp"
+
+namespace {
+
+using tactile::RawTactileFrame;
+
+class Env : public ::testing::Environment {
+ public:
+  void SetUp() override { __os_init(0, nullptr); }
+  void TearDown() override { __os_exit(); }
+};
+const auto* const env = ::testing::AddGlobalTestEnvironment(new Env);
+
+// counts[i] = (37 i + t) mod 4096 in {s} order: every frame checkable exactly.
+void pattern(uint32_t t, RawTactileFrame& f) {
+  for (int i = 0; i < 84; ++i) f.counts[static_cast<std::size_t>(i)] = static_cast<uint16_t>((37 * i + t) % 4096);
+}
+bool matchesPattern(const RawTactileFrame& f) {
+  if (f.rows != 6 || f.cols != 14) return false;
+  for (int i = 0; i < 84; ++i)
+    if (f.counts[static_cast<std::size_t>(i)] != (37 * i + f.device_time_ms) % 4096) return false;
+  return true;
+}
+
+struct Rig {
+  tactile::WtsComponent comp{"wts"};
+  RTT::InputPort<RawTactileFrame> raw_in{"raw_in"};
+  RTT::TaskContext io{"io"};
+  Rig(RTT::base::ActivityInterface* a, const std::string& device) {
+    comp.setActivity(a);
+    io.ports()->addPort(raw_in);
+    comp.properties()->getPropertyType<std::string>("device")->set(device);
+    EXPECT_TRUE(comp.ports()->getPort("raw_frame")->connectTo(&raw_in));
+  }
+  int attr(const char* n) { return RTT::Attribute<int>(comp.provides()->getAttribute(n)).get(); }
+};
+
+TEST(WtsComponent, InterfaceAndConfigureErrors) {
+  tactile::WtsComponent c("w");
+  ASSERT_NE(c.ports()->getPort("raw_frame"), nullptr);
+  EXPECT_FALSE(c.ports()->getPort("raw_frame")->getDescription().empty());
+  for (const char* p : {"param_file", "device", "poll_timeout"}) EXPECT_NE(c.properties()->getProperty(p), nullptr) << p;
+  c.properties()->getPropertyType<double>("poll_timeout")->set(5.0);
+  EXPECT_FALSE(c.configure());
+  EXPECT_NE(c.lastError().find("poll_timeout"), std::string::npos) << c.lastError();
+  tactile::WtsComponent d("w2");
+  d.properties()->getPropertyType<std::string>("device")->set("/nonexistent/ttyACM9");
+  ASSERT_TRUE(d.configure());
+  EXPECT_FALSE(d.start());  // the port cannot be opened: start() fails and says why
+  EXPECT_NE(d.lastError().find("/nonexistent/ttyACM9"), std::string::npos) << d.lastError();
+}
+
+// The component on its own non-periodic activity, paced by the simulated device.
+TEST(WtsComponent, StreamsFramesFromTheSimulatedDevice) {
+  tactile::wts::SimulatedWts sim;
+  tactile::wts::SimulatedWts::Params sp;
+  sim.setSource(pattern);
+  std::string why;
+  ASSERT_TRUE(sim.start(sp, &why)) << why;
+  {
+    Rig rig(new RTT::Activity(ORO_SCHED_OTHER, 0, 0.0), sim.path());
+    ASSERT_TRUE(rig.comp.configure()) << rig.comp.lastError();
+    ASSERT_TRUE(rig.comp.start()) << rig.comp.lastError();
+    int got = 0, bad = 0;
+    RawTactileFrame f;
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+    while (got < 30 && std::chrono::steady_clock::now() < end) {
+      if (rig.raw_in.read(f) == RTT::NewData) {
+        ++got;
+        if (!matchesPattern(f)) ++bad;
+      } else {
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      }
+    }
+    ASSERT_TRUE(rig.comp.stop());
+    EXPECT_GE(got, 30);
+    EXPECT_EQ(bad, 0);
+    EXPECT_GE(rig.attr("frames"), got);
+  }
+  sim.stop();
+}
+
+// poll through the component over a bare PTY, this thread writing the frames.
+TEST(WtsComponent, UpdateDoesNotAllocate) {
+  const int m = posix_openpt(O_RDWR | O_NOCTTY);
+  ASSERT_GE(m, 0);
+  ASSERT_EQ(grantpt(m), 0);
+  ASSERT_EQ(unlockpt(m), 0);
+  char name[128];
+  ASSERT_EQ(ptsname_r(m, name, sizeof(name)), 0);
+  fcntl(m, F_SETFL, fcntl(m, F_GETFL) | O_NONBLOCK);
+  const std::string params = ::testing::TempDir() + "wts_rtt.yaml";
+  {
+    FILE* f = std::fopen(params.c_str(), "w");
+    ASSERT_NE(f, nullptr);
+    std::fprintf(f, "wts:\n  periodic_ms: 0\n  check_matrix_info: false\n");
+    std::fclose(f);
+  }
+  {
+    Rig rig(new RTT::extras::SlaveActivity(), name);
+    rig.comp.properties()->getPropertyType<std::string>("param_file")->set(params);
+    rig.comp.properties()->getPropertyType<double>("poll_timeout")->set(0.2);
+    ASSERT_TRUE(rig.comp.configure()) << rig.comp.lastError();
+    ASSERT_TRUE(rig.comp.start()) << rig.comp.lastError();
+    tactile::wts::CellMap map;
+    ASSERT_TRUE(map.configure(tactile::wts::CellMapParams{}).ok());
+    std::vector<std::vector<uint8_t>> pkts;
+    for (int k = 0; k < 20; ++k) {
+      RawTactileFrame f;
+      pattern(static_cast<uint32_t>(k * 10), f);
+      pkts.push_back(wtstest::framePacket(map, f.counts.data(), static_cast<uint32_t>(k * 10), k % 2 == 0, 0x20));
+    }
+    uint8_t sink[512];
+    RawTactileFrame f;
+    int frames = 0, wrong = 0;
+    std::size_t allocs = 0;
+    {
+      tactile::test::AllocationScope scope;
+      for (int it = 0; it < 200; ++it) {
+        const auto& pkt = pkts[static_cast<std::size_t>(it) % pkts.size()];
+        if (::write(m, pkt.data(), pkt.size()) != static_cast<ssize_t>(pkt.size())) break;
+        // PTY delivery may come in pieces: update until the frame is out
+        for (int tries = 0; tries < 5; ++tries) {
+          rig.comp.update();
+          if (rig.raw_in.read(f) == RTT::NewData) {
+            ++frames;
+            if (!matchesPattern(f)) ++wrong;
+            break;
+          }
+        }
+        while (::read(m, sink, sizeof(sink)) > 0) {
+        }
+      }
+      allocs = scope.count();
+    }
+    EXPECT_EQ(allocs, 0u);
+    EXPECT_EQ(frames, 200);
+    EXPECT_EQ(wrong, 0);
+    rig.comp.stop();
+  }
+  ::close(m);
+}
+
+}  // namespace
