@@ -144,22 +144,45 @@ BENCHMARK(BM_Step)
     ->Args({1, 4, 0})
     ->Unit(benchmark::kMicrosecond);
 
+// One acquisition: full contact integral (PadSensor::acquire at the world's
+// placement; repeat = 0) or the reuse path World::acquire takes when nothing
+// moved since the previous frame (repeat = 1).
 void BM_Acquire(benchmark::State& state) {
+  const WorldParams p = barScene(Fidelity::QuasiStatic, 2, static_cast<int>(state.range(0)));
   World w;
-  if (!w.configure(barScene(Fidelity::QuasiStatic, 2, static_cast<int>(state.range(0)))).ok()) {
+  if (!w.configure(p).ok()) {
     state.SkipWithError("configure failed");
     return;
   }
   SimState s;
   for (int i = 0; i < 10; ++i) w.step(downPose(0.58, 0.0, kBarTop + 0.02 - 0.005), 0.01, s);
+  PadSensor pad;
+  ObjectSet objects;
+  PadParams pp = w.pad().params();
+  if (!pad.configure(pp).ok() || !objects.configure(p.objects).ok()) {
+    state.SkipWithError("configure failed");
+    return;
+  }
+  const double hx = 0.5 * pp.housing_size_x + 1e-4, hy = 0.5 * pp.housing_size_y + 1e-4;
+  objects.setRegion(-hx, hx, -hy, hy);
+  objects.pose(s.T_gs, TrayPose{});
   RawTactileFrame raw;
   SensorTruth truth;
+  const bool repeat = state.range(1) != 0;
+  double t = 0.0;
   for (auto _ : state) {
-    w.acquire(raw, truth);
+    t += 1.0 / 140.0;
+    if (repeat)
+      w.acquire(raw, truth);
+    else
+      pad.acquire(objects, s.T_gs, t, raw, truth);
     benchmark::DoNotOptimize(raw.counts[40]);
   }
+  char label[64];
+  std::snprintf(label, sizeof label, "F=%.2fN", truth.layer.force);
+  state.SetLabel(label);
 }
-BENCHMARK(BM_Acquire)->ArgNames({"Kimg"})->Arg(1)->Arg(4)->Arg(8)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Acquire)->ArgNames({"Kimg", "repeat"})->Args({1, 0})->Args({4, 0})->Args({8, 0})->Args({4, 1})->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 

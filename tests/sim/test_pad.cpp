@@ -442,3 +442,52 @@ TEST(PadResponse, RepeatedAcquisitionEqualsAFullOne) {
   }
   EXPECT_GT(differ, 0);  // the noise is drawn anew on each repeat
 }
+
+TEST(PadContact, RowEvaluationIsBitIdenticalToPointQueries) {
+  // ObjectSet::lowestZRow (the branch-free row kernel behind acquire() and
+  // evaluate()) must return exactly lowestZ() (value and object) at every
+  // point: plane, sphere, bar and an inclined bent bar, at a tilted pose, on
+  // 200 rows x 300 points over and beyond the pad. Exact equality: same
+  // operations in the same order.
+  ObjectParams table;
+  table.type = ObjectType::Plane;
+  table.point = {0.0, 0.0, 0.0};
+  table.normal = {0.05, 0.02, -1.0};  // solid above the plane: faces the pad
+  ObjectParams ball;
+  ball.type = ObjectType::Sphere;
+  ball.center = {0.01, -0.004, 0.006};
+  ball.radius = 0.008;
+  ObjectParams bar;
+  bar.type = ObjectType::Bar;
+  bar.radius = 0.003;
+  bar.vertices = {{-0.2, 0.003, 0.0025}, {0.2, -0.002, 0.0015}};
+  ObjectParams bent;
+  bent.type = ObjectType::BentBar;
+  bent.radius = 0.002;
+  bent.vertices = {{-0.03, -0.02, 0.004}, {0.0, 0.0, 0.0005}, {0.01, 0.03, 0.001}, {0.012, 0.03, 0.02}};
+  ObjectSet objects;
+  ASSERT_TRUE(objects.configure({table, ball, bar, bent}).ok());
+  const KDL::Frame T(KDL::Rotation::RPY(0.05, -0.03, 0.2), KDL::Vector(0.001, -0.002, 0.0));
+  objects.pose(T, TrayPose{});
+  constexpr int n = 300;
+  double xs[n], z[n];
+  int w[n];
+  for (int i = 0; i < n; ++i) xs[i] = -0.04 + 0.08 * i / (n - 1);
+  int below = 0, owners[4] = {0, 0, 0, 0};
+  for (int r = 0; r < 200; ++r) {
+    const double y = -0.025 + 0.05 * r / 199;
+    objects.lowestZRow(y, xs, n, z, w);
+    for (int i = 0; i < n; ++i) {
+      int wi;
+      const double zi = objects.lowestZ(xs[i], y, wi);
+      ASSERT_EQ(z[i], zi) << "x " << xs[i] << " y " << y;
+      ASSERT_EQ(w[i], wi);
+      if (zi < 0.0) {
+        ++below;
+        ++owners[wi];
+      }
+    }
+  }
+  EXPECT_GT(below, 1000);
+  for (int o = 0; o < 4; ++o) EXPECT_GT(owners[o], 10) << "object " << o;  // every kind is exercised
+}

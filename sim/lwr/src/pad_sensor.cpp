@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "tactile_sim/lwr_arm.hpp"  // toFrame, validPose
@@ -71,6 +72,12 @@ ConfigResult PadSensor::configure(const PadParams& p) {
       ++nh;
     }
   params_ = p;
+  {
+    const int kk = std::max(p.subsamples, p.physics_subsamples);
+    xrow_.assign(static_cast<std::size_t>(p.cols * kk), 0.0);
+    zrow_.assign(static_cast<std::size_t>(p.cols * kk * kk), 0.0);
+    wrow_.assign(static_cast<std::size_t>(p.cols * kk * kk), -1);
+  }
   n_samples_ = n;
   n_housing_ = nh;
   T_es_ = toFrame(p.mount);
@@ -121,6 +128,22 @@ tactile::CalibrationParams PadSensor::calibration() const {
   return c;
 }
 
+void PadSensor::rowDepths(const ObjectSet& objects, double y, const double* xs, int n, double* z, int* which) const {
+  // xs ascending: evaluate only [i0, i1), where rowSpan() allows z < 0.
+  int i0 = n, i1 = n;
+  double x0, x1;
+  if (objects.rowSpan(y, x0, x1)) {
+    i0 = 0;
+    while (i0 < n && xs[i0] < x0) ++i0;
+    i1 = i0;
+    while (i1 < n && !(xs[i1] > x1)) ++i1;
+  }
+  const double inf = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < i0; ++i) z[i] = inf;
+  for (int i = i1; i < n; ++i) z[i] = inf;
+  if (i1 > i0) objects.lowestZRow(y, xs + i0, i1 - i0, z + i0, which + i0);
+}
+
 void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, ContactEval& out) const {
   out.W_s.setZero();
   out.K_s.setZero();
@@ -137,9 +160,7 @@ void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, Conta
   if (!objects.footprint(fx0, fx1, fy0, fy1)) return;  // nothing reaches below the surface
   // Only the (z, wx, wy) block is non-zero: g = (0, 0, -1, -y, x, 0).
   double Fz = 0, Mx = 0, My = 0, Kzz = 0, Kzx = 0, Kzy = 0, Kxx = 0, Kxy = 0, Kyy = 0;
-  auto add = [&](const Sample& s) {
-    int which;
-    const double zl = objects.lowestZ(s.x, s.y, which);
+  auto add = [&](const Sample& s, double zl, int which) {
     const double d = s.z - zl;  // penetration into the layer (z = 0) or the housing (z = -recess)
     if (!(d > 0.0) || -zl > params_.depth_limit) return;
     const double f = s.k * d;
@@ -177,40 +198,39 @@ void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, Conta
     }
   };
   // Layer samples are stored taxel by taxel (k x k each, taxels row-major):
-  // skip taxel rows, taxels and sample rows whose x range misses the objects'
-  // footprint (ObjectSet::rowSpan; exact: those samples carry no force). The
-  // summation order is that of the full loop, so the result is unchanged.
-  const int rows = params_.rows, cols = params_.cols, k = params_.physics_subsamples;
-  const double pitch = params_.pitch, hk = pitch / k;
-  std::array<double, kMaxRows * 6> sx0, sx1;
+  // per sample row, lowestZ over the x range where an object can be below
+  // the surface (rowDepths: ObjectSet::rowSpan + lowestZRow; +inf elsewhere,
+  // which carries no force). The summation order is that of the full loop,
+  // so the result is unchanged.
+  const int rows = params_.rows, cols = params_.cols, k = params_.physics_subsamples, nx = cols * k;
+  const double pitch = params_.pitch;
+  double* xs = xrow_.data();
+  double* zb = zrow_.data();
+  int* wb = wrow_.data();
+  for (int c = 0; c < cols; ++c)
+    for (int j = 0; j < k; ++j) xs[c * k + j] = samples_[static_cast<std::size_t>(c * k * k + j)].x;
   for (int r = 0; r < rows; ++r) {
     const double yc = (r - (rows - 1) / 2.0) * pitch;
     if (yc + 0.5 * pitch < fy0 || yc - 0.5 * pitch > fy1) continue;
-    for (int i = 0; i < k; ++i) {
-      const std::size_t ri = static_cast<std::size_t>(r * k + i);
-      if (!objects.rowSpan(yc - 0.5 * pitch + (i + 0.5) * hk, sx0[ri], sx1[ri])) {
-        sx0[ri] = 1.0;  // empty
-        sx1[ri] = -1.0;
-      }
-    }
+    for (int i = 0; i < k; ++i)
+      rowDepths(objects, samples_[static_cast<std::size_t>(r * cols * k * k + i * k)].y, xs, nx, zb + i * nx, wb + i * nx);
     for (int c = 0; c < cols; ++c) {
       const double xc = (c - (cols - 1) / 2.0) * pitch;
       if (xc + 0.5 * pitch < fx0 || xc - 0.5 * pitch > fx1) continue;
       const Sample* ts = &samples_[static_cast<std::size_t>((r * cols + c) * k * k)];
-      for (int i = 0; i < k; ++i) {
-        const std::size_t ri = static_cast<std::size_t>(r * k + i);
+      for (int i = 0; i < k; ++i)
         for (int j = 0; j < k; ++j) {
-          const Sample& s = ts[i * k + j];
-          if (s.x < sx0[ri] || s.x > sx1[ri] || s.y < fy0 || s.y > fy1) continue;
-          add(s);
+          const std::size_t zi = static_cast<std::size_t>(i * nx + c * k + j);
+          add(ts[i * k + j], zb[zi], wb[zi]);
         }
-      }
     }
   }
   for (int i = n_samples_ - n_housing_; i < n_samples_; ++i) {
     const Sample& s = samples_[static_cast<std::size_t>(i)];
     if (s.x < fx0 || s.x > fx1 || s.y < fy0 || s.y > fy1) continue;
-    add(s);
+    int which;
+    const double zl = objects.lowestZ(s.x, s.y, which);
+    add(s, zl, which);
   }
   out.W_s(2) = Fz;
   out.W_s(3) = Mx;
@@ -261,40 +281,35 @@ void PadSensor::acquire(const ObjectSet& objects, const KDL::Frame& T_gs, double
   image_.rows = static_cast<uint16_t>(rows);
   image_.cols = static_cast<uint16_t>(cols);
   image_.saturated_count = 0;
-  // Per image sample row: the x range where an object can be below the
-  // surface (ObjectSet::rowSpan); samples outside read 0 exactly, so they are
-  // skipped. The summation order is unchanged (taxel by taxel).
-  std::array<double, kMaxRows * 32> sx0, sx1;
-  for (int r = 0; r < rows && any; ++r) {
-    const double yc = (r - (rows - 1) / 2.0) * pitch;
-    for (int i = 0; i < K; ++i) {
-      const std::size_t ri = static_cast<std::size_t>(r * K + i);
-      const double y = yc - 0.5 * pitch + (i + 0.5) * h;
-      if (!objects.rowSpan(y, sx0[ri], sx1[ri])) {
-        sx0[ri] = 1.0;  // empty
-        sx1[ri] = -1.0;
-      }
-    }
+  // Per image sample row: lowestZ over the x range where an object can be
+  // below the surface (ObjectSet::rowSpan, then the branch-free
+  // ObjectSet::lowestZRow); samples outside read 0 exactly. The summation
+  // order is unchanged (taxel by taxel), so is the result.
+  const int nx = cols * K;
+  double* xs = xrow_.data();
+  for (int c = 0; c < cols; ++c) {
+    const double xc = (c - (cols - 1) / 2.0) * pitch;
+    for (int j = 0; j < K; ++j) xs[c * K + j] = xc - 0.5 * pitch + (j + 0.5) * h;
   }
+  double* zb = zrow_.data();
+  int* wb = wrow_.data();
   double F = 0, Mx = 0, My = 0;
   for (int r = 0; r < rows; ++r) {
     const double yc = (r - (rows - 1) / 2.0) * pitch;
     const bool row_in = any && yc + 0.5 * pitch >= fy0 && yc - 0.5 * pitch <= fy1;
+    if (row_in)
+      for (int i = 0; i < K; ++i) rowDepths(objects, yc - 0.5 * pitch + (i + 0.5) * h, xs, nx, zb + i * nx, wb + i * nx);
     for (int c = 0; c < cols; ++c) {
       const double xc = (c - (cols - 1) / 2.0) * pitch;
       double f = 0.0;
       if (row_in && xc + 0.5 * pitch >= fx0 && xc - 0.5 * pitch <= fx1) {
         for (int i = 0; i < K; ++i) {
-          const std::size_t ri = static_cast<std::size_t>(r * K + i);
-          const double x0 = sx0[ri], x1 = sx1[ri];
-          if (xc + 0.5 * pitch < x0 || xc - 0.5 * pitch > x1) continue;
           const double y = yc - 0.5 * pitch + (i + 0.5) * h;
+          const double* z = zb + i * nx + c * K;
           for (int j = 0; j < K; ++j) {
-            const double x = xc - 0.5 * pitch + (j + 0.5) * h;
-            if (x < x0 || x > x1) continue;
-            int which;
-            const double d = -objects.lowestZ(x, y, which);
+            const double d = -z[j];
             if (d > 0.0 && d <= lim) {
+              const double x = xs[c * K + j];
               const double df = kmod * d * dA;
               f += df;
               Mx += y * df;

@@ -118,6 +118,11 @@ class ObjectSet {
   /// +inf instead of the (positive) height (footprint culling).
   double lowestZ(double x, double y, int& which) const;
 
+  /// lowestZ() at the n points (x[i], y), bit-identical to n calls (same
+  /// operations in the same order), branch-free per point: the rows of the
+  /// pad sampling (PadSensor). +inf / -1 where nothing is below.
+  void lowestZRow(double y, const double* x, int n, double* z, int* which) const;
+
   /// Range of x (in {s}) over which the line y = const can have lowestZ < 0
   /// (union of the primitives' footprints crossing that line); false if none.
   /// Conservative, like footprint().
@@ -226,6 +231,58 @@ inline double ObjectSet::lowestZ(double x, double y, int& which) const {
     }
   }
   return zmin;
+}
+
+inline void ObjectSet::lowestZRow(double y, const double* x, int n, double* z, int* which) const {
+  const double inf = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < n; ++i) {
+    z[i] = inf;
+    which[i] = -1;
+  }
+  for (int k = 0; k < n_plane_; ++k) {
+    const PlaneS& p = plane_[static_cast<std::size_t>(k)];
+    if (!(p.n.z() < -1e-6)) continue;
+    const double nx = p.n.x(), ny = p.n.y(), nz = p.n.z(), d = p.d;
+    for (int i = 0; i < n; ++i) {
+      const double zi = (d - nx * x[i] - ny * y) / nz;
+      const bool ok = zi < z[i];
+      z[i] = ok ? zi : z[i];
+      which[i] = ok ? p.object : which[i];
+    }
+  }
+  for (int k = 0; k < n_ball_; ++k) {
+    const Ball& b = ball_[static_cast<std::size_t>(k)];
+    if (y < b.ymin || y > b.ymax) continue;
+    const double cx = b.c.x(), cz = b.c.z(), r = b.r, dy = y - b.c.y(), x0 = b.xmin, x1 = b.xmax;
+    for (int i = 0; i < n; ++i) {
+      const double dx = x[i] - cx;
+      const double h2 = r * r - dx * dx - dy * dy;
+      const double zi = cz - std::sqrt(h2 > 0.0 ? h2 : 0.0);
+      const bool ok = !(x[i] < x0) && !(x[i] > x1) && h2 > 0.0 && zi < z[i];
+      z[i] = ok ? zi : z[i];
+      which[i] = ok ? b.object : which[i];
+    }
+  }
+  for (int k = 0; k < n_seg_; ++k) {
+    const Segment& s = seg_[static_cast<std::size_t>(k)];
+    if (y < s.ymin || y > s.ymax || s.inv_a == 0.0) continue;
+    const double p0x = s.p0.x(), ax = s.a.x(), ay = s.a.y(), az = s.a.z();
+    const double wy = y - s.p0.y(), wz = -s.p0.z();
+    const double A = 1.0 - az * az, r2 = s.r2, len = s.len, inv_a = s.inv_a, x0 = s.xmin, x1 = s.xmax;
+    for (int i = 0; i < n; ++i) {
+      const double wx = x[i] - p0x;
+      const double wa = wx * ax + wy * ay + wz * az;
+      const double px = wx - wa * ax, py = wy - wa * ay, pz = wz - wa * az;
+      const double B = pz;
+      const double C = px * px + py * py + pz * pz - r2;
+      const double disc = B * B - A * C;
+      const double zi = (-B - std::sqrt(disc >= 0.0 ? disc : 0.0)) * inv_a;
+      const double t = wa + zi * az;
+      const bool ok = !(x[i] < x0) && !(x[i] > x1) && !(disc < 0.0) && t >= 0.0 && t <= len && zi < z[i];
+      z[i] = ok ? zi : z[i];
+      which[i] = ok ? s.object : which[i];
+    }
+  }
 }
 
 inline bool ObjectSet::rowSpan(double y, double& xmin, double& xmax) const {

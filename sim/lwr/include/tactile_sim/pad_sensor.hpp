@@ -44,6 +44,7 @@
 #include <array>
 #include <cstdint>
 #include <random>
+#include <vector>
 
 #include <Eigen/Core>
 #include <kdl/frames.hpp>
@@ -163,6 +164,11 @@ class PadSensor {
   TactileFrame image_;
   std::array<double, kMaxTaxels> threshold_counts_{};
   SensorTruth geometry_;  // contact part of the last acquire() (for acquireRepeat)
+  // Row buffers (sized in configure(); mutable: scratch of the const evaluate()).
+  mutable std::vector<double> xrow_, zrow_;
+  mutable std::vector<int> wrow_;
+  /// lowestZ at (xs[i], y), i < n (xs ascending), +inf outside rowSpan().
+  void rowDepths(const ObjectSet& objects, double y, const double* xs, int n, double* z, int* which) const;
   void respond(double t, RawTactileFrame& raw, SensorTruth& truth);
 };
 
