@@ -181,9 +181,12 @@ void LwrArm::jacobian(const JointVec& q, Jac67& J) const {
 }
 
 double LwrArm::manipulability(const Jac67& J) {
-  const Mat6 JJt = J * J.transpose();
-  const double d = JJt.determinant();
-  return d > 0.0 ? std::sqrt(d) : 0.0;
+  // sqrt(det(J J^T)) = prod(diag(L)) of the Cholesky factor (0 if not positive definite).
+  const Mat6 JJt = J.lazyProduct(J.transpose());
+  const Eigen::LLT<Mat6> llt(JJt);
+  if (llt.info() != Eigen::Success) return 0.0;
+  const double d = llt.matrixLLT().diagonal().prod();
+  return d > 0.0 ? d : 0.0;
 }
 
 void LwrArm::massMatrix(const JointVec& q, Eigen::Matrix<double, 7, 7>& M) const {
@@ -240,16 +243,19 @@ SimStatus LwrArm::stepDynamics(const KDL::Frame& T_cmd, const Vec6& W_ext, doubl
   const Vec6 W = impedanceWrench(T_cmd, state_.T_ge, Vec6::Zero()) + W_ext;
   JointVec tau = J_.transpose() * W;
   // Null-space posture term, projected with N = I - J^T (J#)^T, J# = J^T (J J^T + l^2 I)^-1.
-  const Mat6 JJt = J_ * J_.transpose() + 1e-6 * Mat6::Identity();
-  const Eigen::Matrix<double, 7, 6> Jpinv = J_.transpose() * JJt.ldlt().solve(Mat6::Identity());
-  const Eigen::Matrix<double, 7, 7> N = Eigen::Matrix<double, 7, 7>::Identity() - J_.transpose() * Jpinv.transpose();
+  // N = I - J^T (J J^T + l^2 I)^-1 J (symmetric).
+  const Mat6 JJt = J_.lazyProduct(J_.transpose()) + 1e-6 * Mat6::Identity();
+  const Jac67 X = JJt.ldlt().solve(J_);
+  Eigen::Matrix<double, 7, 7> N = -J_.transpose().lazyProduct(X);
+  N.diagonal().array() += 1.0;
   tau += N * (params_.null_stiffness * (q_rest_ - state_.q));
   // Damping (Eq. 11's -D xdot, null-space and joint damping) as one joint-space
   // matrix B, integrated implicitly: the wrist links are light, so explicit
   // damping at 1 kHz would be unstable (dt * B / M > 2).
-  Eigen::Matrix<double, 6, 6> D = Eigen::Matrix<double, 6, 6>::Zero();
-  D.diagonal() << d_trans_, d_trans_, d_trans_, d_rot_, d_rot_, d_rot_;
-  Eigen::Matrix<double, 7, 7> B = J_.transpose() * D * J_ + params_.null_damping * N;
+  Jac67 DJ = J_;  // D J, D = diag(d_trans I3, d_rot I3)
+  DJ.topRows<3>() *= d_trans_;
+  DJ.bottomRows<3>() *= d_rot_;
+  Eigen::Matrix<double, 7, 7> B = J_.transpose().lazyProduct(DJ) + params_.null_damping * N;
   B.diagonal().array() += params_.joint_damping;
   // M qdd + C qd + g = tau_cmd + tau_ext, tau_cmd containing g(q): gravity cancels.
   // M and C qd are re-evaluated when q or qd moved beyond dyn_refresh_q/qd.
@@ -268,8 +274,12 @@ SimStatus LwrArm::stepDynamics(const KDL::Frame& T_cmd, const Vec6& W_ext, doubl
   }
   const Eigen::Matrix<double, 7, 7>& M = M_dyn_;
   // Semi-implicit Euler with implicit damping: (M + dt B) qd' = M qd + dt (tau - C).
+  // A = M + dt B is symmetric positive definite (M SPD, B PSD): Cholesky,
+  // LU only if that fails numerically.
   const Eigen::Matrix<double, 7, 7> A = M + dt * B;
-  state_.qd = A.partialPivLu().solve(M * state_.qd + dt * (tau - C_dyn_));
+  const JointVec rhs = M * state_.qd + dt * (tau - C_dyn_);
+  const Eigen::LLT<Eigen::Matrix<double, 7, 7>> llt(A);
+  state_.qd = llt.info() == Eigen::Success ? JointVec(llt.solve(rhs)) : JointVec(A.partialPivLu().solve(rhs));
   for (int i = 0; i < kLwrJoints; ++i) {
     const double v = params_.max_joint_speed;
     if (state_.qd[i] > v) state_.qd[i] = v;
