@@ -321,6 +321,8 @@ TEST(WorldAllocation, StepAndAcquireDoNotAllocate) {
       w.step(cmd, 0.001, s);
       if (i % 7 == 0) w.acquire(raw, truth);
     }
+    w.acquire(raw, truth);
+    w.acquire(raw, truth);  // nothing moved: the reuse path (PadSensor::acquireRepeat)
     EXPECT_EQ(scope.count(), 0u) << toString(p.fidelity);
     EXPECT_FALSE(fatal(s.status)) << toString(s.status);
   }
