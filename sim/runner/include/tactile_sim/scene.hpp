@@ -14,7 +14,8 @@
 //   fidelity: quasi_static            # quasi_static | dynamics
 //   rates: {sim: 1000, servo: 100, wts: 140, features: 200}   # Hz (Table 2)
 //   sensor: {subsamples: 4, physics_subsamples: 1, noise_counts: 6, modulus: 5e7, ...}
-//   arm: {q_init_deg: [7 values], k_trans: 1000, k_rot: 100, damping_ratio: 0.7}
+//   arm: {q_init_deg: [7 values], k_trans: 1000, k_rot: 100, damping_ratio: 0.7,
+//         dyn_refresh_q: 1e-4, dyn_refresh_qd: 1e-2}   # dynamics: mass/Coriolis refresh thresholds (0 = every step)
 //   initial_flange: {xyz: [x, y, z], rpy_deg: [r, p, y]}       # {g}T{e} at start (IK)
 //   objects:                          # only what the scene needs
 //     - {name: table, type: plane, point: [0,0,0], normal: [0,0,1]}
