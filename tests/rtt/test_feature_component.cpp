@@ -20,6 +20,7 @@
 #include "tactile_features/extractor.hpp"
 #include "tactile_features_rtt/feature_component.hpp"
 #include "tactile_sim/elastic_pad.hpp"
+#include "support/rtt_environment.hpp"
 
 namespace {
 
@@ -28,12 +29,8 @@ using tactile::FeatureStatus;
 using tactile::RawTactileFrame;
 using tactile::TactileFrame;
 
-class Env : public ::testing::Environment {
- public:
-  void SetUp() override { __os_init(0, nullptr); }
-  void TearDown() override { __os_exit(); }
-};
-const auto* const env = ::testing::AddGlobalTestEnvironment(new Env);
+const auto* const env =
+    ::testing::AddGlobalTestEnvironment(new tactile::test::RttEnvironment(tactile::test::Clock::System));
 
 // The one sensor parameter file (the headless runner reads it too).
 const std::string kParamFile = TACTILE_DEPLOYMENTS_DIR "/../components/features/params/wts0614.yaml";

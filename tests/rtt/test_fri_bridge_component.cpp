@@ -27,6 +27,7 @@
 #include "tactile_fri/udp.hpp"
 #include "tactile_fri_rtt/fri_bridge_component.hpp"
 #include "tactile_types/kdl_pose.hpp"
+#include "support/rtt_environment.hpp"
 
 namespace {
 
@@ -34,12 +35,8 @@ using tactile::Pose;
 using tactile::PoseCommand;
 namespace fri = tactile::fri;
 
-class Env : public ::testing::Environment {
- public:
-  void SetUp() override { __os_init(0, nullptr); }
-  void TearDown() override { __os_exit(); }
-};
-const auto* const env = ::testing::AddGlobalTestEnvironment(new Env);
+const auto* const env =
+    ::testing::AddGlobalTestEnvironment(new tactile::test::RttEnvironment(tactile::test::Clock::System));
 
 double now() { return RTT::os::TimeService::Instance()->secondsSince(0); }
 

@@ -18,6 +18,7 @@
 #include "tactile_sim/scene.hpp"
 #include "tactile_sim/world.hpp"
 #include "tactile_sim_rtt/lwr_sim_component.hpp"
+#include "support/rtt_environment.hpp"
 
 namespace {
 
@@ -26,15 +27,8 @@ using tactile::PoseCommand;
 using tactile::RawTactileFrame;
 using tactile::TactileFrame;
 
-class Env : public ::testing::Environment {
- public:
-  void SetUp() override {
-    __os_init(0, nullptr);
-    RTT::os::TimeService::Instance()->enableSystemClock(false);  // time advances only by secondsChange()
-  }
-  void TearDown() override { __os_exit(); }
-};
-const auto* const env = ::testing::AddGlobalTestEnvironment(new Env);
+const auto* const env =
+    ::testing::AddGlobalTestEnvironment(new tactile::test::RttEnvironment(tactile::test::Clock::Manual));
 
 const std::string kScene = TACTILE_SCENE_DIR "/edge_exploration.yaml";
 

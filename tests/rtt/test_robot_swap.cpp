@@ -20,15 +20,12 @@
 #include "tactile_fri_rtt/fri_bridge_component.hpp"
 #include "tactile_servo_rtt/servo_component.hpp"
 #include "tactile_sim_rtt/lwr_sim_component.hpp"
+#include "support/rtt_environment.hpp"
 
 namespace {
 
-class Env : public ::testing::Environment {
- public:
-  void SetUp() override { __os_init(0, nullptr); }
-  void TearDown() override { __os_exit(); }
-};
-const auto* const env = ::testing::AddGlobalTestEnvironment(new Env);
+const auto* const env =
+    ::testing::AddGlobalTestEnvironment(new tactile::test::RttEnvironment(tactile::test::Clock::System));
 
 bool isInput(RTT::base::PortInterface* p) { return dynamic_cast<RTT::base::InputPortInterface*>(p) != nullptr; }
 

@@ -16,6 +16,7 @@
 #include "tactile_servo/program_io.hpp"
 #include "tactile_servo/servo.hpp"
 #include "tactile_servo_rtt/servo_component.hpp"
+#include "support/rtt_environment.hpp"
 
 namespace {
 
@@ -25,15 +26,8 @@ using tactile::Pose;
 using tactile::PoseCommand;
 using tactile::ServoStatus;
 
-class Env : public ::testing::Environment {
- public:
-  void SetUp() override {
-    __os_init(0, nullptr);
-    RTT::os::TimeService::Instance()->enableSystemClock(false);  // time advances only by secondsChange()
-  }
-  void TearDown() override { __os_exit(); }
-};
-const auto* const env = ::testing::AddGlobalTestEnvironment(new Env);
+const auto* const env =
+    ::testing::AddGlobalTestEnvironment(new tactile::test::RttEnvironment(tactile::test::Clock::Manual));
 
 const std::string kProgram = TACTILE_SERVO_PROGRAM_DIR "/edge_exploration.yaml";
 constexpr double kDt = 0.01;  // 100 Hz, the rate the program's gains are sized for

@@ -22,17 +22,14 @@
 #include "tactile_wts/sim_device.hpp"
 #include "tactile_wts_rtt/wts_component.hpp"
 #include "wts_test_util.hpp"
+#include "support/rtt_environment.hpp"
 
 namespace {
 
 using tactile::RawTactileFrame;
 
-class Env : public ::testing::Environment {
- public:
-  void SetUp() override { __os_init(0, nullptr); }
-  void TearDown() override { __os_exit(); }
-};
-const auto* const env = ::testing::AddGlobalTestEnvironment(new Env);
+const auto* const env =
+    ::testing::AddGlobalTestEnvironment(new tactile::test::RttEnvironment(tactile::test::Clock::System));
 
 // counts[i] = (37 i + t) mod 4096 in {s} order: every frame checkable exactly.
 void pattern(uint32_t t, RawTactileFrame& f) {
