@@ -102,13 +102,10 @@ TEST(WtsComponent, StreamsFramesFromTheSimulatedDevice) {
 
 // poll through the component over a bare PTY, this thread writing the frames.
 TEST(WtsComponent, UpdateDoesNotAllocate) {
-  const int m = posix_openpt(O_RDWR | O_NOCTTY);
+  std::string slave;
+  const int m = wtstest::openBarePty(slave);
   ASSERT_GE(m, 0);
-  ASSERT_EQ(grantpt(m), 0);
-  ASSERT_EQ(unlockpt(m), 0);
-  char name[128];
-  ASSERT_EQ(ptsname_r(m, name, sizeof(name)), 0);
-  fcntl(m, F_SETFL, fcntl(m, F_GETFL) | O_NONBLOCK);
+  const char* name = slave.c_str();
   const std::string params = ::testing::TempDir() + "wts_rtt.yaml";
   {
     FILE* f = std::fopen(params.c_str(), "w");

@@ -488,13 +488,10 @@ TEST(WtsSerialPort, RawModeBoundedReadsAndHangup) {
 // whose allocations would count): frames, corrupted frames and garbage are
 // written to the master; the driver's single-frame requests are drained.
 TEST(WtsDriverAlloc, PollDoesNotAllocateOverARealPty) {
-  const int m = posix_openpt(O_RDWR | O_NOCTTY);
+  std::string slave;
+  const int m = wtstest::openBarePty(slave);
   ASSERT_GE(m, 0);
-  ASSERT_EQ(grantpt(m), 0);
-  ASSERT_EQ(unlockpt(m), 0);
-  char name[128];
-  ASSERT_EQ(ptsname_r(m, name, sizeof(name)), 0);
-  fcntl(m, F_SETFL, fcntl(m, F_GETFL) | O_NONBLOCK);
+  const char* name = slave.c_str();
   WtsParams p;
   p.device = name;
   p.periodic_ms = 0;  // single-frame polling: poll() also writes a request each cycle

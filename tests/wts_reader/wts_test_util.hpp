@@ -2,7 +2,11 @@
 // {s}-layout counts with the protocol's own encoder and a device cell map.
 #pragma once
 
+#include <fcntl.h>
+#include <stdlib.h>
+
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "tactile_wts/protocol.hpp"
@@ -10,6 +14,19 @@
 namespace wtstest {
 
 using namespace tactile::wts;
+
+/// A bare pseudo-terminal driven from the test thread itself (no simulator
+/// thread whose allocations would count): returns the non-blocking master fd
+/// (-1 on failure) and the slave's path in `slave`.
+inline int openBarePty(std::string& slave) {
+  const int m = posix_openpt(O_RDWR | O_NOCTTY);
+  if (m < 0) return -1;
+  char name[128];
+  if (grantpt(m) != 0 || unlockpt(m) != 0 || ptsname_r(m, name, sizeof(name)) != 0) return -1;
+  fcntl(m, F_SETFL, fcntl(m, F_GETFL) | O_NONBLOCK);
+  slave = name;
+  return m;
+}
 
 /// Full packet for a frame: id 0x00 (periodic) or 0x20 (single-frame reply,
 /// with a status code). `s_counts` in {s} row-major order.
