@@ -97,6 +97,51 @@ TEST(LwrKinematics, JacobianMatchesFiniteDifferences) {
   }
 }
 
+TEST(LwrKinematics, FusedPassMatchesKdlSolvers) {
+  // kinematics() (one pass) against KDL's ChainFkSolverPos_recursive and
+  // ChainJntToJacSolver (forward(), jacobian()) over random postures.
+  // Tolerance 1e-12: same operations up to the order of a few products.
+  LwrArm arm;
+  ASSERT_TRUE(arm.configure(ArmParams()).ok());
+  std::srand(7);
+  for (int n = 0; n < 200; ++n) {
+    JointVec q;
+    for (int i = 0; i < kLwrJoints; ++i) q[i] = 4.0 * (std::rand() / static_cast<double>(RAND_MAX) - 0.5);
+    KDL::Frame Tf, Tk;
+    Jac67 Jf, Jk;
+    arm.kinematics(q, Tf, Jf);
+    arm.forward(q, Tk);
+    arm.jacobian(q, Jk);
+    for (int i = 0; i < 3; ++i) {
+      ASSERT_NEAR(Tf.p(i), Tk.p(i), 1e-12);
+      for (int j = 0; j < 3; ++j) ASSERT_NEAR(Tf.M(i, j), Tk.M(i, j), 1e-12);
+    }
+    ASSERT_LT((Jf - Jk).cwiseAbs().maxCoeff(), 1e-12) << "posture " << n;
+  }
+}
+
+TEST(LwrKinematics, SettleReachesLargeAndSmallTargetsToTheIkTolerance) {
+  // The chord IK (Jacobian of the start posture, refreshed when the error
+  // does not shrink 10x per iteration) must converge for a servo-sized step
+  // (0.1 mm) within one call and for a 10 cm / 0.3 rad jump within a few.
+  LwrArm arm;
+  ASSERT_TRUE(arm.configure(ArmParams()).ok());
+  const KDL::Frame T0 = arm.state().T_ge;
+  const KDL::Frame small(T0.M, T0.p + KDL::Vector(1e-4, 0.0, 0.0));
+  ASSERT_EQ(arm.settle(small, 0.01), SimStatus::Ok);
+  KDL::Twist e = KDL::diff(arm.state().T_ge, small);
+  EXPECT_LT(e.vel.Norm(), 1e-9);
+  EXPECT_LT(e.rot.Norm(), 1e-9);
+  KDL::Frame Tcheck;
+  arm.forward(arm.state().q, Tcheck);  // T_ge is the FK of the final q
+  EXPECT_LT(KDL::diff(Tcheck, arm.state().T_ge).vel.Norm(), 1e-15);
+  const KDL::Frame big(KDL::Rotation::RotZ(0.3) * T0.M, T0.p + KDL::Vector(0.1, -0.05, 0.05));
+  for (int k = 0; k < 3; ++k) arm.settle(big);
+  e = KDL::diff(arm.state().T_ge, big);
+  EXPECT_LT(e.vel.Norm(), 1e-9);
+  EXPECT_LT(e.rot.Norm(), 1e-9);
+}
+
 TEST(LwrDynamics, MassMatrixSymmetricPositiveDefinite) {
   LwrArm arm;
   ASSERT_TRUE(arm.configure(ArmParams()).ok());

@@ -4,6 +4,7 @@
 // Objects are placed with {g} = {s} (T_gs = identity) unless stated.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -195,6 +196,112 @@ TEST(PadContact, ContactStiffnessMatchesFiniteDifference) {
   }
 }
 
+namespace {
+// Per-sample reference for PadSensor::evaluate() over the elastic layer: the
+// plain sum over every physics sample of its force, the wrench about the
+// sensor origin, the stiffness g g^T and the tray terms, each sample from
+// ObjectSet::lowestZ() (the point query), in the order written in
+// pad_sensor.hpp. evaluate() computes the same from per-row moments.
+ContactEval referenceEvaluate(const PadParams& p, const ObjectSet& objects, const KDL::Frame& T_gs) {
+  ContactEval out;
+  const int k = p.physics_subsamples;
+  const double h = p.pitch / k, ks = p.modulus * h * h;
+  const int tray = objects.trayIndex();
+  const KDL::Vector zs = T_gs.M.UnitZ();
+  for (int r = 0; r < p.rows; ++r)
+    for (int c = 0; c < p.cols; ++c)
+      for (int i = 0; i < k; ++i)
+        for (int j = 0; j < k; ++j) {
+          const double x = (c - (p.cols - 1) / 2.0) * p.pitch - 0.5 * p.pitch + (j + 0.5) * h;
+          const double y = (r - (p.rows - 1) / 2.0) * p.pitch - 0.5 * p.pitch + (i + 0.5) * h;
+          int which;
+          const double d = -objects.lowestZ(x, y, which);
+          if (!(d > 0.0) || d > p.depth_limit) continue;
+          const double f = ks * d;
+          const double g[6] = {0.0, 0.0, -1.0, -y, x, 0.0};
+          out.layer_force += f;
+          ++out.active;
+          for (int a = 2; a < 5; ++a) {
+            out.W_s(a) += g[a] * f;
+            for (int b = 2; b < 5; ++b) out.K_s(a, b) += ks * g[a] * g[b];
+          }
+          if (which != tray || tray < 0) continue;
+          const KDL::Vector rr = T_gs * KDL::Vector(x, y, 0.0) - objects.bearing();
+          const double hh[2] = {-KDL::dot(zs, KDL::Vector(1, 0, 0) * rr), -KDL::dot(zs, KDL::Vector(0, 1, 0) * rr)};
+          for (int m = 0; m < 2; ++m) {
+            out.tau_tray(m) -= hh[m] * f;
+            for (int a = 2; a < 5; ++a) {
+              out.dW_dth(a, m) += ks * g[a] * hh[m];
+              out.dtau_ds(m, a) += ks * hh[m] * g[a];
+            }
+            for (int n = 0; n < 2; ++n) out.dtau_dth(m, n) -= ks * hh[m] * hh[n];
+          }
+        }
+  return out;
+}
+}  // namespace
+
+TEST(PadContact, EvaluateMatchesThePerSampleReference) {
+  // evaluate() sums per sample row with branch-free moments; this checks every
+  // output against the per-sample reference above for a sphere, an inclined
+  // bar and a tray bar under a tilted sensor (general tray lever arms), at
+  // K_phys = 1, 2 and 3. Tolerance 1e-9 of each quantity's scale: only the
+  // summation order differs (~1e-15 relative per term, ~1e3 terms).
+  const KDL::Frame T_gs(KDL::Rotation::RPY(0.05, -0.03, 0.2), KDL::Vector(0.6, 0.02, 0.3));
+  const KDL::Vector a_s(-0.03, 0.001, 0.003 - 0.0012), b_s(0.03, 0.0015, 0.003 - 0.0008);
+  const KDL::Vector bearing = T_gs * KDL::Vector(0.002, -0.4, 0.05);
+  ObjectParams tray;
+  tray.name = "tray";
+  tray.type = ObjectType::Tray;
+  tray.tray.bearing = {bearing.x(), bearing.y(), bearing.z()};
+  const KDL::Vector ta = T_gs * a_s - bearing, tb = T_gs * b_s - bearing;
+  tray.tray.bar_from = {ta.x(), ta.y(), ta.z()};
+  tray.tray.bar_to = {tb.x(), tb.y(), tb.z()};
+  ObjectParams bar;
+  bar.type = ObjectType::Bar;
+  bar.radius = 0.003;
+  bar.vertices = {{-0.1, 0.001, 0.003 - 0.0015 - 0.1 * 0.01}, {0.1, 0.001, 0.003 - 0.0015 + 0.1 * 0.01}};
+  struct Case {
+    std::vector<ObjectParams> objs;
+    KDL::Frame T;
+  };
+  const std::vector<Case> cases = {{{sphere(0.004, -0.002, 0.02, 0.0015)}, KDL::Frame::Identity()},
+                                   {{bar}, KDL::Frame::Identity()},
+                                   {{tray}, T_gs}};
+  for (int k = 1; k <= 3; ++k)
+    for (std::size_t n = 0; n < cases.size(); ++n) {
+      PadParams p;
+      p.physics_subsamples = k;
+      PadSensor pad;
+      ASSERT_TRUE(pad.configure(p).ok());
+      ObjectSet objects;
+      ASSERT_TRUE(objects.configure(cases[n].objs).ok());
+      objects.pose(cases[n].T, TrayPose{});
+      ContactEval e;
+      pad.evaluate(objects, cases[n].T, e);
+      const ContactEval ref = referenceEvaluate(p, objects, cases[n].T);
+      ASSERT_GT(ref.layer_force, 0.5) << "case " << n;
+      EXPECT_EQ(e.housing_force, 0.0);
+      EXPECT_EQ(e.active, ref.active);
+      EXPECT_NEAR(e.layer_force, ref.layer_force, 1e-9 * ref.layer_force);
+      auto near = [&](const auto& A, const auto& B, const char* what) {
+        const double scale = std::max(B.cwiseAbs().maxCoeff(), 1e-30);
+        EXPECT_LT((A - B).cwiseAbs().maxCoeff(), 1e-9 * scale) << what << " case " << n << " k " << k;
+      };
+      near(e.W_s, ref.W_s, "W_s");
+      near(e.K_s, ref.K_s, "K_s");
+      if (n == 2) {
+        ASSERT_GT(ref.tau_tray.cwiseAbs().maxCoeff(), 1e-3);
+        near(e.tau_tray, ref.tau_tray, "tau_tray");
+        near(e.dW_dth, ref.dW_dth, "dW_dth");
+        near(e.dtau_ds, ref.dtau_ds, "dtau_ds");
+        near(e.dtau_dth, ref.dtau_dth, "dtau_dth");
+      } else {
+        EXPECT_EQ(e.tau_tray.cwiseAbs().maxCoeff(), 0.0);
+      }
+    }
+}
+
 TEST(PadContact, NonUniformLineLoadShiftsPressureCentreFromContactCentre) {
   // Eq. 2 / Eq. 3: an edge pressing harder at one end (bar inclined in the
   // x-z plane) moves the pressure centre away from the contact centre:
@@ -326,6 +433,28 @@ TEST(PadResponse, CalibrationInvertsTheResponse) {
       ++checked;
     }
   EXPECT_GT(checked, 4);
+}
+
+TEST(PadResponse, CountsInvertTheCubicResponseExactly) {
+  // countsFor() (closed-form sinh root + one Newton step for the default
+  // k1 = 0 response; Newton for a general cubic) against forceFor(), its
+  // forward polynomial, from 1 mN to 4 N (past saturation) on an interior
+  // and a border taxel. Tolerance 1e-12 relative: a few roundings of f(n).
+  for (int variant = 0; variant < 2; ++variant) {
+    PadParams p;
+    if (variant == 1) p.response = {4e-4, 3e-8, 1e-11};  // general cubic (Newton path)
+    PadSensor pad;
+    ASSERT_TRUE(pad.configure(p).ok());
+    for (double f = 1e-3; f < 4.0; f *= 1.07)
+      for (int r : {0, 2}) {
+        const double n = pad.countsFor(r, 5, f);
+        ASSERT_GT(n, 0.0);
+        EXPECT_NEAR(pad.forceFor(r, 5, n), f, 1e-12 * f) << "variant " << variant << " row " << r << " f " << f;
+      }
+    EXPECT_EQ(pad.countsFor(2, 5, 0.0), 0.0);
+    EXPECT_EQ(pad.countsFor(2, 5, -1.0), 0.0);
+    EXPECT_EQ(pad.countsFor(2, 5, std::nan("")), 0.0);
+  }
 }
 
 TEST(PadResponse, DeterministicForASeed) {

@@ -102,16 +102,31 @@ double PadSensor::countsFor(int r, int c, double force) const {
   const double s = isBorder(r, c) ? params_.border_sensitivity : 1.0;
   const double target = force * s;  // centre-taxel polynomial value
   const auto& k = params_.response;
-  // Monotone convex polynomial: Newton from the linear guess (>= root) converges monotonically.
-  double n = target / k[0];
   const double nmax = 4.0 * params_.full_scale;
-  if (n > nmax) n = nmax;
-  for (int it = 0; it < 40; ++it) {
-    const double f = n * (k[0] + n * (k[1] + n * k[2])) - target;
-    const double df = k[0] + n * (2.0 * k[1] + 3.0 * n * k[2]);
-    const double step = f / df;
-    n -= step;
-    if (std::fabs(step) < 1e-9) break;
+  double n;
+  if (k[1] == 0.0 && k[2] > 0.0) {
+    // f(n) = k0 n + k2 n^3 (the default response): the depressed cubic
+    // n^3 + p n - t / k2 = 0 with p = k0 / k2 > 0 has one real root,
+    // n = 2 sqrt(p/3) sinh(asinh(3 sqrt(3) t / (2 k2 p^1.5)) / 3) (no
+    // cancellation, unlike Cardano's sum of cube roots), then one Newton
+    // step to the last bits.
+    const double p = k[0] / k[2];
+    const double a = std::sqrt(p / 3.0);
+    n = 2.0 * a * std::sinh(std::asinh(1.5 * target / (k[2] * p * a)) / 3.0);
+    if (n > nmax) n = nmax;
+    n -= (n * (k[0] + n * n * k[2]) - target) / (k[0] + 3.0 * n * n * k[2]);
+  } else {
+    // General monotone convex polynomial: Newton from the linear guess (>= root)
+    // converges monotonically.
+    n = target / k[0];
+    if (n > nmax) n = nmax;
+    for (int it = 0; it < 40; ++it) {
+      const double f = n * (k[0] + n * (k[1] + n * k[2])) - target;
+      const double df = k[0] + n * (2.0 * k[1] + 3.0 * n * k[2]);
+      const double step = f / df;
+      n -= step;
+      if (std::fabs(step) < 1e-9) break;
+    }
   }
   return n < 0.0 ? 0.0 : n;
 }
@@ -197,34 +212,107 @@ void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, Conta
       out.dtau_dth(1, 1) -= s.k * h2 * h2;
     }
   };
-  // Layer samples are stored taxel by taxel (k x k each, taxels row-major):
-  // per sample row, lowestZ over the x range where an object can be below
-  // the surface (rowDepths: ObjectSet::rowSpan + lowestZRow; +inf elsewhere,
-  // which carries no force). The summation order is that of the full loop,
-  // so the result is unchanged.
+  // Layer: per sample row (y fixed), lowestZ over the x range where an
+  // object can be below the surface (rowDepths: ObjectSet::rowSpan +
+  // lowestZRow; +inf elsewhere, which carries no force). Every layer sample
+  // has the same stiffness ks and z = 0, so a row's contribution follows from
+  // five branch-free sums over its active samples (n, sum x, sum x^2, sum d,
+  // sum x d): with g = (0, 0, -1, -y, x, 0),
+  //   F_z = -ks sum d, M_x = -y ks sum d, M_y = ks sum x d,
+  //   K = ks sum g g^T: K_zz = ks n, K_zx = ks y n, K_zy = -ks sum x,
+  //   K_xx = ks y^2 n, K_xy = -ks y sum x, K_yy = ks sum x^2.
+  // The tray terms use the same sums over the tray's samples: the
+  // penetration gained per unit tray angle, h_j = -z_s . (a_j x r), is
+  // affine in x along the row (r = p_g(x, y) - B).
   const int rows = params_.rows, cols = params_.cols, k = params_.physics_subsamples, nx = cols * k;
-  const double pitch = params_.pitch;
+  const double pitch = params_.pitch, lim = params_.depth_limit;
+  const double ks = params_.modulus * (pitch / k) * (pitch / k);
   double* xs = xrow_.data();
   double* zb = zrow_.data();
   int* wb = wrow_.data();
   for (int c = 0; c < cols; ++c)
     for (int j = 0; j < k; ++j) xs[c * k + j] = samples_[static_cast<std::size_t>(c * k * k + j)].x;
+  auto h1 = [&zs](const KDL::Vector& r) { return -KDL::dot(zs, KDL::Vector(1, 0, 0) * r); };
+  auto h2 = [&zs](const KDL::Vector& r) { return -KDL::dot(zs, KDL::Vector(0, 1, 0) * r); };
+  const KDL::Vector Xs = T_gs.M.UnitX(), Ys = T_gs.M.UnitY();
+  const double b1 = h1(Xs), b2 = h2(Xs);  // h_j(r) is linear in r: slope along x_s
+  double nact = 0.0;
   for (int r = 0; r < rows; ++r) {
     const double yc = (r - (rows - 1) / 2.0) * pitch;
     if (yc + 0.5 * pitch < fy0 || yc - 0.5 * pitch > fy1) continue;
-    for (int i = 0; i < k; ++i)
-      rowDepths(objects, samples_[static_cast<std::size_t>(r * cols * k * k + i * k)].y, xs, nx, zb + i * nx, wb + i * nx);
-    for (int c = 0; c < cols; ++c) {
-      const double xc = (c - (cols - 1) / 2.0) * pitch;
-      if (xc + 0.5 * pitch < fx0 || xc - 0.5 * pitch > fx1) continue;
-      const Sample* ts = &samples_[static_cast<std::size_t>((r * cols + c) * k * k)];
-      for (int i = 0; i < k; ++i)
-        for (int j = 0; j < k; ++j) {
-          const std::size_t zi = static_cast<std::size_t>(i * nx + c * k + j);
-          add(ts[i * k + j], zb[zi], wb[zi]);
+    for (int i = 0; i < k; ++i) {
+      const double y = samples_[static_cast<std::size_t>(r * cols * k * k + i * k)].y;
+      rowDepths(objects, y, xs, nx, zb, wb);
+      double S0 = 0, S1 = 0, S2 = 0, D0 = 0, D1 = 0;
+      double T0 = 0, T1 = 0, T2 = 0, TD0 = 0, TD1 = 0;
+      if (tray < 0) {
+        for (int m = 0; m < nx; ++m) {
+          const double d = -zb[m], x = xs[m];
+          const bool on = d > 0.0 && d <= lim;
+          const double w = on ? 1.0 : 0.0, dd = on ? d : 0.0;
+          S0 += w;
+          S1 += w * x;
+          S2 += w * x * x;
+          D0 += dd;
+          D1 += dd * x;
         }
+      } else {
+        for (int m = 0; m < nx; ++m) {
+          const double d = -zb[m], x = xs[m];
+          const bool on = d > 0.0 && d <= lim;
+          const double w = on ? 1.0 : 0.0, dd = on ? d : 0.0;
+          const bool ont = on && wb[m] == tray;
+          const double wt = ont ? 1.0 : 0.0, dt = ont ? d : 0.0;
+          S0 += w;
+          S1 += w * x;
+          S2 += w * x * x;
+          D0 += dd;
+          D1 += dd * x;
+          T0 += wt;
+          T1 += wt * x;
+          T2 += wt * x * x;
+          TD0 += dt;
+          TD1 += dt * x;
+        }
+      }
+      if (S0 == 0.0) continue;
+      nact += S0;
+      out.layer_force += ks * D0;
+      Fz -= ks * D0;
+      Mx -= y * ks * D0;
+      My += ks * D1;
+      Kzz += ks * S0;
+      Kzx += ks * y * S0;
+      Kzy -= ks * S1;
+      Kxx += ks * y * y * S0;
+      Kxy -= ks * y * S1;
+      Kyy += ks * S2;
+      if (T0 > 0.0) {
+        const KDL::Vector r0 = T_gs.p - B + y * Ys;
+        const double a1 = h1(r0), a2 = h2(r0);
+        const double sh1 = a1 * T0 + b1 * T1, sh2 = a2 * T0 + b2 * T1;        // sum h_j
+        const double sxh1 = a1 * T1 + b1 * T2, sxh2 = a2 * T1 + b2 * T2;      // sum x h_j
+        const double g2[3] = {-ks * sh1, -y * ks * sh1, ks * sxh1};           // a = z, wx, wy
+        const double g3[3] = {-ks * sh2, -y * ks * sh2, ks * sxh2};
+        for (int a = 0; a < 3; ++a) {
+          out.dW_dth(a + 2, 0) += g2[a];
+          out.dW_dth(a + 2, 1) += g3[a];
+          out.dtau_ds(0, a + 2) += g2[a];
+          out.dtau_ds(1, a + 2) += g3[a];
+        }
+        out.tau_tray(0) -= ks * (a1 * TD0 + b1 * TD1);  // -sum h_j f, f = ks d
+        out.tau_tray(1) -= ks * (a2 * TD0 + b2 * TD1);
+        const double s11 = a1 * a1 * T0 + 2.0 * a1 * b1 * T1 + b1 * b1 * T2;
+        const double s12 = a1 * a2 * T0 + (a1 * b2 + a2 * b1) * T1 + b1 * b2 * T2;
+        const double s22 = a2 * a2 * T0 + 2.0 * a2 * b2 * T1 + b2 * b2 * T2;
+        out.dtau_dth(0, 0) -= ks * s11;
+        out.dtau_dth(0, 1) -= ks * s12;
+        out.dtau_dth(1, 0) -= ks * s12;
+        out.dtau_dth(1, 1) -= ks * s22;
+      }
     }
   }
+  out.active += static_cast<int>(nact);
   for (int i = n_samples_ - n_housing_; i < n_samples_; ++i) {
     const Sample& s = samples_[static_cast<std::size_t>(i)];
     if (s.x < fx0 || s.x > fx1 || s.y < fy0 || s.y > fy1) continue;

@@ -128,13 +128,14 @@ ConfigResult World::configure(const WorldParams& p) {
     return rangeError(name + ": starts inside the sensor, layer penetration", dl,
                       "must be <= pad.layer_thickness = " + std::to_string(pad.layer_thickness) + " m at start");
   }
-  pad_.evaluate(objects_, state_.T_gs, contact_);
+  evaluateContact(T_eq_, tray_);
   acq_seq_ = 0;
   qs_valid_ = false;
   acq_valid_ = false;
   state_.time_s = 0.0;
   state_.step = 0;
   configured_ = true;
+  held_ = false;
   fillState(SimStatus::Ok);
   return ConfigResult::success();
 }
@@ -159,6 +160,13 @@ void World::placeObjects(const KDL::Frame& T_ge, const TrayPose& tp) {
   objects_.pose(state_.T_gs, tp);
 }
 
+void World::evaluateContact(const KDL::Frame& T_ge, const TrayPose& tp) {
+  placeObjects(T_ge, tp);
+  pad_.evaluate(objects_, state_.T_gs, contact_);
+  contact_T_ge_ = T_ge;
+  contact_tray_ = tp;
+}
+
 SimStatus World::step(const tactile::Pose& cmd, double dt, SimState& out) {
   if (!configured_) {
     out.status = SimStatus::NotConfigured;
@@ -176,8 +184,13 @@ SimStatus World::step(const tactile::Pose& cmd, double dt, SimState& out) {
     s = SimStatus::InvalidCommand;
   state_.time_s += dt;
   ++state_.step;
+  const bool was_held = held_;
+  held_ = false;
   s = worst(s, params_.fidelity == Fidelity::QuasiStatic ? stepQuasiStatic(T_cmd_, dt) : stepDynamics(T_cmd_, dt));
-  fillState(s);
+  if (held_ && was_held)
+    fillStatus(s);  // nothing moved since the previous step: only time and status change
+  else
+    fillState(s);
   out = state_;
   return state_.status;
 }
@@ -192,20 +205,33 @@ SimStatus World::stepQuasiStatic(const KDL::Frame& T_cmd, double dt) {
   }
   if (qs_valid_ && !moving && sameFrame(T_cmd, qs_cmd_)) {
     arm_.hold();
+    held_ = true;
     last_iterations_ = 0;
     return qs_status_;
   }
   const KDL::Vector g(params_.arm.gravity[0], params_.arm.gravity[1], params_.arm.gravity[2]);
   KDL::Frame T = T_eq_;
   TrayPose th = tray_;
+  // contact_ was evaluated at the previous solve's last Newton iterate, which
+  // the arm reached to the IK tolerance: start there and reuse it (the
+  // objects do not move between solves; the tray angles are state).
+  bool reuse = false;
+  {
+    const Vec6 d = toVec(KDL::diff(contact_T_ge_, T_eq_));
+    reuse = contact_tray_.pitch == th.pitch && contact_tray_.roll == th.roll && d.head<3>().norm() < 1e-7 &&
+            d.tail<3>().norm() < 1e-6;
+    if (reuse) {
+      T = contact_T_ge_;
+      state_.T_gs = T * pad_.mount();
+    }
+  }
   const double kx = tray ? objects_.tray().pitch_stiffness : 0.0, ky = tray ? objects_.tray().roll_stiffness : 0.0;
   const double kt = arm_.kTrans(), kr = arm_.kRot();
   const double tol = params_.qs_tolerance, maxs = params_.qs_max_step;
   bool converged = false, evaluated = false;
   int it = 0;
   for (; it < params_.qs_max_iterations; ++it) {
-    placeObjects(T, th);
-    pad_.evaluate(objects_, state_.T_gs, contact_);
+    if (!(it == 0 && reuse)) evaluateContact(T, th);
     evaluated = true;
     const Mat6 A = twistMap(T, state_.T_gs);
     // Residual: impedance (Eq. 11, at rest) + external + contact wrench on the flange.
@@ -271,8 +297,7 @@ SimStatus World::stepQuasiStatic(const KDL::Frame& T_cmd, double dt) {
   const Vec6 e = toVec(KDL::diff(Ta, T));
   T_eq_ = Ta;
   if (!evaluated || e.head<3>().norm() > 1e-7 || e.tail<3>().norm() > 1e-6) {
-    placeObjects(Ta, tray_);
-    pad_.evaluate(objects_, state_.T_gs, contact_);
+    evaluateContact(Ta, tray_);
   }
   if (!converged) s = worst(s, SimStatus::NotConverged);
   qs_valid_ = converged && !fatal(s);
@@ -303,8 +328,7 @@ SimStatus World::stepDynamics(const KDL::Frame& T_cmd, double dt) {
     if (std::fabs(tray_.roll) > lim) { tray_.roll = std::copysign(lim, tray_.roll); tray_rate_(1) = 0; }
   }
   const SimStatus s = arm_.stepDynamics(T_cmd, W, dt);
-  placeObjects(arm_.state().T_ge, tray_);
-  pad_.evaluate(objects_, state_.T_gs, contact_);
+  evaluateContact(arm_.state().T_ge, tray_);
   last_iterations_ = 0;
   return s;
 }
@@ -324,6 +348,10 @@ void World::fillState(SimStatus s) {
   state_.tray_pitch = tray_.pitch;
   state_.tray_roll = tray_.roll;
   state_.manipulability = a.manipulability;
+  fillStatus(s);
+}
+
+void World::fillStatus(SimStatus s) {
   state_.solver_iterations = last_iterations_;
   if (contact_.layer_force + contact_.housing_force > params_.force_ceiling) s = worst(s, SimStatus::ForceCeiling);
   state_.status = s;

@@ -147,6 +147,9 @@ class LwrArm {
   // ---- kinematics (no allocation) ------------------------------------------
   void forward(const JointVec& q, KDL::Frame& T_ge) const;
   void jacobian(const JointVec& q, Jac67& J) const;
+  /// FK and Jacobian in one pass over the chain (same conventions as
+  /// forward() and jacobian(): {g}, reference point at the flange).
+  void kinematics(const JointVec& q, KDL::Frame& T_ge, Jac67& J) const;
   static double manipulability(const Jac67& J);  ///< sqrt(det(J J^T))
 
   // ---- impedance (Eq. 11) ---------------------------------------------------

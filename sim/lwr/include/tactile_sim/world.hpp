@@ -115,7 +115,10 @@ class World {
   SimStatus stepQuasiStatic(const KDL::Frame& T_cmd, double dt);
   SimStatus stepDynamics(const KDL::Frame& T_cmd, double dt);
   void placeObjects(const KDL::Frame& T_ge, const TrayPose& tp);
+  /// placeObjects() + PadSensor::evaluate() into contact_, remembering where.
+  void evaluateContact(const KDL::Frame& T_ge, const TrayPose& tp);
   void fillState(SimStatus s);
+  void fillStatus(SimStatus s);  ///< status and iteration count only
 
   bool configured_ = false;
   WorldParams params_;
@@ -134,6 +137,9 @@ class World {
   // Quasi-static: the equilibrium is a function of the command and the world;
   // when neither changed since a converged solve, step() only advances time.
   bool qs_valid_ = false;
+  bool held_ = false;               ///< this step held the previous equilibrium
+  KDL::Frame contact_T_ge_;         ///< flange pose and tray angles of contact_
+  TrayPose contact_tray_;
   // Placement of the last acquisition: an unchanged sensor pose and tray
   // reuse the contact integral (PadSensor::acquireRepeat).
   bool acq_valid_ = false;
