@@ -436,10 +436,11 @@ TEST(PadResponse, CalibrationInvertsTheResponse) {
 }
 
 TEST(PadResponse, CountsInvertTheCubicResponseExactly) {
-  // countsFor() (closed-form sinh root + one Newton step for the default
-  // k1 = 0 response; Newton for a general cubic) against forceFor(), its
-  // forward polynomial, from 1 mN to 4 N (past saturation) on an interior
-  // and a border taxel. Tolerance 1e-12 relative: a few roundings of f(n).
+  // countsFor() (guess from the inverse table, Newton polish; Newton from the
+  // linear guess past the table) against forceFor(), its forward polynomial,
+  // from 1 mN to 4 N (past saturation) on an interior and a border taxel, for
+  // the default and a general cubic. Tolerance 1e-12 relative: a few
+  // roundings of f(n).
   for (int variant = 0; variant < 2; ++variant) {
     PadParams p;
     if (variant == 1) p.response = {4e-4, 3e-8, 1e-11};  // general cubic (Newton path)

@@ -86,6 +86,18 @@ ConfigResult PadSensor::configure(const PadParams& p) {
   image_ = TactileFrame();
   image_.rows = static_cast<uint16_t>(p.rows);
   image_.cols = static_cast<uint16_t>(p.cols);
+  {
+    // Inverse response table over [0, f(full_scale)] (centre polynomial).
+    const auto& rc = p.response;
+    const double n1 = p.full_scale;
+    const double fmax = n1 * (rc[0] + n1 * (rc[1] + n1 * rc[2]));
+    inv_table_step_ = (kCountTable - 1) / fmax;
+    count_table_[0] = 0.0;
+    for (int i = 1; i < kCountTable; ++i) {
+      const double t = i / inv_table_step_;
+      count_table_[static_cast<std::size_t>(i)] = rootOf(t, std::min(t / rc[0], 4.0 * n1));
+    }
+  }
   for (int r = 0; r < p.rows; ++r)
     for (int c = 0; c < p.cols; ++c) threshold_counts_[static_cast<std::size_t>(r * p.cols + c)] = countsFor(r, c, p.threshold);
   return ConfigResult::success();
@@ -97,37 +109,37 @@ double PadSensor::forceFor(int r, int c, double n) const {
   return isBorder(r, c) ? f / params_.border_sensitivity : f;
 }
 
+double PadSensor::rootOf(double target, double n) const {
+  // Monotone convex polynomial: Newton from a guess >= root converges
+  // monotonically (from below, the first step lands above the root).
+  const auto& k = params_.response;
+  for (int it = 0; it < 40; ++it) {
+    const double f = n * (k[0] + n * (k[1] + n * k[2])) - target;
+    const double df = k[0] + n * (2.0 * k[1] + 3.0 * n * k[2]);
+    const double step = f / df;
+    n -= step;
+    if (std::fabs(step) < 1e-9) break;
+  }
+  return n;
+}
+
 double PadSensor::countsFor(int r, int c, double force) const {
   if (!(force > 0.0)) return 0.0;
   const double s = isBorder(r, c) ? params_.border_sensitivity : 1.0;
   const double target = force * s;  // centre-taxel polynomial value
-  const auto& k = params_.response;
-  const double nmax = 4.0 * params_.full_scale;
+  // Guess from the inverse table (uniform in force, linear interpolation:
+  // ~1e-6 relative), then Newton polishes to the 1e-9 count step in 1-2
+  // iterations; beyond the table, Newton from the linear guess.
+  const double u = target * inv_table_step_;
   double n;
-  if (k[1] == 0.0 && k[2] > 0.0) {
-    // f(n) = k0 n + k2 n^3 (the default response): the depressed cubic
-    // n^3 + p n - t / k2 = 0 with p = k0 / k2 > 0 has one real root,
-    // n = 2 sqrt(p/3) sinh(asinh(3 sqrt(3) t / (2 k2 p^1.5)) / 3) (no
-    // cancellation, unlike Cardano's sum of cube roots), then one Newton
-    // step to the last bits.
-    const double p = k[0] / k[2];
-    const double a = std::sqrt(p / 3.0);
-    n = 2.0 * a * std::sinh(std::asinh(1.5 * target / (k[2] * p * a)) / 3.0);
-    if (n > nmax) n = nmax;
-    n -= (n * (k[0] + n * n * k[2]) - target) / (k[0] + 3.0 * n * n * k[2]);
+  if (u < kCountTable - 1) {
+    const int i = static_cast<int>(u);
+    const double w = u - i;
+    n = count_table_[static_cast<std::size_t>(i)] * (1.0 - w) + count_table_[static_cast<std::size_t>(i) + 1] * w;
   } else {
-    // General monotone convex polynomial: Newton from the linear guess (>= root)
-    // converges monotonically.
-    n = target / k[0];
-    if (n > nmax) n = nmax;
-    for (int it = 0; it < 40; ++it) {
-      const double f = n * (k[0] + n * (k[1] + n * k[2])) - target;
-      const double df = k[0] + n * (2.0 * k[1] + 3.0 * n * k[2]);
-      const double step = f / df;
-      n -= step;
-      if (std::fabs(step) < 1e-9) break;
-    }
+    n = std::min(target / params_.response[0], 4.0 * params_.full_scale);
   }
+  n = rootOf(target, n);
   return n < 0.0 ? 0.0 : n;
 }
 

@@ -234,53 +234,71 @@ inline double ObjectSet::lowestZ(double x, double y, int& which) const {
 }
 
 inline void ObjectSet::lowestZRow(double y, const double* x, int n, double* z, int* which) const {
+  // Per primitive, a chunk of candidate heights (+inf where the primitive
+  // misses the column) from a branch-free kernel that the compiler
+  // vectorises, then a merge that keeps the first strict minimum: the
+  // primitives are visited in lowestZ()'s order with its comparisons, so the
+  // result is bit-identical.
+  constexpr int kChunk = 64;
   const double inf = std::numeric_limits<double>::infinity();
   for (int i = 0; i < n; ++i) {
     z[i] = inf;
     which[i] = -1;
   }
-  for (int k = 0; k < n_plane_; ++k) {
-    const PlaneS& p = plane_[static_cast<std::size_t>(k)];
-    if (!(p.n.z() < -1e-6)) continue;
-    const double nx = p.n.x(), ny = p.n.y(), nz = p.n.z(), d = p.d;
-    for (int i = 0; i < n; ++i) {
-      const double zi = (d - nx * x[i] - ny * y) / nz;
-      const bool ok = zi < z[i];
-      z[i] = ok ? zi : z[i];
-      which[i] = ok ? p.object : which[i];
+  double cand[kChunk];
+  auto merge = [&](int i0, int m, int object) {
+    for (int i = 0; i < m; ++i)
+      if (cand[i] < z[i0 + i]) {
+        z[i0 + i] = cand[i];
+        which[i0 + i] = object;
+      }
+  };
+  for (int i0 = 0; i0 < n; i0 += kChunk) {
+    const int m = n - i0 < kChunk ? n - i0 : kChunk;
+    const double* xc = x + i0;
+    for (int k = 0; k < n_plane_; ++k) {
+      const PlaneS& p = plane_[static_cast<std::size_t>(k)];
+      if (!(p.n.z() < -1e-6)) continue;
+      const double nx = p.n.x(), ny = p.n.y(), nz = p.n.z(), d = p.d;
+      for (int i = 0; i < m; ++i) cand[i] = (d - nx * xc[i] - ny * y) / nz;
+      merge(i0, m, p.object);
     }
-  }
-  for (int k = 0; k < n_ball_; ++k) {
-    const Ball& b = ball_[static_cast<std::size_t>(k)];
-    if (y < b.ymin || y > b.ymax) continue;
-    const double cx = b.c.x(), cz = b.c.z(), r = b.r, dy = y - b.c.y(), x0 = b.xmin, x1 = b.xmax;
-    for (int i = 0; i < n; ++i) {
-      const double dx = x[i] - cx;
-      const double h2 = r * r - dx * dx - dy * dy;
-      const double zi = cz - std::sqrt(h2 > 0.0 ? h2 : 0.0);
-      const bool ok = !(x[i] < x0) && !(x[i] > x1) && h2 > 0.0 && zi < z[i];
-      z[i] = ok ? zi : z[i];
-      which[i] = ok ? b.object : which[i];
+    for (int k = 0; k < n_ball_; ++k) {
+      const Ball& b = ball_[static_cast<std::size_t>(k)];
+      if (y < b.ymin || y > b.ymax) continue;
+      const double cx = b.c.x(), cz = b.c.z(), r = b.r, dy = y - b.c.y(), x0 = b.xmin, x1 = b.xmax;
+      for (int i = 0; i < m; ++i) {
+        const double dx = xc[i] - cx;
+        const double h2 = r * r - dx * dx - dy * dy;
+        // A named clamp (GCC 12 if-converts it; inside sqrt() it does not) and
+        // bitwise & (no short-circuit): no control flow, the loop vectorises.
+        const double hc = h2 > 0.0 ? h2 : 0.0;
+        const double zi = cz - std::sqrt(hc);
+        const bool ok = !(xc[i] < x0) & !(xc[i] > x1) & (h2 > 0.0);
+        cand[i] = ok ? zi : inf;
+      }
+      merge(i0, m, b.object);
     }
-  }
-  for (int k = 0; k < n_seg_; ++k) {
-    const Segment& s = seg_[static_cast<std::size_t>(k)];
-    if (y < s.ymin || y > s.ymax || s.inv_a == 0.0) continue;
-    const double p0x = s.p0.x(), ax = s.a.x(), ay = s.a.y(), az = s.a.z();
-    const double wy = y - s.p0.y(), wz = -s.p0.z();
-    const double A = 1.0 - az * az, r2 = s.r2, len = s.len, inv_a = s.inv_a, x0 = s.xmin, x1 = s.xmax;
-    for (int i = 0; i < n; ++i) {
-      const double wx = x[i] - p0x;
-      const double wa = wx * ax + wy * ay + wz * az;
-      const double px = wx - wa * ax, py = wy - wa * ay, pz = wz - wa * az;
-      const double B = pz;
-      const double C = px * px + py * py + pz * pz - r2;
-      const double disc = B * B - A * C;
-      const double zi = (-B - std::sqrt(disc >= 0.0 ? disc : 0.0)) * inv_a;
-      const double t = wa + zi * az;
-      const bool ok = !(x[i] < x0) && !(x[i] > x1) && !(disc < 0.0) && t >= 0.0 && t <= len && zi < z[i];
-      z[i] = ok ? zi : z[i];
-      which[i] = ok ? s.object : which[i];
+    for (int k = 0; k < n_seg_; ++k) {
+      const Segment& s = seg_[static_cast<std::size_t>(k)];
+      if (y < s.ymin || y > s.ymax || s.inv_a == 0.0) continue;
+      const double p0x = s.p0.x(), ax = s.a.x(), ay = s.a.y(), az = s.a.z();
+      const double wy = y - s.p0.y(), wz = -s.p0.z();
+      const double A = 1.0 - az * az, r2 = s.r2, len = s.len, inv_a = s.inv_a, x0 = s.xmin, x1 = s.xmax;
+      for (int i = 0; i < m; ++i) {
+        const double wx = xc[i] - p0x;
+        const double wa = wx * ax + wy * ay + wz * az;
+        const double px = wx - wa * ax, py = wy - wa * ay, pz = wz - wa * az;
+        const double B = pz;
+        const double C = px * px + py * py + pz * pz - r2;
+        const double disc = B * B - A * C;
+        const double dc = disc >= 0.0 ? disc : 0.0;
+        const double zi = (-B - std::sqrt(dc)) * inv_a;
+        const double t = wa + zi * az;
+        const bool ok = !(xc[i] < x0) & !(xc[i] > x1) & !(disc < 0.0) & (t >= 0.0) & (t <= len);
+        cand[i] = ok ? zi : inf;
+      }
+      merge(i0, m, s.object);
     }
   }
 }

@@ -163,6 +163,11 @@ class PadSensor {
   std::normal_distribution<double> normal_{0.0, 1.0};
   TactileFrame image_;
   std::array<double, kMaxTaxels> threshold_counts_{};
+  // Inverse of the centre response, tabulated at configure() (countsFor()).
+  static constexpr int kCountTable = 1025;
+  std::array<double, kCountTable> count_table_{};
+  double inv_table_step_ = 0.0;
+  double rootOf(double target, double guess) const;
   SensorTruth geometry_;  // contact part of the last acquire() (for acquireRepeat)
   // Row buffers (sized in configure(); mutable: scratch of the const evaluate()).
   mutable std::vector<double> xrow_, zrow_;
