@@ -120,6 +120,97 @@ ConfigResult ObjectSet::configure(const std::vector<ObjectParams>& objects) {
   return ConfigResult::success();
 }
 
+namespace {
+// Row kernels of lowestZRow(): candidate heights of one primitive over m
+// columns (+inf where it misses), branch-free so that they vectorise. On
+// x86-64 they are also compiled for AVX2 and picked at load time (ifunc);
+// no FMA in either clone, so both round exactly like lowestZ().
+#if defined(__x86_64__) && (defined(__clang__) ? __clang_major__ >= 14 : defined(__GNUC__))
+#define TACTILE_ROW_KERNEL __attribute__((target_clones("avx2", "default")))
+#else
+#define TACTILE_ROW_KERNEL
+#endif
+
+TACTILE_ROW_KERNEL
+void ballKernel(const double* xc, int m, double* cand, double cx, double cz, double r, double dy, double x0, double x1) {
+  const double inf = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < m; ++i) {
+    const double dx = xc[i] - cx;
+    const double h2 = r * r - dx * dx - dy * dy;
+    // A named clamp (GCC 12 if-converts it; inside sqrt() it does not) and
+    // bitwise & (no short-circuit): no control flow.
+    const double hc = h2 > 0.0 ? h2 : 0.0;
+    const double zi = cz - std::sqrt(hc);
+    const bool ok = !(xc[i] < x0) & !(xc[i] > x1) & (h2 > 0.0);
+    cand[i] = ok ? zi : inf;
+  }
+}
+
+TACTILE_ROW_KERNEL
+void segmentKernel(const double* xc, int m, double* cand, double p0x, double ax, double ay, double az, double wy,
+                   double wz, double r2, double len, double inv_a, double x0, double x1) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const double A = 1.0 - az * az;
+  for (int i = 0; i < m; ++i) {
+    const double wx = xc[i] - p0x;
+    const double wa = wx * ax + wy * ay + wz * az;
+    const double px = wx - wa * ax, py = wy - wa * ay, pz = wz - wa * az;
+    const double B = pz;
+    const double C = px * px + py * py + pz * pz - r2;
+    const double disc = B * B - A * C;
+    const double dc = disc >= 0.0 ? disc : 0.0;
+    const double zi = (-B - std::sqrt(dc)) * inv_a;
+    const double t = wa + zi * az;
+    const bool ok = !(xc[i] < x0) & !(xc[i] > x1) & !(disc < 0.0) & (t >= 0.0) & (t <= len);
+    cand[i] = ok ? zi : inf;
+  }
+}
+}  // namespace
+
+void ObjectSet::lowestZRow(double y, const double* x, int n, double* z, int* which) const {
+  // Per primitive, a chunk of candidate heights from the kernels above, then
+  // a merge that keeps the first strict minimum: the primitives are visited
+  // in lowestZ()'s order with its operations, so the result is bit-identical.
+  constexpr int kChunk = 64;
+  const double inf = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < n; ++i) {
+    z[i] = inf;
+    which[i] = -1;
+  }
+  double cand[kChunk];
+  auto merge = [&](int i0, int m, int object) {
+    for (int i = 0; i < m; ++i)
+      if (cand[i] < z[i0 + i]) {
+        z[i0 + i] = cand[i];
+        which[i0 + i] = object;
+      }
+  };
+  for (int i0 = 0; i0 < n; i0 += kChunk) {
+    const int m = n - i0 < kChunk ? n - i0 : kChunk;
+    const double* xc = x + i0;
+    for (int k = 0; k < n_plane_; ++k) {
+      const PlaneS& p = plane_[static_cast<std::size_t>(k)];
+      if (!(p.n.z() < -1e-6)) continue;
+      const double nx = p.n.x(), ny = p.n.y(), nz = p.n.z(), d = p.d;
+      for (int i = 0; i < m; ++i) cand[i] = (d - nx * xc[i] - ny * y) / nz;
+      merge(i0, m, p.object);
+    }
+    for (int k = 0; k < n_ball_; ++k) {
+      const Ball& b = ball_[static_cast<std::size_t>(k)];
+      if (y < b.ymin || y > b.ymax) continue;
+      ballKernel(xc, m, cand, b.c.x(), b.c.z(), b.r, y - b.c.y(), b.xmin, b.xmax);
+      merge(i0, m, b.object);
+    }
+    for (int k = 0; k < n_seg_; ++k) {
+      const Segment& s = seg_[static_cast<std::size_t>(k)];
+      if (y < s.ymin || y > s.ymax || s.inv_a == 0.0) continue;
+      segmentKernel(xc, m, cand, s.p0.x(), s.a.x(), s.a.y(), s.a.z(), y - s.p0.y(), -s.p0.z(), s.r2, s.len, s.inv_a,
+                    s.xmin, s.xmax);
+      merge(i0, m, s.object);
+    }
+  }
+}
+
 void ObjectSet::trayBar(const TrayPose& tp, KDL::Vector& a, KDL::Vector& b) const {
   const KDL::Rotation R = KDL::Rotation::RotX(tp.pitch) * KDL::Rotation::RotY(tp.roll);
   a = bearing() + R * V(tray_.bar_from);

@@ -403,19 +403,22 @@ void PadSensor::acquire(const ObjectSet& objects, const KDL::Frame& T_gs, double
       const double xc = (c - (cols - 1) / 2.0) * pitch;
       double f = 0.0;
       if (row_in && xc + 0.5 * pitch >= fx0 && xc - 0.5 * pitch <= fx1) {
+        // Branch-free: d outside (0, depth_limit] counts as 0.
+        const double* xt = xs + c * K;
         for (int i = 0; i < K; ++i) {
           const double y = yc - 0.5 * pitch + (i + 0.5) * h;
           const double* z = zb + i * nx + c * K;
+          double sd = 0.0, sxd = 0.0;
           for (int j = 0; j < K; ++j) {
             const double d = -z[j];
-            if (d > 0.0 && d <= lim) {
-              const double x = xs[c * K + j];
-              const double df = kmod * d * dA;
-              f += df;
-              Mx += y * df;
-              My += x * df;
-            }
+            const double dd = (d > 0.0) & (d <= lim) ? d : 0.0;
+            sd += dd;
+            sxd += xt[j] * dd;
           }
+          const double df = kmod * dA * sd;
+          f += df;
+          Mx += y * df;
+          My += kmod * dA * sxd;
         }
       }
       image_.force[static_cast<std::size_t>(r * cols + c)] = f;
