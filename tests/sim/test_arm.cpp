@@ -9,6 +9,7 @@
 #include <limits>
 
 #include <Eigen/Eigenvalues>
+#include <kdl/chainfksolverpos_recursive.hpp>
 
 #include "alloc_counter.hpp"
 #include "tactile_sim/lwr_arm.hpp"
@@ -98,23 +99,32 @@ TEST(LwrKinematics, JacobianMatchesFiniteDifferences) {
 }
 
 TEST(LwrKinematics, FusedPassMatchesKdlSolvers) {
-  // kinematics() (one pass) against KDL's ChainFkSolverPos_recursive and
-  // ChainJntToJacSolver (forward(), jacobian()) over random postures.
-  // Tolerance 1e-12: same operations up to the order of a few products.
+  // kinematics() (one pass) and forward() against KDL's generic solvers
+  // (ChainFkSolverPos_recursive, ChainJntToJacSolver via jacobian()) on the
+  // same chain, over random postures. Tolerance 1e-12: the same products up
+  // to their order and KDL's general joint-axis rotation.
   LwrArm arm;
   ASSERT_TRUE(arm.configure(ArmParams()).ok());
+  KDL::ChainFkSolverPos_recursive fk(arm.chain());
+  KDL::JntArray kq(kLwrJoints);
   std::srand(7);
   for (int n = 0; n < 200; ++n) {
     JointVec q;
     for (int i = 0; i < kLwrJoints; ++i) q[i] = 4.0 * (std::rand() / static_cast<double>(RAND_MAX) - 0.5);
-    KDL::Frame Tf, Tk;
+    KDL::Frame Tf, Tfw, Tk;
     Jac67 Jf, Jk;
     arm.kinematics(q, Tf, Jf);
-    arm.forward(q, Tk);
+    arm.forward(q, Tfw);
+    kq.data = q;
+    ASSERT_GE(fk.JntToCart(kq, Tk), 0);
     arm.jacobian(q, Jk);
     for (int i = 0; i < 3; ++i) {
       ASSERT_NEAR(Tf.p(i), Tk.p(i), 1e-12);
-      for (int j = 0; j < 3; ++j) ASSERT_NEAR(Tf.M(i, j), Tk.M(i, j), 1e-12);
+      ASSERT_NEAR(Tfw.p(i), Tk.p(i), 1e-12);
+      for (int j = 0; j < 3; ++j) {
+        ASSERT_NEAR(Tf.M(i, j), Tk.M(i, j), 1e-12);
+        ASSERT_NEAR(Tfw.M(i, j), Tk.M(i, j), 1e-12);
+      }
     }
     ASSERT_LT((Jf - Jk).cwiseAbs().maxCoeff(), 1e-12) << "posture " << n;
   }

@@ -8,7 +8,6 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <kdl/chaindynparam.hpp>
-#include <kdl/chainfksolverpos_recursive.hpp>
 #include <kdl/chainjnttojacsolver.hpp>
 #include <kdl/rigidbodyinertia.hpp>
 #include <kdl/rotationalinertia.hpp>
@@ -126,7 +125,12 @@ ConfigResult LwrArm::configure(const ArmParams& p) {
                                     KDL::RotationalInertia(1e-4, 1e-4, 1e-4, 0, 0, 0));
     chain_.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::RotZ), KDL::Frame::DH(0.0, kAlpha[i], kD[i], 0.0), I));
   }
-  fk_ = std::make_unique<KDL::ChainFkSolverPos_recursive>(chain_);
+  for (int i = 0; i < kLwrJoints; ++i) {
+    const KDL::Segment& seg = chain_.getSegment(static_cast<unsigned int>(i));
+    if (seg.getJoint().getType() != KDL::Joint::RotZ)  // forward()/kinematics() rely on it
+      return ConfigResult::failure("arm chain: joint " + std::to_string(i) + " is not a RotZ joint");
+    tips_[i] = seg.getFrameToTip();
+  }
   jac_ = std::make_unique<KDL::ChainJntToJacSolver>(chain_);
   dyn_ = std::make_unique<KDL::ChainDynParam>(chain_, KDL::Vector(p.gravity[0], p.gravity[1], p.gravity[2]));
   kq_.resize(kLwrJoints);
@@ -172,8 +176,12 @@ void LwrArm::reset(const JointVec& q) {
 }
 
 void LwrArm::forward(const JointVec& q, KDL::Frame& T) const {
-  kq_.data = q;
-  fk_->JntToCart(kq_, T);
+  // T = prod_i RotZ(q_i) * tip_i over the chain's segments (all joints are
+  // KDL::Joint::RotZ, checked in configure()): KDL frames, without the
+  // general joint-axis path of Segment::pose() (a test compares with
+  // KDL::ChainFkSolverPos_recursive).
+  T = KDL::Frame::Identity();
+  for (int i = 0; i < kLwrJoints; ++i) T = T * (KDL::Frame(KDL::Rotation::RotZ(q[i])) * tips_[i]);
 }
 
 void LwrArm::jacobian(const JointVec& q, Jac67& J) const {
@@ -187,21 +195,15 @@ void LwrArm::kinematics(const JointVec& q, KDL::Frame& T, Jac67& J) const {
   // axis z_i and a point o_i in {g}; after the pass, with p the flange
   // position, column i = [z_i x (p - o_i); z_i] (reference point at the
   // flange, {g} coordinates: KDL::ChainJntToJacSolver's convention).
+  // Every joint is a KDL::Joint::RotZ at its segment's root (configure()).
   KDL::Vector z[kLwrJoints], o[kLwrJoints];
   T = KDL::Frame::Identity();
-  int j = 0;
-  for (unsigned int i = 0; i < chain_.getNrOfSegments(); ++i) {
-    const KDL::Segment& seg = chain_.getSegment(i);
-    if (seg.getJoint().getType() != KDL::Joint::None) {
-      z[j] = T.M * seg.getJoint().JointAxis();
-      o[j] = T * seg.getJoint().JointOrigin();
-      T = T * seg.pose(q[j]);
-      ++j;
-    } else {
-      T = T * seg.pose(0.0);
-    }
+  for (int i = 0; i < kLwrJoints; ++i) {
+    z[i] = T.M.UnitZ();
+    o[i] = T.p;
+    T = T * (KDL::Frame(KDL::Rotation::RotZ(q[i])) * tips_[i]);
   }
-  for (int c = 0; c < j; ++c) {
+  for (int c = 0; c < kLwrJoints; ++c) {
     const KDL::Vector v = z[c] * (T.p - o[c]);
     J.col(c) << v.x(), v.y(), v.z(), z[c].x(), z[c].y(), z[c].z();
   }

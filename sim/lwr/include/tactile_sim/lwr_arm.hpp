@@ -189,7 +189,7 @@ class LwrArm {
   bool configured_ = false;
   ArmParams params_;
   KDL::Chain chain_;
-  std::unique_ptr<KDL::ChainFkSolverPos_recursive> fk_;
+  KDL::Frame tips_[kLwrJoints];  ///< segment i: joint frame -> tip (DH), from the chain
   std::unique_ptr<KDL::ChainJntToJacSolver> jac_;
   std::unique_ptr<KDL::ChainDynParam> dyn_;
   // Pre-sized KDL buffers (mutable: KDL solvers take non-const outputs).
