@@ -273,7 +273,7 @@ SimStatus LwrArm::stepDynamics(const KDL::Frame& T_cmd, const Vec6& W_ext, doubl
   // Null-space posture term, projected with N = I - J^T (J#)^T, J# = J^T (J J^T + l^2 I)^-1.
   // N = I - J^T (J J^T + l^2 I)^-1 J (symmetric).
   const Mat6 JJt = J_.lazyProduct(J_.transpose()) + 1e-6 * Mat6::Identity();
-  const Jac67 X = JJt.ldlt().solve(J_);
+  const Jac67 X = JJt.llt().solve(J_);  // SPD (+1e-6 I)
   Eigen::Matrix<double, 7, 7> N = -J_.transpose().lazyProduct(X);
   N.diagonal().array() += 1.0;
   tau += N * (params_.null_stiffness * (q_rest_ - state_.q));
@@ -335,7 +335,7 @@ SimStatus LwrArm::settle(const KDL::Frame& T_target, double dt) {
   JointVec q = state_.q;
   KDL::Frame T;
   kinematics(q, T, J_);
-  Eigen::LDLT<Mat6> ldlt(J_.lazyProduct(J_.transpose()) + l2 * Mat6::Identity());
+  Eigen::LLT<Mat6> chol(J_.lazyProduct(J_.transpose()) + l2 * Mat6::Identity());  // SPD (l2 > 0)
   bool moved = false;
   double e_prev = std::numeric_limits<double>::infinity();
   for (int it = 0; it <= params_.ik_iterations; ++it) {
@@ -344,10 +344,10 @@ SimStatus LwrArm::settle(const KDL::Frame& T_target, double dt) {
     if (en < 1e-9 || it == params_.ik_iterations) break;
     if (moved && en > 0.1 * e_prev) {
       kinematics(q, T, J_);
-      ldlt.compute(J_.lazyProduct(J_.transpose()) + l2 * Mat6::Identity());
+      chol.compute(J_.lazyProduct(J_.transpose()) + l2 * Mat6::Identity());
     }
     e_prev = en;
-    q += J_.transpose() * ldlt.solve(e);  // Eq. 11's quasi-static case: joints follow the Cartesian equilibrium
+    q += J_.transpose() * chol.solve(e);  // Eq. 11's quasi-static case: joints follow the Cartesian equilibrium
     forward(q, T);
     moved = true;
   }

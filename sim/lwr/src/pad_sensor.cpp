@@ -99,7 +99,15 @@ ConfigResult PadSensor::configure(const PadParams& p) {
     }
   }
   for (int r = 0; r < p.rows; ++r)
-    for (int c = 0; c < p.cols; ++c) threshold_counts_[static_cast<std::size_t>(r * p.cols + c)] = countsFor(r, c, p.threshold);
+    for (int c = 0; c < p.cols; ++c) {
+      const std::size_t i = static_cast<std::size_t>(r * p.cols + c);
+      threshold_counts_[i] = countsFor(r, c, p.threshold);
+      // Below n_silent = threshold - 10 sigma - 1 counts a taxel gets no noise
+      // draw (respond()) and rounds below the threshold: it reads 0. The force
+      // that gives n_silent (0 if none: every taxel is evaluated).
+      const double n_silent = threshold_counts_[i] - 10.0 * p.noise_counts - 1.0;
+      silent_force_[i] = n_silent > 0.0 ? forceFor(r, c, n_silent) : 0.0;
+    }
   return ConfigResult::success();
 }
 
@@ -260,7 +268,7 @@ void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, Conta
       if (tray < 0) {
         for (int m = 0; m < nx; ++m) {
           const double d = -zb[m], x = xs[m];
-          const bool on = d > 0.0 && d <= lim;
+          const bool on = (d > 0.0) & (d <= lim);  // bitwise: no control flow
           const double w = on ? 1.0 : 0.0, dd = on ? d : 0.0;
           S0 += w;
           S1 += w * x;
@@ -271,9 +279,9 @@ void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, Conta
       } else {
         for (int m = 0; m < nx; ++m) {
           const double d = -zb[m], x = xs[m];
-          const bool on = d > 0.0 && d <= lim;
+          const bool on = (d > 0.0) & (d <= lim);
           const double w = on ? 1.0 : 0.0, dd = on ? d : 0.0;
-          const bool ont = on && wb[m] == tray;
+          const bool ont = on & (wb[m] == tray);
           const double wt = ont ? 1.0 : 0.0, dt = ont ? d : 0.0;
           S0 += w;
           S1 += w * x;
@@ -472,6 +480,10 @@ void PadSensor::respond(double t, RawTactileFrame& raw, SensorTruth& truth) {
   for (int r = 0; r < params_.rows; ++r)
     for (int c = 0; c < params_.cols; ++c) {
       const std::size_t i = static_cast<std::size_t>(r * params_.cols + c);
+      if (!(image_.force[i] >= silent_force_[i])) {  // reads 0 whatever the noise (no draw)
+        raw.counts[i] = 0;
+        continue;
+      }
       double n = countsFor(r, c, image_.force[i]);
       // A taxel more than 10 sigma below its threshold reads 0 whatever the
       // noise draw: skip the draw (still deterministic for a seed).

@@ -272,7 +272,7 @@ SimStatus World::stepQuasiStatic(const KDL::Frame& T_cmd, double dt) {
       de = d.head<6>();
       dth = d.tail<2>();
     } else {
-      de = Jee.ldlt().solve(-re);
+      de = (-Jee).llt().solve(re);  // -Jee = K_imp + A^T K_s A: symmetric positive definite
     }
     if (!de.allFinite() || !dth.allFinite()) return SimStatus::NumericalFailure;
     // Step limit (damped Newton): translation <= maxs, rotation and tray <= 10 maxs.

@@ -163,6 +163,7 @@ class PadSensor {
   std::normal_distribution<double> normal_{0.0, 1.0};
   TactileFrame image_;
   std::array<double, kMaxTaxels> threshold_counts_{};
+  std::array<double, kMaxTaxels> silent_force_{};  ///< below this force a taxel reads 0 (respond())
   // Inverse of the centre response, tabulated at configure() (countsFor()).
   static constexpr int kCountTable = 1025;
   std::array<double, kCountTable> count_table_{};
