@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <limits>
 #include <vector>
 
 #include "alloc_counter.hpp"
@@ -571,6 +573,43 @@ TEST(PadResponse, RepeatedAcquisitionEqualsAFullOne) {
     prev = rr.counts;
   }
   EXPECT_GT(differ, 0);  // the noise is drawn anew on each repeat
+}
+
+TEST(PadContact, LowestPointBoundsEveryColumn) {
+  // ObjectSet::lowestPoint() lets the pad skip its housing ring; it must be a
+  // lower bound of lowestZ() over the region (else housing contact would be
+  // lost), and reasonably tight (within the 0.25 mm grid spacing's effect on
+  // a sphere/bar bottom). Random spheres and inclined bars at random poses.
+  std::srand(11);
+  auto u = [](double a, double b) { return a + (b - a) * (std::rand() / static_cast<double>(RAND_MAX)); };
+  int deep = 0;
+  for (int n = 0; n < 60; ++n) {
+    ObjectParams o;
+    if (n % 2 == 0) {
+      o.type = ObjectType::Sphere;
+      o.radius = u(0.003, 0.03);
+      o.center = {u(-0.02, 0.02), u(-0.01, 0.01), o.radius - u(-0.002, 0.004)};
+    } else {
+      o.type = ObjectType::Bar;
+      o.radius = u(0.001, 0.006);
+      o.vertices = {{-0.1, u(-0.01, 0.01), o.radius - u(-0.002, 0.004)}, {0.1, u(-0.01, 0.01), o.radius - u(-0.002, 0.004)}};
+    }
+    ObjectSet objects;
+    ASSERT_TRUE(objects.configure({o}).ok());
+    objects.setRegion(-0.032, 0.032, -0.017, 0.017);
+    objects.pose(KDL::Frame(KDL::Rotation::RPY(u(-0.1, 0.1), u(-0.1, 0.1), u(-1, 1)), KDL::Vector(0, 0, 0)), TrayPose{});
+    double zmin = std::numeric_limits<double>::infinity();
+    for (double y = -0.017; y <= 0.017; y += 2.5e-4)
+      for (double x = -0.032; x <= 0.032; x += 2.5e-4) {
+        int w;
+        zmin = std::min(zmin, objects.lowestZ(x, y, w));
+      }
+    if (!(zmin < 0.0)) continue;
+    ASSERT_GE(zmin, objects.lowestPoint()) << "object " << n;
+    EXPECT_LT(zmin - objects.lowestPoint(), 1e-3) << "object " << n;
+    if (zmin < -0.002) ++deep;
+  }
+  EXPECT_GT(deep, 5);  // some reach below the housing top (recess 2 mm)
 }
 
 TEST(PadContact, RowEvaluationIsBitIdenticalToPointQueries) {

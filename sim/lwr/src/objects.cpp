@@ -285,6 +285,7 @@ void ObjectSet::addCapsuleS(const KDL::Vector& a, const KDL::Vector& b, double r
     s.ymin = std::min(c0.y(), c1.y()) - rho;
     s.ymax = std::max(c0.y(), c1.y()) + rho;
     grow(s.xmin, s.xmax, s.ymin, s.ymax);
+    z_low_ = std::min(z_low_, zlow - r);
   }
   if (cap_a) addBall(a, r, object);
   if (cap_b) addBall(b, r, object);
@@ -304,12 +305,14 @@ void ObjectSet::addBall(const KDL::Vector& c, double r, int object) {
   b.ymin = c.y() - rho;
   b.ymax = c.y() + rho;
   grow(b.xmin, b.xmax, b.ymin, b.ymax);
+  z_low_ = std::min(z_low_, c.z() - r);
 }
 
 void ObjectSet::pose(const KDL::Frame& T_gs, const TrayPose& tp) {
   const KDL::Frame T_sg = T_gs.Inverse();
   n_seg_ = n_ball_ = n_plane_ = 0;
   fp_any_ = false;
+  z_low_ = std::numeric_limits<double>::infinity();
   for (int i = 0; i < n_objects_; ++i) {
     const ObjectParams& o = params_[static_cast<std::size_t>(i)];
     switch (o.type) {
@@ -321,6 +324,7 @@ void ObjectSet::pose(const KDL::Frame& T_gs, const TrayPose& tp) {
         if (ns.z() < -1e-6) {  // faces the sensing surface: may reach anywhere
           plane_[static_cast<std::size_t>(n_plane_++)] = PlaneS{ns, KDL::dot(ns, ps), i};
           grow(-1e9, 1e9, -1e9, 1e9);
+          z_low_ = -std::numeric_limits<double>::infinity();
         }
         break;
       }

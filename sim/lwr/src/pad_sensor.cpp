@@ -333,7 +333,9 @@ void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, Conta
     }
   }
   out.active += static_cast<int>(nact);
-  for (int i = n_samples_ - n_housing_; i < n_samples_; ++i) {
+  // Housing ring (top face at -recess): only if something reaches below it.
+  const int h0 = objects.lowestPoint() < -params_.housing_recess ? n_samples_ - n_housing_ : n_samples_;
+  for (int i = h0; i < n_samples_; ++i) {
     const Sample& s = samples_[static_cast<std::size_t>(i)];
     if (s.x < fx0 || s.x > fx1 || s.y < fy0 || s.y > fy1) continue;
     int which;
@@ -441,7 +443,8 @@ void PadSensor::acquire(const ObjectSet& objects, const KDL::Frame& T_gs, double
   image_.time_s = t;
   // Housing share (physics sampling of the ring).
   double Fh = 0, Mxh = 0, Myh = 0;
-  for (int i = 0; i < n_samples_ && any; ++i) {
+  const bool deep = any && objects.lowestPoint() < -params_.housing_recess;  // else no housing contact
+  for (int i = n_samples_ - n_housing_; i < n_samples_ && deep; ++i) {
     const Sample& s = samples_[static_cast<std::size_t>(i)];
     if (s.layer || s.x < fx0 || s.x > fx1 || s.y < fy0 || s.y > fy1) continue;
     int which;

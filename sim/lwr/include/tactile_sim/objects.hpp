@@ -137,6 +137,12 @@ class ObjectSet {
     return fp_any_;
   }
 
+  /// Lower bound of lowestZ() over the region after pose() (+inf if nothing
+  /// reaches below z = 0, -inf with a facing plane): no column can have
+  /// lowestZ < lowestPoint(). Lets the pad skip its housing ring (top face
+  /// at -recess) whenever lowestPoint() >= -recess.
+  double lowestPoint() const { return z_low_; }
+
   /// Tray bar endpoints in {g} at a tray pose.
   void trayBar(const TrayPose& tp, KDL::Vector& a, KDL::Vector& b) const;
   /// Moving weight position in {t} at time t (scripted move).
@@ -184,6 +190,7 @@ class ObjectSet {
     return xmax >= region_[0] && xmin <= region_[1] && ymax >= region_[2] && ymin <= region_[3];
   }
   bool fp_any_ = false;
+  double z_low_ = std::numeric_limits<double>::infinity();
   void grow(double xmin, double xmax, double ymin, double ymax);
 };
 
