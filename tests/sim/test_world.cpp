@@ -141,7 +141,7 @@ TEST(WorldTray, TorqueBalanceAndMassMoveShiftThePressureCentre) {
     World w;
     ConfigResult r = w.configure(trayScene(f));
     ASSERT_TRUE(r.ok()) << r.message();
-    const Pose cmd = toPose(w.state().T_ge);
+    const Pose cmd = w.state().command_g;  // the configured pose (dynamics start at its equilibrium)
     SimState s, s_before;
     RawTactileFrame raw;
     SensorTruth before, after;
@@ -173,7 +173,7 @@ TEST(WorldTray, DroppedTrayRestsOnItsStopsWithFiniteState) {
   for (Fidelity f : {Fidelity::QuasiStatic, Fidelity::Dynamics}) {
     World w;
     ASSERT_TRUE(w.configure(trayScene(f)).ok());
-    Pose cmd = toPose(w.state().T_ge);
+    Pose cmd = w.state().command_g;
     cmd.p[0] += 0.1;  // slide the sensor 10 cm along x, off the end of the 10 cm bar
     SimState s;
     const double dt = f == Fidelity::QuasiStatic ? 0.01 : 0.001;

@@ -134,6 +134,17 @@ ConfigResult World::configure(const WorldParams& p) {
   acq_valid_ = false;
   state_.time_s = 0.0;
   state_.step = 0;
+  if (p.fidelity == Fidelity::Dynamics && p.start_in_equilibrium) {
+    // The quasi-static solve of the initial command, then rest there.
+    const SimStatus s = stepQuasiStatic(T_cmd_, 0.0);
+    if (fatal(s) || s == SimStatus::NotConverged)
+      return ConfigResult::failure(std::string("start_in_equilibrium: no static equilibrium at the initial pose (") +
+                                   toString(s) + "); move the objects or set start_in_equilibrium: false");
+    arm_.reset(arm_.state().q);  // zero joint velocity, kinematics refreshed
+    tray_rate_.setZero();
+    evaluateContact(arm_.state().T_ge, tray_);
+    qs_valid_ = false;
+  }
   configured_ = true;
   held_ = false;
   fillState(SimStatus::Ok);

@@ -76,7 +76,7 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
   bool have_frame = false;
   ServoOutput sout;
   SimState state = world_.state();
-  Pose cmd = state.flange_g;
+  Pose cmd = state.command_g;  // the initial command (dynamics may start at its equilibrium, off it)
   int last_phase = -1;
   int contact_run = 0, absent_run = 0;
   double t_last_servo = -1.0 / sc.rates.servo;

@@ -108,8 +108,8 @@ ConfigResult loadScene(const std::string& file, Scene& s) {
   const Where w{file, ""};
   if (!(r = checkKeys(root, w,
                       {"name", "description", "figure", "program", "controller", "features_file", "duration", "seed",
-                       "fidelity", "rates", "sensor", "arm", "initial_flange", "objects", "metrics", "through_fri",
-                       "fri_file"})))
+                       "fidelity", "start_in_equilibrium", "rates", "sensor", "arm", "initial_flange", "objects",
+                       "metrics", "through_fri", "fri_file"})))
     return r;
   s = Scene{};
   s.file = file;
@@ -153,6 +153,7 @@ ConfigResult loadScene(const std::string& file, Scene& s) {
   if (!(r = read(root, "fidelity", fidelity, w))) return r;
   if (!parseFidelity(fidelity, s.world.fidelity))
     return fail(w.child("fidelity"), "'" + fidelity + "' must be quasi_static | dynamics");
+  if (!(r = read(root, "start_in_equilibrium", s.world.start_in_equilibrium, w))) return r;
 
   if (const YAML::Node n = root["rates"]) {
     const Where wr = w.child("rates");

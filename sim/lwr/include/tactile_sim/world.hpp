@@ -59,6 +59,12 @@ struct WorldParams {
   int qs_max_iterations = 12;       ///< quasi-static Newton iterations per step
   double qs_tolerance = 1e-4;       ///< N (and N m) residual to stop the quasi-static solve
   double qs_max_step = 0.005;       ///< m per Newton iteration (rad for rotations: x 10)
+  /// Dynamics only: start from the quasi-static equilibrium of the initial
+  /// command (arm, contacts and tray angles balanced, all velocities zero)
+  /// instead of the configured posture. A scene whose object rests on the
+  /// sensor (the tray) then starts without a drop transient; with nothing in
+  /// contact the equilibrium is the initial posture itself.
+  bool start_in_equilibrium = true;
 };
 
 struct SimState {
