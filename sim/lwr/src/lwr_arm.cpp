@@ -181,7 +181,22 @@ void LwrArm::forward(const JointVec& q, KDL::Frame& T) const {
   // general joint-axis path of Segment::pose() (a test compares with
   // KDL::ChainFkSolverPos_recursive).
   T = KDL::Frame::Identity();
-  for (int i = 0; i < kLwrJoints; ++i) T = T * (KDL::Frame(KDL::Rotation::RotZ(q[i])) * tips_[i]);
+  for (int i = 0; i < kLwrJoints; ++i) T = T * jointToTip(i, q[i]);
+}
+
+KDL::Frame LwrArm::jointToTip(int i, double q) const {
+  // KDL::Frame(KDL::Rotation::RotZ(q)) * tips_[i], written out: RotZ only
+  // mixes the first two rows (12 products instead of KDL's general 27 + 9).
+  const double c = std::cos(q), s = std::sin(q);
+  const KDL::Frame& t = tips_[i];
+  KDL::Frame f;
+  for (int j = 0; j < 3; ++j) {
+    f.M(0, j) = c * t.M(0, j) - s * t.M(1, j);
+    f.M(1, j) = s * t.M(0, j) + c * t.M(1, j);
+    f.M(2, j) = t.M(2, j);
+  }
+  f.p = KDL::Vector(c * t.p.x() - s * t.p.y(), s * t.p.x() + c * t.p.y(), t.p.z());
+  return f;
 }
 
 void LwrArm::jacobian(const JointVec& q, Jac67& J) const {
@@ -201,7 +216,7 @@ void LwrArm::kinematics(const JointVec& q, KDL::Frame& T, Jac67& J) const {
   for (int i = 0; i < kLwrJoints; ++i) {
     z[i] = T.M.UnitZ();
     o[i] = T.p;
-    T = T * (KDL::Frame(KDL::Rotation::RotZ(q[i])) * tips_[i]);
+    T = T * jointToTip(i, q[i]);
   }
   for (int c = 0; c < kLwrJoints; ++c) {
     const KDL::Vector v = z[c] * (T.p - o[c]);

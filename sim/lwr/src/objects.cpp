@@ -168,46 +168,59 @@ void segmentKernel(const double* xc, int m, double* cand, double p0x, double ax,
 }  // namespace
 
 void ObjectSet::lowestZRow(double y, const double* x, int n, double* z, int* which) const {
-  // Per primitive, a chunk of candidate heights from the kernels above, then
-  // a merge that keeps the first strict minimum: the primitives are visited
-  // in lowestZ()'s order with its operations, so the result is bit-identical.
+  // Per primitive, a chunk of candidate heights from the kernels above; the
+  // first primitive that crosses the row writes them directly, the others
+  // merge keeping the first strict minimum. The primitives are visited in
+  // lowestZ()'s order with its operations: the result is bit-identical.
   constexpr int kChunk = 64;
   const double inf = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < n; ++i) {
-    z[i] = inf;
-    which[i] = -1;
-  }
-  double cand[kChunk];
-  auto merge = [&](int i0, int m, int object) {
-    for (int i = 0; i < m; ++i)
-      if (cand[i] < z[i0 + i]) {
-        z[i0 + i] = cand[i];
-        which[i0 + i] = object;
-      }
-  };
+  double buf[kChunk];
   for (int i0 = 0; i0 < n; i0 += kChunk) {
     const int m = n - i0 < kChunk ? n - i0 : kChunk;
     const double* xc = x + i0;
+    double* zc = z + i0;
+    int* wc = which + i0;
+    bool first = true;
+    // The candidates go straight to z for the first primitive, else to buf.
+    auto target = [&]() { return first ? zc : buf; };
+    auto take = [&](int object) {
+      if (first) {
+        for (int i = 0; i < m; ++i) wc[i] = zc[i] < inf ? object : -1;
+        first = false;
+        return;
+      }
+      for (int i = 0; i < m; ++i)
+        if (buf[i] < zc[i]) {
+          zc[i] = buf[i];
+          wc[i] = object;
+        }
+    };
     for (int k = 0; k < n_plane_; ++k) {
       const PlaneS& p = plane_[static_cast<std::size_t>(k)];
       if (!(p.n.z() < -1e-6)) continue;
       const double nx = p.n.x(), ny = p.n.y(), nz = p.n.z(), d = p.d;
-      for (int i = 0; i < m; ++i) cand[i] = (d - nx * xc[i] - ny * y) / nz;
-      merge(i0, m, p.object);
+      double* c = target();
+      for (int i = 0; i < m; ++i) c[i] = (d - nx * xc[i] - ny * y) / nz;
+      take(p.object);
     }
     for (int k = 0; k < n_ball_; ++k) {
       const Ball& b = ball_[static_cast<std::size_t>(k)];
       if (y < b.ymin || y > b.ymax) continue;
-      ballKernel(xc, m, cand, b.c.x(), b.c.z(), b.r, y - b.c.y(), b.xmin, b.xmax);
-      merge(i0, m, b.object);
+      ballKernel(xc, m, target(), b.c.x(), b.c.z(), b.r, y - b.c.y(), b.xmin, b.xmax);
+      take(b.object);
     }
     for (int k = 0; k < n_seg_; ++k) {
       const Segment& s = seg_[static_cast<std::size_t>(k)];
       if (y < s.ymin || y > s.ymax || s.inv_a == 0.0) continue;
-      segmentKernel(xc, m, cand, s.p0.x(), s.a.x(), s.a.y(), s.a.z(), y - s.p0.y(), -s.p0.z(), s.r2, s.len, s.inv_a,
-                    s.xmin, s.xmax);
-      merge(i0, m, s.object);
+      segmentKernel(xc, m, target(), s.p0.x(), s.a.x(), s.a.y(), s.a.z(), y - s.p0.y(), -s.p0.z(), s.r2, s.len,
+                    s.inv_a, s.xmin, s.xmax);
+      take(s.object);
     }
+    if (first)
+      for (int i = 0; i < m; ++i) {
+        zc[i] = inf;
+        wc[i] = -1;
+      }
   }
 }
 

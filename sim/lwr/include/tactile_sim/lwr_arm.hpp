@@ -189,6 +189,7 @@ class LwrArm {
   bool configured_ = false;
   ArmParams params_;
   KDL::Chain chain_;
+  KDL::Frame jointToTip(int i, double q) const;  ///< RotZ(q) * tips_[i]
   KDL::Frame tips_[kLwrJoints];  ///< segment i: joint frame -> tip (DH), from the chain
   std::unique_ptr<KDL::ChainJntToJacSolver> jac_;
   std::unique_ptr<KDL::ChainDynParam> dyn_;
