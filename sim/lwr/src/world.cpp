@@ -246,7 +246,10 @@ SimStatus World::stepQuasiStatic(const KDL::Frame& T_cmd, double dt) {
     evaluated = true;
     const Mat6 A = twistMap(T, state_.T_gs);
     // Residual: impedance (Eq. 11, at rest) + external + contact wrench on the flange.
-    const Vec6 re = arm_.impedanceWrench(T_cmd, T, Vec6::Zero()) + W_ext_ + A.transpose() * contact_.W_s;
+    // The contact wrench and stiffness live in the (z, wx, wy) rows of {s}
+    // (PadSensor::evaluate): only those rows of A enter.
+    const Eigen::Matrix<double, 3, 6> Ar = A.middleRows<3>(2);
+    const Vec6 re = arm_.impedanceWrench(T_cmd, T, Vec6::Zero()) + W_ext_ + Ar.transpose() * contact_.W_s.segment<3>(2);
     Eigen::Vector2d rt = Eigen::Vector2d::Zero();
     if (tray) {
       double gx, gy;
@@ -260,7 +263,7 @@ SimStatus World::stepQuasiStatic(const KDL::Frame& T_cmd, double dt) {
       converged = true;
       break;
     }
-    Mat6 Jee = -A.transpose() * contact_.K_s * A;
+    Mat6 Jee = -Ar.transpose() * (contact_.K_s.block<3, 3>(2, 2) * Ar);
     Jee.diagonal().head<3>().array() -= kt;
     Jee.diagonal().tail<3>().array() -= kr;
     Vec6 de;
