@@ -147,6 +147,7 @@ ConfigResult World::configure(const WorldParams& p) {
   }
   configured_ = true;
   held_ = false;
+  last_cmd_valid_ = false;
   fillState(SimStatus::Ok);
   return ConfigResult::success();
 }
@@ -189,10 +190,16 @@ SimStatus World::step(const tactile::Pose& cmd, double dt, SimState& out) {
     out = state_;
     return state_.status;
   }
-  if (validPose(cmd))
+  if (cmd.p == last_cmd_.p && cmd.q == last_cmd_.q && last_cmd_valid_) {
+    // Same command as the previous step (the servo runs at a tenth of the
+    // physics rate): T_cmd_ already holds it.
+  } else if (validPose(cmd)) {
     T_cmd_ = toFrame(cmd);
-  else
+    last_cmd_ = cmd;
+    last_cmd_valid_ = true;
+  } else {
     s = SimStatus::InvalidCommand;
+  }
   state_.time_s += dt;
   ++state_.step;
   const bool was_held = held_;

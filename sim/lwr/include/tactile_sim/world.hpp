@@ -144,6 +144,8 @@ class World {
   // when neither changed since a converged solve, step() only advances time.
   bool qs_valid_ = false;
   bool held_ = false;               ///< this step held the previous equilibrium
+  tactile::Pose last_cmd_;          ///< last valid command as given (T_cmd_ is its frame)
+  bool last_cmd_valid_ = false;
   KDL::Frame contact_T_ge_;         ///< flange pose and tray angles of contact_
   TrayPose contact_tray_;
   // Placement of the last acquisition: an unchanged sensor pose and tray
