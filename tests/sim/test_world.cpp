@@ -169,6 +169,31 @@ TEST(WorldTray, TorqueBalanceAndMassMoveShiftThePressureCentre) {
   }
 }
 
+TEST(WorldTray, HeavyBearingDampingStaysStableInDynamics) {
+  // The tray's roll inertia is tiny (~1e-3 kg m^2): an explicit bearing
+  // damping term is unstable above c = 2 I / dt ~ 1.9 N m s/rad at 1 kHz.
+  // The tray is integrated with a linearised backward Euler (damping,
+  // springs, contact stiffness): c = 5 must settle to the quasi-static
+  // balance (F = 5.886 N, test above) without hitting the force ceiling.
+  const double F = 1.2 * 9.81 * 0.2 / 0.4;
+  for (double c : {0.0, 0.05, 5.0}) {
+    WorldParams p = trayScene(Fidelity::Dynamics);
+    p.objects[0].tray.bearing_damping = c;
+    p.objects[0].tray.move_start_s = 100.0;  // no move
+    World w;
+    ASSERT_TRUE(w.configure(p).ok());
+    const Pose cmd = w.state().command_g;
+    SimState s;
+    double fmax = 0.0;
+    for (int i = 0; i < 3000; ++i) {
+      ASSERT_FALSE(fatal(w.step(cmd, 0.001, s))) << "c " << c << " step " << i << " " << toString(s.status);
+      fmax = std::max(fmax, s.normal_force);
+    }
+    EXPECT_NEAR(s.normal_force, F, 0.01 * F) << "c " << c;
+    EXPECT_LT(fmax, 1.2 * F) << "c " << c;  // started in equilibrium: no drop, no ringing up
+  }
+}
+
 TEST(WorldTray, DroppedTrayRestsOnItsStopsWithFiniteState) {
   for (Fidelity f : {Fidelity::QuasiStatic, Fidelity::Dynamics}) {
     World w;

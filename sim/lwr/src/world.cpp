@@ -337,10 +337,21 @@ SimStatus World::stepDynamics(const KDL::Frame& T_cmd, double dt) {
     const KDL::Vector g(params_.arm.gravity[0], params_.arm.gravity[1], params_.arm.gravity[2]);
     double gx, gy;
     objects_.trayGravityTorque(tray_, state_.time_s, g, gx, gy);
-    const double tx = gx - tp.pitch_stiffness * tray_.pitch - tp.bearing_damping * tray_rate_(0) + contact_.tau_tray(0);
-    const double ty = gy - tp.roll_stiffness * tray_.roll - tp.bearing_damping * tray_rate_(1) + contact_.tau_tray(1);
-    tray_rate_(0) += dt * tx / objects_.trayInertiaX();
-    tray_rate_(1) += dt * ty / objects_.trayInertiaY();
+    // Linearised backward Euler for the bearing damping, the springs and the
+    // contact's angular stiffness (unconditionally stable for the tiny roll
+    // inertia): (I + dt C - dt^2 K) w' = I w + dt tau(theta, w = 0).
+    const double tx = gx - tp.pitch_stiffness * tray_.pitch + contact_.tau_tray(0);
+    const double ty = gy - tp.roll_stiffness * tray_.roll + contact_.tau_tray(1);
+    Eigen::Matrix2d K = contact_.dtau_dth;
+    K(0, 0) -= tp.pitch_stiffness;
+    K(1, 1) -= tp.roll_stiffness;
+    Eigen::Matrix2d Mi = Eigen::Matrix2d::Zero();
+    Mi(0, 0) = objects_.trayInertiaX() + dt * tp.bearing_damping;
+    Mi(1, 1) = objects_.trayInertiaY() + dt * tp.bearing_damping;
+    Mi -= dt * dt * K;
+    const Eigen::Vector2d rhs(objects_.trayInertiaX() * tray_rate_(0) + dt * tx,
+                              objects_.trayInertiaY() * tray_rate_(1) + dt * ty);
+    tray_rate_ = Mi.partialPivLu().solve(rhs);
     tray_.pitch += dt * tray_rate_(0);
     tray_.roll += dt * tray_rate_(1);
     // The pivot cannot swing the tray through the floor: bound the angles.
