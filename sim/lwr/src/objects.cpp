@@ -168,10 +168,12 @@ void segmentKernel(const double* xc, int m, double* cand, double p0x, double ax,
 }  // namespace
 
 void ObjectSet::lowestZRow(double y, const double* x, int n, double* z, int* which) const {
-  // Per primitive, a chunk of candidate heights from the kernels above; the
-  // first primitive that crosses the row writes them directly, the others
-  // merge keeping the first strict minimum. The primitives are visited in
-  // lowestZ()'s order with its operations: the result is bit-identical.
+  // Per primitive, candidate heights from the kernels above over the columns
+  // of its footprint box only (x ascending: a binary search; outside the box
+  // the kernels would return +inf); the first primitive that crosses a chunk
+  // writes them directly, the others merge keeping the first strict minimum.
+  // The primitives are visited in lowestZ()'s order with its operations: the
+  // result is bit-identical.
   constexpr int kChunk = 64;
   const double inf = std::numeric_limits<double>::infinity();
   double buf[kChunk];
@@ -180,18 +182,28 @@ void ObjectSet::lowestZRow(double y, const double* x, int n, double* z, int* whi
     const double* xc = x + i0;
     double* zc = z + i0;
     int* wc = which + i0;
+    for (int i = 0; i < m; ++i) {
+      zc[i] = inf;
+      wc[i] = -1;
+    }
     bool first = true;
-    // The candidates go straight to z for the first primitive, else to buf.
-    auto target = [&]() { return first ? zc : buf; };
+    int a = 0, b = m;
+    // Columns [a, b) of the chunk with x0 <= x <= x1; false if none.
+    auto range = [&](double x0, double x1) {
+      a = static_cast<int>(std::lower_bound(xc, xc + m, x0) - xc);
+      b = static_cast<int>(std::upper_bound(xc + a, xc + m, x1) - xc);
+      return b > a;
+    };
+    auto target = [&]() { return first ? zc + a : buf; };
     auto take = [&](int object) {
       if (first) {
-        for (int i = 0; i < m; ++i) wc[i] = zc[i] < inf ? object : -1;
+        for (int i = a; i < b; ++i) wc[i] = zc[i] < inf ? object : -1;
         first = false;
         return;
       }
-      for (int i = 0; i < m; ++i)
-        if (buf[i] < zc[i]) {
-          zc[i] = buf[i];
+      for (int i = a; i < b; ++i)
+        if (buf[i - a] < zc[i]) {
+          zc[i] = buf[i - a];
           wc[i] = object;
         }
     };
@@ -199,28 +211,25 @@ void ObjectSet::lowestZRow(double y, const double* x, int n, double* z, int* whi
       const PlaneS& p = plane_[static_cast<std::size_t>(k)];
       if (!(p.n.z() < -1e-6)) continue;
       const double nx = p.n.x(), ny = p.n.y(), nz = p.n.z(), d = p.d;
+      a = 0;
+      b = m;
       double* c = target();
       for (int i = 0; i < m; ++i) c[i] = (d - nx * xc[i] - ny * y) / nz;
       take(p.object);
     }
     for (int k = 0; k < n_ball_; ++k) {
-      const Ball& b = ball_[static_cast<std::size_t>(k)];
-      if (y < b.ymin || y > b.ymax) continue;
-      ballKernel(xc, m, target(), b.c.x(), b.c.z(), b.r, y - b.c.y(), b.xmin, b.xmax);
-      take(b.object);
+      const Ball& bl = ball_[static_cast<std::size_t>(k)];
+      if (y < bl.ymin || y > bl.ymax || !range(bl.xmin, bl.xmax)) continue;
+      ballKernel(xc + a, b - a, target(), bl.c.x(), bl.c.z(), bl.r, y - bl.c.y(), bl.xmin, bl.xmax);
+      take(bl.object);
     }
     for (int k = 0; k < n_seg_; ++k) {
       const Segment& s = seg_[static_cast<std::size_t>(k)];
-      if (y < s.ymin || y > s.ymax || s.inv_a == 0.0) continue;
-      segmentKernel(xc, m, target(), s.p0.x(), s.a.x(), s.a.y(), s.a.z(), y - s.p0.y(), -s.p0.z(), s.r2, s.len,
-                    s.inv_a, s.xmin, s.xmax);
+      if (y < s.ymin || y > s.ymax || s.inv_a == 0.0 || !range(s.xmin, s.xmax)) continue;
+      segmentKernel(xc + a, b - a, target(), s.p0.x(), s.a.x(), s.a.y(), s.a.z(), y - s.p0.y(), -s.p0.z(), s.r2,
+                    s.len, s.inv_a, s.xmin, s.xmax);
       take(s.object);
     }
-    if (first)
-      for (int i = 0; i < m; ++i) {
-        zc[i] = inf;
-        wc[i] = -1;
-      }
   }
 }
 
