@@ -1,3 +1,4 @@
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -14,6 +15,16 @@ std::string num(double v) {
   char b[64];
   std::snprintf(b, sizeof b, "%.9g", v);
   return b;
+}
+
+// Appends ",<v>" formatted exactly as printf("%.9g") (std::to_chars with a
+// precision is specified as printf's conversion) but several times faster:
+// the timeseries is ~50 columns per servo cycle.
+void appendG9(std::string& line, double v) {
+  char b[40];
+  b[0] = ',';
+  const auto res = std::to_chars(b + 1, b + sizeof b, v, std::chars_format::general, 9);
+  line.append(b, static_cast<std::size_t>(res.ptr - b));
 }
 
 std::string esc(const std::string& s) {
@@ -84,6 +95,7 @@ bool writeRun(const std::string& dir, const Scene& sc, const RunResult& r, std::
                "lambda1,lambda2,area,sd_cop_x,sd_cop_y,sd_d_z,sd_dzmp_x,sd_dzmp_y,sd_alpha_z,sd_force,force_true,"
                "force_layer,housing_force,moment_x_true,moment_y_true,tray_angle_deg,true_cx,true_cy,true_cz,u_x,u_y,"
                "u_z,u_wx,u_wy,u_wz,beta,feature_age\n");
+  std::string line;
   for (const auto& w : r.rows) {
     const auto& ft = w.f;
     const std::string& pname =
@@ -97,8 +109,10 @@ bool writeRun(const std::string& dir, const Scene& sc, const RunResult& r, std::
                         w.sd_force, w.force_true, w.force_layer, w.housing_force, w.moment_x_true, w.moment_y_true,
                         w.tray_angle_deg, w.true_contact[0], w.true_contact[1], w.true_contact[2], w.u_s(0), w.u_s(1),
                         w.u_s(2), w.u_s(3), w.u_s(4), w.u_s(5), static_cast<double>(w.beta), w.feature_age};
-    for (double x : v) std::fprintf(f, ",%.9g", x);
-    std::fprintf(f, "\n");
+    line.clear();
+    for (double x : v) appendG9(line, x);
+    line += '\n';
+    std::fwrite(line.data(), 1, line.size(), f);
   }
   std::fclose(f);
 
