@@ -77,12 +77,14 @@ def main():
     ap.add_argument("--sim", default=os.path.join(ROOT, "build", "bin", "tactile_sim"))
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "tradeoff"))
     ap.add_argument("--quick", action="store_true", help="three settings only")
+    ap.add_argument("--jobs", type=int, default=1,
+                    help="parallel runs (default 1: the wall times are then not shared between runs)")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     grid = QUICK if a.quick else GRID
     jobs = [(scene, s) for scene in SCENES for s in grid]
     results = {}
-    with concurrent.futures.ThreadPoolExecutor(max_workers=2) as ex:
+    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
         futs = {ex.submit(run, a.sim, scene, s, a.out): (scene, label(s)) for scene, s in jobs}
         for i, f in enumerate(concurrent.futures.as_completed(futs)):
             results[futs[f]] = f.result()

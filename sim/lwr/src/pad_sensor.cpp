@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <type_traits>
 
 #include "tactile_sim/lwr_arm.hpp"  // toFrame, validPose
 
@@ -265,7 +266,8 @@ void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, Conta
       rowDepths(objects, y, xs, nx, zb, wb);
       double S0 = 0, S1 = 0, S2 = 0, D0 = 0, D1 = 0;
       double T0 = 0, T1 = 0, T2 = 0, TD0 = 0, TD1 = 0;
-      if (tray < 0) {
+      // One loop body, instantiated with and without the tray sums.
+      auto sums = [&](auto with_tray) {
         for (int m = 0; m < nx; ++m) {
           const double d = -zb[m], x = xs[m];
           const bool on = (d > 0.0) & (d <= lim);  // bitwise: no control flow
@@ -275,26 +277,21 @@ void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, Conta
           S2 += w * x * x;
           D0 += dd;
           D1 += dd * x;
+          if constexpr (decltype(with_tray)::value) {
+            const bool ont = on & (wb[m] == tray);
+            const double wt = ont ? 1.0 : 0.0, dt = ont ? d : 0.0;
+            T0 += wt;
+            T1 += wt * x;
+            T2 += wt * x * x;
+            TD0 += dt;
+            TD1 += dt * x;
+          }
         }
-      } else {
-        for (int m = 0; m < nx; ++m) {
-          const double d = -zb[m], x = xs[m];
-          const bool on = (d > 0.0) & (d <= lim);
-          const double w = on ? 1.0 : 0.0, dd = on ? d : 0.0;
-          const bool ont = on & (wb[m] == tray);
-          const double wt = ont ? 1.0 : 0.0, dt = ont ? d : 0.0;
-          S0 += w;
-          S1 += w * x;
-          S2 += w * x * x;
-          D0 += dd;
-          D1 += dd * x;
-          T0 += wt;
-          T1 += wt * x;
-          T2 += wt * x * x;
-          TD0 += dt;
-          TD1 += dt * x;
-        }
-      }
+      };
+      if (tray < 0)
+        sums(std::false_type{});
+      else
+        sums(std::true_type{});
       if (S0 == 0.0) continue;
       nact += S0;
       out.layer_force += ks * D0;
