@@ -12,6 +12,8 @@
 //   duration: 60                      # s of simulated time
 //   seed: 1
 //   fidelity: quasi_static            # quasi_static | dynamics
+//   start_in_equilibrium: true        # dynamics: start at the static balance of the initial
+//                                     # command (an object resting on the sensor does not drop)
 //   rates: {sim: 1000, servo: 100, wts: 140, features: 200}   # Hz (Table 2)
 //   sensor: {subsamples: 4, physics_subsamples: 1, noise_counts: 6, modulus: 5e7, ...}
 //   arm: {q_init_deg: [7 values], k_trans: 1000, k_rot: 100, damping_ratio: 0.7,
