@@ -291,7 +291,9 @@ TEST(PadContact, EvaluateMatchesThePerSampleReference) {
         EXPECT_LT((A - B).cwiseAbs().maxCoeff(), 1e-9 * scale) << what << " case " << n << " k " << k;
       };
       near(e.W_s, ref.W_s, "W_s");
-      near(e.K_s, ref.K_s, "K_s");
+      // The compression block; the sliding columns (x, y, wz) are checked
+      // against finite differences in ContactStiffnessMatchesFiniteDifference.
+      near(Eigen::Matrix3d(e.K_s.block<3, 3>(2, 2)), Eigen::Matrix3d(ref.K_s.block<3, 3>(2, 2)), "K_s");
       if (n == 2) {
         ASSERT_GT(ref.tau_tray.cwiseAbs().maxCoeff(), 1e-3);
         near(e.tau_tray, ref.tau_tray, "tau_tray");
@@ -302,6 +304,48 @@ TEST(PadContact, EvaluateMatchesThePerSampleReference) {
         EXPECT_EQ(e.tau_tray.cwiseAbs().maxCoeff(), 0.0);
       }
     }
+}
+
+TEST(PadContact, SlidingStiffnessMatchesFiniteDifference) {
+  // The (x, y, wz) columns of K_s: the penetration field sliding under the
+  // sensor, from the analytic surface slopes of the winning primitive. Central
+  // differences of W_s (h = 1e-7 m / rad) on an inclined bar (a line load
+  // whose depth varies along x), a bar crossing the pad at 30 deg and a
+  // sphere. W_s is piecewise smooth (samples enter and leave contact with
+  // zero force), so the tolerance is 2 % of the column's scale plus 1e-3 of
+  // the compression diagonal.
+  ObjectParams inclined;
+  inclined.type = ObjectType::Bar;
+  inclined.radius = 0.003;
+  inclined.vertices = {{-0.1, 0.0007, 0.003 - 0.0008 - 0.1 * 0.01}, {0.1, 0.0007, 0.003 - 0.0008 + 0.1 * 0.01}};
+  ObjectParams crossing = inclined;
+  const double c30 = std::cos(0.5236), s30 = std::sin(0.5236);
+  crossing.vertices = {{-0.1 * c30, -0.1 * s30, 0.003 - 0.0008}, {0.1 * c30, 0.1 * s30, 0.003 - 0.0006}};
+  for (const ObjectParams& obj : {inclined, crossing, sphere(0.003, -0.002, 0.02, 0.0012)}) {
+    Rig rig({obj});
+    ContactEval e0, ep, em;
+    rig.pad.evaluate(rig.objects, rig.T, e0);
+    ASSERT_GT(e0.layer_force, 0.3);
+    const double h = 1e-7;
+    for (int a : {0, 1, 5}) {
+      KDL::Vector v = KDL::Vector::Zero(), w = KDL::Vector::Zero();
+      if (a == 0) v = KDL::Vector(h, 0, 0);
+      if (a == 1) v = KDL::Vector(0, h, 0);
+      if (a == 5) w = KDL::Vector(0, 0, h);
+      const KDL::Frame Tp(rotationFromVector(w), v), Tm(rotationFromVector(-w), -v);
+      rig.objects.pose(Tp, TrayPose{});
+      rig.pad.evaluate(rig.objects, Tp, ep);
+      rig.objects.pose(Tm, TrayPose{});
+      rig.pad.evaluate(rig.objects, Tm, em);
+      double scale = 0.0;
+      for (int b : {2, 3, 4}) scale = std::max(scale, std::fabs((ep.W_s(b) - em.W_s(b)) / (2 * h)));
+      for (int b : {2, 3, 4}) {
+        const double fd = -(ep.W_s(b) - em.W_s(b)) / (2 * h);
+        EXPECT_NEAR(e0.K_s(b, a), fd, 0.02 * scale + 1e-3 * e0.K_s(b, b)) << "object " << toString(obj.type) << " row " << b
+                                                                             << " column " << a;
+      }
+    }
+  }
 }
 
 TEST(PadContact, NonUniformLineLoadShiftsPressureCentreFromContactCentre) {

@@ -165,27 +165,58 @@ void segmentKernel(const double* xc, int m, double* cand, double p0x, double ax,
     cand[i] = ok ? zi : inf;
   }
 }
+
+// Surface slopes dz/dx, dz/dy at the candidate heights (for the Newton
+// tangent of PadSensor::evaluate): -n_x / n_z, -n_y / n_z with n the outward
+// normal there (point minus its axis foot / the centre). Bounded to +-10:
+// only the Newton tangent uses them; where the candidate is +inf the result
+// is never read.
+inline double boundSlope(double v) { return v > 10.0 ? 10.0 : (v < -10.0 ? -10.0 : v); }
+
+void segmentSlopes(const double* xc, int m, const double* cand, double* sx, double* sy, double p0x, double ax,
+                   double ay, double az, double wy, double wz) {
+  for (int i = 0; i < m; ++i) {
+    const double wx = xc[i] - p0x, wzi = wz + cand[i];
+    const double t = wx * ax + wy * ay + wzi * az;
+    const double nx = wx - t * ax, ny = wy - t * ay, nz = wzi - t * az;
+    sx[i] = boundSlope(-nx / nz);
+    sy[i] = boundSlope(-ny / nz);
+  }
+}
+
+void ballSlopes(const double* xc, int m, const double* cand, double* sx, double* sy, double cx, double cz, double dy) {
+  for (int i = 0; i < m; ++i) {
+    const double nz = cand[i] - cz;
+    sx[i] = boundSlope(-(xc[i] - cx) / nz);
+    sy[i] = boundSlope(-dy / nz);
+  }
+}
 }  // namespace
 
-void ObjectSet::lowestZRow(double y, const double* x, int n, double* z, int* which) const {
+void ObjectSet::lowestZRow(double y, const double* x, int n, double* z, int* which, double* sx, double* sy) const {
   // Per primitive, candidate heights from the kernels above over the columns
   // of its footprint box only (x ascending: a binary search; outside the box
   // the kernels would return +inf); the first primitive that crosses a chunk
   // writes them directly, the others merge keeping the first strict minimum.
   // The primitives are visited in lowestZ()'s order with its operations: the
-  // result is bit-identical.
+  // result is bit-identical. With sx/sy, the winner's surface slopes follow.
   constexpr int kChunk = 64;
   const double inf = std::numeric_limits<double>::infinity();
-  double buf[kChunk];
+  const bool slopes = sx != nullptr && sy != nullptr;
+  double buf[kChunk], bsx[kChunk], bsy[kChunk];
   for (int i0 = 0; i0 < n; i0 += kChunk) {
     const int m = n - i0 < kChunk ? n - i0 : kChunk;
     const double* xc = x + i0;
     double* zc = z + i0;
     int* wc = which + i0;
+    double* sxc = slopes ? sx + i0 : nullptr;
+    double* syc = slopes ? sy + i0 : nullptr;
     for (int i = 0; i < m; ++i) {
       zc[i] = inf;
       wc[i] = -1;
     }
+    if (slopes)
+      for (int i = 0; i < m; ++i) sxc[i] = syc[i] = 0.0;
     bool first = true;
     int a = 0, b = m;
     // Columns [a, b) of the chunk with x0 <= x <= x1; false if none.
@@ -194,7 +225,13 @@ void ObjectSet::lowestZRow(double y, const double* x, int n, double* z, int* whi
       b = static_cast<int>(std::upper_bound(xc + a, xc + m, x1) - xc);
       return b > a;
     };
+    // Where the candidates of the current primitive go: straight into z (and
+    // the slopes) for the first one, else into the buffers.
     auto target = [&]() { return first ? zc + a : buf; };
+    auto slopeTarget = [&](double*& tx, double*& ty) {
+      tx = first ? sxc + a : bsx;
+      ty = first ? syc + a : bsy;
+    };
     auto take = [&](int object) {
       if (first) {
         for (int i = a; i < b; ++i) wc[i] = zc[i] < inf ? object : -1;
@@ -205,6 +242,10 @@ void ObjectSet::lowestZRow(double y, const double* x, int n, double* z, int* whi
         if (buf[i - a] < zc[i]) {
           zc[i] = buf[i - a];
           wc[i] = object;
+          if (slopes) {
+            sxc[i] = bsx[i - a];
+            syc[i] = bsy[i - a];
+          }
         }
     };
     for (int k = 0; k < n_plane_; ++k) {
@@ -215,20 +256,40 @@ void ObjectSet::lowestZRow(double y, const double* x, int n, double* z, int* whi
       b = m;
       double* c = target();
       for (int i = 0; i < m; ++i) c[i] = (d - nx * xc[i] - ny * y) / nz;
+      if (slopes) {
+        double *tx, *ty;
+        slopeTarget(tx, ty);
+        for (int i = 0; i < m; ++i) {
+          tx[i] = boundSlope(-nx / nz);
+          ty[i] = boundSlope(-ny / nz);
+        }
+      }
       take(p.object);
     }
     for (int k = 0; k < n_ball_; ++k) {
       const Ball& bl = ball_[static_cast<std::size_t>(k)];
       if (y < bl.ymin || y > bl.ymax || !range(bl.xmin, bl.xmax)) continue;
-      ballKernel(xc + a, b - a, target(), bl.c.x(), bl.c.z(), bl.r, y - bl.c.y(), bl.xmin, bl.xmax);
+      double* c = target();
+      ballKernel(xc + a, b - a, c, bl.c.x(), bl.c.z(), bl.r, y - bl.c.y(), bl.xmin, bl.xmax);
+      if (slopes) {
+        double *tx, *ty;
+        slopeTarget(tx, ty);
+        ballSlopes(xc + a, b - a, c, tx, ty, bl.c.x(), bl.c.z(), y - bl.c.y());
+      }
       take(bl.object);
     }
     for (int k = 0; k < n_seg_; ++k) {
-      const Segment& s = seg_[static_cast<std::size_t>(k)];
-      if (y < s.ymin || y > s.ymax || s.inv_a == 0.0 || !range(s.xmin, s.xmax)) continue;
-      segmentKernel(xc + a, b - a, target(), s.p0.x(), s.a.x(), s.a.y(), s.a.z(), y - s.p0.y(), -s.p0.z(), s.r2,
-                    s.len, s.inv_a, s.xmin, s.xmax);
-      take(s.object);
+      const Segment& sg = seg_[static_cast<std::size_t>(k)];
+      if (y < sg.ymin || y > sg.ymax || sg.inv_a == 0.0 || !range(sg.xmin, sg.xmax)) continue;
+      double* c = target();
+      segmentKernel(xc + a, b - a, c, sg.p0.x(), sg.a.x(), sg.a.y(), sg.a.z(), y - sg.p0.y(), -sg.p0.z(), sg.r2,
+                    sg.len, sg.inv_a, sg.xmin, sg.xmax);
+      if (slopes) {
+        double *tx, *ty;
+        slopeTarget(tx, ty);
+        segmentSlopes(xc + a, b - a, c, tx, ty, sg.p0.x(), sg.a.x(), sg.a.y(), sg.a.z(), y - sg.p0.y(), -sg.p0.z());
+      }
+      take(sg.object);
     }
   }
 }

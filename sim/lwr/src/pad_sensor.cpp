@@ -78,6 +78,8 @@ ConfigResult PadSensor::configure(const PadParams& p) {
     xrow_.assign(static_cast<std::size_t>(p.cols * kk), 0.0);
     zrow_.assign(static_cast<std::size_t>(p.cols * kk * kk), 0.0);
     wrow_.assign(static_cast<std::size_t>(p.cols * kk * kk), -1);
+    sxrow_.assign(static_cast<std::size_t>(p.cols * kk), 0.0);
+    syrow_.assign(static_cast<std::size_t>(p.cols * kk), 0.0);
   }
   n_samples_ = n;
   n_housing_ = nh;
@@ -164,7 +166,8 @@ tactile::CalibrationParams PadSensor::calibration() const {
   return c;
 }
 
-void PadSensor::rowDepths(const ObjectSet& objects, double y, const double* xs, int n, double* z, int* which) const {
+void PadSensor::rowDepths(const ObjectSet& objects, double y, const double* xs, int n, double* z, int* which, double* sx,
+                          double* sy) const {
   // xs ascending: evaluate only [i0, i1), where rowSpan() allows z < 0.
   int i0 = n, i1 = n;
   double x0, x1;
@@ -177,7 +180,13 @@ void PadSensor::rowDepths(const ObjectSet& objects, double y, const double* xs, 
   const double inf = std::numeric_limits<double>::infinity();
   for (int i = 0; i < i0; ++i) z[i] = inf;
   for (int i = i1; i < n; ++i) z[i] = inf;
-  if (i1 > i0) objects.lowestZRow(y, xs + i0, i1 - i0, z + i0, which + i0);
+  if (sx != nullptr && sy != nullptr) {
+    for (int i = 0; i < i0; ++i) sx[i] = sy[i] = 0.0;
+    for (int i = i1; i < n; ++i) sx[i] = sy[i] = 0.0;
+  }
+  if (i1 > i0)
+    objects.lowestZRow(y, xs + i0, i1 - i0, z + i0, which + i0, sx != nullptr ? sx + i0 : nullptr,
+                       sy != nullptr ? sy + i0 : nullptr);
 }
 
 void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, ContactEval& out) const {
@@ -196,6 +205,7 @@ void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, Conta
   if (!objects.footprint(fx0, fx1, fy0, fy1)) return;  // nothing reaches below the surface
   // Only the (z, wx, wy) block is non-zero: g = (0, 0, -1, -y, x, 0).
   double Fz = 0, Mx = 0, My = 0, Kzz = 0, Kzx = 0, Kzy = 0, Kxx = 0, Kxy = 0, Kyy = 0;
+  double Kzsx = 0, Kxsx = 0, Kysx = 0, Kzsy = 0, Kxsy = 0, Kysy = 0, Kzwz = 0, Kxwz = 0, Kywz = 0;
   auto add = [&](const Sample& s, double zl, int which) {
     const double d = s.z - zl;  // penetration into the layer (z = 0) or the housing (z = -recess)
     if (!(d > 0.0) || -zl > params_.depth_limit) return;
@@ -251,6 +261,8 @@ void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, Conta
   double* xs = xrow_.data();
   double* zb = zrow_.data();
   int* wb = wrow_.data();
+  double* sxb = sxrow_.data();
+  double* syb = syrow_.data();
   for (int c = 0; c < cols; ++c)
     for (int j = 0; j < k; ++j) xs[c * k + j] = samples_[static_cast<std::size_t>(c * k * k + j)].x;
   auto h1 = [&zs](const KDL::Vector& r) { return -KDL::dot(zs, KDL::Vector(1, 0, 0) * r); };
@@ -263,9 +275,10 @@ void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, Conta
     if (yc + 0.5 * pitch < fy0 || yc - 0.5 * pitch > fy1) continue;
     for (int i = 0; i < k; ++i) {
       const double y = samples_[static_cast<std::size_t>(r * cols * k * k + i * k)].y;
-      rowDepths(objects, y, xs, nx, zb, wb);
+      rowDepths(objects, y, xs, nx, zb, wb, sxb, syb);
       double S0 = 0, S1 = 0, S2 = 0, D0 = 0, D1 = 0;
       double T0 = 0, T1 = 0, T2 = 0, TD0 = 0, TD1 = 0;
+      double A1 = 0, A2 = 0, B1 = 0, B2 = 0, C2 = 0;  // slopes: sum sx, x sx, sy, x sy, x^2 sy
       // One loop body, instantiated with and without the tray sums.
       auto sums = [&](auto with_tray) {
         for (int m = 0; m < nx; ++m) {
@@ -277,6 +290,12 @@ void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, Conta
           S2 += w * x * x;
           D0 += dd;
           D1 += dd * x;
+          const double ax = on ? sxb[m] : 0.0, ay = on ? syb[m] : 0.0;  // select: unused slopes may be NaN
+          A1 += ax;
+          A2 += x * ax;
+          B1 += ay;
+          B2 += x * ay;
+          C2 += x * x * ay;
           if constexpr (decltype(with_tray)::value) {
             const bool ont = on & (wb[m] == tray);
             const double wt = ont ? 1.0 : 0.0, dt = ont ? d : 0.0;
@@ -304,6 +323,18 @@ void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, Conta
       Kxx += ks * y * y * S0;
       Kxy -= ks * y * S1;
       Kyy += ks * S2;
+      // Sliding columns (x, y, wz of the sensor twist): the penetration field
+      // moves under the sensor, dd/dx = -dz/dx = -s_x, dd/dy = -s_y,
+      // dd/dwz = y s_x - x s_y, and K(a, b) = -sum ks g_a dd/db.
+      Kzsx -= ks * A1;
+      Kxsx -= ks * y * A1;
+      Kysx += ks * A2;
+      Kzsy -= ks * B1;
+      Kxsy -= ks * y * B1;
+      Kysy += ks * B2;
+      Kzwz -= ks * (B2 - y * A1);
+      Kxwz -= ks * y * (B2 - y * A1);
+      Kywz += ks * (C2 - y * A2);
       if (T0 > 0.0) {
         const KDL::Vector r0 = T_gs.p - B + y * Ys;
         const double a1 = h1(r0), a2 = h2(r0);
@@ -348,6 +379,15 @@ void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, Conta
   out.K_s(3, 3) = Kxx;
   out.K_s(3, 4) = out.K_s(4, 3) = Kxy;
   out.K_s(4, 4) = Kyy;
+  out.K_s(2, 0) = Kzsx;
+  out.K_s(3, 0) = Kxsx;
+  out.K_s(4, 0) = Kysx;
+  out.K_s(2, 1) = Kzsy;
+  out.K_s(3, 1) = Kxsy;
+  out.K_s(4, 1) = Kysy;
+  out.K_s(2, 5) = Kzwz;
+  out.K_s(3, 5) = Kxwz;
+  out.K_s(4, 5) = Kywz;
 }
 
 void PadSensor::maxPenetration(const ObjectSet& objects, double& layer, double& housing, int& object) const {

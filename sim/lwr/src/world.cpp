@@ -270,7 +270,7 @@ SimStatus World::stepQuasiStatic(const KDL::Frame& T_cmd, double dt) {
       converged = true;
       break;
     }
-    Mat6 Jee = -Ar.transpose() * (contact_.K_s.block<3, 3>(2, 2) * Ar);
+    Mat6 Jee = -Ar.transpose() * (contact_.K_s.middleRows<3>(2) * A);
     Jee.diagonal().head<3>().array() -= kt;
     Jee.diagonal().tail<3>().array() -= kr;
     Vec6 de;
@@ -293,7 +293,7 @@ SimStatus World::stepQuasiStatic(const KDL::Frame& T_cmd, double dt) {
       de = d.head<6>();
       dth = d.tail<2>();
     } else {
-      de = (-Jee).llt().solve(re);  // -Jee = K_imp + A^T K_s A: symmetric positive definite
+      de = Jee.partialPivLu().solve(-re);  // the sliding columns make it non-symmetric
     }
     if (!de.allFinite() || !dth.allFinite()) return SimStatus::NumericalFailure;
     // Step limit (damped Newton): translation <= maxs, rotation and tray <= 10 maxs.

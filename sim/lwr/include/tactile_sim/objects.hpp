@@ -121,7 +121,11 @@ class ObjectSet {
   /// lowestZ() at the n points (x[i], y), bit-identical to n calls (same
   /// operations in the same order), branch-free per point: the rows of the
   /// pad sampling (PadSensor). +inf / -1 where nothing is below.
-  void lowestZRow(double y, const double* x, int n, double* z, int* which) const;
+  /// With sx and sy (n values each): the surface slopes dz/dx, dz/dy of the
+  /// lowest surface at each point (bounded to +-10; 0 where nothing is below),
+  /// for the Newton tangent of PadSensor::evaluate().
+  void lowestZRow(double y, const double* x, int n, double* z, int* which, double* sx = nullptr,
+                  double* sy = nullptr) const;
 
   /// Range of x (in {s}) over which the line y = const can have lowestZ < 0
   /// (union of the primitives' footprints crossing that line); false if none.

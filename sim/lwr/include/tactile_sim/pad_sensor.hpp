@@ -101,7 +101,12 @@ struct SensorTruth {
 /// Contact evaluation result for the physics (allocation-free).
 struct ContactEval {
   Eigen::Matrix<double, 6, 1> W_s = Eigen::Matrix<double, 6, 1>::Zero();  ///< wrench on the sensor, {s} about origin
-  Eigen::Matrix<double, 6, 6> K_s = Eigen::Matrix<double, 6, 6>::Zero();  ///< -dW_s/d(sensor twist in {s})
+  /// -dW_s/d(sensor twist in {s}): rows (z, wx, wy) only (frictionless layer);
+  /// columns (z, wx, wy) from the columns' compression (symmetric block),
+  /// columns (x, y, wz) from the penetration field sliding under the sensor
+  /// (surface slopes of the layer contact; the housing ring's are left out).
+  /// The quasi-static Newton tangent.
+  Eigen::Matrix<double, 6, 6> K_s = Eigen::Matrix<double, 6, 6>::Zero();
   // Tray coupling (zero without a tray): angles (pitch, roll).
   Eigen::Matrix<double, 6, 2> dW_dth = Eigen::Matrix<double, 6, 2>::Zero();  ///< dW_s/dtheta
   Eigen::Vector2d tau_tray = Eigen::Vector2d::Zero();   ///< contact torque on the tray about the bearing (x_g, y_g)
@@ -171,10 +176,11 @@ class PadSensor {
   double rootOf(double target, double guess) const;
   SensorTruth geometry_;  // contact part of the last acquire() (for acquireRepeat)
   // Row buffers (sized in configure(); mutable: scratch of the const evaluate()).
-  mutable std::vector<double> xrow_, zrow_;
+  mutable std::vector<double> xrow_, zrow_, sxrow_, syrow_;
   mutable std::vector<int> wrow_;
   /// lowestZ at (xs[i], y), i < n (xs ascending), +inf outside rowSpan().
-  void rowDepths(const ObjectSet& objects, double y, const double* xs, int n, double* z, int* which) const;
+  void rowDepths(const ObjectSet& objects, double y, const double* xs, int n, double* z, int* which,
+                 double* sx = nullptr, double* sy = nullptr) const;
   void respond(double t, RawTactileFrame& raw, SensorTruth& truth);
 };
 
