@@ -6,7 +6,6 @@
 #include <rtt/OutputPort.hpp>
 #include <rtt/TaskContext.hpp>
 #include <rtt/extras/SlaveActivity.hpp>
-#include <rtt/os/main.h>
 
 #include <cmath>
 #include <string>
@@ -14,6 +13,7 @@
 #include "tactile_features/calibration.hpp"
 #include "tactile_features/extractor.hpp"
 #include "tactile_features_rtt/feature_component.hpp"
+#include "rtt_benchmark_main.hpp"
 
 namespace {
 
@@ -81,10 +81,4 @@ BENCHMARK(BM_FeatureComponentCycle);
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  __os_init(argc, argv);
-  benchmark::Initialize(&argc, argv);
-  benchmark::RunSpecifiedBenchmarks();
-  __os_exit();
-  return 0;
-}
+int main(int argc, char** argv) { return tactile::test::rttBenchmarkMain(argc, argv); }

@@ -10,7 +10,6 @@
 #include <rtt/OutputPort.hpp>
 #include <rtt/TaskContext.hpp>
 #include <rtt/extras/SlaveActivity.hpp>
-#include <rtt/os/main.h>
 
 #include <cmath>
 #include <string>
@@ -19,6 +18,7 @@
 #include "tactile_sim/scene.hpp"
 #include "tactile_sim/world.hpp"
 #include "tactile_sim_rtt/lwr_sim_component.hpp"
+#include "rtt_benchmark_main.hpp"
 
 namespace {
 
@@ -104,10 +104,4 @@ BENCHMARK(BM_LwrSimComponentCycle);
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  __os_init(argc, argv);
-  benchmark::Initialize(&argc, argv);
-  benchmark::RunSpecifiedBenchmarks();
-  __os_exit();
-  return 0;
-}
+int main(int argc, char** argv) { return tactile::test::rttBenchmarkMain(argc, argv); }
