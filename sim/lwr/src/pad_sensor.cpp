@@ -276,53 +276,51 @@ void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, Conta
     for (int i = 0; i < k; ++i) {
       const double y = samples_[static_cast<std::size_t>(r * cols * k * k + i * k)].y;
       rowDepths(objects, y, xs, nx, zb, wb, sxb, syb);
-      double S0 = 0, S1 = 0, S2 = 0, D0 = 0, D1 = 0;
-      double T0 = 0, T1 = 0, T2 = 0, TD0 = 0, TD1 = 0;
+      // Masked moments over the row's samples: n, sum x, sum x^2, sum d, sum x d.
+      struct Moments {
+        double n = 0, x1 = 0, x2 = 0, d0 = 0, d1 = 0;
+        void add(bool on, double d, double x) {
+          const double w = on ? 1.0 : 0.0, dd = on ? d : 0.0;
+          n += w;
+          x1 += w * x;
+          x2 += w * x * x;
+          d0 += dd;
+          d1 += dd * x;
+        }
+      };
+      Moments all, trayed;
       double A1 = 0, A2 = 0, B1 = 0, B2 = 0, C2 = 0;  // slopes: sum sx, x sx, sy, x sy, x^2 sy
       // One loop body, instantiated with and without the tray sums.
       auto sums = [&](auto with_tray) {
         for (int m = 0; m < nx; ++m) {
           const double d = -zb[m], x = xs[m];
           const bool on = (d > 0.0) & (d <= lim);  // bitwise: no control flow
-          const double w = on ? 1.0 : 0.0, dd = on ? d : 0.0;
-          S0 += w;
-          S1 += w * x;
-          S2 += w * x * x;
-          D0 += dd;
-          D1 += dd * x;
+          all.add(on, d, x);
           const double ax = on ? sxb[m] : 0.0, ay = on ? syb[m] : 0.0;  // select: unused slopes may be NaN
           A1 += ax;
           A2 += x * ax;
           B1 += ay;
           B2 += x * ay;
           C2 += x * x * ay;
-          if constexpr (decltype(with_tray)::value) {
-            const bool ont = on & (wb[m] == tray);
-            const double wt = ont ? 1.0 : 0.0, dt = ont ? d : 0.0;
-            T0 += wt;
-            T1 += wt * x;
-            T2 += wt * x * x;
-            TD0 += dt;
-            TD1 += dt * x;
-          }
+          if constexpr (decltype(with_tray)::value) trayed.add(on & (wb[m] == tray), d, x);
         }
       };
       if (tray < 0)
         sums(std::false_type{});
       else
         sums(std::true_type{});
-      if (S0 == 0.0) continue;
-      nact += S0;
-      out.layer_force += ks * D0;
-      Fz -= ks * D0;
-      Mx -= y * ks * D0;
-      My += ks * D1;
-      Kzz += ks * S0;
-      Kzx += ks * y * S0;
-      Kzy -= ks * S1;
-      Kxx += ks * y * y * S0;
-      Kxy -= ks * y * S1;
-      Kyy += ks * S2;
+      if (all.n == 0.0) continue;
+      nact += all.n;
+      out.layer_force += ks * all.d0;
+      Fz -= ks * all.d0;
+      Mx -= y * ks * all.d0;
+      My += ks * all.d1;
+      Kzz += ks * all.n;
+      Kzx += ks * y * all.n;
+      Kzy -= ks * all.x1;
+      Kxx += ks * y * y * all.n;
+      Kxy -= ks * y * all.x1;
+      Kyy += ks * all.x2;
       // Sliding columns (x, y, wz of the sensor twist): the penetration field
       // moves under the sensor, dd/dx = -dz/dx = -s_x, dd/dy = -s_y,
       // dd/dwz = y s_x - x s_y, and K(a, b) = -sum ks g_a dd/db.
@@ -335,12 +333,13 @@ void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, Conta
       Kzwz -= ks * (B2 - y * A1);
       Kxwz -= ks * y * (B2 - y * A1);
       Kywz += ks * (C2 - y * A2);
-      if (T0 > 0.0) {
+      if (trayed.n > 0.0) {
         const KDL::Vector r0 = T_gs.p - B + y * Ys;
         const double a1 = h1(r0), a2 = h2(r0);
-        const double sh1 = a1 * T0 + b1 * T1, sh2 = a2 * T0 + b2 * T1;        // sum h_j
-        const double sxh1 = a1 * T1 + b1 * T2, sxh2 = a2 * T1 + b2 * T2;      // sum x h_j
-        const double g2[3] = {-ks * sh1, -y * ks * sh1, ks * sxh1};           // a = z, wx, wy
+        const Moments& t = trayed;
+        const double sh1 = a1 * t.n + b1 * t.x1, sh2 = a2 * t.n + b2 * t.x1;      // sum h_j
+        const double sxh1 = a1 * t.x1 + b1 * t.x2, sxh2 = a2 * t.x1 + b2 * t.x2;  // sum x h_j
+        const double g2[3] = {-ks * sh1, -y * ks * sh1, ks * sxh1};              // a = z, wx, wy
         const double g3[3] = {-ks * sh2, -y * ks * sh2, ks * sxh2};
         for (int a = 0; a < 3; ++a) {
           out.dW_dth(a + 2, 0) += g2[a];
@@ -348,11 +347,11 @@ void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, Conta
           out.dtau_ds(0, a + 2) += g2[a];
           out.dtau_ds(1, a + 2) += g3[a];
         }
-        out.tau_tray(0) -= ks * (a1 * TD0 + b1 * TD1);  // -sum h_j f, f = ks d
-        out.tau_tray(1) -= ks * (a2 * TD0 + b2 * TD1);
-        const double s11 = a1 * a1 * T0 + 2.0 * a1 * b1 * T1 + b1 * b1 * T2;
-        const double s12 = a1 * a2 * T0 + (a1 * b2 + a2 * b1) * T1 + b1 * b2 * T2;
-        const double s22 = a2 * a2 * T0 + 2.0 * a2 * b2 * T1 + b2 * b2 * T2;
+        out.tau_tray(0) -= ks * (a1 * t.d0 + b1 * t.d1);  // -sum h_j f, f = ks d
+        out.tau_tray(1) -= ks * (a2 * t.d0 + b2 * t.d1);
+        const double s11 = a1 * a1 * t.n + 2.0 * a1 * b1 * t.x1 + b1 * b1 * t.x2;
+        const double s12 = a1 * a2 * t.n + (a1 * b2 + a2 * b1) * t.x1 + b1 * b2 * t.x2;
+        const double s22 = a2 * a2 * t.n + 2.0 * a2 * b2 * t.x1 + b2 * b2 * t.x2;
         out.dtau_dth(0, 0) -= ks * s11;
         out.dtau_dth(0, 1) -= ks * s12;
         out.dtau_dth(1, 0) -= ks * s12;
