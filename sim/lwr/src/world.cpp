@@ -294,6 +294,14 @@ SimStatus World::stepQuasiStatic(const KDL::Frame& T_cmd, double dt) {
       dth = d.tail<2>();
     } else {
       de = Jee.partialPivLu().solve(-re);  // the sliding columns make it non-symmetric
+      if (!de.allFinite()) {
+        // Degenerate sliding columns (not reached by the tests or scenes): the
+        // compression block alone is symmetric negative definite.
+        Mat6 Js = -Ar.transpose() * (contact_.K_s.block<3, 3>(2, 2) * Ar);
+        Js.diagonal().head<3>().array() -= kt;
+        Js.diagonal().tail<3>().array() -= kr;
+        de = (-Js).llt().solve(re);
+      }
     }
     if (!de.allFinite() || !dth.allFinite()) return SimStatus::NumericalFailure;
     // Step limit (damped Newton): translation <= maxs, rotation and tray <= 10 maxs.
