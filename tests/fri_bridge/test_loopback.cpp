@@ -7,6 +7,8 @@
 #include <chrono>
 #include <thread>
 
+#include <poll.h>
+
 #include "alloc_counter.hpp"
 #include "fri_test_util.hpp"
 #include "tactile_fri/bridge.hpp"
@@ -287,4 +289,53 @@ TEST(FriUdp, NoHeapAllocationPerCycleOverTheSocket) {
   }
   EXPECT_EQ(scope.count(), 0u);
   EXPECT_EQ(got_replies, packets.size());
+}
+
+// The helpers an event loop (the RTT component's FileDescriptorActivity) uses:
+// fd() to wait on, receive(..., 0) that never waits, discardPending() that
+// drops a backlog without waiting.
+TEST(FriUdp, FdForAnEventLoopZeroTimeoutReceiveAndDiscardPending) {
+  UdpSocket a, b;
+  EXPECT_EQ(a.fd(), -1);
+  EXPECT_EQ(a.discardPending(), 0u);  // closed: nothing, no error
+  UdpParams up;
+  up.bind_address = "127.0.0.1";
+  up.port = 0;
+  ASSERT_TRUE(a.open(up).ok());
+  ASSERT_TRUE(b.open(up).ok());
+  ASSERT_GE(a.fd(), 0);
+  uint8_t buf[64];
+  std::size_t n = 0;
+  // Nothing queued: a zero timeout returns at once, and the fd is not readable.
+  const double t0 = steadyNow();
+  EXPECT_EQ(a.receive(buf, sizeof buf, n, 0), UdpStatus::Timeout);
+  EXPECT_LT(steadyNow() - t0, 0.005);
+  pollfd pfd{a.fd(), POLLIN, 0};
+  EXPECT_EQ(::poll(&pfd, 1, 0), 0);
+  // Three datagrams queued: the fd is readable; receive(0) takes exactly one.
+  const sockaddr_in to = loopbackAddress(a.localPort());
+  for (uint8_t i = 1; i <= 3; ++i) {
+    const uint8_t d[4] = {i, i, i, i};
+    ASSERT_EQ(b.sendTo(to, d, sizeof d), UdpStatus::Ok);
+  }
+  pfd.revents = 0;
+  EXPECT_EQ(::poll(&pfd, 1, 1000), 1);
+  EXPECT_TRUE(pfd.revents & POLLIN);
+  ASSERT_EQ(a.receive(buf, sizeof buf, n, 0), UdpStatus::Ok);
+  EXPECT_EQ(n, 4u);
+  EXPECT_EQ(buf[0], 1);
+  // discardPending drops the other two, without waiting, and keeps the peer.
+  EXPECT_EQ(a.discardPending(), 2u);
+  EXPECT_EQ(a.receive(buf, sizeof buf, n, 0), UdpStatus::Timeout);
+  pfd.revents = 0;
+  EXPECT_EQ(::poll(&pfd, 1, 0), 0);
+  ASSERT_EQ(a.reply(buf, 4), UdpStatus::Ok);
+  EXPECT_EQ(b.receive(buf, sizeof buf, n, 1000000), UdpStatus::Ok);
+  // bounded by `max`
+  for (uint8_t i = 0; i < 5; ++i) ASSERT_EQ(b.sendTo(to, buf, 4), UdpStatus::Ok);
+  EXPECT_EQ(::poll(&pfd, 1, 1000), 1);
+  EXPECT_EQ(a.discardPending(2), 2u);
+  EXPECT_EQ(a.discardPending(), 3u);
+  a.close();
+  EXPECT_EQ(a.fd(), -1);
 }

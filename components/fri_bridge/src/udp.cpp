@@ -100,6 +100,15 @@ UdpStatus UdpSocket::receive(uint8_t* buf, std::size_t capacity, std::size_t& si
   return size > capacity ? UdpStatus::Truncated : UdpStatus::Ok;
 }
 
+std::size_t UdpSocket::discardPending(std::size_t max) noexcept {
+  if (fd_ < 0) return 0;
+  std::size_t dropped = 0;
+  uint8_t byte = 0;
+  // MSG_DONTWAIT: never blocks; a 1-byte buffer drops the whole datagram (UDP).
+  while (dropped < max && ::recv(fd_, &byte, 1, MSG_DONTWAIT | MSG_TRUNC) >= 0) ++dropped;
+  return dropped;
+}
+
 UdpStatus UdpSocket::sendTo(const sockaddr_in& to, const uint8_t* buf, std::size_t size) noexcept {
   if (fd_ < 0) return UdpStatus::NotOpen;
   const ssize_t n = ::sendto(fd_, buf, size, MSG_DONTWAIT | MSG_NOSIGNAL, reinterpret_cast<const sockaddr*>(&to),

@@ -45,11 +45,18 @@ class UdpSocket {
   void close() noexcept;
   bool isOpen() const noexcept { return fd_ >= 0; }
   uint16_t localPort() const noexcept { return local_port_; }
+  /// The socket's file descriptor (-1 when closed), for an event loop to wait
+  /// on (e.g. RTT's FileDescriptorActivity); the socket stays non-blocking, read
+  /// it with receive(..., 0). Owned by this object: stop watching before close().
+  int fd() const noexcept { return fd_; }
 
   /// Wait up to timeout_us microseconds (0 = poll once) for one datagram; on
   /// Ok/Truncated `size` is the datagram's length and its sender becomes the
   /// reply peer.
   UdpStatus receive(uint8_t* buf, std::size_t capacity, std::size_t& size, int64_t timeout_us) noexcept;
+  /// Read and drop the datagrams already queued (at most `max`), without
+  /// waiting; returns how many were dropped. The reply peer is kept unchanged.
+  std::size_t discardPending(std::size_t max = 4096) noexcept;
   /// Send to the sender of the last received datagram.
   UdpStatus reply(const uint8_t* buf, std::size_t size) noexcept;
   /// Send to an explicit IPv4 address (used by the simulated KRC).
