@@ -1,6 +1,11 @@
 // tactile::FriBridgeComponent in-process on 127.0.0.1 with an ephemeral port:
 //  * against the simulated KRC (tactile::fri::SimKrc) with the component on a
-//    real non-periodic RTT activity (paced by the packets, trigger() loop);
+//    RTT::extras::FileDescriptorActivity watching its UDP socket (as deployed),
+//    and on the fallback non-periodic RTT::Activity (trigger() loop);
+//  * on a FileDescriptorActivity with the test acting as the KRC: one cycle and
+//    one reply (carrying the latest pose_command) per packet, zero allocations,
+//    the silent KRC reported after receive_timeout without spinning, no spin
+//    while Stopped, the backlog dropped at start;
 //  * on a SlaveActivity with the test acting as the KRC packet by packet
 //    (replies checked, malformed datagrams, timeouts, zero allocations).
 #include <gtest/gtest.h>
@@ -9,10 +14,12 @@
 #include <rtt/InputPort.hpp>
 #include <rtt/OutputPort.hpp>
 #include <rtt/TaskContext.hpp>
+#include <rtt/extras/FileDescriptorActivity.hpp>
 #include <rtt/extras/SlaveActivity.hpp>
 #include <rtt/os/TimeService.hpp>
 #include <rtt/os/main.h>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -51,8 +58,18 @@ const char* kParams =
     "fri:\n  max_lin_speed: 0.05\n  max_rot_speed: 0.25\n  max_desired_age_s: 10\n"
     "  udp: {bind_address: 127.0.0.1, port: 0}\n";
 
+// Counts updateHook calls (the component's cycles).
+struct CountingFri : tactile::FriBridgeComponent {
+  using tactile::FriBridgeComponent::FriBridgeComponent;
+  std::atomic<int> updates{0};
+  void updateHook() override {
+    updates.fetch_add(1, std::memory_order_relaxed);
+    tactile::FriBridgeComponent::updateHook();
+  }
+};
+
 struct Rig {
-  tactile::FriBridgeComponent comp{"fri"};
+  CountingFri comp{"fri"};
   RTT::OutputPort<PoseCommand> command_out{"command_out"};
   RTT::InputPort<Pose> pose_in{"pose_in"};
   RTT::InputPort<std::vector<double>> wrench_in{"wrench_in"};
@@ -69,7 +86,12 @@ struct Rig {
     EXPECT_TRUE(comp.ports()->getPort("estimated_wrench")->connectTo(&wrench_in));
     command_out.setDataSample(PoseCommand());
   }
+  ~Rig() { comp.stop(); }  // before CountingFri is destroyed: its updateHook may be running
   int attr(const char* name) { return RTT::Attribute<int>(comp.provides()->getAttribute(name)).get(); }
+  bool flag(const char* name) { return RTT::Attribute<bool>(comp.provides()->getAttribute(name)).get(); }
+  RTT::extras::FileDescriptorActivity* fdActivity() {
+    return dynamic_cast<RTT::extras::FileDescriptorActivity*>(comp.getActivity());
+  }
 };
 
 TEST(FriBridgeComponent, InterfaceIsDeclaredAndDocumented) {
@@ -80,8 +102,8 @@ TEST(FriBridgeComponent, InterfaceIsDeclaredAndDocumented) {
   }
   for (const char* prop : {"param_file", "port", "receive_timeout"})
     ASSERT_NE(c.properties()->getProperty(prop), nullptr) << prop;
-  for (const char* a : {"local_port", "bridge_status", "fri_state", "fri_quality", "received", "replies", "lost",
-                        "timeouts", "socket_errors"})
+  for (const char* a : {"local_port", "bridge_status", "fri_state", "fri_quality", "krc_silent", "fd_activity",
+                        "received", "replies", "lost", "timeouts", "socket_errors"})
     EXPECT_NE(c.provides()->getAttribute(a), nullptr) << a;
   EXPECT_TRUE(c.provides()->hasOperation("lastError"));
   EXPECT_TRUE(c.provides()->hasOperation("statusName"));
@@ -125,9 +147,8 @@ TEST(FriBridgeComponent, ConfigureErrorsNameTheParameter) {
 }
 
 // The whole chain in real time-free fast mode: SimKrc in this thread, the
-// component in its own (non-periodic) RTT activity, triggered by packets.
-TEST(FriBridgeComponent, FollowsTheDesiredPoseAgainstTheSimulatedKrc) {
-  Rig rig(new RTT::Activity(ORO_SCHED_OTHER, 0, 0.0), writeTemp("fri_ok.yaml", kParams));
+// component in its own RTT activity, triggered by packets.
+void followSimKrc(Rig& rig) {
   ASSERT_TRUE(rig.comp.configure()) << rig.comp.lastError();
   const int port = rig.attr("local_port");
   ASSERT_GT(port, 0);
@@ -182,6 +203,26 @@ TEST(FriBridgeComponent, FollowsTheDesiredPoseAgainstTheSimulatedKrc) {
   EXPECT_GE(rig.attr("replies"), 1495);
   EXPECT_EQ(rig.attr("fri_state"), static_cast<int>(fri::State::Cmd));
   EXPECT_EQ(rig.attr("socket_errors"), 0);
+}
+
+// As deployed: a FileDescriptorActivity watching the socket, one cycle per packet.
+TEST(FriBridgeComponent, FileDescriptorActivityFollowsTheSimulatedKrc) {
+  Rig rig(new RTT::extras::FileDescriptorActivity(ORO_SCHED_OTHER, 0), writeTemp("fri_ok.yaml", kParams));
+  followSimKrc(rig);
+  EXPECT_TRUE(rig.flag("fd_activity"));
+  // Each of the 1500 packets ran exactly one cycle; besides them only the
+  // start() trigger and receive_timeout (0.1 s) wake-ups, if the host stalled.
+  const int extra = rig.comp.updates.load() - rig.attr("received");
+  EXPECT_GE(extra, 0);
+  EXPECT_LE(extra, 1 + rig.attr("timeouts"));
+  EXPECT_EQ(rig.attr("received"), 1500);
+}
+
+// Fallback: a plain non-periodic Activity, bounded wait + trigger() loop.
+TEST(FriBridgeComponent, NonPeriodicActivityFallbackFollowsTheSimulatedKrc) {
+  Rig rig(new RTT::Activity(ORO_SCHED_OTHER, 0, 0.0), writeTemp("fri_ok.yaml", kParams));
+  followSimKrc(rig);
+  EXPECT_FALSE(rig.flag("fd_activity"));
 }
 
 // The test is the KRC: one measurement, one update(), one reply.
@@ -284,6 +325,162 @@ TEST(FriBridgeComponent, OnePacketPerUpdateMalformedAndTimeoutsAndNoAllocation) 
   EXPECT_EQ(rig.attr("timeouts"), timeouts + 1);
   EXPECT_GE(waited, 0.015);
   EXPECT_LT(waited, 1.0);
+}
+
+// Polls `pred` every 1 ms for up to `limit_s`; returns the seconds it took, or -1.
+template <class Pred>
+double waitFor(Pred pred, double limit_s) {
+  const auto t0 = std::chrono::steady_clock::now();
+  for (;;) {
+    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (pred()) return t;
+    if (t > limit_s) return -1.0;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+}
+
+// The test is the KRC, the component runs on a FileDescriptorActivity: every
+// packet runs exactly one updateHook and gets exactly one reply, which carries
+// the pose_command written just before the packet; no allocation per cycle.
+TEST(FriBridgeComponent, FileDescriptorActivityOneCycleAndOneReplyPerPacketWithTheLatestCommand) {
+  Rig rig(new RTT::extras::FileDescriptorActivity(ORO_SCHED_OTHER, 0), writeTemp("fri_ok.yaml", kParams));
+  rig.comp.properties()->getPropertyType<double>("receive_timeout")->set(0.5);  // no timeout in this test
+  ASSERT_TRUE(rig.comp.configure()) << rig.comp.lastError();
+  EXPECT_TRUE(rig.flag("fd_activity"));
+  ASSERT_NE(rig.fdActivity(), nullptr);
+  EXPECT_EQ(rig.fdActivity()->getTimeout_us(), 500000);  // receive_timeout
+  ASSERT_TRUE(rig.comp.start());
+  ManualKrc krc(static_cast<uint16_t>(rig.attr("local_port")));
+  KDL::Frame start;
+  fri::toFrame(krc.msr.data.msr_cart_pos, start);
+  // The desired pose moves 20 um per packet, less than one rate-limited step
+  // (0.05 m/s * 1 ms = 50 um): the reply must carry exactly the latest one
+  // (the previous one is 20 um away; float32 on the wire: 1e-6 m).
+  PoseCommand desired;
+  desired.status = tactile::ServoStatus::Ok;
+  int k = 0;
+  auto command = [&] {
+    ++k;
+    desired.pose = tactile::toPose(KDL::Frame(start.M, start.p + KDL::Vector(0.0, 0.0, -20e-6 * k)));
+    desired.time_s = now();
+    rig.command_out.write(desired);
+  };
+  auto repliedZ = [&] {
+    KDL::Frame c;
+    fri::toFrame(krc.cmd.cmd.cart_pos, c);
+    return c.p.z();
+  };
+  Pose pose;
+  std::vector<double> wrench(6);
+  for (int i = 0; i < 20; ++i) {  // warm-up (first port samples, start() trigger consumed)
+    command();
+    krc.send();
+    ASSERT_TRUE(krc.reply()) << i;
+    rig.pose_in.read(pose);
+    rig.wrench_in.read(wrench);
+  }
+  // The component counts a packet after its reply is on the way: let it finish.
+  ASSERT_GE(waitFor([&] { return rig.attr("received") == 20; }, 1.0), 0.0);
+  const int updates0 = rig.comp.updates.load();
+  const int replies0 = rig.attr("replies");
+  int wrong = 0;
+  {
+    tactile::test::AllocationScope scope;
+    for (int i = 0; i < 500; ++i) {
+      command();
+      krc.send();
+      if (!krc.reply()) break;
+      if (std::abs(repliedZ() - (start.p.z() - 20e-6 * k)) > 1e-6) ++wrong;
+      rig.pose_in.read(pose);
+      rig.wrench_in.read(wrench);
+    }
+    EXPECT_EQ(scope.count(), 0u);
+  }
+  EXPECT_EQ(wrong, 0) << "replies not carrying the latest pose_command";
+  EXPECT_FALSE(krc.reply(20000)) << "more replies than packets";
+  EXPECT_GE(waitFor([&] { return rig.attr("received") == 520; }, 1.0), 0.0);
+  EXPECT_EQ(rig.comp.updates.load() - updates0, 500) << "updateHook calls for 500 packets";
+  EXPECT_EQ(rig.attr("replies") - replies0, 500);
+  EXPECT_EQ(rig.attr("timeouts"), 0);
+  EXPECT_EQ(rig.attr("bridge_status"), static_cast<int>(fri::BridgeStatus::Commanding));
+  EXPECT_NEAR(pose.p[2], 0.4, 1e-6);  // the measured pose is what the "KRC" sent
+
+  // A burst of 5 packets sent at once: still one cycle and one reply each.
+  const int updates1 = rig.comp.updates.load();
+  command();
+  for (int i = 0; i < 5; ++i) krc.send();
+  int burst_replies = 0;
+  while (krc.reply(200000)) ++burst_replies;
+  EXPECT_EQ(burst_replies, 5);
+  EXPECT_EQ(rig.comp.updates.load() - updates1, 5);
+  EXPECT_NEAR(repliedZ(), start.p.z() - 20e-6 * k, 1e-6);
+  EXPECT_EQ(rig.attr("socket_errors"), 0);
+}
+
+// The KRC goes silent: krc_silent (and statusName() "krc_silent") within about
+// receive_timeout, one timeout cycle per receive_timeout (no spinning), cleared
+// by the next packet. Stopped, the component does not spin on a readable
+// socket, and start() drops the packets queued meanwhile.
+TEST(FriBridgeComponent, FileDescriptorActivitySilentKrcIsReportedWithoutSpinning) {
+  constexpr double kTimeout = 0.05;
+  Rig rig(new RTT::extras::FileDescriptorActivity(ORO_SCHED_OTHER, 0), writeTemp("fri_ok.yaml", kParams));
+  rig.comp.properties()->getPropertyType<double>("receive_timeout")->set(kTimeout);
+  ASSERT_TRUE(rig.comp.configure()) << rig.comp.lastError();
+  ASSERT_TRUE(rig.comp.start());
+  ManualKrc krc(static_cast<uint16_t>(rig.attr("local_port")));
+  PoseCommand desired;
+  KDL::Frame start;
+  fri::toFrame(krc.msr.data.msr_cart_pos, start);
+  desired.pose = tactile::toPose(start);
+  desired.status = tactile::ServoStatus::Ok;
+  for (int i = 0; i < 10; ++i) {
+    desired.time_s = now();
+    rig.command_out.write(desired);
+    krc.send();
+    ASSERT_TRUE(krc.reply()) << i;
+  }
+  EXPECT_NE(rig.comp.statusName(), "krc_silent");
+
+  // Silence: reported after about receive_timeout (not before: the last packet
+  // arrived just before its reply), well within a few timeouts.
+  const double t_silent = waitFor([&] { return rig.comp.statusName() == "krc_silent"; }, 1.0);
+  ASSERT_GE(t_silent, 0.0) << "krc_silent not reported within 1 s";
+  EXPECT_GE(t_silent, 0.6 * kTimeout) << "reported too early";
+  EXPECT_LE(t_silent, kTimeout + 0.25) << "reported too late";
+  EXPECT_TRUE(rig.flag("krc_silent"));
+  // No spinning: over 0.5 s about 0.5 / 0.05 = 10 timeout cycles.
+  const int u0 = rig.comp.updates.load();
+  const int t0 = rig.attr("timeouts");
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  const int cycles = rig.comp.updates.load() - u0;
+  EXPECT_GE(cycles, 3);
+  EXPECT_LE(cycles, 12) << "updateHook spins while the KRC is silent";
+  EXPECT_NEAR(rig.attr("timeouts") - t0, cycles, 1);  // every one a timeout (sampled while running)
+  // The KRC is back: one reply, the status is the bridge's again.
+  desired.time_s = now();
+  rig.command_out.write(desired);
+  krc.send();
+  ASSERT_TRUE(krc.reply());
+  EXPECT_NE(rig.comp.statusName(), "krc_silent");
+  EXPECT_FALSE(rig.flag("krc_silent"));
+
+  // Stopped with a KRC sending: the socket is not watched, the activity does not spin.
+  ASSERT_TRUE(rig.comp.stop());
+  const unsigned c0 = rig.comp.getCycleCounter();
+  for (int i = 0; i < 20; ++i) krc.send();
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  EXPECT_LE(rig.comp.getCycleCounter() - c0, 10u) << "the activity spins on the unread socket while Stopped";
+  EXPECT_FALSE(krc.reply(20000));
+  // start() drops those 20 stale packets: the next packet is the only one answered.
+  const int received = rig.attr("received");
+  ASSERT_TRUE(rig.comp.start());
+  desired.time_s = now();
+  rig.command_out.write(desired);
+  krc.send();
+  ASSERT_TRUE(krc.reply());
+  EXPECT_FALSE(krc.reply(20000));
+  EXPECT_EQ(rig.attr("received") - received, 1);
+  EXPECT_EQ(rig.attr("socket_errors"), 0);
 }
 
 }  // namespace

@@ -22,11 +22,14 @@ FriBridgeComponent::FriBridgeComponent(const std::string& name)
       .doc("YAML file with a `fri:` map (BridgeParams, and `udp:` bind_address/port); read by configure().");
   addProperty("port", port_).doc("UDP port to bind: -1 = fri.udp.port of param_file, 0 = ephemeral (tests), else [1, 65535].");
   addProperty("receive_timeout", receive_timeout_)
-      .doc("Longest wait for one KRC packet per updateHook (s), (0, 1]; bounds how long stop() takes.");
+      .doc("Longest KRC silence (s), (0, 1], before krc_silent: the FileDescriptorActivity's timeout "
+           "(set by configure()/start()), else the bounded wait per updateHook.");
   addAttribute("local_port", local_port_);
   addAttribute("bridge_status", bridge_status_);
   addAttribute("fri_state", fri_state_);
   addAttribute("fri_quality", fri_quality_);
+  addAttribute("krc_silent", krc_silent_);
+  addAttribute("fd_activity", fd_activity_attr_);
   addAttribute("received", received_);
   addAttribute("replies", replies_);
   addAttribute("lost", lost_);
@@ -38,7 +41,23 @@ FriBridgeComponent::FriBridgeComponent(const std::string& name)
   addOperation("lastError", &FriBridgeComponent::lastError, this, RTT::ClientThread)
       .doc("Message of the last failed configure().");
   addOperation("statusName", &FriBridgeComponent::statusName, this, RTT::ClientThread)
-      .doc("BridgeStatus of the last packet as text.");
+      .doc("BridgeStatus of the last packet as text, or krc_silent after receive_timeout s without one.");
+}
+
+FriBridgeComponent::~FriBridgeComponent() {
+  stop();  // unwatches the socket before its member closes it (no-op when not running)
+}
+
+namespace {
+// receive_timeout in us, clamped to [0, 1] s (the property may change after
+// configure; NaN -> 0).
+int64_t timeoutUs(double s) { return static_cast<int64_t>(std::min(1.0, std::max(0.0, s)) * 1e6); }
+// The FileDescriptorActivity's timeout: 0 would mean none, so at least 1 ms.
+int fdTimeoutUs(double s) { return static_cast<int>(std::max<int64_t>(1000, timeoutUs(s))); }
+}  // namespace
+
+RTT::extras::FileDescriptorActivityInterface* FriBridgeComponent::fdActivity() {
+  return dynamic_cast<RTT::extras::FileDescriptorActivityInterface*>(getActivity());
 }
 
 bool FriBridgeComponent::configureHook() {
@@ -53,7 +72,7 @@ bool FriBridgeComponent::configureHook() {
   if (r) r = bridge_.configure(bp);
   if (r) {
     if (port_ >= 0) up.port = static_cast<uint16_t>(port_);
-    socket_.close();
+    socket_.close();  // never watched here: start() watches it, stop() unwatches it
     r = socket_.open(up);
   }
   if (!r) {
@@ -67,70 +86,124 @@ bool FriBridgeComponent::configureHook() {
   pose_out_.setDataSample(measured_);
   wrench_out_.setDataSample(wrench_);
   received_ = replies_ = lost_ = timeouts_ = socket_errors_ = 0;
+  // Paced by the socket: the KRC's silence is the FileDescriptorActivity's timeout.
+  auto* fda = fdActivity();
+  fd_activity_attr_ = fda != nullptr;
+  if (fda) fda->setTimeout_us(fdTimeoutUs(receive_timeout_));
   return true;
 }
 
 bool FriBridgeComponent::startHook() {
+  if (!socket_.isOpen()) return false;
   bridge_.reset();
   desired_ = PoseCommand();  // never set: the bridge holds (DesiredInvalid) until the servo writes one
-  return socket_.isOpen();
+  krc_silent_ = false;
+  silent_shadow_.store(false);
+  // Measurements queued while stopped are stale: the first reply answers a current one.
+  socket_.discardPending();
+  fd_activity_ = fdActivity();  // the activity cannot change while running
+  fd_activity_attr_ = fd_activity_ != nullptr;
+  if (fd_activity_) {
+    fd_activity_->setTimeout_us(fdTimeoutUs(receive_timeout_));
+    // Watched only while running: select() is level-triggered and a Stopped
+    // component does not read, so a watched socket with a KRC sending would spin.
+    watched_fd_ = socket_.fd();
+    fd_activity_->watch(watched_fd_);
+  }
+  return true;
+}
+
+void FriBridgeComponent::stopHook() {
+  if (fd_activity_ && watched_fd_ >= 0) fd_activity_->unwatch(watched_fd_);
+  watched_fd_ = -1;
+  fd_activity_ = nullptr;
 }
 
 void FriBridgeComponent::cleanupHook() { socket_.close(); }
 
 std::string FriBridgeComponent::statusName() const {
+  if (silent_shadow_.load()) return "krc_silent";
   return fri::toString(static_cast<fri::BridgeStatus>(status_shadow_.load()));
+}
+
+void FriBridgeComponent::markSilent() {
+  ++timeouts_;
+  krc_silent_ = true;
+  silent_shadow_.store(true);
 }
 
 void FriBridgeComponent::updateHook() {
   std::size_t n = 0;
-  // Clamped to [0, 1] s (the property may be changed while running; NaN -> 0).
-  const double timeout_s = std::min(1.0, std::max(0.0, receive_timeout_));
-  const auto timeout_us = static_cast<int64_t>(timeout_s * 1e6);
-  const fri::UdpStatus us = socket_.receive(rx_.data(), rx_.size(), n, timeout_us);
+  if (fd_activity_) {
+    // FileDescriptorActivity: woken by a readable socket, by its timeout (no
+    // datagram for receive_timeout s), or by a trigger()/start(). Never waits.
+    if (fd_activity_->hasTimeout()) {
+      markSilent();
+      return;
+    }
+    if (fd_activity_->hasError()) {
+      ++socket_errors_;  // select() failed (the activity logs it)
+      return;
+    }
+    // One datagram per cycle; another one queued wakes the activity again at once.
+    const fri::UdpStatus us = socket_.receive(rx_.data(), rx_.size(), n, 0);
+    if (us == fri::UdpStatus::Ok || us == fri::UdpStatus::Truncated)
+      handleDatagram(us, n);
+    else if (us != fri::UdpStatus::Timeout)  // Timeout: woken without a datagram (trigger)
+      ++socket_errors_;
+    return;
+  }
+  // Fallback (SlaveActivity: one bounded wait per update(); other activities:
+  // bounded wait, then trigger() itself for the next packet).
+  const fri::UdpStatus us = socket_.receive(rx_.data(), rx_.size(), n, timeoutUs(receive_timeout_));
   if (us == fri::UdpStatus::Ok || us == fri::UdpStatus::Truncated) {
-    command_in_.read(desired_, false);  // keeps the last sample when nothing new
-    const double now = RTT::os::TimeService::Instance()->secondsSince(0);  // the servo's clock
-    // A truncated datagram is passed as longer than the buffer: the decoder rejects it (TooLong).
-    const std::size_t size = us == fri::UdpStatus::Truncated ? rx_.size() + 1 : n;
-    const fri::BridgeStatus st = bridge_.stepDatagram(rx_.data(), size, desired_, now, out_);
-    if (out_.reply) {
-      std::size_t w = 0;
-      if (fri::encodeCommand(out_.cmd, tx_.data(), tx_.size(), w) == fri::PacketStatus::Ok &&
-          socket_.reply(tx_.data(), w) == fri::UdpStatus::Ok)
-        ++replies_;
-    }
-    bridge_status_ = static_cast<int>(st);
-    status_shadow_.store(bridge_status_);
-    ++received_;
-    lost_ = static_cast<int>(bridge_.stats().lost);
-    if (st != fri::BridgeStatus::Malformed && st != fri::BridgeStatus::DroppedDuplicate &&
-        st != fri::BridgeStatus::DroppedOutOfOrder && st != fri::BridgeStatus::NotConfigured) {
-      const fri::MsrPacket& msr = bridge_.lastMeasurement();
-      fri_state_ = static_cast<int>(out_.state);
-      fri_quality_ = static_cast<int>(out_.quality);
-      if (fri::validFriPose(msr.data.msr_cart_pos)) {
-        KDL::Frame f;
-        fri::toFrame(msr.data.msr_cart_pos, f);
-        toPose(f, measured_);
-        pose_out_.write(measured_);
-      }
-      const std::array<double, 6> w = fri::toWrench(msr.data.est_ext_tcp_ft);
-      bool finite = true;
-      for (double v : w) finite = finite && std::isfinite(v);
-      if (finite) {
-        for (std::size_t i = 0; i < 6; ++i) wrench_[i] = w[i];
-        wrench_out_.write(wrench_);
-      }
-    }
+    handleDatagram(us, n);
   } else if (us == fri::UdpStatus::Timeout) {
-    ++timeouts_;
+    markSilent();
   } else {
     ++socket_errors_;  // Error / NotOpen: no busy loop on a broken socket; stop() + start() retries
     return;
   }
-  // Paced by the KRC: wait for the next packet (a no-op under a SlaveActivity).
-  this->trigger();
+  this->trigger();  // a no-op under a SlaveActivity
+}
+
+void FriBridgeComponent::handleDatagram(fri::UdpStatus us, std::size_t n) {
+  krc_silent_ = false;
+  silent_shadow_.store(false);
+  command_in_.read(desired_, false);  // keeps the last sample when nothing new
+  const double now = RTT::os::TimeService::Instance()->secondsSince(0);  // the servo's clock
+  // A truncated datagram is passed as longer than the buffer: the decoder rejects it (TooLong).
+  const std::size_t size = us == fri::UdpStatus::Truncated ? rx_.size() + 1 : n;
+  const fri::BridgeStatus st = bridge_.stepDatagram(rx_.data(), size, desired_, now, out_);
+  if (out_.reply) {
+    std::size_t w = 0;
+    if (fri::encodeCommand(out_.cmd, tx_.data(), tx_.size(), w) == fri::PacketStatus::Ok &&
+        socket_.reply(tx_.data(), w) == fri::UdpStatus::Ok)
+      ++replies_;
+  }
+  bridge_status_ = static_cast<int>(st);
+  status_shadow_.store(bridge_status_);
+  ++received_;
+  lost_ = static_cast<int>(bridge_.stats().lost);
+  if (st == fri::BridgeStatus::Malformed || st == fri::BridgeStatus::DroppedDuplicate ||
+      st == fri::BridgeStatus::DroppedOutOfOrder || st == fri::BridgeStatus::NotConfigured)
+    return;
+  const fri::MsrPacket& msr = bridge_.lastMeasurement();
+  fri_state_ = static_cast<int>(out_.state);
+  fri_quality_ = static_cast<int>(out_.quality);
+  if (fri::validFriPose(msr.data.msr_cart_pos)) {
+    KDL::Frame f;
+    fri::toFrame(msr.data.msr_cart_pos, f);
+    toPose(f, measured_);
+    pose_out_.write(measured_);
+  }
+  const std::array<double, 6> w = fri::toWrench(msr.data.est_ext_tcp_ft);
+  bool finite = true;
+  for (double v : w) finite = finite && std::isfinite(v);
+  if (finite) {
+    for (std::size_t i = 0; i < 6; ++i) wrench_[i] = w[i];
+    wrench_out_.write(wrench_);
+  }
 }
 
 }  // namespace tactile

@@ -8,28 +8,40 @@
 // Interface (documented with .doc() in the constructor):
 //   property param_file (string)   YAML with a `fri:` map (components/fri_bridge/params/fri.yaml)
 //   property port (int)            UDP port override: -1 = the file's fri.udp.port, 0 = ephemeral
-//   property receive_timeout (double)  s, (0, 1]: longest wait for one packet in updateHook
+//   property receive_timeout (double)  s, (0, 1]: longest silence of the KRC before `krc_silent`
+//                                  (FileDescriptorActivity timeout; the bounded wait otherwise)
 //   in   pose_command (/tactile/PoseCommand)  desired {g}T{e} (from the servo)
 //   out  flange_pose  (/tactile/Pose)         measured {g}T{e} (msrCartPos), per accepted packet
 //   out  estimated_wrench (array, 6)          estExtTcpFT as [Fx Fy Fz Tx Ty Tz] (N, N m)
 //   attr local_port (int)       the bound UDP port (after configure)
 //   attr bridge_status (int)    fri::BridgeStatus of the last packet (see bridge.hpp)
 //   attr fri_state (int), fri_quality (int)  KRC interface state / quality of the last packet
+//   attr krc_silent (bool)      no datagram for receive_timeout s (cleared by the next one)
+//   attr fd_activity (bool)     the activity is a FileDescriptorActivity (set by configure/start)
 //   attr received, replies, lost, timeouts, socket_errors (int)  counters since configure
-//        (a socket error ends the trigger loop: stop() + start() to retry)
-//   op   string lastError(), string statusName()
+//        (timeouts: receive_timeout periods without a datagram)
+//   op   string lastError(), string statusName() ("krc_silent" while silent)
 //
-// Execution: run it with a NON-periodic activity. The component is paced by
-// the KRC: each updateHook waits (bounded by receive_timeout) for one
-// measurement datagram, steps the bridge, sends the reply, writes the outputs,
-// and trigger()s itself for the next packet. stop() returns within
-// receive_timeout. With a SlaveActivity (tests) each update() handles at most
-// one packet. Per cycle: no heap allocation, no exceptions, no logging.
+// Execution, paced by the KRC (one measurement datagram per cycle, 1 kHz):
+//  * RTT::extras::FileDescriptorActivity (the deployments): configure() sets
+//    its timeout to receive_timeout, start() drops any backlog and watches the
+//    UDP socket, stop() unwatches it (a Stopped component would otherwise spin
+//    on a readable socket). updateHook runs when a datagram is readable and
+//    reads exactly one without waiting (another queued one wakes it again at
+//    once): step the bridge, reply, write the outputs. On the activity's
+//    timeout it sets krc_silent and counts a timeout; it never blocks.
+//  * SlaveActivity (tests): each update() waits (bounded by receive_timeout)
+//    for at most one datagram.
+//  * Fallback, any other activity (e.g. non-periodic RTT::Activity): the same
+//    bounded wait, then trigger() itself for the next packet; stop() returns
+//    within receive_timeout. Prefer the FileDescriptorActivity.
+// Per cycle: no heap allocation, no exceptions, no logging.
 #pragma once
 
 #include <rtt/InputPort.hpp>
 #include <rtt/OutputPort.hpp>
 #include <rtt/TaskContext.hpp>
+#include <rtt/extras/FileDescriptorActivityInterface.hpp>
 
 #include <array>
 #include <atomic>
@@ -45,16 +57,24 @@ namespace tactile {
 class FriBridgeComponent : public RTT::TaskContext {
  public:
   explicit FriBridgeComponent(const std::string& name);
+  ~FriBridgeComponent() override;
 
   bool configureHook() override;
   bool startHook() override;
   void updateHook() override;
+  void stopHook() override;
   void cleanupHook() override;
 
   std::string lastError() const { return last_error_; }
   std::string statusName() const;
 
  private:
+  /// The activity as a FileDescriptorActivity, or nullptr (any other activity).
+  RTT::extras::FileDescriptorActivityInterface* fdActivity();
+  /// One datagram through the bridge: step, reply, outputs, counters.
+  void handleDatagram(fri::UdpStatus us, std::size_t n);
+  void markSilent();
+
   // properties / attributes
   std::string param_file_;
   int port_ = -1;
@@ -64,6 +84,11 @@ class FriBridgeComponent : public RTT::TaskContext {
   int bridge_status_ = static_cast<int>(fri::BridgeStatus::NotConfigured);
   std::atomic<int> status_shadow_{static_cast<int>(fri::BridgeStatus::NotConfigured)};
   int fri_state_ = 0, fri_quality_ = 0;
+  bool krc_silent_ = false;
+  bool fd_activity_attr_ = false;
+  std::atomic<bool> silent_shadow_{false};
+  RTT::extras::FileDescriptorActivityInterface* fd_activity_ = nullptr;  // set by startHook while running
+  int watched_fd_ = -1;
   int received_ = 0, replies_ = 0, lost_ = 0, timeouts_ = 0, socket_errors_ = 0;
 
   // ports
