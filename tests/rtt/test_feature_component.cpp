@@ -21,6 +21,7 @@
 #include "tactile_features_rtt/feature_component.hpp"
 #include "tactile_sim/elastic_pad.hpp"
 #include "support/rtt_environment.hpp"
+#include "temp_file.hpp"
 
 namespace {
 
@@ -36,9 +37,7 @@ const auto* const env =
 const std::string kParamFile = TACTILE_DEPLOYMENTS_DIR "/../components/features/params/wts0614.yaml";
 
 std::string writeTemp(const std::string& name, const std::string& text) {
-  const std::string path = ::testing::TempDir() + name;
-  std::ofstream(path) << text;
-  return path;
+  return tactile::test::writeTempFile(name, text);
 }
 
 // The calibration of kParamFile (to turn synthetic forces into raw counts).

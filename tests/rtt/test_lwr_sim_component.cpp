@@ -19,6 +19,7 @@
 #include "tactile_sim/world.hpp"
 #include "tactile_sim_rtt/lwr_sim_component.hpp"
 #include "support/rtt_environment.hpp"
+#include "temp_file.hpp"
 
 namespace {
 
@@ -60,9 +61,7 @@ struct Rig {
 };
 
 std::string writeTemp(const std::string& name, const std::string& text) {
-  const std::string path = ::testing::TempDir() + name;
-  std::ofstream(path) << text;
-  return path;
+  return tactile::test::writeTempFile(name, text);
 }
 
 TEST(LwrSimComponent, InterfaceIsDeclaredAndDocumented) {

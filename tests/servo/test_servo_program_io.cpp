@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include "servo_test_util.hpp"
+#include "temp_file.hpp"
 
 using namespace tactile;
 using namespace servo_test;
@@ -11,9 +12,7 @@ using namespace servo_test;
 namespace {
 
 std::string writeTemp(const std::string& name, const std::string& text) {
-  const std::string path = ::testing::TempDir() + "servo_" + name + ".yaml";
-  std::ofstream(path) << text;
-  return path;
+  return tactile::test::writeTempFile("servo_" + name + ".yaml", text);
 }
 
 // A valid two-phase program; `phase2` is spliced in as the second phase's body.
