@@ -10,6 +10,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <kdl/chainfksolverpos_recursive.hpp>
+#include <kdl/chainjnttojacsolver.hpp>
 
 #include "alloc_counter.hpp"
 #include "tactile_sim/lwr_arm.hpp"
@@ -100,13 +101,15 @@ TEST(LwrKinematics, JacobianMatchesFiniteDifferences) {
 
 TEST(LwrKinematics, FusedPassMatchesKdlSolvers) {
   // kinematics() (one pass) and forward() against KDL's generic solvers
-  // (ChainFkSolverPos_recursive, ChainJntToJacSolver via jacobian()) on the
-  // same chain, over random postures. Tolerance 1e-12: the same products up
-  // to their order and KDL's general joint-axis rotation.
+  // (ChainFkSolverPos_recursive, ChainJntToJacSolver) on the same chain, over
+  // random postures. Tolerance 1e-12: the same products up to their order and
+  // KDL's general joint-axis rotation.
   LwrArm arm;
   ASSERT_TRUE(arm.configure(ArmParams()).ok());
   KDL::ChainFkSolverPos_recursive fk(arm.chain());
+  KDL::ChainJntToJacSolver jac(arm.chain());
   KDL::JntArray kq(kLwrJoints);
+  KDL::Jacobian kjac(kLwrJoints);
   std::srand(7);
   for (int n = 0; n < 200; ++n) {
     JointVec q;
@@ -117,7 +120,8 @@ TEST(LwrKinematics, FusedPassMatchesKdlSolvers) {
     arm.forward(q, Tfw);
     kq.data = q;
     ASSERT_GE(fk.JntToCart(kq, Tk), 0);
-    arm.jacobian(q, Jk);
+    ASSERT_GE(jac.JntToJac(kq, kjac), 0);
+    Jk = kjac.data;
     for (int i = 0; i < 3; ++i) {
       ASSERT_NEAR(Tf.p(i), Tk.p(i), 1e-12);
       ASSERT_NEAR(Tfw.p(i), Tk.p(i), 1e-12);

@@ -8,7 +8,6 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <kdl/chaindynparam.hpp>
-#include <kdl/chainjnttojacsolver.hpp>
 #include <kdl/rigidbodyinertia.hpp>
 #include <kdl/rotationalinertia.hpp>
 #include <kdl/segment.hpp>
@@ -131,12 +130,10 @@ ConfigResult LwrArm::configure(const ArmParams& p) {
       return ConfigResult::failure("arm chain: joint " + std::to_string(i) + " is not a RotZ joint");
     tips_[i] = seg.getFrameToTip();
   }
-  jac_ = std::make_unique<KDL::ChainJntToJacSolver>(chain_);
   dyn_ = std::make_unique<KDL::ChainDynParam>(chain_, KDL::Vector(p.gravity[0], p.gravity[1], p.gravity[2]));
   kq_.resize(kLwrJoints);
   kqd_.resize(kLwrJoints);
   kout_.resize(kLwrJoints);
-  kjac_.resize(kLwrJoints);
   kM_.resize(kLwrJoints);
   for (int i = 0; i < kLwrJoints; ++i) {
     q_rest_[i] = p.q_init[i];
@@ -200,9 +197,8 @@ KDL::Frame LwrArm::jointToTip(int i, double q) const {
 }
 
 void LwrArm::jacobian(const JointVec& q, Jac67& J) const {
-  kq_.data = q;
-  jac_->JntToJac(kq_, kjac_);
-  J = kjac_.data;
+  KDL::Frame T;
+  kinematics(q, T, J);
 }
 
 void LwrArm::kinematics(const JointVec& q, KDL::Frame& T, Jac67& J) const {

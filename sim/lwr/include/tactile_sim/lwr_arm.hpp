@@ -42,8 +42,6 @@
 #include "tactile_types/types.hpp"
 
 namespace KDL {
-class ChainFkSolverPos_recursive;
-class ChainJntToJacSolver;
 class ChainDynParam;
 }  // namespace KDL
 
@@ -191,11 +189,9 @@ class LwrArm {
   KDL::Chain chain_;
   KDL::Frame jointToTip(int i, double q) const;  ///< RotZ(q) * tips_[i]
   KDL::Frame tips_[kLwrJoints];  ///< segment i: joint frame -> tip (DH), from the chain
-  std::unique_ptr<KDL::ChainJntToJacSolver> jac_;
   std::unique_ptr<KDL::ChainDynParam> dyn_;
   // Pre-sized KDL buffers (mutable: KDL solvers take non-const outputs).
   mutable KDL::JntArray kq_, kqd_, kout_;
-  mutable KDL::Jacobian kjac_;
   mutable KDL::JntSpaceInertiaMatrix kM_;
   ArmState state_;
   Jac67 J_ = Jac67::Zero();
