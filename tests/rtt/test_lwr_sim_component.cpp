@@ -224,23 +224,19 @@ TEST(LwrSimComponent, UpdateDoesNotAllocate) {
   RawTactileFrame raw;
   TactileFrame frame;
   Pose pose;
-  for (int k = 0; k < 50; ++k) {  // warm-up: every port carried a sample once
+  auto cycle = [&] {  // command in, one update, every output read
     pc.pose = cmd;
     rig.command_out.write(pc);
     rig.comp.update();
     rig.pose_in.read(pose);
     rig.raw_in.read(raw);
     rig.frame_in.read(frame);
-  }
+  };
+  for (int k = 0; k < 50; ++k) cycle();  // warm-up: every port carried a sample once
   tactile::test::AllocationScope scope;
   for (int k = 0; k < 2000; ++k) {  // commands moving into contact, acquisitions included
     cmd.p[2] -= 0.00005;
-    pc.pose = cmd;
-    rig.command_out.write(pc);
-    rig.comp.update();
-    rig.pose_in.read(pose);
-    rig.raw_in.read(raw);
-    rig.frame_in.read(frame);
+    cycle();
   }
   EXPECT_EQ(scope.count(), 0u);
   EXPECT_GT(rig.attr<int>("frames"), 250);
