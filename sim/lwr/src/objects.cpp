@@ -259,9 +259,10 @@ void ObjectSet::lowestZRow(double y, const double* x, int n, double* z, int* whi
       if (slopes) {
         double *tx, *ty;
         slopeTarget(tx, ty);
+        const double px = boundSlope(-nx / nz), py = boundSlope(-ny / nz);  // a plane's slopes are constant
         for (int i = 0; i < m; ++i) {
-          tx[i] = boundSlope(-nx / nz);
-          ty[i] = boundSlope(-ny / nz);
+          tx[i] = px;
+          ty[i] = py;
         }
       }
       take(p.object);
