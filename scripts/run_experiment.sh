@@ -8,6 +8,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$root/scripts/setup_deps.sh"
+bash "$root/scripts/setup_orocos.sh"
 bash "$root/scripts/build.sh"
 sim="$root/build/bin/tactile_sim"
 out="$root/out"
