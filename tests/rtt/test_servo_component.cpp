@@ -93,8 +93,11 @@ TEST(ServoComponent, InterfaceIsDeclaredAndDocumented) {
     ASSERT_NE(c.ports()->getPort(port), nullptr) << port;
     EXPECT_FALSE(c.ports()->getPort(port)->getDescription().empty()) << port;
   }
-  ASSERT_NE(c.properties()->getProperty("program_file"), nullptr);
-  for (const char* op : {"switchPhase", "phaseName", "lastError"}) {
+  for (const char* prop : {"program_file", "controller_mode"}) {
+    ASSERT_NE(c.properties()->getProperty(prop), nullptr) << prop;
+    EXPECT_FALSE(c.properties()->getProperty(prop)->getDescription().empty()) << prop;
+  }
+  for (const char* op : {"switchPhase", "phaseName", "phaseIndex", "phaseIndexOf", "controllerMode", "lastError"}) {
     EXPECT_TRUE(c.provides()->hasOperation(op)) << op;
     EXPECT_FALSE(c.provides()->getDescription(op).empty()) << op;
   }
@@ -185,6 +188,41 @@ TEST(ServoComponent, SwitchPhaseByName) {
   ASSERT_EQ(rig.phase_in.read(ph), RTT::NewData);
   EXPECT_STREQ(ph.name.data(), "explore");
   EXPECT_EQ(ph.index, 3);
+}
+
+TEST(ServoComponent, PhaseIndexOperations) {
+  Rig rig(kProgram);
+  EXPECT_EQ(rig.comp.phaseIndex(), -1);  // not configured
+  EXPECT_EQ(rig.comp.phaseIndexOf("explore"), -1);
+  ASSERT_TRUE(rig.comp.configure());
+  EXPECT_EQ(rig.comp.phaseIndex(), 0);
+  EXPECT_EQ(rig.comp.phaseIndexOf("explore"), 3);
+  EXPECT_EQ(rig.comp.phaseIndexOf("no_such_phase"), -1);
+  ASSERT_TRUE(rig.comp.start());
+  EXPECT_TRUE(rig.comp.switchPhase("explore"));
+  RTT::os::TimeService::Instance()->secondsChange(kDt);
+  rig.features_out.write(edge(now(), 0.0, 0.0));
+  rig.pose_out.write(startPose());
+  rig.comp.update();
+  EXPECT_EQ(rig.comp.phaseIndex(), 3);
+}
+
+// controller_mode overrides the program's controller.mode (the deployments'
+// servo_bent_bar_baseline.cpf selects the Li et al. baseline this way).
+TEST(ServoComponent, ControllerModeProperty) {
+  auto mode = [](const std::string& m) {
+    Rig rig(kProgram);
+    rig.comp.properties()->getPropertyType<std::string>("controller_mode")->set(m);
+    const bool ok = rig.comp.configure();
+    return ok ? rig.comp.controllerMode() : "refused: " + rig.comp.lastError();
+  };
+  EXPECT_EQ(mode(""), "proposed");  // the program's controller.mode
+  EXPECT_EQ(mode("proposed"), "proposed");
+  EXPECT_EQ(mode("baseline"), "baseline");
+  const std::string bad = mode("Baseline");
+  EXPECT_NE(bad.find("refused: "), std::string::npos) << bad;
+  EXPECT_NE(bad.find("controller_mode = 'Baseline'"), std::string::npos) << bad;
+  EXPECT_NE(bad.find("'proposed' or 'baseline'"), std::string::npos) << bad;
 }
 
 TEST(ServoComponent, NoFlangePoseNoCommand) {
