@@ -272,7 +272,10 @@ def fig12(run, other):
     b_s = json.load(open(os.path.join(other, "summary.json")))
     fig, ax = plt.subplots(figsize=(9, 4))
     for ts, s, c in ((a_ts, a_s, "r"), (b_ts, b_s, "b")):
-        ax.plot(ts["time"], ts["force_true"], c, label=f"{s['controller']}: true normal force")
+        if np.any(np.isfinite(ts["force_true"])):
+            ax.plot(ts["time"], ts["force_true"], c, label=f"{s['controller']}: true normal force")
+        else:  # a deployment's run (scripts/deployment_to_run.py): only what the taxels measure
+            ax.plot(ts["time"], ts["force"], c, label=f"{s['controller']}: measured normal force (taxels)")
     ax.plot(a_ts["time"], a_ts["sd_force"], "k--", lw=0.8, label="desired")
     ax.set_xlabel("time (s)")
     ax.set_ylabel("force (N)")
