@@ -29,8 +29,11 @@ controller_mode): the sensor mount {e}T{s} (cmd_*/act_* are the sensor pose
 columns). Quantities only the simulator knows (force_true, housing_force,
 moment_*_true, tray_angle_deg, true_c*, u_*, beta, feature_age) are "nan":
 a deployment sees what the robot sees. The summary's metrics that need them
-are null; the measured ones are given under their own names
-(force_measured_*).
+are null; measured counterparts are given under their own names
+(force_measured_*, sensor_path_length_m, sensor_slide_speed_mps); the final
+DZMP_y, the tray's DZMP recovery time and translation along x_s follow the
+runner's definitions on measured data (deployment time starts with the servo,
+a few ms after the simulated arm).
 """
 import argparse
 import json
@@ -106,9 +109,10 @@ def load_program(path, mode_override):
     xyz = np.array(mount.get("xyz", [0.0, 0.0, 0.0]), dtype=float)
     rpy = [math.radians(v) for v in mount.get("rpy_deg", [0.0, 0.0, 0.0])]
     mode = mode_override or ctl.get("mode", "proposed")
-    names, sds = [], []
+    names, sds, scored_default = [], [], []
     for ph in prog.get("phases", []):
         names.append(ph["name"])
+        scored_default.append(bool(ph.get("requires_contact", True)) and not bool(ph.get("terminal", False)))
         sd = np.zeros(6)
         s = ph.get("s_d")
         if isinstance(s, list):
@@ -120,7 +124,8 @@ def load_program(path, mode_override):
             if "force" in s:
                 sd[2] = c_z * float(s["force"])
         sds.append(sd)
-    return dict(c_z=c_z, mount_p=xyz, mount_R=rot_rpy(*rpy), mode=mode, names=names, sds=sds)
+    return dict(c_z=c_z, mount_p=xyz, mount_R=rot_rpy(*rpy), mode=mode, names=names, sds=sds,
+                scored_default=scored_default)
 
 
 def read_report(path):
@@ -240,8 +245,52 @@ def main():
             f.write(",".join(cells) + "\n")
 
     arr = lambda k: np.array([r[COLUMNS.index(k)] for r in out_rows], dtype=float)  # noqa: E731
+    t_all = arr("time")
     force = arr("force")
     in_contact = arr("contact") > 0
+    # Measured counterparts of the runner's metrics (sim/runner/src/runner.cpp),
+    # from what a deployment sees: the scored phases (the scene's
+    # metrics.force_phases, after metrics.transient_s in the phase) give the
+    # measured force and the sensor's path (the runner uses the true contact
+    # point); the final DZMP_y and, with a tray, its recovery time and the
+    # translation along x_s follow the runner's definitions on measured data.
+    metrics = scene.get("metrics", {}) or {}
+    # as the runner: without metrics.force_phases, the phases that need contact and are not terminal
+    scored_names = metrics.get("force_phases") or [n for n, d in zip(prog["names"], prog["scored_default"]) if d]
+    transient = float(metrics.get("transient_s", 0.0))
+    band = float(metrics.get("force_band_n", 1.0))
+    phase_col = [r[2] for r in out_rows]
+    scored = np.zeros(len(out_rows), dtype=bool)
+    t_phase0, cur = 0.0, None
+    for k, name_k in enumerate(phase_col):
+        if name_k != cur:
+            cur, t_phase0 = name_k, t_all[k]
+        scored[k] = name_k in scored_names and t_all[k] - t_phase0 >= transient
+    fs, sdf = force[scored], arr("sd_force")[scored]
+    pos = np.stack([arr("act_x"), arr("act_y"), arr("act_z")], axis=1)
+    path, t_sc = 0.0, 0.0
+    for k in range(1, len(out_rows)):
+        if scored[k] and scored[k - 1] and in_contact[k] and in_contact[k - 1]:
+            path += float(np.linalg.norm(pos[k] - pos[k - 1]))
+            t_sc += t_all[k] - t_all[k - 1]
+    last = (t_all >= t_all[-1] - 0.5) & in_contact
+    dzmp_final = float(np.mean(arr("dzmp_y")[last])) if last.any() else None
+    recovery, translation = None, None
+    trays = [o for o in scene.get("objects", []) or [] if o.get("type") == "tray"]
+    if trays:
+        t_move = float(trays[0].get("move_start_s", 0.0))
+        dz = arr("dzmp_y")
+        settled = None
+        for k in range(len(out_rows) - 1, -1, -1):
+            if t_all[k] < t_move or abs(dz[k]) > 0.0005 or not in_contact[k]:
+                break
+            settled = t_all[k]
+        recovery = None if settled is None else settled - t_move
+        before = [k for k in range(len(out_rows)) if t_all[k] <= t_move]
+        if before:
+            b = before[-1]
+            xs = rot_rpy(arr("act_roll")[b], arr("act_pitch")[b], arr("act_yaw")[b])[:, 0]
+            translation = float(np.dot(pos[-1] - pos[b], xs))
     status = "ok" if a.deployer_exit == 0 else "deployment_failed"
     if any(r[3] == "force_ceiling" for r in out_rows):
         status = "force_ceiling"
@@ -269,14 +318,19 @@ def main():
         "force_true_max_n": None,
         "force_true_rms_error_n": None,
         "force_true_in_band_fraction": None,
-        "force_measured_mean_n": float(np.mean(fm)) if fm.size else None,
-        "force_measured_max_n": float(np.max(fm)) if fm.size else None,
+        "force_measured_mean_n": float(np.mean(fs)) if fs.size else None,
+        "force_measured_max_n": float(np.max(fs)) if fs.size else None,
+        "force_measured_rms_error_n": float(np.sqrt(np.mean((fs - sdf) ** 2))) if fs.size else None,
+        "force_measured_in_band_fraction": float(np.mean(np.abs(fs - sdf) <= band)) if fs.size else None,
+        "force_measured_max_any_phase_n": float(np.max(fm)) if fm.size else None,
         "alignment_time_s": None,
         "path_length_m": None,
         "slide_speed_mps": None,
-        "dzmp_final_m": float(arr("dzmp_y")[-1]),
-        "dzmp_recovery_time_s": None,
-        "translation_x_m": float(arr("act_x")[-1] - arr("act_x")[0]),
+        "sensor_path_length_m": path,
+        "sensor_slide_speed_mps": path / t_sc if t_sc > 0 else None,
+        "dzmp_final_m": dzmp_final,
+        "dzmp_recovery_time_s": recovery,
+        "translation_x_m": translation,
         "tray_angle_max_deg": None,
         "report_precision": "6 significant digits (OCL FileReporting, C++ stream default)",
     }
