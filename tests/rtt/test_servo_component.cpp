@@ -6,6 +6,8 @@
 #include <rtt/OutputPort.hpp>
 #include <rtt/TaskContext.hpp>
 #include <rtt/extras/SlaveActivity.hpp>
+#include <rtt/plugin/PluginLoader.hpp>
+#include <rtt/scripting/Scripting.hpp>
 #include <rtt/os/TimeService.hpp>
 #include <rtt/os/main.h>
 
@@ -296,6 +298,85 @@ TEST(ServoComponent, UpdateCycleDoesNotAllocate) {
   for (int k = 1; k < 100; ++k) cycle(k);
   EXPECT_EQ(scope.count(), 0u);
   EXPECT_EQ(rig.comp.phaseName().empty(), false);
+}
+
+// The experiment state machines (deployments/*_experiment.osd) run in the
+// servo's thread, one step per servo cycle: once in a state, a cycle (its run
+// program and transition checks: phaseIndex(), phase.last(), arithmetic) must
+// not allocate. Loaded here as the deployments load them (RTT's scripting
+// service, OCL's print service for the entry programs), stepped by the
+// servo's SlaveActivity.
+struct OsdCase {
+  const char* program;
+  const char* osd;
+  const char* machine;
+  const char* waiting;  ///< the state waiting for the program's working phase
+  const char* working;  ///< the state while the program is in that phase
+  bool point;           ///< the touch is a point (the sphere), else an edge
+};
+
+TEST(ServoComponent, ExperimentStateMachineCyclesDoNotAllocate) {
+  auto loader = RTT::plugin::PluginLoader::Instance();
+  ASSERT_TRUE(loader->loadPlugins(TACTILE_RTT_OWN_PACKAGE_DIR));  // scripting
+  ASSERT_TRUE(loader->loadPlugins(TACTILE_OCL_PACKAGE_DIR));      // print
+  ASSERT_TRUE(loader->loadTypekits(TACTILE_RTT_OWN_PACKAGE_DIR));
+  ASSERT_TRUE(loader->loadTypekits(TACTILE_RTT_PACKAGE_DIR));     // /tactile/PhaseState
+  const OsdCase cases[] = {
+      {"/bent_bar.yaml", "/bent_bar_experiment.osd", "BentBarExperiment", "WAIT_EXPLORE", "EXPLORE", false},
+      {"/co_manipulation.yaml", "/co_manipulation_experiment.osd", "CoManipulationExperiment", "WAIT_BALANCE",
+       "BALANCE", false},
+      {"/edge_exploration.yaml", "/sphere_table_experiment.osd", "SphereExperiment", "WAIT_ALIGN", "HOLD", true},
+  };
+  for (const OsdCase& c : cases) {
+    SCOPED_TRACE(c.osd);
+    Rig rig(std::string(TACTILE_SERVO_PROGRAM_DIR) + c.program);
+    ASSERT_TRUE(rig.comp.configure()) << rig.comp.lastError();
+    ASSERT_TRUE(loader->loadService("scripting", &rig.comp));
+    ASSERT_TRUE(loader->loadService("print", &rig.comp));
+    auto scripting = rig.comp.getProvider<RTT::Scripting>("scripting");
+    ASSERT_TRUE(scripting->loadStateMachines(std::string(TACTILE_DEPLOYMENTS_DIR) + c.osd));
+    ASSERT_TRUE(rig.comp.start());
+    Pose pose = startPose();
+    PoseCommand cmd;
+    PhaseState ph;
+    bool touching = false;
+    auto cycle = [&]() {
+      RTT::os::TimeService::Instance()->secondsChange(kDt);
+      ContactFeatures f = touching ? edge(now(), 0.0, 0.0) : noContact(now());
+      if (touching && c.point) {
+        f.contact = tactile::ContactType::Point;
+        f.lambda2 = f.lambda1;
+      }
+      rig.features_out.write(f);
+      rig.pose_out.write(pose);
+      rig.comp.update();
+      if (rig.command_in.read(cmd, false) == RTT::NewData) pose = cmd.pose;
+      rig.phase_in.read(ph, false);
+    };
+    cycle();
+    ASSERT_TRUE(scripting->activateStateMachine(c.machine));
+    ASSERT_TRUE(scripting->startStateMachine(c.machine));
+    for (int k = 0; k < 3; ++k) cycle();  // INIT -> waiting (its entry prints)
+    ASSERT_EQ(scripting->getStateMachineState(c.machine), c.waiting);
+    {
+      tactile::test::AllocationScope scope;
+      for (int k = 0; k < 50; ++k) cycle();
+      EXPECT_EQ(scope.count(), 0u) << "per cycle in " << c.waiting;
+    }
+    touching = true;  // the program's first phase sees contact -> its working phase
+    for (int k = 0; k < 10; ++k) cycle();
+    ASSERT_EQ(scripting->getStateMachineState(c.machine), c.working) << rig.comp.phaseName();
+    {
+      tactile::test::AllocationScope scope;
+      for (int k = 0; k < 50; ++k) cycle();
+      EXPECT_EQ(scope.count(), 0u) << "per cycle in " << c.working;
+    }
+    EXPECT_EQ(scripting->getStateMachineState(c.machine), c.working);
+    ASSERT_TRUE(scripting->stopStateMachine(c.machine));
+    rig.comp.update();
+    ASSERT_TRUE(rig.comp.stop());
+    ASSERT_TRUE(scripting->unloadStateMachine(c.machine));
+  }
 }
 
 }  // namespace
