@@ -62,8 +62,9 @@ def overview(run, ts, summary):
     ax[0].legend(ncol=3, fontsize=7)
     phase_labels(ax[0], summary)
     ax[1].plot(t, ts["force"], "r", label="f measured (taxels)")
-    ax[1].plot(t, ts["force_true"], "k", lw=0.8, label="f true (Nano17)")
-    if "housing_force" in ts:
+    if np.any(np.isfinite(ts["force_true"])):  # a deployment's run has no ground truth
+        ax[1].plot(t, ts["force_true"], "k", lw=0.8, label="f true (Nano17)")
+    if "housing_force" in ts and np.any(np.isfinite(ts["housing_force"])):
         ax[1].plot(t, ts["housing_force"], "m", lw=0.8, label="housing (no signal)")
     ax[1].plot(t, ts["sd_force"], "r--", lw=0.8, label="f desired")
     ax[1].set_ylabel("force (N)")
