@@ -62,8 +62,9 @@ def overview(run, ts, summary):
     ax[0].legend(ncol=3, fontsize=7)
     phase_labels(ax[0], summary)
     ax[1].plot(t, ts["force"], "r", label="f measured (taxels)")
-    ax[1].plot(t, ts["force_true"], "k", lw=0.8, label="f true (Nano17)")
-    if "housing_force" in ts:
+    if np.any(np.isfinite(ts["force_true"])):  # a deployment's run has no ground truth
+        ax[1].plot(t, ts["force_true"], "k", lw=0.8, label="f true (Nano17)")
+    if "housing_force" in ts and np.any(np.isfinite(ts["housing_force"])):
         ax[1].plot(t, ts["housing_force"], "m", lw=0.8, label="housing (no signal)")
     ax[1].plot(t, ts["sd_force"], "r--", lw=0.8, label="f desired")
     ax[1].set_ylabel("force (N)")
@@ -170,14 +171,38 @@ def fig14(run, ts, summary, snaps):
     if snaps:
         worst = [x for x in snaps if x[1].startswith("largest")]
         first, last = (worst[0] if worst else snaps[0]), snaps[-1]
-        img = np.hstack([first[2], np.full((first[2].shape[0], 1), np.nan), last[2]])
-        a.imshow(img, cmap="gray_r", interpolation="nearest")
-        a.set_title(f"(d) tactile image at t={first[0]:.1f} s ({first[1]}) and t={last[0]:.1f} s", fontsize=9)
-    a.axis("off")
+        tactile_pair(a, first, last)
+        a.set_title(f"(d) tactile images at t={first[0]:.1f} s ({first[1]})\nand t={last[0]:.1f} s (true aspect)",
+                    fontsize=9)
+    else:
+        a.text(0.5, 0.5, "(d) no tactile snapshots in this run", ha="center", va="center", transform=a.transAxes)
+        a.axis("off")
     fig.suptitle("Co-manipulation (cf. Fig. 14)")
     fig.tight_layout()
     fig.savefig(os.path.join(run, "fig14.png"), dpi=90)
     plt.close(fig)
+
+
+PITCH_MM = 3.4  # WTS0614 taxel pitch, the same along x_s and y_s
+
+
+def tactile_pair(a, first, last):
+    """Two tactile images stacked (one taxel row of gap) at their true aspect:
+    each taxel a 3.4 mm square, axes in mm of {s} (x_s to the right)."""
+    rows, cols = first[2].shape
+    gap = np.full((1, cols), np.nan)
+    img = np.vstack([first[2], gap, last[2]])
+    vmax = max(1e-9, np.nanmax(img))
+    h = img.shape[0] * PITCH_MM
+    cmap = plt.get_cmap("gray_r").copy()
+    cmap.set_bad("tab:blue", 0.25)  # the gap row between the two images
+    im = a.imshow(img, cmap=cmap, vmin=0, vmax=vmax, interpolation="nearest",
+                  extent=(0, cols * PITCH_MM, h, 0), aspect="equal")
+    for (t, name, _), y0 in ((first, 0.0), (last, (rows + 1) * PITCH_MM)):
+        a.text(0.5, y0 + 0.5, f"t = {t:.1f} s", va="top", ha="left", fontsize=7, color="tab:red")
+    a.set_xlabel("x_s (mm)")
+    a.set_ylabel("y_s (mm): two images, 3.4 mm taxels")
+    a.figure.colorbar(im, ax=a, fraction=0.046, pad=0.04, label="N per taxel")
 
 
 def load_snapshots(run, rows=6, cols=14):
@@ -248,7 +273,10 @@ def fig12(run, other):
     b_s = json.load(open(os.path.join(other, "summary.json")))
     fig, ax = plt.subplots(figsize=(9, 4))
     for ts, s, c in ((a_ts, a_s, "r"), (b_ts, b_s, "b")):
-        ax.plot(ts["time"], ts["force_true"], c, label=f"{s['controller']}: true normal force")
+        if np.any(np.isfinite(ts["force_true"])):
+            ax.plot(ts["time"], ts["force_true"], c, label=f"{s['controller']}: true normal force")
+        else:  # a deployment's run (scripts/deployment_to_run.py): only what the taxels measure
+            ax.plot(ts["time"], ts["force"], c, label=f"{s['controller']}: measured normal force (taxels)")
     ax.plot(a_ts["time"], a_ts["sd_force"], "k--", lw=0.8, label="desired")
     ax.set_xlabel("time (s)")
     ax.set_ylabel("force (N)")

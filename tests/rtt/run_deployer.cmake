@@ -2,25 +2,31 @@
 # non-interactively, and check its exit code and output.
 #   cmake -DDEPLOYER=... -DSCRIPT=x.ops -DEXPECT_RC=0 -DEXPECT_REGEX=... [-DCHECK_ONLY=ON]
 #         [-DLOGLEVEL=warning] [-DFORBID_REGEX=...] -P run_deployer.cmake
-# The scripts end with OpsCheck.finish(), which exits with the verdict; a script
-# that stops early (parse error) leaves the deployer waiting for ^C, which the
-# TIMEOUT below (30 s) turns into a failure.
-# CHECK_ONLY passes --check: the deployer loads, connects and configures a
-# .xml/.cpf deployment (no start, no prompt) and exits 0, or 255 when a
-# component does not load, a property file fails or configure() returns false.
+# Scripts (.ops) run with --check: the deployer runs the script and then exits
+# by its normal shutdown (components stopped, cleaned up, unloaded; no prompt,
+# no waiting for ^C) with 0, or 255 when the script failed to parse. The test
+# scripts end with the checkpoint `var int all_checks_passed(Check.finish())`
+# and the deployment scripts with `var int x(Guard.verdict())`: -1 there (a
+# failed check or step) is a parse error, hence exit 255.
+# CHECK_ONLY passes --check to a .xml/.cpf deployment: the deployer loads,
+# connects and configures it (no start) and exits 0, or 255 when a component
+# does not load, a property file fails or configure() returns false.
 # The regexes are matched against stdout and stderr (where RTT logs) together.
+if(NOT DEFINED TIMEOUT_S)
+  set(TIMEOUT_S 30)
+endif()
 if(NOT DEFINED LOGLEVEL)
   set(LOGLEVEL warning)
 endif()
 set(extra_args)
-if(CHECK_ONLY)
+if(CHECK_ONLY OR SCRIPT MATCHES "\\.ops$")
   list(APPEND extra_args --check)
 endif()
 execute_process(COMMAND ${DEPLOYER} ${extra_args} -l${LOGLEVEL} -s ${SCRIPT}
                 INPUT_FILE /dev/null
                 OUTPUT_VARIABLE out ERROR_VARIABLE err
                 RESULT_VARIABLE rc
-                TIMEOUT 30)
+                TIMEOUT ${TIMEOUT_S})
 message("---- deployer stdout ----\n${out}\n---- deployer stderr ----\n${err}\n---- exit: ${rc}")
 if(NOT "${rc}" STREQUAL "${EXPECT_RC}")
   message(FATAL_ERROR "deployer exit code ${rc}, expected ${EXPECT_RC}")

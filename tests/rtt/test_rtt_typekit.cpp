@@ -232,6 +232,35 @@ TEST(RttTypekit, DecompositionRoundTripsFieldValues) {
   EXPECT_EQ(o.status, in.status);
 }
 
+// OCL's reporter decomposes a port's sample once and streams the parts every
+// period: an enum's decomposed name must follow the sample, not keep the
+// value it had when it was decomposed.
+TEST(RttTypekit, DecomposedEnumNamesFollowTheData) {
+  ValueDataSource<tactile::ContactFeatures>::shared_ptr src = new ValueDataSource<tactile::ContactFeatures>();
+  src->set().contact = tactile::ContactType::None;
+  src->set().status = tactile::FeatureStatus::NotConfigured;
+  RTT::base::DataSourceBase::shared_ptr contact_member = src->getMember("contact");
+  ASSERT_TRUE(contact_member);
+  RTT::base::DataSourceBase::shared_ptr contact =
+      type("/tactile/ContactType")->decomposeType(contact_member);
+  auto name = DataSource<std::string>::narrow(contact.get());
+  ASSERT_TRUE(name);
+  EXPECT_EQ(name->get(), "none");
+  src->set().contact = tactile::ContactType::Edge;
+  EXPECT_EQ(name->get(), "edge");
+  EXPECT_EQ(name->rvalue(), "edge");
+  src->set().contact = tactile::ContactType::Point;
+  EXPECT_EQ(name->rvalue(), "point");
+  // The same through a whole-struct decomposition (the reporter's path).
+  RTT::PropertyBag bag;
+  ASSERT_TRUE(RTT::types::typeDecomposition(src, bag, true));
+  RTT::Property<std::string> status = bag.getProperty("status");
+  ASSERT_TRUE(status.ready());
+  EXPECT_EQ(status.rvalue(), "not_configured");
+  src->set().status = tactile::FeatureStatus::Saturated;
+  EXPECT_EQ(status.rvalue(), "saturated");
+}
+
 TEST(RttTypekit, PoseAndPhaseStateRoundTrip) {
   tactile::PhaseState ph;
   ph.time_s = 4.0;

@@ -6,6 +6,8 @@
 #include <rtt/OutputPort.hpp>
 #include <rtt/TaskContext.hpp>
 #include <rtt/extras/SlaveActivity.hpp>
+#include <rtt/plugin/PluginLoader.hpp>
+#include <rtt/scripting/Scripting.hpp>
 #include <rtt/os/TimeService.hpp>
 #include <rtt/os/main.h>
 
@@ -93,8 +95,11 @@ TEST(ServoComponent, InterfaceIsDeclaredAndDocumented) {
     ASSERT_NE(c.ports()->getPort(port), nullptr) << port;
     EXPECT_FALSE(c.ports()->getPort(port)->getDescription().empty()) << port;
   }
-  ASSERT_NE(c.properties()->getProperty("program_file"), nullptr);
-  for (const char* op : {"switchPhase", "phaseName", "lastError"}) {
+  for (const char* prop : {"program_file", "controller_mode"}) {
+    ASSERT_NE(c.properties()->getProperty(prop), nullptr) << prop;
+    EXPECT_FALSE(c.properties()->getProperty(prop)->getDescription().empty()) << prop;
+  }
+  for (const char* op : {"switchPhase", "phaseName", "phaseIndex", "phaseIndexOf", "controllerMode", "lastError"}) {
     EXPECT_TRUE(c.provides()->hasOperation(op)) << op;
     EXPECT_FALSE(c.provides()->getDescription(op).empty()) << op;
   }
@@ -187,6 +192,41 @@ TEST(ServoComponent, SwitchPhaseByName) {
   EXPECT_EQ(ph.index, 3);
 }
 
+TEST(ServoComponent, PhaseIndexOperations) {
+  Rig rig(kProgram);
+  EXPECT_EQ(rig.comp.phaseIndex(), -1);  // not configured
+  EXPECT_EQ(rig.comp.phaseIndexOf("explore"), -1);
+  ASSERT_TRUE(rig.comp.configure());
+  EXPECT_EQ(rig.comp.phaseIndex(), 0);
+  EXPECT_EQ(rig.comp.phaseIndexOf("explore"), 3);
+  EXPECT_EQ(rig.comp.phaseIndexOf("no_such_phase"), -1);
+  ASSERT_TRUE(rig.comp.start());
+  EXPECT_TRUE(rig.comp.switchPhase("explore"));
+  RTT::os::TimeService::Instance()->secondsChange(kDt);
+  rig.features_out.write(edge(now(), 0.0, 0.0));
+  rig.pose_out.write(startPose());
+  rig.comp.update();
+  EXPECT_EQ(rig.comp.phaseIndex(), 3);
+}
+
+// controller_mode overrides the program's controller.mode (the deployments'
+// servo_bent_bar_baseline.cpf selects the Li et al. baseline this way).
+TEST(ServoComponent, ControllerModeProperty) {
+  auto mode = [](const std::string& m) {
+    Rig rig(kProgram);
+    rig.comp.properties()->getPropertyType<std::string>("controller_mode")->set(m);
+    const bool ok = rig.comp.configure();
+    return ok ? rig.comp.controllerMode() : "refused: " + rig.comp.lastError();
+  };
+  EXPECT_EQ(mode(""), "proposed");  // the program's controller.mode
+  EXPECT_EQ(mode("proposed"), "proposed");
+  EXPECT_EQ(mode("baseline"), "baseline");
+  const std::string bad = mode("Baseline");
+  EXPECT_NE(bad.find("refused: "), std::string::npos) << bad;
+  EXPECT_NE(bad.find("controller_mode = 'Baseline'"), std::string::npos) << bad;
+  EXPECT_NE(bad.find("'proposed' or 'baseline'"), std::string::npos) << bad;
+}
+
 TEST(ServoComponent, NoFlangePoseNoCommand) {
   Rig rig(kProgram);
   ASSERT_TRUE(rig.comp.configure());
@@ -258,6 +298,85 @@ TEST(ServoComponent, UpdateCycleDoesNotAllocate) {
   for (int k = 1; k < 100; ++k) cycle(k);
   EXPECT_EQ(scope.count(), 0u);
   EXPECT_EQ(rig.comp.phaseName().empty(), false);
+}
+
+// The experiment state machines (deployments/*_experiment.osd) run in the
+// servo's thread, one step per servo cycle: once in a state, a cycle (its run
+// program and transition checks: phaseIndex(), phase.last(), arithmetic) must
+// not allocate. Loaded here as the deployments load them (RTT's scripting
+// service, OCL's print service for the entry programs), stepped by the
+// servo's SlaveActivity.
+struct OsdCase {
+  const char* program;
+  const char* osd;
+  const char* machine;
+  const char* waiting;  ///< the state waiting for the program's working phase
+  const char* working;  ///< the state while the program is in that phase
+  bool point;           ///< the touch is a point (the sphere), else an edge
+};
+
+TEST(ServoComponent, ExperimentStateMachineCyclesDoNotAllocate) {
+  auto loader = RTT::plugin::PluginLoader::Instance();
+  ASSERT_TRUE(loader->loadPlugins(TACTILE_RTT_OWN_PACKAGE_DIR));  // scripting
+  ASSERT_TRUE(loader->loadPlugins(TACTILE_OCL_PACKAGE_DIR));      // print
+  ASSERT_TRUE(loader->loadTypekits(TACTILE_RTT_OWN_PACKAGE_DIR));
+  ASSERT_TRUE(loader->loadTypekits(TACTILE_RTT_PACKAGE_DIR));     // /tactile/PhaseState
+  const OsdCase cases[] = {
+      {"/bent_bar.yaml", "/bent_bar_experiment.osd", "BentBarExperiment", "WAIT_EXPLORE", "EXPLORE", false},
+      {"/co_manipulation.yaml", "/co_manipulation_experiment.osd", "CoManipulationExperiment", "WAIT_BALANCE",
+       "BALANCE", false},
+      {"/edge_exploration.yaml", "/sphere_table_experiment.osd", "SphereExperiment", "WAIT_ALIGN", "HOLD", true},
+  };
+  for (const OsdCase& c : cases) {
+    SCOPED_TRACE(c.osd);
+    Rig rig(std::string(TACTILE_SERVO_PROGRAM_DIR) + c.program);
+    ASSERT_TRUE(rig.comp.configure()) << rig.comp.lastError();
+    ASSERT_TRUE(loader->loadService("scripting", &rig.comp));
+    ASSERT_TRUE(loader->loadService("print", &rig.comp));
+    auto scripting = rig.comp.getProvider<RTT::Scripting>("scripting");
+    ASSERT_TRUE(scripting->loadStateMachines(std::string(TACTILE_DEPLOYMENTS_DIR) + c.osd));
+    ASSERT_TRUE(rig.comp.start());
+    Pose pose = startPose();
+    PoseCommand cmd;
+    PhaseState ph;
+    bool touching = false;
+    auto cycle = [&]() {
+      RTT::os::TimeService::Instance()->secondsChange(kDt);
+      ContactFeatures f = touching ? edge(now(), 0.0, 0.0) : noContact(now());
+      if (touching && c.point) {
+        f.contact = tactile::ContactType::Point;
+        f.lambda2 = f.lambda1;
+      }
+      rig.features_out.write(f);
+      rig.pose_out.write(pose);
+      rig.comp.update();
+      if (rig.command_in.read(cmd, false) == RTT::NewData) pose = cmd.pose;
+      rig.phase_in.read(ph, false);
+    };
+    cycle();
+    ASSERT_TRUE(scripting->activateStateMachine(c.machine));
+    ASSERT_TRUE(scripting->startStateMachine(c.machine));
+    for (int k = 0; k < 3; ++k) cycle();  // INIT -> waiting (its entry prints)
+    ASSERT_EQ(scripting->getStateMachineState(c.machine), c.waiting);
+    {
+      tactile::test::AllocationScope scope;
+      for (int k = 0; k < 50; ++k) cycle();
+      EXPECT_EQ(scope.count(), 0u) << "per cycle in " << c.waiting;
+    }
+    touching = true;  // the program's first phase sees contact -> its working phase
+    for (int k = 0; k < 10; ++k) cycle();
+    ASSERT_EQ(scripting->getStateMachineState(c.machine), c.working) << rig.comp.phaseName();
+    {
+      tactile::test::AllocationScope scope;
+      for (int k = 0; k < 50; ++k) cycle();
+      EXPECT_EQ(scope.count(), 0u) << "per cycle in " << c.working;
+    }
+    EXPECT_EQ(scripting->getStateMachineState(c.machine), c.working);
+    ASSERT_TRUE(scripting->stopStateMachine(c.machine));
+    rig.comp.update();
+    ASSERT_TRUE(rig.comp.stop());
+    ASSERT_TRUE(scripting->unloadStateMachine(c.machine));
+  }
 }
 
 }  // namespace

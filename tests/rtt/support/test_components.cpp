@@ -14,11 +14,14 @@
 //       waitFor(name, timeout_s) (polls, for scripts of running deployments),
 //       and sleep(s).
 //   tactile::OpsCheck        assertions for .ops scripts: expect(cond, what)
-//       prints "[PASS] what" / "[FAIL] what"; finish() prints a summary and ends
-//       the deployer process with exit code 0 (all passed, at least one check)
-//       or 1. The deployer itself only fails on script *parse* errors, and it
-//       waits for ^C after the scripts when stdin is not a tty, so a test
-//       script needs this to report a verdict.
+//       prints "[PASS] what" / "[FAIL] what"; finish() prints the summary (once)
+//       and returns 1 (all passed, at least one check) or -1. The deployer only
+//       fails on script *parse* errors, so a test script ends with the
+//       checkpoint `var int all_checks_passed(Check.finish())`: RTT evaluates
+//       the size hint while parsing, and -1 is a parse error, which makes the
+//       deployer's runScript() fail. Run with `deployer --check -s x.ops`
+//       (tests/rtt/run_deployer.cmake) the deployer then exits by its normal
+//       shutdown (components stopped, cleaned up, unloaded): 0 or 255.
 #include <rtt/Component.hpp>
 #include <rtt/InputPort.hpp>
 #include <rtt/Logger.hpp>
@@ -227,8 +230,10 @@ class OpsCheck : public RTT::TaskContext {
         .arg("cond", "The checked condition.")
         .arg("what", "What was checked.");
     addOperation("failures", &OpsCheck::failures, this, RTT::ClientThread).doc("Number of failed checks so far.");
+    addOperation("sleep", &OpsCheck::sleep, this, RTT::ClientThread).doc("Sleep (wall clock).").arg("s", "Seconds.");
     addOperation("finish", &OpsCheck::finish, this, RTT::ClientThread)
-        .doc("Print the summary and end the process: exit code 0 if every check passed (and there was one), else 1.");
+        .doc("Print the summary (first call only) and return 1 if every check passed (and there was one), else -1: "
+             "the size hint of `var int all_checks_passed(Check.finish())`, a parse error (deployer exit 255) on -1.");
   }
 
   bool expect(bool cond, const std::string& what) {
@@ -239,16 +244,20 @@ class OpsCheck : public RTT::TaskContext {
     return cond;
   }
   int failures() const { return failures_; }
-  void finish() {
-    std::printf("ops checks: %d run, %d failed\n", checks_, failures_);
-    std::fflush(stdout);
-    std::fflush(stderr);
-    // _Exit: the deployer would otherwise wait for ^C (stdin is not a tty).
-    std::_Exit(failures_ == 0 && checks_ > 0 ? 0 : 1);
+  void sleep(double s) const { std::this_thread::sleep_for(std::chrono::duration<double>(s)); }
+  int finish() {
+    // RTT evaluates a size hint more than once while parsing: report once.
+    if (!finished_) {
+      finished_ = true;
+      std::printf("ops checks: %d run, %d failed\n", checks_, failures_);
+      std::fflush(stdout);
+    }
+    return failures_ == 0 && checks_ > 0 ? 1 : -1;
   }
 
  private:
   int checks_ = 0, failures_ = 0;
+  bool finished_ = false;
 };
 
 }  // namespace tactile

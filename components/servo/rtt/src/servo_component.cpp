@@ -16,6 +16,10 @@ ServoComponent::ServoComponent(const std::string& name)
       phase_out_("phase") {
   addProperty("program_file", program_file_)
       .doc("YAML phase program (controller, safety, phases; see tactile_servo/program_io.hpp). Read by configure().");
+  addProperty("controller_mode", controller_mode_)
+      .doc("Overrides the program's controller.mode at configure(): '' = the program's, 'proposed' (Eq. 8: the "
+           "touch-dependent J^-1 with the DZMP rows) or 'baseline' (Li et al., Sec. 5.2.1: constant J^-1), as the "
+           "headless runner's scene key `controller`. Set by the deployments' servo_*.cpf.");
   addAttribute("last_status", last_status_);
   addEventPort(features_in_).doc("Contact features in {s} (from the feature component).");
   addPort(flange_in_).doc("Measured flange pose {g}T{e} (LWR simulator or FRI bridge).");
@@ -25,6 +29,14 @@ ServoComponent::ServoComponent(const std::string& name)
       .doc("Switch to the named phase at the next cycle (clears a force-ceiling latch). False for an unknown name.")
       .arg("name", "Phase name as in the program file.");
   addOperation("phaseName", &ServoComponent::phaseName, this, RTT::ClientThread).doc("Name of the current phase.");
+  addOperation("phaseIndex", &ServoComponent::phaseIndex, this, RTT::ClientThread)
+      .doc("Index of the current phase in the program (-1 before configure()); no string is built, for state "
+           "machines that check it every cycle.");
+  addOperation("phaseIndexOf", &ServoComponent::phaseIndexOf, this, RTT::ClientThread)
+      .doc("Index of the named phase in the configured program, -1 for an unknown name (or before configure()).")
+      .arg("name", "Phase name as in the program file.");
+  addOperation("controllerMode", &ServoComponent::controllerMode, this, RTT::ClientThread)
+      .doc("The controller in use after configure(): 'proposed' or 'baseline' ('' before).");
   addOperation("lastError", &ServoComponent::lastError, this, RTT::ClientThread)
       .doc("Message of the last failed configure().");
 }
@@ -34,6 +46,15 @@ bool ServoComponent::configureHook() {
   ConfigResult r = program_file_.empty()
                        ? ConfigResult::failure("program_file is empty: set it to a YAML phase program")
                        : loadServoProgram(program_file_, p);
+  if (r) {
+    if (controller_mode_ == "proposed")
+      p.mode = ControllerMode::Proposed;
+    else if (controller_mode_ == "baseline")
+      p.mode = ControllerMode::Baseline;
+    else if (!controller_mode_.empty())
+      r = ConfigResult::failure(getName() + ".controller_mode = '" + controller_mode_ +
+                                "': must be '' (the program's controller.mode), 'proposed' or 'baseline'");
+  }
   if (r) r = servo_.configure(p);
   if (!r) {
     last_error_ = r.message();
@@ -41,6 +62,7 @@ bool ServoComponent::configureHook() {
     return false;
   }
   last_error_.clear();
+  mode_in_use_ = p.mode == ControllerMode::Baseline ? "baseline" : "proposed";
   in_ = ServoInput();
   out_ = ServoOutput();
   command_out_.setDataSample(out_.command);
@@ -64,6 +86,12 @@ bool ServoComponent::switchPhase(const std::string& name) {
   if (idx < 0) return false;
   requested_phase_.store(idx);  // applied by updateHook (the core is not thread-safe)
   return true;
+}
+
+int ServoComponent::phaseIndex() const { return isConfigured() ? current_phase_.load() : -1; }
+
+int ServoComponent::phaseIndexOf(const std::string& name) const {
+  return isConfigured() ? servo_.phaseIndexOf(name.c_str()) : -1;  // reads the configured program only
 }
 
 std::string ServoComponent::phaseName() const {

@@ -15,6 +15,9 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <map>
+#include <string>
+#include <utility>
 
 #include "tactile_types/types.hpp"
 #include "tactile_types_rtt/serialization.hpp"
@@ -22,6 +25,49 @@
 namespace tactile {
 namespace rtt_types {
 namespace {
+
+/// The name of an enum value, read through from its source: every read
+/// (get/value/rvalue) re-reads the source and renames it when the value
+/// changed, so a decomposition made once (OCL's reporter decomposes a port's
+/// sample at configure() and streams the parts every period) follows the
+/// data. set() overrides the name until the source changes (a decomposed
+/// property bag edited before it is composed back).
+template <typename E>
+class EnumNameDataSource : public RTT::internal::AssignableDataSource<std::string> {
+ public:
+  explicit EnumNameDataSource(typename RTT::internal::DataSource<E>::shared_ptr src) : src_(std::move(src)) {
+    refresh();
+  }
+  std::string get() const override { return refresh(); }
+  std::string value() const override { return refresh(); }
+  const std::string& rvalue() const override { return refresh(); }
+  void set(typename RTT::internal::AssignableDataSource<std::string>::param_t t) override { name_ = t; }
+  std::string& set() override { return name_; }
+  EnumNameDataSource* clone() const override { return new EnumNameDataSource(src_); }
+  EnumNameDataSource* copy(std::map<const RTT::base::DataSourceBase*, RTT::base::DataSourceBase*>& done) const override {
+    const auto it = done.find(this);
+    if (it != done.end()) return static_cast<EnumNameDataSource*>(it->second);
+    auto* c = new EnumNameDataSource(src_->copy(done));
+    done[this] = c;
+    return c;
+  }
+
+ private:
+  const std::string& refresh() const {
+    src_->evaluate();
+    const E e = src_->rvalue();
+    if (!seen_ || e != last_) {
+      seen_ = true;
+      last_ = e;
+      name_ = tactile::toString(e);
+    }
+    return name_;
+  }
+  typename RTT::internal::DataSource<E>::shared_ptr src_;
+  mutable bool seen_ = false;
+  mutable E last_{};
+  mutable std::string name_;
+};
 
 /// Enums (enum class, uint8_t based): automatic conversion to and from int,
 /// and decomposition to the value's name (property files, reporting, the task
@@ -45,7 +91,7 @@ class NamedEnumTypeInfo : public RTT::types::TemplateTypeInfo<E, false> {
   RTT::base::DataSourceBase::shared_ptr decomposeType(RTT::base::DataSourceBase::shared_ptr source) const override {
     typename RTT::internal::DataSource<E>::shared_ptr ds = RTT::internal::DataSource<E>::narrow(source.get());
     if (!ds) return RTT::base::DataSourceBase::shared_ptr();
-    return new RTT::internal::ValueDataSource<std::string>(toString(ds->get()));
+    return new EnumNameDataSource<E>(ds);  // live: follows the source (reporting)
   }
 
   bool composeType(RTT::base::DataSourceBase::shared_ptr source,

@@ -4,12 +4,18 @@
 //
 // Interface (documented with .doc() in the constructor):
 //   property program_file (string)  YAML phase program (components/servo/programs/*.yaml)
+//   property controller_mode (string) '' = the program's controller.mode, or
+//            proposed | baseline (Li et al., Sec. 5.2.1): the deployment picks
+//            the controller by its .cpf, as the runner's scene key `controller`
 //   in   features     (/tactile/ContactFeatures)  from tactile::FeatureComponent
 //   in   flange_pose  (/tactile/Pose)             measured {g}T{e} (LWR simulator / FRI bridge)
 //   out  pose_command (/tactile/PoseCommand)      desired {g}T{e} (LWR simulator / FRI bridge)
 //   out  phase        (/tactile/PhaseState)       where the phase program is
 //   op   bool switchPhase(string name)  switch phase at the next cycle (false: unknown name)
 //   op   string phaseName()             name of the current phase
+//   op   int phaseIndex()               index of the current phase (no string built)
+//   op   int phaseIndexOf(string name)  index of a phase of the program (-1: unknown)
+//   op   string controllerMode()        controller in use (proposed | baseline)
 //   op   string lastError()             message of the last failed configure()
 //   attr last_status (int)              ServoStatus of the last cycle
 //
@@ -41,10 +47,15 @@ class ServoComponent : public RTT::TaskContext {
 
   bool switchPhase(const std::string& name);
   std::string phaseName() const;
+  int phaseIndex() const;
+  int phaseIndexOf(const std::string& name) const;
+  std::string controllerMode() const { return mode_in_use_; }
   std::string lastError() const { return last_error_; }
 
  private:
   std::string program_file_;
+  std::string controller_mode_;
+  std::string mode_in_use_;
   std::string last_error_;
   int last_status_ = static_cast<int>(ServoStatus::NotConfigured);
 

@@ -1,0 +1,83 @@
+#!/usr/bin/env bash
+# Runs one experiment as Orocos components under the OCL deployer, on the
+# simulated LWR 4+ and WTS0614, headless, and writes what `tactile_sim run`
+# writes for it: out/deploy/<experiment>[_baseline]/timeseries.csv,
+# summary.json and the PNG plots of scripts/plot_run.py.
+#
+#   scripts/run_deployment.sh EXPERIMENT [--controller proposed|baseline]
+#     EXPERIMENT: edge_exploration | bent_bar | co_manipulation | sphere_table
+#     --controller baseline: the Li et al. baseline (bent bar only; the servo's
+#       .cpf servo_bent_bar_baseline.cpf, the same program)
+#
+# It runs deployments/<experiment>_sim_run.ops with `deployer-gnulinux
+# --check -s` from deployments/ (the deployer exits after the script: 0, or
+# 255 at the first failed step, named in the log), in wall-clock time (the
+# simulated arm runs at 1 kHz real time: ~15-25 s per experiment). The
+# reporter's file (deployments/<experiment>_sim.dat) is moved to the output
+# directory and converted by scripts/deployment_to_run.py. One run at a time
+# (the report file and deployments/orocos.log are per directory).
+# Environment: BUILD (default <repo>/build), OROCOS (default /opt/orocos).
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build="${BUILD:-$root/build}"
+orocos="${OROCOS:-/opt/orocos}"
+py=/usr/bin/python3
+
+usage() { echo "usage: $0 edge_exploration|bent_bar|co_manipulation|sphere_table [--controller proposed|baseline]" >&2; exit 2; }
+[ $# -ge 1 ] || usage
+exp="$1"; shift
+controller=proposed
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --controller) [ $# -ge 2 ] || usage; controller="$2"; shift 2 ;;
+    *) usage ;;
+  esac
+done
+case "$exp" in
+  edge_exploration) servo_cpf=servo_edge_exploration.cpf ;;
+  bent_bar) servo_cpf=servo_bent_bar.cpf ;;
+  co_manipulation) servo_cpf=servo_co_manipulation.cpf ;;
+  sphere_table) servo_cpf=servo_edge_exploration.cpf ;;
+  *) usage ;;
+esac
+case "$controller" in
+  proposed) run="$exp" ;;
+  baseline)
+    [ "$exp" = bent_bar ] || { echo "$0: --controller baseline: only the bent bar has a baseline deployment" >&2; exit 2; }
+    run=bent_bar_baseline; servo_cpf=servo_bent_bar_baseline.cpf ;;
+  *) usage ;;
+esac
+
+deployer="$orocos/bin/deployer-gnulinux"
+[ -x "$deployer" ] || { echo "$0: no OCL deployer at $deployer" >&2; exit 1; }
+[ -d "$build/lib/orocos" ] || { echo "$0: no RTT components in $build/lib/orocos (build with -DTACTILE_WITH_RTT=ON)" >&2; exit 1; }
+out="$root/out/deploy/$run"
+mkdir -p "$out"
+dep="$root/deployments"
+report="$dep/${run}_sim.dat"
+rm -f "$report"
+
+echo "run_deployment: $run (deployments/${run}_sim_run.ops) -> $out"
+start=$(date +%s.%N)
+rc=0
+(cd "$dep" && RTT_COMPONENT_PATH="$build/lib/orocos:$orocos/lib/orocos" \
+   "$deployer" --check -linfo -s "${run}_sim_run.ops" < /dev/null) > "$out/deployer.log" 2>&1 || rc=$?
+end=$(date +%s.%N)
+cp "$dep/orocos.log" "$out/orocos.log" 2>/dev/null || true
+grep -E "deployment step failed|robot status at the end|\[(BentBar|CoManipulation|Sphere|Edge)[A-Za-z]*\]" "$out/deployer.log" | sed 's/^[0-9.]* \[[^]]*\]\[[^]]*\] //' || true
+if [ ! -s "$report" ]; then
+  echo "run_deployment: no report file (deployer exit $rc); see $out/deployer.log" >&2
+  exit 1
+fi
+mv "$report" "$out/report.dat"
+scene="$root/sim/scenes/$exp.yaml"
+robot_status=$(sed -n 's/.*robot status at the end: \([a-z_]*\).*/\1/p' "$out/deployer.log" | tail -1)
+"$py" "$root/scripts/deployment_to_run.py" "$out/report.dat" "$out" --servo-cpf "$dep/$servo_cpf" \
+  --scene "$scene" --experiment "$run" --source sim --deployer-exit "$rc" --robot-status "$robot_status" \
+  --wall-time "$("$py" -c "print($end - $start)")"
+"$py" "$root/scripts/plot_run.py" "$out"
+if [ "$run" = bent_bar_baseline ] && [ -f "$root/out/deploy/bent_bar/summary.json" ]; then
+  "$py" "$root/scripts/plot_run.py" "$root/out/deploy/bent_bar" --compare "$out"
+fi
+echo "run_deployment: deployer exit $rc; $out/{timeseries.csv,summary.json,*.png}"
+exit "$rc"
