@@ -19,7 +19,7 @@
 //  * Q is the pressure-weighted covariance (second central moments / M00),
 //    not the unweighted sample covariance of Eq. B.4 over n = 84 pixels: the
 //    weighted form is what "PCA of the tactile image" means for a grey image
-//    and is what the issue specifies.
+//    and uses the same force weights as the moments of Eq. B.1-B.3.
 //  * alpha_z is an axis angle, defined modulo pi. It is wrapped to
 //    (-pi/2, pi/2]. To keep a slowly rotating edge from flipping between
 //    +pi/2 and -pi/2 from one frame to the next, the extractor keeps the
