@@ -15,6 +15,7 @@
 #include "tactile_servo/program_io.hpp"
 #include "tactile_servo/servo.hpp"
 #include "tactile_sim/pad_sensor.hpp"
+#include "tactile_types/sensor_geometry.hpp"
 #include "tactile_types/types.hpp"
 #include "tactile_wts/protocol.hpp"
 
@@ -60,6 +61,9 @@ int main() {
   check(std::fabs(f.cop_x) < 1e-12, "CoP x = 0 (got " + std::to_string(f.cop_x) + ")");
   check(std::fabs(f.cop_y + 0.5 * fp.pitch) < 1e-12, "CoP y = -pitch/2 (got " + std::to_string(f.cop_y) + ")");
   check(f.contact == ContactType::Point, "two taxels are a point contact");
+  const SensorGeometry g = fp.geometry();
+  check(std::fabs(f.cop_x - 0.5 * (g.x(6) + g.x(7))) < 1e-12 && std::fabs(f.cop_y - g.y(2)) < 1e-12,
+        "CoP between the SensorGeometry centres of the two taxels");
 
   // Servo: a shipped phase program configures the servo.
   ServoParams sp;
