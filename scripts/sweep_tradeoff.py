@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Speed/accuracy trade of the headless simulator (issue 4, item 6).
+"""Speed/accuracy trade of the headless simulator.
 
 usage: sweep_tradeoff.py [--sim build/bin/tactile_sim] [--out out/tradeoff] [--quick]
 

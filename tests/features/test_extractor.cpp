@@ -371,7 +371,7 @@ TEST(FeatureExtremes, ContactTypeHysteresisDoesNotChatter) {
 // ---------------------------------------------------------------- ground truth
 
 TEST(FeatureGroundTruth, SphereCoPWithinTenthOfAMillimetre) {
-  // Tolerance 0.1 mm (issue): the taxel quantisation of a smooth, compact
+  // Tolerance 0.1 mm (the ground-truth target): the taxel quantisation of a smooth, compact
   // pressure field. Truth: the sphere's lowest point, the analytic pressure
   // centre of a rotationally symmetric field fully inside the active area.
   std::mt19937 rng(5);

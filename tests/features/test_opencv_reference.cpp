@@ -1,7 +1,7 @@
 // Reference check: FeatureExtractor against an independent OpenCV pipeline
 // (opencv_reference.hpp) on thousands of random frames.
 //
-// Tolerance: 1e-9 relative (issue), with an absolute floor of 1e-9 * pitch for
+// Tolerance: 1e-9 relative, with an absolute floor of 1e-9 * pitch for
 // positions near zero and 1e-9 * lambda1 for eigenvalues: both sides compute
 // the same sums in double precision in a different order, so they differ by
 // round-off (~1e-15 relative); 1e-9 leaves room for the eigen solver.

@@ -1,7 +1,7 @@
 // The paper's experiments, reproduced headless and asserted on the runner's
-// summary (issue 4, item 5). Each test runs a shipped scene in-process with the
+// summary (Sec. 5: Fig. 10, 12, 14). Each test runs a shipped scene in-process with the
 // same cores the RTT components wrap; numbers come from the physics, not from
-// scripting. Tolerances are the issue's unless stated.
+// scripting. Tolerances are the targets of README.md's experiment table unless stated.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -91,7 +91,7 @@ TEST(Experiments, EdgeExploration) {
 }
 
 // The same exploration with every 1 kHz command going through FRI packets and
-// the bridge (issue 5: "the full headless loop can run through FRI").
+// the bridge: the full headless loop can run through FRI.
 TEST(Experiments, EdgeExplorationThroughFri) {
   Scene sc;
   ASSERT_TRUE(loadScene(kScenes + "edge_exploration.yaml", sc).ok());

@@ -14,6 +14,7 @@
 #include "tactile_features/calibration.hpp"
 #include "tactile_sim/lwr_arm.hpp"
 #include "tactile_sim/pad_sensor.hpp"
+#include "tactile_types/sensor_geometry.hpp"
 
 using namespace tactile;
 using namespace tactile::sim;
@@ -208,14 +209,14 @@ ContactEval referenceEvaluate(const PadParams& p, const ObjectSet& objects, cons
   ContactEval out;
   const int k = p.physics_subsamples;
   const double h = p.pitch / k, ks = p.modulus * h * h;
+  const SensorGeometry geometry{p.rows, p.cols, p.pitch};
   const int tray = objects.trayIndex();
   const KDL::Vector zs = T_gs.M.UnitZ();
   for (int r = 0; r < p.rows; ++r)
     for (int c = 0; c < p.cols; ++c)
       for (int i = 0; i < k; ++i)
         for (int j = 0; j < k; ++j) {
-          const double x = (c - (p.cols - 1) / 2.0) * p.pitch - 0.5 * p.pitch + (j + 0.5) * h;
-          const double y = (r - (p.rows - 1) / 2.0) * p.pitch - 0.5 * p.pitch + (i + 0.5) * h;
+          const double x = geometry.sampleX(c, j, k), y = geometry.sampleY(r, i, k);
           int which;
           const double d = -objects.lowestZ(x, y, which);
           if (!(d > 0.0) || d > p.depth_limit) continue;

@@ -59,8 +59,8 @@ CellMap defaultMap() {
 
 }  // namespace
 
-TEST(WtsCrc, KnownVectorFromTheIssue) {
-  // issue 5: "AA AA AA 20 01 00 00 is followed by CRC bytes 8F 83"
+TEST(WtsCrc, KnownVectorOfTheWireFormat) {
+  // protocol.hpp's WIRE FORMAT: "AA AA AA 20 01 00 00 -> CRC bytes 8F 83"
   uint8_t buf[16];
   const std::size_t n = encodeReadSingleFrame(false, buf, sizeof(buf));
   const std::vector<uint8_t> got(buf, buf + n);
@@ -92,7 +92,7 @@ TEST(WtsPacket, SingleFrameReplyIs183Bytes) {
   const CellMap m = defaultMap();
   uint16_t s[84] = {};
   const auto pkt = framePacket(m, s, 0, false, 0x20);
-  EXPECT_EQ(pkt.size(), 183u);  // issue 5
+  EXPECT_EQ(pkt.size(), 183u);  // 3 preamble + id + 2 size + 2 status + 4 time + flags + 84 x 2 cells + 2 crc
   const auto periodic = framePacket(m, s, 0, false, 0x00);
   EXPECT_EQ(periodic.size(), 181u);  // no status code in periodic frames
 }

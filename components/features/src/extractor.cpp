@@ -33,8 +33,9 @@ ConfigResult FeatureExtractor::configure(const FeatureParams& p) {
     return rangeError("features.isotropy_tol", p.isotropy_tol, "must be in [0, 1)");
 
   params_ = p;
-  for (int c = 0; c < p.cols; ++c) xs_[static_cast<std::size_t>(c)] = (c - (p.cols - 1) / 2.0) * p.pitch;
-  for (int r = 0; r < p.rows; ++r) ys_[static_cast<std::size_t>(r)] = (r - (p.rows - 1) / 2.0) * p.pitch;
+  const SensorGeometry g = p.geometry();
+  for (int c = 0; c < p.cols; ++c) xs_[static_cast<std::size_t>(c)] = g.x(c);
+  for (int r = 0; r < p.rows; ++r) ys_[static_cast<std::size_t>(r)] = g.y(r);
   reset();
   configured_ = true;
   return ConfigResult::success();

@@ -22,6 +22,7 @@
 #include <thread>
 #include <vector>
 
+#include "tactile_types/sensor_geometry.hpp"
 #include "tactile_wts/sim_device.hpp"
 
 namespace {
@@ -112,7 +113,7 @@ int main(int argc, char** argv) {
     }
     sim.setRecording(std::move(frames));
   } else if (pattern == "blob" || pattern == "ramp" || pattern == "zero") {
-    const double pitch = 0.0034;
+    const tactile::SensorGeometry geometry{rows, cols, tactile::kDefaultPitch};
     sim.setSource([=](uint32_t t_ms, tactile::RawTactileFrame& f) {
       const double t = t_ms * 1e-3;
       const double cx = 0.012 * std::cos(0.5 * t), cy = 0.004 * std::sin(0.5 * t);
@@ -120,7 +121,7 @@ int main(int argc, char** argv) {
         for (int c = 0; c < cols; ++c) {
           double v = 0;
           if (pattern == "blob") {
-            const double x = (c - (cols - 1) / 2.0) * pitch, y = (r - (rows - 1) / 2.0) * pitch;
+            const double x = geometry.x(c), y = geometry.y(r);
             v = 2000.0 * std::exp(-((x - cx) * (x - cx) + (y - cy) * (y - cy)) / (2 * 0.004 * 0.004));
           } else if (pattern == "ramp") {
             v = std::fmod((r * cols + c) * 40.0 + t_ms, 4096.0);

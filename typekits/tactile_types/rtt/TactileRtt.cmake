@@ -51,5 +51,47 @@ function(tactile_rtt_library target kind)
     INSTALL_RPATH_USE_LINK_PATH TRUE)  # liborocos-rtt etc. from their install dirs
   if(inst)
     install(TARGETS ${target} LIBRARY DESTINATION ${inst})
+    # Its headers (rtt/include/), for code that links or extends it.
+    if(IS_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include)
+      install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ DESTINATION include)
+    endif()
+    set_property(GLOBAL APPEND PROPERTY TACTILE_RTT_INSTALLED_${kind} ${target}-${OROCOS_TARGET})
   endif()
+endfunction()
+
+# tactile_rtt_generate_package(): <prefix>/lib/pkgconfig/tactile-<target>.pc for
+# the installed typekit and components, in the form of UseOROCOS-RTT's
+# orocos_generate_package() (orocos_libdir = the package directory, -l of each
+# component, types/ for the typekit), but relocatable (prefix from the .pc's
+# own location) and with the headers in <prefix>/include.
+function(tactile_rtt_generate_package)
+  get_property(comps GLOBAL PROPERTY TACTILE_RTT_INSTALLED_COMPONENT)
+  get_property(types GLOBAL PROPERTY TACTILE_RTT_INSTALLED_TYPEKIT)
+  set(libs "")
+  if(comps)
+    list(TRANSFORM comps PREPEND "-l")
+    list(JOIN comps " " comps)
+    string(APPEND libs " -L\${orocos_libdir} ${comps}")
+  endif()
+  if(types)
+    list(TRANSFORM types PREPEND "-l")
+    list(JOIN types " " types)
+    string(APPEND libs " -L\${orocos_libdir}/types ${types}")
+  endif()
+  set(pc_name ${TACTILE_RTT_PACKAGE}-${OROCOS_TARGET})
+  file(WRITE ${CMAKE_BINARY_DIR}/${pc_name}.pc
+"# Orocos package '${TACTILE_RTT_PACKAGE}' of tactile_servo (typekit and components).
+prefix=\${pcfiledir}/../..
+libdir=\${prefix}/lib
+includedir=\${prefix}/include
+orocos_libdir=\${libdir}/orocos/${OROCOS_TARGET}/${TACTILE_RTT_PACKAGE}
+
+Name: ${pc_name}
+Description: ${pc_name} package for Orocos (tactile_servo's typekit and components)
+Requires: orocos-rtt-${OROCOS_TARGET} eigen3 orocos-kdl yaml-cpp
+Version: ${PROJECT_VERSION}
+Libs:${libs}
+Cflags: -I\${includedir}
+")
+  install(FILES ${CMAKE_BINARY_DIR}/${pc_name}.pc DESTINATION lib/pkgconfig)
 endfunction()

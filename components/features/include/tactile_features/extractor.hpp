@@ -19,7 +19,7 @@
 //  * Q is the pressure-weighted covariance (second central moments / M00),
 //    not the unweighted sample covariance of Eq. B.4 over n = 84 pixels: the
 //    weighted form is what "PCA of the tactile image" means for a grey image
-//    and is what the issue specifies.
+//    and uses the same force weights as the moments of Eq. B.1-B.3.
 //  * alpha_z is an axis angle, defined modulo pi. It is wrapped to
 //    (-pi/2, pi/2]. To keep a slowly rotating edge from flipping between
 //    +pi/2 and -pi/2 from one frame to the next, the extractor keeps the
@@ -42,6 +42,7 @@
 #include <cstdint>
 
 #include "tactile_types/config_result.hpp"
+#include "tactile_types/sensor_geometry.hpp"
 #include "tactile_types/types.hpp"
 
 namespace tactile {
@@ -64,6 +65,9 @@ struct FeatureParams {
   double edge_min_length = 2.5 * kDefaultPitch;
   double alpha_hysteresis = 10.0 * kPi / 180; ///< rad, in [0, pi/4]
   double isotropy_tol = 1e-6;                 ///< relative eigenvalue gap below which alpha_z is held, in [0, 1)
+
+  /// The taxel layout in {s} these parameters describe.
+  SensorGeometry geometry() const { return SensorGeometry{rows, cols, pitch}; }
 };
 
 /// Intermediate moments, exposed for tests and tools.
@@ -89,7 +93,7 @@ class FeatureExtractor {
   /// Binarisation threshold used for the last frame (N).
   double lastThreshold() const { return last_threshold_; }
 
-  /// Taxel centre in {s} (m).
+  /// Taxel centre in {s} (m): SensorGeometry::x(col), y(row), tabulated.
   double taxelX(int col) const { return xs_[static_cast<std::size_t>(col)]; }
   double taxelY(int row) const { return ys_[static_cast<std::size_t>(row)]; }
 

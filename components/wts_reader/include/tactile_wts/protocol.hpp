@@ -3,7 +3,7 @@
 // codes, and the mapping from the device's cell order to the {s} layout.
 // RTT-free, exception-free and allocation-free after configure().
 //
-// WIRE FORMAT (facts from public WTS drivers; issue 5):
+// WIRE FORMAT (facts from public WTS drivers):
 //   packet  = AA AA AA | id (u8) | size (u16 LE) | payload[size] | crc (u16 LE)
 //   crc     = CRC-CCITT table (poly 0x1021), start 0xFFFF,
 //             crc = T[(crc ^ b) & 0xFF] ^ (crc >> 8), over every byte from the

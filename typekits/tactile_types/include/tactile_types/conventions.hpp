@@ -17,7 +17,8 @@
 // TAXEL LAYOUT. A frame has `rows` x `cols` taxels stored row-major, row 0
 // first. Taxel (row r, col c) has its centre in {s} at
 //     x = (c - (cols-1)/2) * pitch,   y = (r - (rows-1)/2) * pitch,  z = 0.
-// Default WTS0614: rows = 6, cols = 14, pitch = 3.4 mm.
+// Default WTS0614: rows = 6, cols = 14, pitch = 3.4 mm. In code:
+// tactile::SensorGeometry (sensor_geometry.hpp), x(c) and y(r).
 //
 // POSES. A pose is a position (m) and a unit quaternion (x, y, z, w).
 // A twist/increment is ordered [vx vy vz wx wy wz] (translation first), as in
