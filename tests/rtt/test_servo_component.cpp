@@ -93,7 +93,10 @@ TEST(ServoComponent, InterfaceIsDeclaredAndDocumented) {
     ASSERT_NE(c.ports()->getPort(port), nullptr) << port;
     EXPECT_FALSE(c.ports()->getPort(port)->getDescription().empty()) << port;
   }
-  ASSERT_NE(c.properties()->getProperty("program_file"), nullptr);
+  for (const char* prop : {"program_file", "period"}) {
+    ASSERT_NE(c.properties()->getProperty(prop), nullptr) << prop;
+    EXPECT_FALSE(c.properties()->getProperty(prop)->getDescription().empty()) << prop;
+  }
   for (const char* op : {"switchPhase", "phaseName", "lastError"}) {
     EXPECT_TRUE(c.provides()->hasOperation(op)) << op;
     EXPECT_FALSE(c.provides()->getDescription(op).empty()) << op;
