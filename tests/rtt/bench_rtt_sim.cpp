@@ -1,6 +1,6 @@
 // Cost of the RTT layer around the simulator: one LwrSimComponent cycle (write
-// pose_command, update(), read flange_pose; acquisitions at 140 Hz of simulated
-// time) against the same World + Calibration calls made directly, in the same
+// pose_command, update(), read flange_pose; force images at 140 Hz of simulated
+// time) against the same World::step + World::acquireForces calls made directly, in the same
 // run, on the same command sequence (edge exploration scene, sensor pressed on
 // the bar, the command sliding 0.1 mm back and forth so the quasi-static solve
 // runs every step).
@@ -14,7 +14,6 @@
 #include <cmath>
 #include <string>
 
-#include "tactile_features/calibration.hpp"
 #include "tactile_sim/scene.hpp"
 #include "tactile_sim/world.hpp"
 #include "tactile_sim_rtt/lwr_sim_component.hpp"
@@ -42,8 +41,7 @@ void BM_WorldDirect(benchmark::State& state) {
   tactile::sim::WorldParams wp = scene.world;
   wp.seed = scene.seed;
   tactile::sim::World world;
-  tactile::Calibration cal;
-  if (!world.configure(wp).ok() || !cal.configure(world.calibration()).ok()) {
+  if (!world.configure(wp).ok()) {
     state.SkipWithError("configure");
     return;
   }
@@ -51,7 +49,6 @@ void BM_WorldDirect(benchmark::State& state) {
   tactile::sim::SimState st = world.state();
   const tactile::Pose start = st.flange_g;
   tactile::sim::SensorTruth truth;
-  tactile::RawTactileFrame raw;
   tactile::TactileFrame frame;
   double next = 0.0;
   long k = 0;
@@ -59,8 +56,7 @@ void BM_WorldDirect(benchmark::State& state) {
     world.step(command(start, k++), dt, st);
     if (st.time_s + 0.25 * dt >= next) {
       next += wts;
-      world.acquire(raw, truth);
-      cal.step(raw, frame);
+      world.acquireForces(frame, truth);
     }
     benchmark::DoNotOptimize(st);
     benchmark::DoNotOptimize(frame);
@@ -78,7 +74,7 @@ void BM_LwrSimComponentCycle(benchmark::State& state) {
   RTT::InputPort<tactile::TactileFrame> frame_in("frame_in");
   cmd_out.connectTo(comp.ports()->getPort("pose_command"));
   comp.ports()->getPort("flange_pose")->connectTo(&pose_in);
-  comp.ports()->getPort("frame")->connectTo(&frame_in);
+  comp.ports()->getPort("taxel_forces")->connectTo(&frame_in);
   if (!comp.configure() || !comp.start()) {
     state.SkipWithError("configure/start");
     return;

@@ -40,6 +40,7 @@ namespace {
 
 using tactile::Pose;
 using tactile::PoseCommand;
+using tactile::Wrench;
 namespace fri = tactile::fri;
 
 const auto* const env =
@@ -72,7 +73,7 @@ struct Rig {
   CountingFri comp{"fri"};
   RTT::OutputPort<PoseCommand> command_out{"command_out"};
   RTT::InputPort<Pose> pose_in{"pose_in"};
-  RTT::InputPort<std::vector<double>> wrench_in{"wrench_in"};
+  RTT::InputPort<Wrench> wrench_in{"wrench_in"};
   RTT::TaskContext io{"io"};  // declared last: destroyed before the ports it holds
 
   Rig(RTT::base::ActivityInterface* activity, const std::string& param_file) {
@@ -196,9 +197,9 @@ void followSimKrc(Rig& rig) {
   EXPECT_NEAR(got.p[0], krc.plantState().pose.p.x(), 1e-4);
   EXPECT_NEAR(got.p[1], krc.plantState().pose.p.y(), 1e-4);
   EXPECT_NEAR(got.p[2], krc.plantState().pose.p.z(), 1e-4);
-  std::vector<double> w;
+  Wrench w;
   EXPECT_NE(rig.wrench_in.read(w), RTT::NoData);
-  EXPECT_EQ(w.size(), 6u);
+  for (double v : w.w) EXPECT_TRUE(std::isfinite(v));
   EXPECT_GE(rig.attr("received"), 1500);
   EXPECT_GE(rig.attr("replies"), 1495);
   EXPECT_EQ(rig.attr("fri_state"), static_cast<int>(fri::State::Cmd));
@@ -273,7 +274,7 @@ TEST(FriBridgeComponent, OnePacketPerUpdateMalformedAndTimeoutsAndNoAllocation) 
   desired.pose = tactile::toPose(KDL::Frame(start.M, start.p + KDL::Vector(0.0, 0.0, -0.01)));
   desired.status = tactile::ServoStatus::Ok;
   Pose pose;
-  std::vector<double> wrench(6);
+  Wrench wrench;
 
   // Warm-up cycles (first port samples, first reply).
   for (int k = 0; k < 20; ++k) {
@@ -371,7 +372,7 @@ TEST(FriBridgeComponent, FileDescriptorActivityOneCycleAndOneReplyPerPacketWithT
     return c.p.z();
   };
   Pose pose;
-  std::vector<double> wrench(6);
+  Wrench wrench;
   for (int i = 0; i < 20; ++i) {  // warm-up (first port samples, start() trigger consumed)
     command();
     krc.send();

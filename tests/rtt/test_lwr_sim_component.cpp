@@ -1,5 +1,7 @@
-// tactile::LwrSimComponent in-process: SlaveActivity, update() by hand, outputs
-// compared with tactile::sim::World driven directly from the same scene.
+// tactile::LwrSimComponent (the simulated arm) and tactile::WtsSimComponent
+// (the simulated sensor) in-process: SlaveActivity, update() by hand, outputs
+// compared with tactile::sim::World and tactile::sim::TaxelResponse driven
+// directly from the same scene.
 #include <gtest/gtest.h>
 
 #include <rtt/InputPort.hpp>
@@ -17,7 +19,10 @@
 #include "tactile_features/calibration.hpp"
 #include "tactile_sim/scene.hpp"
 #include "tactile_sim/world.hpp"
+#include "tactile_sim/loop.hpp"
+#include "tactile_sim/taxel_response.hpp"
 #include "tactile_sim_rtt/lwr_sim_component.hpp"
+#include "tactile_sim_rtt/wts_sim_component.hpp"
 #include "support/rtt_environment.hpp"
 #include "temp_file.hpp"
 
@@ -35,23 +40,33 @@ const std::string kScene = TACTILE_SCENE_DIR "/edge_exploration.yaml";
 
 struct Rig {
   tactile::LwrSimComponent comp{"sim"};
+  tactile::WtsSimComponent sensor{"sensor"};
   RTT::OutputPort<PoseCommand> command_out{"command_out"};
   RTT::InputPort<Pose> pose_in{"pose_in"};
+  RTT::InputPort<TactileFrame> forces_in{"forces_in"};
+  RTT::InputPort<tactile::SimTruth> truth_in{"truth_in"};
+  RTT::InputPort<tactile::Wrench> wrench_in{"wrench_in"};
   RTT::InputPort<RawTactileFrame> raw_in{"raw_in"};
-  RTT::InputPort<TactileFrame> frame_in{"frame_in"};
   RTT::TaskContext io{"io"};  // declared last: destroyed before the ports it holds
 
   explicit Rig(const std::string& scene) {
     comp.setActivity(new RTT::extras::SlaveActivity(0.001));
+    sensor.setActivity(new RTT::extras::SlaveActivity(0.0));
     io.ports()->addPort(command_out);
     io.ports()->addPort(pose_in);
+    io.ports()->addPort(forces_in);
+    io.ports()->addPort(truth_in);
+    io.ports()->addPort(wrench_in);
     io.ports()->addPort(raw_in);
-    io.ports()->addPort(frame_in);
     comp.properties()->getPropertyType<std::string>("scene_file")->set(scene);
+    sensor.properties()->getPropertyType<std::string>("scene_file")->set(scene);
     EXPECT_TRUE(command_out.connectTo(comp.ports()->getPort("pose_command")));
     EXPECT_TRUE(comp.ports()->getPort("flange_pose")->connectTo(&pose_in));
-    EXPECT_TRUE(comp.ports()->getPort("raw_frame")->connectTo(&raw_in));
-    EXPECT_TRUE(comp.ports()->getPort("frame")->connectTo(&frame_in));
+    EXPECT_TRUE(comp.ports()->getPort("taxel_forces")->connectTo(&forces_in));
+    EXPECT_TRUE(comp.ports()->getPort("truth")->connectTo(&truth_in));
+    EXPECT_TRUE(comp.ports()->getPort("estimated_wrench")->connectTo(&wrench_in));
+    EXPECT_TRUE(comp.ports()->getPort("taxel_forces")->connectTo(sensor.ports()->getPort("taxel_forces")));
+    EXPECT_TRUE(sensor.ports()->getPort("raw_frame")->connectTo(&raw_in));
     command_out.setDataSample(PoseCommand());
   }
   template <typename T>
@@ -66,11 +81,12 @@ std::string writeTemp(const std::string& name, const std::string& text) {
 
 TEST(LwrSimComponent, InterfaceIsDeclaredAndDocumented) {
   tactile::LwrSimComponent c("s");
-  for (const char* port : {"pose_command", "flange_pose", "raw_frame", "frame"}) {
+  for (const char* port : {"pose_command", "flange_pose", "estimated_wrench", "taxel_forces", "truth"}) {
     ASSERT_NE(c.ports()->getPort(port), nullptr) << port;
     EXPECT_FALSE(c.ports()->getPort(port)->getDescription().empty()) << port;
   }
-  for (const char* prop : {"scene_file", "wts_period"}) {
+  EXPECT_EQ(c.ports()->getPort("raw_frame"), nullptr) << "the sensor is a separate component";
+  for (const char* prop : {"scene_file"}) {
     ASSERT_NE(c.properties()->getProperty(prop), nullptr) << prop;
     EXPECT_FALSE(c.properties()->getProperty(prop)->getDescription().empty()) << prop;
   }
@@ -80,6 +96,14 @@ TEST(LwrSimComponent, InterfaceIsDeclaredAndDocumented) {
     EXPECT_TRUE(c.provides()->hasOperation(op)) << op;
     EXPECT_FALSE(c.provides()->getDescription(op).empty()) << op;
   }
+  tactile::WtsSimComponent w("w");
+  for (const char* port : {"taxel_forces", "raw_frame"}) {
+    ASSERT_NE(w.ports()->getPort(port), nullptr) << port;
+    EXPECT_FALSE(w.ports()->getPort(port)->getDescription().empty()) << port;
+  }
+  ASSERT_NE(w.properties()->getProperty("scene_file"), nullptr);
+  EXPECT_FALSE(w.properties()->getProperty("scene_file")->getDescription().empty());
+  EXPECT_NE(w.provides()->getAttribute("frames"), nullptr);
 }
 
 TEST(LwrSimComponent, ConfigureErrorsNameTheProblem) {
@@ -87,21 +111,13 @@ TEST(LwrSimComponent, ConfigureErrorsNameTheProblem) {
     tactile::LwrSimComponent c("s");
     EXPECT_FALSE(c.configure());
     EXPECT_NE(c.lastError().find("scene_file"), std::string::npos) << c.lastError();
+    EXPECT_FALSE(c.start());
   }
   {
     tactile::LwrSimComponent c("s");
     c.properties()->getPropertyType<std::string>("scene_file")->set("/nonexistent/scene.yaml");
     EXPECT_FALSE(c.configure());
     EXPECT_NE(c.lastError().find("/nonexistent/scene.yaml"), std::string::npos) << c.lastError();
-  }
-  {
-    tactile::LwrSimComponent c("s");
-    c.properties()->getPropertyType<std::string>("scene_file")->set(kScene);
-    c.properties()->getPropertyType<double>("wts_period")->set(-0.01);
-    EXPECT_FALSE(c.configure());
-    EXPECT_NE(c.lastError().find("wts_period"), std::string::npos) << c.lastError();
-    EXPECT_NE(c.lastError().find("(0, 1]"), std::string::npos) << c.lastError();
-    EXPECT_FALSE(c.start());
   }
   {
     // An invalid scene value: the scene loader's message (file and field) comes through.
@@ -112,14 +128,21 @@ TEST(LwrSimComponent, ConfigureErrorsNameTheProblem) {
     c.properties()->getPropertyType<std::string>("scene_file")->set(bad);
     EXPECT_FALSE(c.configure());
     EXPECT_NE(c.lastError().find("rates.sim"), std::string::npos) << c.lastError();
+    tactile::WtsSimComponent w("w");
+    w.properties()->getPropertyType<std::string>("scene_file")->set(bad);
+    EXPECT_FALSE(w.configure());
+    EXPECT_NE(w.lastError().find("rates.sim"), std::string::npos) << w.lastError();
   }
 }
 
-// The component is World::step + World::acquire + Calibration, nothing else:
-// drive a World from the same scene with the same commands and compare.
-TEST(LwrSimComponent, OutputsMatchTheWorldDrivenDirectly) {
+// The arm is World::step + World::acquireForces on the loop's schedule, the
+// sensor TaxelResponse on the file's calibration, nothing else: drive both
+// cores from the same scene with the same commands and compare.
+TEST(LwrSimComponent, OutputsMatchTheWorldAndTheResponseDrivenDirectly) {
   Rig rig(kScene);
   ASSERT_TRUE(rig.comp.configure()) << rig.comp.lastError();
+  ASSERT_TRUE(rig.sensor.configure()) << rig.sensor.lastError();
+  ASSERT_TRUE(rig.sensor.start());
   ASSERT_TRUE(rig.comp.start());
   EXPECT_DOUBLE_EQ(rig.attr<double>("sim_period"), 0.001);
 
@@ -129,17 +152,51 @@ TEST(LwrSimComponent, OutputsMatchTheWorldDrivenDirectly) {
   wp.seed = scene.seed;
   tactile::sim::World world;
   ASSERT_TRUE(world.configure(wp).ok());
-  tactile::Calibration cal;
-  ASSERT_TRUE(cal.configure(world.calibration()).ok());
+  tactile::sim::TaxelResponseParams rp;
+  rp.calibration = scene.calibration;
+  rp.noise_counts = scene.world.pad.noise_counts;
+  rp.threshold = scene.world.pad.threshold;
+  rp.seed = scene.seed;
+  tactile::sim::TaxelResponse response;
+  ASSERT_TRUE(response.configure(rp).ok());
+  tactile::sim::Schedule sched;
+  ASSERT_TRUE(sched.configure(scene.rates, scene.duration).ok());
+  tactile::Calibration cal;  // the reader's calibration: the same file
+  ASSERT_TRUE(cal.configure(scene.calibration).ok());
   tactile::sim::SimState st = world.state();
   tactile::sim::SensorTruth truth;
+  TactileFrame forces_want;
   RawTactileFrame raw_want;
-  TactileFrame frame_want;
 
-  const Pose start = st.flange_g;
+  const Pose start = st.command_g;
   Pose cmd = start;
-  double next_acq = 0.0;
   int frames = 0, with_contact = 0;
+  double worst_cal = 0.0;
+  auto acquisition = [&](int k) {  // the arm wrote the image of tick k's acquisition
+    world.acquireForces(forces_want, truth);
+    TactileFrame forces;
+    ASSERT_EQ(rig.forces_in.read(forces), RTT::NewData) << k;
+    EXPECT_EQ(forces.force, forces_want.force) << k;
+    // The sensor turns it into counts: TaxelResponse on the same seed.
+    ASSERT_TRUE(rig.sensor.update());
+    response.respond(forces_want, RTT::os::TimeService::Instance()->secondsSince(0), raw_want);
+    RawTactileFrame raw;
+    ASSERT_EQ(rig.raw_in.read(raw), RTT::NewData) << k;
+    EXPECT_EQ(raw.counts, raw_want.counts) << k;
+    EXPECT_EQ(raw.seq, static_cast<uint32_t>(frames));
+    EXPECT_DOUBLE_EQ(raw.time_s, RTT::os::TimeService::Instance()->secondsSince(0));  // the servo's clock
+    // Calibrated with the file, the counts give back the forces (noise, 12-bit, threshold).
+    TactileFrame back;
+    cal.step(raw, back);
+    for (int i = 0; i < back.size(); ++i)
+      if (forces_want.force[static_cast<std::size_t>(i)] > 0.5)
+        worst_cal = std::max(worst_cal, std::fabs(back.force[static_cast<std::size_t>(i)] -
+                                                  forces_want.force[static_cast<std::size_t>(i)]) /
+                                            forces_want.force[static_cast<std::size_t>(i)]);
+    ++frames;
+    if (truth.in_contact) ++with_contact;
+  };
+  acquisition(0);  // tick 0: written by start()
   const int steps = 3000;
   for (int k = 0; k < steps; ++k) {
     RTT::os::TimeService::Instance()->secondsChange(0.001);
@@ -153,39 +210,35 @@ TEST(LwrSimComponent, OutputsMatchTheWorldDrivenDirectly) {
     }
     ASSERT_TRUE(rig.comp.update());
     world.step(cmd, 0.001, st);
+    sched.advance();
     Pose got;
     ASSERT_EQ(rig.pose_in.read(got), RTT::NewData) << k;
     // Same code, same inputs: bit-identical (tolerance 0).
     ASSERT_EQ(got.p, st.flange_g.p) << k;
     ASSERT_EQ(got.q, st.flange_g.q) << k;
-    if (st.time_s + 0.25e-3 >= next_acq) {
-      next_acq += 1.0 / 140.0;
-      world.acquire(raw_want, truth);
-      cal.step(raw_want, frame_want);
-      RawTactileFrame raw;
-      TactileFrame frame;
-      ASSERT_EQ(rig.raw_in.read(raw), RTT::NewData) << k;
-      ASSERT_EQ(rig.frame_in.read(frame), RTT::NewData) << k;
-      ++frames;
-      EXPECT_EQ(raw.seq, raw_want.seq);
-      EXPECT_EQ(raw.counts, raw_want.counts) << k;
-      EXPECT_EQ(frame.force, frame_want.force) << k;
-      // Stamped with RTT's TimeService (the servo's clock), not the world time.
-      EXPECT_DOUBLE_EQ(raw.time_s, RTT::os::TimeService::Instance()->secondsSince(0));
-      EXPECT_EQ(frame.time_s, raw.time_s);
-      if (truth.in_contact) ++with_contact;
+    tactile::SimTruth t;
+    ASSERT_EQ(rig.truth_in.read(t), RTT::NewData) << k;
+    EXPECT_EQ(t.wrench_s, st.wrench_s) << k;
+    tactile::Wrench w;
+    ASSERT_EQ(rig.wrench_in.read(w), RTT::NewData) << k;
+    // The contact force at the flange in {g} axes (the torque moves with the reference point).
+    const KDL::Vector f_g = st.T_gs.M * KDL::Vector(st.wrench_s[0], st.wrench_s[1], st.wrench_s[2]);
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(w.w[static_cast<std::size_t>(i)], f_g(i), 1e-12) << k;
+    if (sched.fires().wts) {
+      acquisition(k + 1);
     } else {
-      RawTactileFrame raw;
-      EXPECT_NE(rig.raw_in.read(raw), RTT::NewData) << "no acquisition due at step " << k;
+      TactileFrame forces;
+      EXPECT_NE(rig.forces_in.read(forces), RTT::NewData) << "no acquisition due at step " << k;
     }
   }
-  // 3 s at 140 Hz: 420 or 421 acquisitions.
-  EXPECT_NEAR(frames, 420, 1);
+  // 3 s at 140 Hz: 420 or 421 acquisitions (plus tick 0's).
+  EXPECT_NEAR(frames, 421, 1);
   EXPECT_EQ(rig.attr<int>("frames"), frames);
   EXPECT_NEAR(rig.attr<double>("sim_time"), 3.0, 1e-9);
   // The ramp ends 11.2 cm lower: the sensor must have reached the bar.
   EXPECT_GT(with_contact, 10);
   EXPECT_LT(st.flange_g.p[2], start.p[2] - 0.02);
+  EXPECT_LT(worst_cal, 0.05) << "taxels above 0.5 N calibrate back within 5 % (6 counts of noise)";
 }
 
 TEST(LwrSimComponent, HoldsTheStartPoseWithoutCommandsAndRejectsNaN) {
@@ -208,29 +261,36 @@ TEST(LwrSimComponent, HoldsTheStartPoseWithoutCommandsAndRejectsNaN) {
     EXPECT_TRUE(std::isfinite(got.p[i]));
     EXPECT_NEAR(got.p[i], start.p[i], 1e-9);  // the last valid command (the start pose) held
   }
-  // restart: back to the scene's initial state
+  // restart: back to the scene's initial state (and its tick-0 image)
   ASSERT_TRUE(rig.comp.stop());
   ASSERT_TRUE(rig.comp.start());
   EXPECT_EQ(rig.attr<double>("sim_time"), 0.0);
-  EXPECT_EQ(rig.attr<int>("frames"), 0);
+  EXPECT_EQ(rig.attr<int>("frames"), 1);
 }
 
 TEST(LwrSimComponent, UpdateDoesNotAllocate) {
   Rig rig(kScene);
   ASSERT_TRUE(rig.comp.configure());
+  ASSERT_TRUE(rig.sensor.configure());
+  ASSERT_TRUE(rig.sensor.start());
   ASSERT_TRUE(rig.comp.start());
   Pose cmd = rig.comp.world().state().flange_g;
   PoseCommand pc;
   RawTactileFrame raw;
-  TactileFrame frame;
+  TactileFrame forces;
+  tactile::SimTruth truth;
+  tactile::Wrench wrench;
   Pose pose;
-  auto cycle = [&] {  // command in, one update, every output read
+  auto cycle = [&] {  // command in, one update of each, every output read
     pc.pose = cmd;
     rig.command_out.write(pc);
     rig.comp.update();
+    rig.sensor.update();
     rig.pose_in.read(pose);
+    rig.forces_in.read(forces);
+    rig.truth_in.read(truth);
+    rig.wrench_in.read(wrench);
     rig.raw_in.read(raw);
-    rig.frame_in.read(frame);
   };
   for (int k = 0; k < 50; ++k) cycle();  // warm-up: every port carried a sample once
   tactile::test::AllocationScope scope;

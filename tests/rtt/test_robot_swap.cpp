@@ -1,8 +1,9 @@
 // The robot swap (rtt_lwr style): tactile::LwrSimComponent and
 // tactile::FriBridgeComponent expose the same robot-side ports (names, types,
-// directions), so ServoComponent connects to either BY NAME, as a deployment
-// script does; and the simulator offers the sensor ports the WTS reader and the
-// FeatureComponent use.
+// directions), estimated_wrench included, so ServoComponent connects to either
+// BY NAME, as a deployment script does; and the simulated sensor
+// (tactile::WtsSimComponent) and the WTS reader (tactile::WtsComponent) offer
+// the same raw_frame port the FeatureComponent takes.
 #include <gtest/gtest.h>
 
 #include <rtt/TaskContext.hpp>
@@ -20,6 +21,8 @@
 #include "tactile_fri_rtt/fri_bridge_component.hpp"
 #include "tactile_servo_rtt/servo_component.hpp"
 #include "tactile_sim_rtt/lwr_sim_component.hpp"
+#include "tactile_sim_rtt/wts_sim_component.hpp"
+#include "tactile_wts_rtt/wts_component.hpp"
 #include "support/rtt_environment.hpp"
 
 namespace {
@@ -56,7 +59,7 @@ void wireServoTo(RTT::TaskContext& robot) {
 TEST(RobotSwap, SimAndFriExposeTheSameRobotPorts) {
   tactile::LwrSimComponent sim("Robot");
   tactile::FriBridgeComponent fri("Robot");
-  for (const char* name : {"pose_command", "flange_pose"}) {
+  for (const char* name : {"pose_command", "flange_pose", "estimated_wrench"}) {
     RTT::base::PortInterface* a = sim.ports()->getPort(name);
     RTT::base::PortInterface* b = fri.ports()->getPort(name);
     ASSERT_NE(a, nullptr) << name;
@@ -67,6 +70,7 @@ TEST(RobotSwap, SimAndFriExposeTheSameRobotPorts) {
   }
   EXPECT_TRUE(isInput(sim.ports()->getPort("pose_command")));
   EXPECT_FALSE(isInput(sim.ports()->getPort("flange_pose")));
+  EXPECT_FALSE(isInput(sim.ports()->getPort("estimated_wrench")));
 }
 
 TEST(RobotSwap, ServoConnectsToEitherByName) {
@@ -76,14 +80,16 @@ TEST(RobotSwap, ServoConnectsToEitherByName) {
   wireServoTo(fri);
 }
 
-TEST(RobotSwap, SimulatorFeedsTheFeatureComponentByName) {
-  tactile::LwrSimComponent sim("sim");
+TEST(RobotSwap, SimulatedAndRealSensorFeedTheFeatureComponentByName) {
+  tactile::WtsSimComponent sim("Sensor");
+  tactile::WtsComponent wts("Sensor");
   tactile::FeatureComponent features("features");
-  // the WTS reader's port (raw counts) and the calibrated frame input
-  EXPECT_TRUE(connectByName(sim, "raw_frame", features, "raw_frame"));
-  EXPECT_TRUE(connectByName(sim, "frame", features, "frame"));
-  sim.ports()->getPort("raw_frame")->disconnect();
-  sim.ports()->getPort("frame")->disconnect();
+  for (RTT::TaskContext* sensor : std::initializer_list<RTT::TaskContext*>{&sim, &wts}) {
+    EXPECT_TRUE(connectByName(*sensor, "raw_frame", features, "raw_frame"));
+    EXPECT_TRUE(features.ports()->getPort("raw_frame")->connected());
+    sensor->ports()->getPort("raw_frame")->disconnect();
+  }
+  EXPECT_EQ(sim.ports()->getPort("raw_frame")->getTypeInfo(), wts.ports()->getPort("raw_frame")->getTypeInfo());
 }
 
 }  // namespace

@@ -56,8 +56,10 @@ typename AssignableDataSource<M>::shared_ptr member(RTT::base::DataSourceBase::s
 TEST(RttTypekit, EveryTypeIsKnownUnderItsName) {
   for (const char* n : {"/tactile/RawTactileFrame", "/tactile/TactileFrame", "/tactile/ContactFeatures", "/tactile/Pose",
                         "/tactile/PoseCommand", "/tactile/PhaseState", "/tactile/ContactType", "/tactile/FeatureStatus",
-                        "/tactile/ServoStatus", "/uint16_t"})
+                        "/tactile/ServoStatus", "/tactile/Wrench", "/tactile/SimTruth", "/uint16_t"})
     EXPECT_NE(type(n), nullptr) << n;
+  EXPECT_EQ(rttName<tactile::Wrench>(), "/tactile/Wrench");
+  EXPECT_EQ(rttName<tactile::SimTruth>(), "/tactile/SimTruth");
   EXPECT_EQ(rttName<tactile::RawTactileFrame>(), "/tactile/RawTactileFrame");
   EXPECT_EQ(rttName<tactile::TactileFrame>(), "/tactile/TactileFrame");
   EXPECT_EQ(rttName<tactile::ContactFeatures>(), "/tactile/ContactFeatures");
@@ -78,6 +80,11 @@ TEST(RttTypekit, MemberNamesAreTheFieldNames) {
   EXPECT_EQ(type("/tactile/Pose")->getMemberNames(), (std::vector<std::string>{"p", "q"}));
   EXPECT_EQ(type("/tactile/PhaseState")->getMemberNames(),
             (std::vector<std::string>{"time_s", "t_enter_s", "index", "name", "status"}));
+  // estimated_wrench: fixed size (no std::vector on the port).
+  EXPECT_EQ(type("/tactile/Wrench")->getMemberNames(), (std::vector<std::string>{"time_s", "w"}));
+  EXPECT_EQ(type("/tactile/SimTruth")->getMemberNames(),
+            (std::vector<std::string>{"time_s", "wrench_s", "layer_force", "housing_force", "tray_pitch", "tray_roll",
+                                      "contact_point_g", "in_contact", "sensor_pose", "sim_status"}));
 }
 
 TEST(RttTypekit, PropertiesAndPortsOfEveryType) {

@@ -95,7 +95,7 @@ TEST(ServoComponent, InterfaceIsDeclaredAndDocumented) {
     ASSERT_NE(c.ports()->getPort(port), nullptr) << port;
     EXPECT_FALSE(c.ports()->getPort(port)->getDescription().empty()) << port;
   }
-  for (const char* prop : {"program_file", "controller_mode"}) {
+  for (const char* prop : {"program_file", "controller_mode", "period"}) {
     ASSERT_NE(c.properties()->getProperty(prop), nullptr) << prop;
     EXPECT_FALSE(c.properties()->getProperty(prop)->getDescription().empty()) << prop;
   }

@@ -84,85 +84,37 @@ ConfigResult PadSensor::configure(const PadParams& p) {
   n_samples_ = n;
   n_housing_ = nh;
   T_es_ = toFrame(p.mount);
-  rng_.seed(p.seed);
-  normal_.reset();
   image_ = TactileFrame();
   image_.rows = static_cast<uint16_t>(p.rows);
   image_.cols = static_cast<uint16_t>(p.cols);
-  {
-    // Inverse response table over [0, f(full_scale)] (centre polynomial).
-    const auto& rc = p.response;
-    const double n1 = p.full_scale;
-    const double fmax = n1 * (rc[0] + n1 * (rc[1] + n1 * rc[2]));
-    inv_table_step_ = (kCountTable - 1) / fmax;
-    count_table_[0] = 0.0;
-    for (int i = 1; i < kCountTable; ++i) {
-      const double t = i / inv_table_step_;
-      count_table_[static_cast<std::size_t>(i)] = rootOf(t, std::min(t / rc[0], 4.0 * n1));
-    }
-  }
-  for (int r = 0; r < p.rows; ++r)
-    for (int c = 0; c < p.cols; ++c) {
-      const std::size_t i = static_cast<std::size_t>(r * p.cols + c);
-      threshold_counts_[i] = countsFor(r, c, p.threshold);
-      // Below n_silent = threshold - 10 sigma - 1 counts a taxel gets no noise
-      // draw (respond()) and rounds below the threshold: it reads 0. The force
-      // that gives n_silent (0 if none: every taxel is evaluated).
-      const double n_silent = threshold_counts_[i] - 10.0 * p.noise_counts - 1.0;
-      silent_force_[i] = n_silent > 0.0 ? forceFor(r, c, n_silent) : 0.0;
-    }
+  // The taxel response: the inverse of the calibration (calibration()).
+  TaxelResponseParams rp;
+  rp.calibration = calibration();
+  rp.noise_counts = p.noise_counts;
+  rp.threshold = p.threshold;
+  rp.seed = p.seed;
+  ConfigResult rr = response_.configure(rp);
+  if (!rr) return ConfigResult::failure("pad: " + rr.message());
   return ConfigResult::success();
 }
 
-double PadSensor::forceFor(int r, int c, double n) const {
-  const auto& k = params_.response;
-  const double f = n * (k[0] + n * (k[1] + n * k[2]));
-  return isBorder(r, c) ? f / params_.border_sensitivity : f;
-}
+double PadSensor::forceFor(int r, int c, double n) const { return response_.forceFor(r * params_.cols + c, n); }
 
-double PadSensor::rootOf(double target, double n) const {
-  // Monotone convex polynomial: Newton from a guess >= root converges
-  // monotonically (from below, the first step lands above the root).
-  const auto& k = params_.response;
-  for (int it = 0; it < 40; ++it) {
-    const double f = n * (k[0] + n * (k[1] + n * k[2])) - target;
-    const double df = k[0] + n * (2.0 * k[1] + 3.0 * n * k[2]);
-    const double step = f / df;
-    n -= step;
-    if (std::fabs(step) < 1e-9) break;
-  }
-  return n;
-}
+double PadSensor::countsFor(int r, int c, double force) const { return response_.countsFor(r * params_.cols + c, force); }
 
-double PadSensor::countsFor(int r, int c, double force) const {
-  if (!(force > 0.0)) return 0.0;
-  const double s = isBorder(r, c) ? params_.border_sensitivity : 1.0;
-  const double target = force * s;  // centre-taxel polynomial value
-  // Guess from the inverse table (uniform in force, linear interpolation:
-  // ~1e-6 relative), then Newton polishes to the 1e-9 count step in 1-2
-  // iterations; beyond the table, Newton from the linear guess.
-  const double u = target * inv_table_step_;
-  double n;
-  if (u < kCountTable - 1) {
-    const int i = static_cast<int>(u);
-    const double w = u - i;
-    n = count_table_[static_cast<std::size_t>(i)] * (1.0 - w) + count_table_[static_cast<std::size_t>(i) + 1] * w;
-  } else {
-    n = std::min(target / params_.response[0], 4.0 * params_.full_scale);
-  }
-  n = rootOf(target, n);
-  return n < 0.0 ? 0.0 : n;
-}
+tactile::CalibrationParams PadSensor::calibration() const { return calibrationOf(params_); }
 
-tactile::CalibrationParams PadSensor::calibration() const {
+tactile::CalibrationParams PadSensor::calibrationOf(const PadParams& p) {
   tactile::CalibrationParams c;
-  c.rows = params_.rows;
-  c.cols = params_.cols;
-  c.full_scale = params_.full_scale;
-  c.coeffs = {0.0, params_.response[0], params_.response[1], params_.response[2]};
+  if (p.use_calibration) c = p.calibration;
+  c.rows = p.rows;
+  c.cols = p.cols;
+  if (p.use_calibration) return c;
+  c.full_scale = p.full_scale;
+  c.coeffs = {0.0, p.response[0], p.response[1], p.response[2]};
   c.use_border = true;
-  const double s = params_.border_sensitivity;
-  c.border_coeffs = {0.0, params_.response[0] / s, params_.response[1] / s, params_.response[2] / s};
+  const double s = p.border_sensitivity;
+  c.border_coeffs = {0.0, p.response[0] / s, p.response[1] / s, p.response[2] / s};
   return c;
 }
 
@@ -417,6 +369,11 @@ void PadSensor::maxPenetration(const ObjectSet& objects, double& layer, double& 
 }
 
 void PadSensor::acquire(const ObjectSet& objects, const KDL::Frame& T_gs, double t, RawTactileFrame& raw, SensorTruth& truth) {
+  integrate(objects, T_gs, t, truth);
+  respond(t, raw, truth);
+}
+
+void PadSensor::integrate(const ObjectSet& objects, const KDL::Frame& T_gs, double t, SensorTruth& truth) {
   // Same Winkler integral as integratePad() (elastic_pad.hpp; a test checks
   // they agree), but taxel cells outside the objects' footprint are skipped.
   const int rows = params_.rows, cols = params_.cols, K = params_.subsamples;
@@ -499,43 +456,22 @@ void PadSensor::acquire(const ObjectSet& objects, const KDL::Frame& T_gs, double
   const KDL::Vector cp = T_gs * KDL::Vector(truth.layer.cop_x, truth.layer.cop_y, 0.0);
   truth.contact_point_g = {cp.x(), cp.y(), cp.z()};
   geometry_ = truth;
-  respond(t, raw, truth);
 }
 
 void PadSensor::acquireRepeat(double t, RawTactileFrame& raw, SensorTruth& truth) {
+  integrateRepeat(t, truth);
+  respond(t, raw, truth);
+}
+
+void PadSensor::integrateRepeat(double t, SensorTruth& truth) {
   truth = geometry_;
   truth.time_s = t;
   image_.time_s = t;
-  respond(t, raw, truth);
 }
 
 void PadSensor::respond(double t, RawTactileFrame& raw, SensorTruth& truth) {
   // Taxel response (App. A): counts, noise, 12-bit quantisation, saturation, threshold.
-  raw.time_s = t;
-  raw.rows = static_cast<uint16_t>(params_.rows);
-  raw.cols = static_cast<uint16_t>(params_.cols);
-  const double fs = params_.full_scale;
-  int maxc = 0;
-  for (int r = 0; r < params_.rows; ++r)
-    for (int c = 0; c < params_.cols; ++c) {
-      const std::size_t i = static_cast<std::size_t>(r * params_.cols + c);
-      if (!(image_.force[i] >= silent_force_[i])) {  // reads 0 whatever the noise (no draw)
-        raw.counts[i] = 0;
-        continue;
-      }
-      double n = countsFor(r, c, image_.force[i]);
-      // A taxel more than 10 sigma below its threshold reads 0 whatever the
-      // noise draw: skip the draw (still deterministic for a seed).
-      if (params_.noise_counts > 0.0 && n + 10.0 * params_.noise_counts >= threshold_counts_[i])
-        n += params_.noise_counts * normal_(rng_);
-      n = std::round(n);
-      if (n < 0.0) n = 0.0;
-      if (n > fs) n = fs;
-      if (n < threshold_counts_[i]) n = 0.0;
-      raw.counts[i] = static_cast<uint16_t>(n);
-      if (static_cast<int>(n) > maxc) maxc = static_cast<int>(n);
-    }
-  truth.max_count = maxc;
+  truth.max_count = response_.respond(image_, t, raw);
 }
 
 }  // namespace sim

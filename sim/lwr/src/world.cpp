@@ -397,6 +397,22 @@ void World::fillStatus(SimStatus s) {
   state_.status = s;
 }
 
+void World::acquireForces(tactile::TactileFrame& forces, SensorTruth& truth) {
+  if (!configured_) return;
+  const KDL::Frame T_gs = state_.T_ge * pad_.mount();
+  if (acq_valid_ && sameFrame(T_gs, acq_T_gs_) && tray_.pitch == acq_tray_.pitch && tray_.roll == acq_tray_.roll) {
+    pad_.integrateRepeat(state_.time_s, truth);  // nothing moved: same integral
+  } else {
+    placeObjects(state_.T_ge, tray_);
+    pad_.integrate(objects_, state_.T_gs, state_.time_s, truth);
+    acq_valid_ = true;
+    acq_T_gs_ = state_.T_gs;
+    acq_tray_ = tray_;
+  }
+  forces = pad_.trueTaxelForces();
+  forces.seq = acq_seq_++;
+}
+
 void World::acquire(tactile::RawTactileFrame& raw, SensorTruth& truth) {
   if (!configured_) return;
   const KDL::Frame T_gs = state_.T_ge * pad_.mount();

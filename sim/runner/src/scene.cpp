@@ -141,6 +141,13 @@ ConfigResult loadScene(const std::string& file, Scene& s) {
     const std::string ff = resolve(dir, features_file);
     if (!(r = config::loadFile(ff, fr))) return ConfigResult::failure(file + ": features_file: " + r.message());
     if (!(r = loadFeatureParams(fr["features"], Where{ff, "features"}, s.features))) return r;
+    // The sensor's calibration: the reader's (SensorStage) and, inverted, the
+    // simulated sensor's response (TaxelResponse): one source for both.
+    if (!(r = loadCalibrationParams(fr["calibration"], Where{ff, "calibration"}, s.features.rows, s.features.cols,
+                                    s.calibration)))
+      return r;
+    s.world.pad.use_calibration = true;
+    s.world.pad.calibration = s.calibration;
   }
 
   if (!(r = read(root, "duration", s.duration, w))) return r;
@@ -168,16 +175,14 @@ ConfigResult loadScene(const std::string& file, Scene& s) {
     const Where ws = w.child("sensor");
     if (!(r = checkKeys(n, ws,
                         {"subsamples", "physics_subsamples", "noise_counts", "modulus", "layer_thickness",
-                         "housing_size_x", "housing_size_y", "housing_recess", "housing_modulus", "border_sensitivity",
-                         "threshold"})))
+                         "housing_size_x", "housing_size_y", "housing_recess", "housing_modulus", "threshold"})))
       return r;
     for (auto rr : {read(n, "subsamples", pad.subsamples, ws), read(n, "physics_subsamples", pad.physics_subsamples, ws),
                     read(n, "noise_counts", pad.noise_counts, ws), read(n, "modulus", pad.modulus, ws),
                     read(n, "layer_thickness", pad.layer_thickness, ws),
                     read(n, "housing_size_x", pad.housing_size_x, ws), read(n, "housing_size_y", pad.housing_size_y, ws),
                     read(n, "housing_recess", pad.housing_recess, ws),
-                    read(n, "housing_modulus", pad.housing_modulus, ws),
-                    read(n, "border_sensitivity", pad.border_sensitivity, ws), read(n, "threshold", pad.threshold, ws)})
+                    read(n, "housing_modulus", pad.housing_modulus, ws), read(n, "threshold", pad.threshold, ws)})
       if (!rr) return rr;
   }
   // One mounting transform {e}T{s}: the program's (what the robot uses).
@@ -191,6 +196,7 @@ ConfigResult loadScene(const std::string& file, Scene& s) {
   pad.rows = s.features.rows;
   pad.cols = s.features.cols;
   pad.pitch = s.features.pitch;
+  s.calibration = PadSensor::calibrationOf(pad);  // the file's (features_file), else the pad's default response
 
   if (const YAML::Node n = root["arm"]) {
     const Where wa = w.child("arm");

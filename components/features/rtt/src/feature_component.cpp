@@ -52,8 +52,7 @@ bool FeatureComponent::load() {
   FeatureParams fp;
   CalibrationParams cp;
   ConfigResult r = loadSensorParamFile(param_file_, fp, cp);
-  if (r) r = calibration_.configure(cp);
-  if (r) r = extractor_.configure(fp);
+  if (r) r = stage_.configure(fp, cp);
   if (!r) {
     last_error_ = r.message();
     RTT::log(RTT::Error) << getName() << ": " << last_error_ << RTT::endlog();
@@ -88,7 +87,7 @@ bool FeatureComponent::tare() {
 }
 
 bool FeatureComponent::startHook() {
-  extractor_.reset();
+  stage_.reset();
   frames_ = 0;
   last_status_ = static_cast<int>(FeatureStatus::NotConfigured);
   return true;
@@ -96,21 +95,12 @@ bool FeatureComponent::startHook() {
 
 void FeatureComponent::updateHook() {
   if (raw_in_.read(raw_, false) == RTT::NewData) {
-    if (tare_requested_.exchange(false)) calibration_.tare(raw_);
-    const CalibrationStatus cs = calibration_.step(raw_, frame_);
-    if (cs == CalibrationStatus::Ok || cs == CalibrationStatus::Saturated) {
-      frame_out_.write(frame_);
-      extractor_.step(frame_, features_);
-    } else {
-      // Wrong frame size (or not configured): report it, never stale features.
-      features_ = ContactFeatures();
-      features_.time_s = raw_.time_s;
-      features_.seq = raw_.seq;
-      features_.status =
-          cs == CalibrationStatus::BadDimensions ? FeatureStatus::BadDimensions : FeatureStatus::NotConfigured;
-    }
+    if (tare_requested_.exchange(false)) stage_.requestTare();
+    bool frame_ok = false;
+    stage_.step(raw_, frame_, features_, frame_ok);
+    if (frame_ok) frame_out_.write(frame_);
   } else if (frame_in_.read(frame_, false) == RTT::NewData) {
-    extractor_.step(frame_, features_);
+    stage_.stepCalibrated(frame_, features_);
   } else {
     return;
   }

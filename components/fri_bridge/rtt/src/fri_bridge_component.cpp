@@ -16,8 +16,7 @@ FriBridgeComponent::FriBridgeComponent(const std::string& name)
     : RTT::TaskContext(name, PreOperational),
       command_in_("pose_command"),
       pose_out_("flange_pose"),
-      wrench_out_("estimated_wrench"),
-      wrench_(6, 0.0) {
+      wrench_out_("estimated_wrench") {
   addProperty("param_file", param_file_)
       .doc("YAML file with a `fri:` map (BridgeParams, and `udp:` bind_address/port); read by configure().");
   addProperty("port", port_).doc("UDP port to bind: -1 = fri.udp.port of param_file, 0 = ephemeral (tests), else [1, 65535].");
@@ -37,7 +36,8 @@ FriBridgeComponent::FriBridgeComponent(const std::string& name)
   addAttribute("socket_errors", socket_errors_);
   addPort(command_in_).doc("Desired flange pose {g}T{e} (from the servo); rate-limited by the bridge.");
   addPort(pose_out_).doc("Measured flange pose {g}T{e} (msrCartPos of the KRC), per accepted packet.");
-  addPort(wrench_out_).doc("Estimated external TCP wrench [Fx Fy Fz Tx Ty Tz] (N, N m) from estExtTcpFT.");
+  addPort(wrench_out_).doc("Estimated external TCP wrench w = [Fx Fy Fz Tx Ty Tz] (N, N m) from estExtTcpFT, "
+                           "time_s = the TimeService at reception.");
   addOperation("lastError", &FriBridgeComponent::lastError, this, RTT::ClientThread)
       .doc("Message of the last failed configure().");
   addOperation("statusName", &FriBridgeComponent::statusName, this, RTT::ClientThread)
@@ -84,6 +84,7 @@ bool FriBridgeComponent::configureHook() {
   local_port_ = socket_.localPort();
   measured_ = Pose();
   pose_out_.setDataSample(measured_);
+  wrench_ = Wrench();
   wrench_out_.setDataSample(wrench_);
   received_ = replies_ = lost_ = timeouts_ = socket_errors_ = 0;
   // Paced by the socket: the KRC's silence is the FileDescriptorActivity's timeout.
@@ -201,7 +202,8 @@ void FriBridgeComponent::handleDatagram(fri::UdpStatus us, std::size_t n) {
   bool finite = true;
   for (double v : w) finite = finite && std::isfinite(v);
   if (finite) {
-    for (std::size_t i = 0; i < 6; ++i) wrench_[i] = w[i];
+    wrench_.time_s = now;
+    wrench_.w = w;
     wrench_out_.write(wrench_);
   }
 }

@@ -54,57 +54,55 @@ ConfigResult SimKrc::configure(const SimKrcParams& p, Plant& plant) {
   }
   params_ = p;
   plant_ = &plant;
+  KrcModelParams mp;
+  mp.period_s = p.period_s;
+  mp.control = p.control;
+  ConfigResult r = model_.configure(mp);
+  if (!r) return r;
   UdpParams up;
   up.bind_address = "127.0.0.1";
   up.port = 0;
-  ConfigResult r = socket_.open(up);
+  r = socket_.open(up);
   if (!r) return r;
   remote_ = loopbackAddress(p.remote_port);  // loopback only, by construction
   rng_.seed(p.faults.seed);
   stats_ = SimKrcStats{};
-  state_ = p.initial.state;
-  quality_ = p.initial.quality;
-  power_ = p.initial.power;
   next_event_ = 0;
-  seq_ = 0;
-  have_remote_seq_ = false;
-  have_applied_ = false;
   held_size_ = 0;
   answer_rate_ = 1.0;
   plant_->reset(p.initial_pose);
   plant_->step(p.initial_pose, 0.0, plant_state_);
-  set_point_ = plant_state_.pose;
+  model_.reset(plant_state_.pose);
+  model_.setState(p.initial.state, p.initial.quality, p.initial.power);
   msr_ = MsrPacket{};
   t0_ = nowSeconds();
   return ConfigResult::success();
 }
 
 void SimKrc::buildMeasurement() {
+  model_.buildMeasurement(plant_state_, static_cast<double>(stats_.cycles) * params_.period_s, msr_);
+  // The transport's statistics (this peer's, not the model's).
   MsrPacket& m = msr_;
-  m.head.send_seq = ++seq_;
-  m.head.refl_seq = last_remote_seq_;
-  m.head.packet_size = static_cast<uint16_t>(kMsrPacketSize);
-  m.head.datagram_id = kDatagramIdMsr;
-  m.intf.timestamp = static_cast<uint32_t>(static_cast<double>(stats_.cycles) * params_.period_s * 1000.0);
-  m.intf.state = static_cast<uint16_t>(state_);
-  m.intf.quality = static_cast<uint16_t>(quality_);
-  m.intf.desired_msr_sample_time = static_cast<float>(params_.period_s);
-  m.intf.desired_cmd_sample_time = static_cast<float>(params_.period_s);
-  m.intf.safety_limits = 0.0f;
   m.intf.stat.answer_rate = static_cast<float>(answer_rate_);
   m.intf.stat.miss_rate = static_cast<float>(1.0 - answer_rate_);
   m.intf.stat.miss_counter = static_cast<uint32_t>(stats_.missed);
   m.intf.stat.latency = stats_.replies ? static_cast<float>(stats_.sum_latency_s / double(stats_.replies)) : 0.0f;
-  m.robot.power = power_;
-  m.robot.control = static_cast<uint16_t>(params_.control);
-  for (int j = 0; j < kNumJoints; ++j) {
-    m.data.msr_jnt_pos[j] = static_cast<float>(plant_state_.q[static_cast<std::size_t>(j)]);
-    m.data.cmd_jnt_pos[j] = m.data.msr_jnt_pos[j];
-    m.robot.temperature[j] = 30.0f;
-  }
-  fromFrame(plant_state_.pose, m.data.msr_cart_pos);
-  fromFrame(set_point_, m.data.cmd_cart_pos);
-  fromWrench(plant_state_.wrench, m.data.est_ext_tcp_ft);
+}
+
+void SimKrc::syncStats() {
+  const KrcModelStats& k = model_.stats();
+  stats_.replies = k.replies;
+  stats_.stale_replies = k.stale_replies;
+  stats_.malformed_replies = k.malformed_replies;
+  stats_.remote_seq_errors = k.remote_seq_errors;
+  stats_.flag_errors = k.flag_errors;
+  stats_.nonfinite_commands = k.nonfinite_commands;
+  stats_.applied = k.applied;
+  stats_.mon_echo_errors = k.mon_echo_errors;
+  stats_.max_cmd_step_m = k.max_cmd_step_m;
+  stats_.max_cmd_step_rad = k.max_cmd_step_rad;
+  stats_.max_entry_offset_m = k.max_entry_offset_m;
+  stats_.max_entry_offset_rad = k.max_entry_offset_rad;
 }
 
 void SimKrc::sendMeasurement(const uint8_t* buf, std::size_t n) {
@@ -117,66 +115,12 @@ void SimKrc::handleReply(const uint8_t* buf, std::size_t n, double t_sent, doubl
     ++stats_.inj_cmd_lost;
     return;
   }
-  if (decodeCommand(buf, n, cmd_) != PacketStatus::Ok) {
-    ++stats_.malformed_replies;
-    return;
-  }
-  if (have_remote_seq_ && seqDelta(last_seen_remote_seq_, cmd_.head.send_seq) != 1) ++stats_.remote_seq_errors;
-  have_remote_seq_ = true;
-  last_seen_remote_seq_ = cmd_.head.send_seq;
-  if (cmd_.head.refl_seq != seq_) {
-    ++stats_.stale_replies;  // reflects an older measurement: ignored, as the KRC does
-    return;
-  }
-  last_remote_seq_ = cmd_.head.send_seq;  // reflected in the next measurement: the last command taken
-  ++stats_.replies;
+  const ReplyResult r = model_.handleReply(buf, n);
+  syncStats();
+  if (r != ReplyResult::Matched) return;
   const double lat = now - t_sent;
   stats_.sum_latency_s += lat;
   stats_.max_latency_s = std::max(stats_.max_latency_s, lat);
-  bool finite = true;
-  for (float v : cmd_.cmd.cart_pos) finite = finite && std::isfinite(v);
-  if (!finite || !validFriPose(cmd_.cmd.cart_pos)) {
-    ++stats_.nonfinite_commands;
-    return;
-  }
-  KDL::Frame c;
-  toFrame(cmd_.cmd.cart_pos, c);
-  if (state_ == State::Cmd && power_ != 0) {
-    if (params_.control != ControlStrategy::CartImpedance) {
-      // joint strategies: this plant only checks that the remote holds the joints
-      if (!(cmd_.cmd.cmd_flags & flags::kJointPosition)) ++stats_.flag_errors;
-      return;
-    }
-    if (!(cmd_.cmd.cmd_flags & flags::kCartPose)) {
-      ++stats_.flag_errors;
-      return;
-    }
-    if (quality_ >= Quality::Ok) {
-      KDL::Vector axis;
-      if (have_applied_) {
-        stats_.max_cmd_step_m = std::max(stats_.max_cmd_step_m, (c.p - last_applied_.p).Norm());
-        stats_.max_cmd_step_rad =
-            std::max(stats_.max_cmd_step_rad, rotationAngle(last_applied_.M.Inverse() * c.M, axis));
-      } else {
-        KDL::Frame measured;
-        toFrame(msr_.data.msr_cart_pos, measured);
-        stats_.max_entry_offset_m = std::max(stats_.max_entry_offset_m, (c.p - measured.p).Norm());
-        stats_.max_entry_offset_rad =
-            std::max(stats_.max_entry_offset_rad, rotationAngle(measured.M.Inverse() * c.M, axis));
-      }
-      have_applied_ = true;
-      last_applied_ = c;
-      set_point_ = c;
-      ++stats_.applied;
-    }
-  } else {
-    // MON / power off: the remote must echo the measured pose (the one sent this cycle).
-    KDL::Frame measured;
-    toFrame(msr_.data.msr_cart_pos, measured);
-    KDL::Vector axis;
-    if ((c.p - measured.p).Norm() > 1e-5 || rotationAngle(measured.M.Inverse() * c.M, axis) > 1e-5)
-      ++stats_.mon_echo_errors;
-  }
 }
 
 void SimKrc::runCycle() {
@@ -186,14 +130,11 @@ void SimKrc::runCycle() {
   // 1. scheduled events
   while (next_event_ < params_.schedule.size() && params_.schedule[next_event_].cycle <= stats_.cycles) {
     const StateEvent& e = params_.schedule[next_event_++];
-    if (e.state != State::Cmd || e.power == 0) have_applied_ = false;  // re-entry is checked as an entry
-    state_ = e.state;
-    quality_ = e.quality;
-    power_ = e.power;
+    model_.setState(e.state, e.quality, e.power);
   }
-  // 2. plant: outside CMD (or at low quality) the robot holds where it is.
-  if (state_ != State::Cmd || power_ == 0) set_point_ = plant_state_.pose;
-  plant_->step(set_point_, T, plant_state_);
+  // 2. plant: outside CMD (or with the drives off) the robot holds where it is.
+  model_.holdUnlessCommanding(plant_state_.pose);
+  plant_->step(model_.setPoint(), T, plant_state_);
   // 3. measurement + faults
   buildMeasurement();
   std::size_t n = 0;

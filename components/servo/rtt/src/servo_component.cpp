@@ -20,6 +20,9 @@ ServoComponent::ServoComponent(const std::string& name)
       .doc("Overrides the program's controller.mode at configure(): '' = the program's, 'proposed' (Eq. 8: the "
            "touch-dependent J^-1 with the DZMP rows) or 'baseline' (Li et al., Sec. 5.2.1: constant J^-1), as the "
            "headless runner's scene key `controller`. Set by the deployments' servo_*.cpf.");
+  addProperty("period", period_)
+      .doc("Servo period (s): dt of the first cycle after start (later cycles use the TimeService). "
+           "0 = the activity's period (1 ms without one). In [0, 10].");
   addAttribute("last_status", last_status_);
   addEventPort(features_in_).doc("Contact features in {s} (from the feature component).");
   addPort(flange_in_).doc("Measured flange pose {g}T{e} (LWR simulator or FRI bridge).");
@@ -55,7 +58,9 @@ bool ServoComponent::configureHook() {
       r = ConfigResult::failure(getName() + ".controller_mode = '" + controller_mode_ +
                                 "': must be '' (the program's controller.mode), 'proposed' or 'baseline'");
   }
-  if (r) r = servo_.configure(p);
+  // dt of the first cycle: `period`, else the activity period (1 ms without one).
+  if (r && !(period_ >= 0.0 && period_ <= 10.0)) r = rangeError("period", period_, "must be in [0, 10] s (0: the activity's)");
+  if (r) r = stage_.configure(p, period_ > 0.0 ? period_ : getPeriod() > 0.0 ? getPeriod() : 1e-3);
   if (!r) {
     last_error_ = r.message();
     RTT::log(RTT::Error) << getName() << ": " << last_error_ << RTT::endlog();
@@ -63,26 +68,25 @@ bool ServoComponent::configureHook() {
   }
   last_error_.clear();
   mode_in_use_ = p.mode == ControllerMode::Baseline ? "baseline" : "proposed";
-  in_ = ServoInput();
+  features_ = ContactFeatures();
   out_ = ServoOutput();
   command_out_.setDataSample(out_.command);
   phase_out_.setDataSample(out_.phase);
-  current_phase_.store(servo_.phaseIndex());
+  current_phase_.store(stage_.servo().phaseIndex());
   return true;
 }
 
 bool ServoComponent::startHook() {
-  servo_.reset();
+  stage_.reset();
+  features_ = ContactFeatures();
   requested_phase_.store(-1);
-  current_phase_.store(servo_.phaseIndex());
-  have_pose_ = false;
-  first_cycle_ = true;
+  current_phase_.store(stage_.servo().phaseIndex());
   return true;
 }
 
 bool ServoComponent::switchPhase(const std::string& name) {
   if (!isConfigured()) return false;
-  const int idx = servo_.phaseIndexOf(name.c_str());  // reads the configured program only
+  const int idx = stage_.servo().phaseIndexOf(name.c_str());  // reads the configured program only
   if (idx < 0) return false;
   requested_phase_.store(idx);  // applied by updateHook (the core is not thread-safe)
   return true;
@@ -91,29 +95,25 @@ bool ServoComponent::switchPhase(const std::string& name) {
 int ServoComponent::phaseIndex() const { return isConfigured() ? current_phase_.load() : -1; }
 
 int ServoComponent::phaseIndexOf(const std::string& name) const {
-  return isConfigured() ? servo_.phaseIndexOf(name.c_str()) : -1;  // reads the configured program only
+  return isConfigured() ? stage_.servo().phaseIndexOf(name.c_str()) : -1;  // reads the configured program only
 }
 
 std::string ServoComponent::phaseName() const {
   if (!isConfigured()) return std::string();
-  return servo_.phase(current_phase_.load()).name;
+  return stage_.servo().phase(current_phase_.load()).name;
 }
 
 void ServoComponent::updateHook() {
   const int req = requested_phase_.exchange(-1);
-  if (req >= 0) servo_.requestPhase(req);
-  features_in_.read(in_.features, false);  // keeps the last sample when nothing new
-  if (flange_in_.read(in_.flange_measured, false) != RTT::NoData) have_pose_ = true;
+  if (req >= 0) stage_.requestPhase(req);
+  features_in_.read(features_, false);  // keeps the last sample when nothing new
+  if (flange_in_.read(pose_, false) != RTT::NoData) stage_.setMeasuredPose(pose_);
   const double now = RTT::os::TimeService::Instance()->secondsSince(0);
-  double dt = now - last_time_;
-  if (first_cycle_) dt = getPeriod() > 0.0 ? getPeriod() : 1e-3;
-  first_cycle_ = false;
-  last_time_ = now;
-  in_.time_s = now;
-  const ServoStatus st = servo_.step(in_, dt, out_);
+  ServoStatus st = ServoStatus::NotConfigured;
+  const bool command = stage_.step(now, features_, out_, st);  // holds (no command) until a valid pose arrived
   last_status_ = static_cast<int>(st);
-  current_phase_.store(servo_.phaseIndex());
-  if (have_pose_ && out_.valid) command_out_.write(out_.command);
+  current_phase_.store(stage_.servo().phaseIndex());
+  if (command) command_out_.write(out_.command);
   phase_out_.write(out_.phase);
 }
 

@@ -38,7 +38,9 @@
 // is below `threshold` (0.2 N) reads 0 (the device's firing threshold).
 // calibration() returns the tactile::CalibrationParams that inverts this
 // response exactly (up to noise and quantisation), so the runner calibrates
-// exactly as on the real robot.
+// exactly as on the real robot. With `use_calibration` the response is the
+// inverse of the given calibration (the sensor's file) instead; either way
+// the counts come from tactile::sim::TaxelResponse.
 #pragma once
 
 #include <array>
@@ -52,6 +54,7 @@
 #include "tactile_features/calibration.hpp"
 #include "tactile_sim/elastic_pad.hpp"
 #include "tactile_sim/objects.hpp"
+#include "tactile_sim/taxel_response.hpp"
 #include "tactile_types/config_result.hpp"
 #include "tactile_types/types.hpp"
 
@@ -82,6 +85,11 @@ struct PadParams {
   double noise_counts = 6.0;        ///< Gaussian noise, 1 sigma (counts)
   double threshold = 0.2;           ///< N: taxels below read 0
   uint64_t seed = 1;                ///< noise seed
+  /// When set, the response is the inverse of this calibration (the sensor's
+  /// calibration file, e.g. wts0614.yaml's `calibration:` block; scenes set
+  /// it from their features_file) instead of response/border_sensitivity.
+  bool use_calibration = false;
+  tactile::CalibrationParams calibration;
 };
 
 /// Ground truth of one acquisition (what an ATI Nano17 under the sensor
@@ -136,6 +144,11 @@ class PadSensor {
   /// integral is reused, the response (noise, quantisation, threshold) is
   /// drawn anew. Bit-identical to a full acquire() at the same placement.
   void acquireRepeat(double t, RawTactileFrame& raw, SensorTruth& truth);
+  /// The contact part of acquire() alone: the noise-free taxel forces
+  /// (trueTaxelForces()) and the ground truth, no response (no noise drawn).
+  void integrate(const ObjectSet& objects, const KDL::Frame& T_gs, double t, SensorTruth& truth);
+  /// integrate() at the placement of the previous one (nothing moved).
+  void integrateRepeat(double t, SensorTruth& truth);
 
   /// Largest penetration (m) into the layer and into the housing at the
   /// current placement, and the object responsible (-1 if none).
@@ -143,13 +156,16 @@ class PadSensor {
 
   /// Calibration that inverts the response (for tactile::Calibration).
   tactile::CalibrationParams calibration() const;
+  /// The calibration a pad with these parameters is read with (the given
+  /// file's when use_calibration, else the inverse of response/border_sensitivity).
+  static tactile::CalibrationParams calibrationOf(const PadParams& params);
 
   /// Noise-free forward response of taxel (r, c): force (N) -> counts (real).
   double countsFor(int r, int c, double force) const;
   /// The calibrated force of `counts` at taxel (r, c) (same polynomial as calibration()).
   double forceFor(int r, int c, double counts) const;
 
-  void reseed(uint64_t seed) { rng_.seed(seed); }
+  void reseed(uint64_t seed) { response_.reseed(seed); }
   const TactileFrame& trueTaxelForces() const { return image_; }  ///< last acquire(): noise-free taxel forces (N)
 
  private:
@@ -164,16 +180,8 @@ class PadSensor {
   KDL::Frame T_es_;
   std::array<Sample, kMaxSamples> samples_{};
   int n_samples_ = 0, n_housing_ = 0;
-  std::mt19937_64 rng_{1};
-  std::normal_distribution<double> normal_{0.0, 1.0};
   TactileFrame image_;
-  std::array<double, kMaxTaxels> threshold_counts_{};
-  std::array<double, kMaxTaxels> silent_force_{};  ///< below this force a taxel reads 0 (respond())
-  // Inverse of the centre response, tabulated at configure() (countsFor()).
-  static constexpr int kCountTable = 1025;
-  std::array<double, kCountTable> count_table_{};
-  double inv_table_step_ = 0.0;
-  double rootOf(double target, double guess) const;
+  TaxelResponse response_;
   SensorTruth geometry_;  // contact part of the last acquire() (for acquireRepeat)
   // Row buffers (sized in configure(); mutable: scratch of the const evaluate()).
   mutable std::vector<double> xrow_, zrow_, sxrow_, syrow_;

@@ -102,6 +102,11 @@ class World {
 
   /// WTS acquisition at the current state and world time.
   void acquire(tactile::RawTactileFrame& raw, SensorTruth& truth);
+  /// The contact image alone at the current state: the noise-free taxel
+  /// forces (N, stamped with the world time) and the ground truth; the
+  /// sensor's electronics (tactile::sim::TaxelResponse) turn it into counts.
+  /// Consumes no noise. Allocation-free.
+  void acquireForces(tactile::TactileFrame& forces, SensorTruth& truth);
 
   /// Calibration that inverts the simulated taxel response.
   tactile::CalibrationParams calibration() const { return pad_.calibration(); }

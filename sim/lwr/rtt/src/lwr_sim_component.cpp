@@ -14,21 +14,24 @@ LwrSimComponent::LwrSimComponent(const std::string& name)
     : RTT::TaskContext(name, PreOperational),
       command_in_("pose_command"),
       pose_out_("flange_pose"),
-      raw_out_("raw_frame"),
-      frame_out_("frame") {
+      wrench_out_("estimated_wrench"),
+      forces_out_("taxel_forces"),
+      truth_out_("truth") {
   addProperty("scene_file", scene_file_)
-      .doc("Scene YAML (sim/scenes/*.yaml, the headless runner's files): arm, sensor, objects, initial flange "
-           "pose, physics rate. Read by configure().");
-  addProperty("wts_period", wts_period_)
-      .doc("Simulated time between two WTS acquisitions (s), in (0, 1]; default 1/140 (Table 2).");
+      .doc("Scene YAML (sim/scenes/*.yaml, the headless runner's files): arm, pad, objects, initial flange "
+           "pose, rates (physics step, WTS schedule). Read by configure().");
   addAttribute("sim_period", sim_period_);
   addAttribute("sim_time", sim_time_);
   addAttribute("sim_status", sim_status_);
   addAttribute("frames", frames_);
-  addEventPort(command_in_).doc("Desired flange pose {g}T{e} (from the servo); the last valid one is held.");
-  addPort(pose_out_).doc("Measured flange pose {g}T{e}, written every physics step.");
-  addPort(raw_out_).doc("Simulated WTS0614 acquisition (12-bit counts, {s} layout), every wts_period.");
-  addPort(frame_out_).doc("The same acquisition calibrated with the table that inverts the simulated response (N).");
+  addPort(command_in_).doc("Desired flange pose {g}T{e} (from the servo); the last valid one is held.");
+  addPort(pose_out_).doc("Measured flange pose {g}T{e}, after every physics step (and at start).");
+  addPort(wrench_out_).doc("Contact wrench on the flange [Fx Fy Fz Tx Ty Tz] (N, N m), {g} axes, flange origin: "
+                           "what the KRC's estExtTcpFT estimates. Every physics step.");
+  addPort(forces_out_).doc("SIM ONLY, for tactile::WtsSimComponent: true taxel forces (N, {s} layout) before each "
+                           "WTS acquisition of the scene's schedule.");
+  addPort(truth_out_).doc("SIM ONLY, for logs: ground truth after every physics step (contact wrench, layer and "
+                          "housing force, tray angles, true contact point, sensor pose). Never read by the controller.");
   addOperation("lastError", &LwrSimComponent::lastError, this, RTT::ClientThread)
       .doc("Message of the last failed configure().");
   addOperation("statusName", &LwrSimComponent::statusName, this, RTT::ClientThread)
@@ -39,18 +42,13 @@ bool LwrSimComponent::configureHook() {
   sim::Scene scene;
   ConfigResult r = scene_file_.empty() ? ConfigResult::failure("scene_file is empty: set it to a scene YAML (sim/scenes/*.yaml)")
                                        : sim::loadScene(scene_file_, scene);
-  if (r && !(wts_period_ > 0.0 && wts_period_ <= 1.0))
-    r = rangeError("wts_period", wts_period_, "(0, 1] s");
   if (r) {
     world_params_ = scene.world;
     world_params_.seed = scene.seed;
     sim_period_ = 1.0 / scene.rates.sim;
     r = world_.configure(world_params_);
+    if (r) r = schedule_.configure(scene.rates, scene.duration);
     if (!r) r = ConfigResult::failure(scene_file_ + ": " + r.message());
-  }
-  if (r) {
-    r = calibration_.configure(world_.calibration());  // inverts the simulated taxel response
-    if (!r) r = ConfigResult::failure(scene_file_ + ": calibration: " + r.message());
   }
   if (!r) {
     last_error_ = r.message();
@@ -63,14 +61,34 @@ bool LwrSimComponent::configureHook() {
                            << " x wall time" << RTT::endlog();
   last_error_.clear();
   // Preallocate the output samples (fixed-size types).
-  raw_ = RawTactileFrame();
-  frame_ = TactileFrame();
-  world_.acquire(raw_, truth_);  // sizes rows/cols as the simulated sensor
-  calibration_.step(raw_, frame_);
+  forces_ = world_.pad().trueTaxelForces();
   pose_out_.setDataSample(world_.state().flange_g);
-  raw_out_.setDataSample(raw_);
-  frame_out_.setDataSample(frame_);
+  wrench_out_.setDataSample(wrench_);
+  forces_out_.setDataSample(forces_);
+  truth_out_.setDataSample(truth_);
   return true;
+}
+
+void LwrSimComponent::publish() {
+  // The image of the next tick's WTS acquisition (the loop's schedule), then
+  // the ground truth (with that acquisition's contact point), as the runner.
+  if (schedule_.fires().wts) {
+    world_.acquireForces(forces_, acq_);
+    forces_.time_s = state_.time_s;
+    forces_out_.write(forces_);
+    ++frames_;
+  }
+  sim::fillTruth(state_, acq_, truth_);
+  truth_out_.write(truth_);
+  pose_out_.write(state_.flange_g);
+  // Contact wrench on the sensor ({s}, about its origin) moved to the flange, {g} axes.
+  const KDL::Wrench w_s(KDL::Vector(state_.wrench_s[0], state_.wrench_s[1], state_.wrench_s[2]),
+                        KDL::Vector(state_.wrench_s[3], state_.wrench_s[4], state_.wrench_s[5]));
+  const KDL::Wrench w_g = state_.T_gs.M * w_s;
+  const KDL::Wrench w_e = w_g.RefPoint(state_.T_ge.p - state_.T_gs.p);
+  wrench_.time_s = state_.time_s;
+  wrench_.w = {w_e.force.x(), w_e.force.y(), w_e.force.z(), w_e.torque.x(), w_e.torque.y(), w_e.torque.z()};
+  wrench_out_.write(wrench_);
 }
 
 bool LwrSimComponent::startHook() {
@@ -80,13 +98,15 @@ bool LwrSimComponent::startHook() {
     last_error_ = r.message();
     return false;
   }
+  schedule_.reset();
   state_ = world_.state();
-  cmd_ = state_.flange_g;  // hold the start pose until a command arrives
+  cmd_ = state_.command_g;  // hold the start command until a command arrives
+  acq_ = sim::SensorTruth();
   sim_time_ = state_.time_s;
-  next_acquisition_ = state_.time_s;
   frames_ = 0;
   sim_status_ = static_cast<int>(sim::SimStatus::Ok);
   status_shadow_.store(sim_status_);
+  publish();  // the initial pose, wrench, truth and the tick-0 image
   return true;
 }
 
@@ -100,19 +120,8 @@ void LwrSimComponent::updateHook() {
   sim_status_ = static_cast<int>(st);
   status_shadow_.store(sim_status_);
   sim_time_ = state_.time_s;
-  pose_out_.write(state_.flange_g);
-  if (state_.time_s + 0.25 * sim_period_ >= next_acquisition_) {
-    next_acquisition_ += wts_period_;
-    world_.acquire(raw_, truth_);
-    raw_.time_s = RTT::os::TimeService::Instance()->secondsSince(0);  // the servo's clock
-    calibration_.step(raw_, frame_);  // copies time_s and seq
-    raw_out_.write(raw_);
-    frame_out_.write(frame_);
-    ++frames_;
-  }
+  schedule_.advance();
+  publish();
 }
 
 }  // namespace tactile
-
-ORO_CREATE_COMPONENT_LIBRARY()
-ORO_LIST_COMPONENT_TYPE(tactile::LwrSimComponent)

@@ -23,77 +23,17 @@
 #include <string>
 #include <vector>
 
-#include "tactile_features/calibration.hpp"
+#include "tactile_features/sensor_stage.hpp"
 #include "tactile_fri/bridge.hpp"
+#include "tactile_fri/krc_model.hpp"
+#include "tactile_servo/servo_stage.hpp"
+#include "tactile_sim/loop.hpp"
+#include "tactile_sim/run_log.hpp"
 #include "tactile_sim/scene.hpp"
+#include "tactile_sim/taxel_response.hpp"
 
 namespace tactile {
 namespace sim {
-
-/// One row of timeseries.csv (logged at the servo rate).
-struct LogRow {
-  double t = 0;
-  int phase = 0;
-  ServoStatus servo = ServoStatus::NotConfigured;
-  ContactType contact = ContactType::None;
-  FeatureStatus feature_status = FeatureStatus::NotConfigured;
-  std::array<double, 3> cmd{}, act{};      ///< sensor position {g}: commanded, actual (m)
-  std::array<double, 3> cmd_rpy{}, act_rpy{};  ///< sensor orientation {g} (rad)
-  ContactFeatures f;
-  Vec6 s_d = Vec6::Zero();
-  double sd_force = 0;                     ///< desired force (N) = s_d(d_z) / c_z
-  double force_true = 0;                   ///< N, normal force on the sensor (layer + housing)
-  double force_layer = 0, housing_force = 0;
-  double moment_x_true = 0, moment_y_true = 0;  ///< N m, about x_s / y_s
-  double tray_angle_deg = 0;
-  std::array<double, 3> true_contact{};    ///< pressure centre on the surface {g} (m)
-  bool true_in_contact = false;
-  Vec6 u_s = Vec6::Zero();
-  int beta = 0;
-  double feature_age = 0;                  ///< t - features.time_s (s)
-};
-
-struct PhaseEntry {
-  std::string name;
-  double t_enter = 0;
-};
-
-struct Snapshot {
-  double t = 0;
-  std::string label;
-  TactileFrame frame;
-};
-
-struct ContactPoint {
-  double t = 0;
-  std::array<double, 3> p{};     ///< CoP mapped to {g} (m)
-  std::array<double, 3> truth{}; ///< true pressure centre {g} (m)
-};
-
-/// summary.json. Metrics a scene does not have are NaN (written as null).
-struct Summary {
-  std::string scene, controller, status = "ok", fidelity;
-  uint64_t seed = 1;
-  double sim_time_s = 0, wall_time_s = 0, real_time_factor = 0;
-  int contact_lost_count = 0;  ///< contact held >= 5 servo cycles, then absent >= 5, in a contact phase
-  double force_true_mean_n = 0, force_true_max_n = 0, force_true_rms_error_n = 0, force_true_in_band_fraction = 0;
-  double alignment_time_s = 0, path_length_m = 0, slide_speed_mps = 0;
-  double dzmp_final_m = 0, tray_angle_max_deg = 0, dzmp_recovery_time_s = 0, translation_x_m = 0;
-  // Through FRI (scene through_fri): bridge replies and the largest step
-  // between consecutive commands the simulated KRC applied.
-  long fri_replies = 0;
-  double fri_max_step_m = 0, fri_max_step_rad = 0;
-  int exit_code = 0;  ///< 0 ok, 3 simulator fatal (NaN, joint limit, singularity, force limit), 4 servo force ceiling
-};
-
-struct RunResult {
-  std::vector<std::string> phase_names;  ///< by phase index
-  std::vector<LogRow> rows;
-  std::vector<PhaseEntry> phases;
-  std::vector<Snapshot> snapshots;
-  std::vector<ContactPoint> contacts;
-  Summary summary;
-};
 
 class Runner {
  public:
@@ -106,23 +46,20 @@ class Runner {
   const Scene& scene() const { return scene_; }
 
  private:
-  void computeSummary(RunResult& out) const;
-  /// The KRC side of one FRI cycle: measurement bytes from the world state,
-  /// the bridge's reply decoded into the pose the robot applies.
-  bool friCycle(const SimState& st, const PoseCommand& desired, double t, double dt, KDL::Frame& applied, Summary& sum);
+  /// The KRC side of one FRI cycle (tactile::fri::KrcModel): measurement
+  /// bytes from the world state, the bridge's reply applied to the KRC's set point.
+  bool friCycle(const SimState& st, const PoseCommand& desired, double t, KDL::Frame& applied, Summary& sum);
 
   Scene scene_;
-  World world_;
-  Calibration calibration_;
-  FeatureExtractor extractor_;
-  TactileServo servo_;
+  World world_;             // the arm (physics) and the pad's contact image
+  TaxelResponse response_;  // the sensor's electronics: forces -> counts
+  SensorStage sensor_;      // counts -> calibrated frame -> features
+  ServoStage servo_;        // features + measured pose -> pose command
+  Schedule schedule_;
+  EndRule end_;
   fri::FriBridge bridge_;
-  fri::MsrPacket msr_{};
-  fri::CmdPacket cmd_{};
+  fri::KrcModel krc_;
   std::array<uint8_t, 2048> wire_{};
-  uint16_t fri_seq_ = 0, fri_refl_ = 0;
-  bool fri_have_applied_ = false;
-  KDL::Frame fri_applied_;
 };
 
 /// Writers for a run directory (timeseries.csv, summary.json, snapshots.csv,

@@ -8,14 +8,16 @@
 //   figure: fig10                     # which paper figure the plots mirror (fig10 | fig12 | fig14 | none)
 //   program: ../../components/servo/programs/edge_exploration.yaml   # required: the phase program
 //   controller: proposed              # proposed | baseline (Li et al.); --controller overrides
-//   features_file: ../../components/features/params/wts0614.yaml     # `features:` map (same file as on the robot)
+//   features_file: ../../components/features/params/wts0614.yaml     # `features:` and `calibration:` maps (same
+//                                     # file as on the robot): the features, the reader's calibration and,
+//                                     # inverted, the simulated sensor's response (no response keys here)
 //   duration: 60                      # s of simulated time
 //   seed: 1
 //   fidelity: quasi_static            # quasi_static | dynamics
 //   start_in_equilibrium: true        # dynamics: start at the static balance of the initial
 //                                     # command (an object resting on the sensor does not drop)
 //   rates: {sim: 1000, servo: 100, wts: 140, features: 200}   # Hz (Table 2)
-//   sensor: {subsamples: 4, physics_subsamples: 1, noise_counts: 6, modulus: 5e7, ...}
+//   sensor: {subsamples: 4, physics_subsamples: 1, noise_counts: 6, threshold: 0.2, modulus: 5e7, ...}
 //   arm: {q_init_deg: [7 values], k_trans: 1000, k_rot: 100, damping_ratio: 0.7,
 //         dyn_refresh_q: 1e-4, dyn_refresh_qd: 1e-2}   # dynamics: mass/Coriolis refresh thresholds (0 = every step)
 //   initial_flange: {xyz: [x, y, z], rpy_deg: [r, p, y]}       # {g}T{e} at start (IK)
@@ -71,6 +73,7 @@ struct Scene {
   uint64_t seed = 1;
   Rates rates;
   FeatureParams features;
+  CalibrationParams calibration;  ///< features_file's `calibration:` (rows/cols from features)
   ServoParams servo;        ///< loaded from program_file
   WorldParams world;
   SceneMetrics metrics;

@@ -117,6 +117,29 @@ struct PhaseState {
   ServoStatus status = ServoStatus::NotConfigured;
 };
 
+/// A wrench [Fx Fy Fz Tx Ty Tz] (N, N m), fixed size (port estimated_wrench
+/// of the FRI bridge and of the simulated arm: the KRC's estExtTcpFT, the
+/// external wrench at the TCP, {g} orientation).
+struct Wrench {
+  double time_s = 0.0;
+  std::array<double, 6> w{};
+};
+
+/// Simulator ground truth (port `truth` of the simulated arm; never read by
+/// the controller): what an ATI Nano17 under the sensor would measure plus
+/// the world state the logs and the summary need.
+struct SimTruth {
+  double time_s = 0.0;              ///< simulated time of the state (s)
+  std::array<double, 6> wrench_s{}; ///< contact wrench on the sensor, {s} about its origin (pressing: fz < 0)
+  double layer_force = 0.0;         ///< N carried by the elastic layer
+  double housing_force = 0.0;       ///< N carried by the rigid housing
+  double tray_pitch = 0.0, tray_roll = 0.0;  ///< rad (scenes with a tray)
+  std::array<double, 3> contact_point_g{};   ///< pressure centre of the last acquisition, {g} (m)
+  bool in_contact = false;          ///< the last acquisition had layer force > 0
+  Pose sensor_pose;                 ///< {g}T{s}
+  int sim_status = 0;               ///< tactile::sim::SimStatus of the last step
+};
+
 const char* toString(ContactType t);
 const char* toString(FeatureStatus s);
 const char* toString(ServoStatus s);

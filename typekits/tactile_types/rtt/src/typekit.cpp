@@ -228,6 +228,8 @@ bool TactileTypekit::loadTypes() {
   repo->addType(new StructTypeInfo<Pose>(kPose));
   repo->addType(new StructTypeInfo<PoseCommand>(kPoseCommand));
   repo->addType(new StructTypeInfo<PhaseState>(kPhaseState));
+  repo->addType(new StructTypeInfo<Wrench>(kWrench));
+  repo->addType(new StructTypeInfo<SimTruth>(kSimTruth));
   return true;
 }
 

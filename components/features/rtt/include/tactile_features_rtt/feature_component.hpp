@@ -1,6 +1,7 @@
-// tactile::FeatureComponent: thin RTT wrapper around tactile::Calibration (App. A)
-// and tactile::FeatureExtractor (Sec. 3, App. B). No algorithm lives here: the
-// hooks move data between ports and the cores.
+// tactile::FeatureComponent: thin RTT wrapper around tactile::SensorStage
+// (tactile::Calibration, App. A, and tactile::FeatureExtractor, Sec. 3, App. B),
+// the same stage the headless runner steps. No algorithm lives here: the
+// hooks move data between ports and the stage.
 //
 // Interface (all documented with .doc() in the constructor):
 //   property  param_file (string)  YAML file with `features:` and `calibration:`
@@ -29,6 +30,7 @@
 
 #include "tactile_features/calibration.hpp"
 #include "tactile_features/extractor.hpp"
+#include "tactile_features/sensor_stage.hpp"
 #include "tactile_types/types.hpp"
 
 namespace tactile {
@@ -65,9 +67,8 @@ class FeatureComponent : public RTT::TaskContext {
   RTT::OutputPort<TactileFrame> frame_out_;
   RTT::OutputPort<ContactFeatures> features_out_;
 
-  // cores and preallocated samples
-  Calibration calibration_;
-  FeatureExtractor extractor_;
+  // the loop's sensor stage (Calibration + FeatureExtractor) and preallocated samples
+  SensorStage stage_;
   RawTactileFrame raw_;
   std::atomic<bool> tare_requested_{false};
   TactileFrame frame_;

@@ -12,7 +12,7 @@
 //                                  (FileDescriptorActivity timeout; the bounded wait otherwise)
 //   in   pose_command (/tactile/PoseCommand)  desired {g}T{e} (from the servo)
 //   out  flange_pose  (/tactile/Pose)         measured {g}T{e} (msrCartPos), per accepted packet
-//   out  estimated_wrench (array, 6)          estExtTcpFT as [Fx Fy Fz Tx Ty Tz] (N, N m)
+//   out  estimated_wrench (/tactile/Wrench)   estExtTcpFT as w = [Fx Fy Fz Tx Ty Tz] (N, N m), fixed size
 //   attr local_port (int)       the bound UDP port (after configure)
 //   attr bridge_status (int)    fri::BridgeStatus of the last packet (see bridge.hpp)
 //   attr fri_state (int), fri_quality (int)  KRC interface state / quality of the last packet
@@ -94,7 +94,7 @@ class FriBridgeComponent : public RTT::TaskContext {
   // ports
   RTT::InputPort<PoseCommand> command_in_;
   RTT::OutputPort<Pose> pose_out_;
-  RTT::OutputPort<std::vector<double>> wrench_out_;
+  RTT::OutputPort<Wrench> wrench_out_;
 
   // cores and preallocated buffers
   fri::FriBridge bridge_;
@@ -102,7 +102,7 @@ class FriBridgeComponent : public RTT::TaskContext {
   fri::BridgeOutput out_;
   PoseCommand desired_;
   Pose measured_;
-  std::vector<double> wrench_;  // size 6, sized at configure
+  Wrench wrench_;
   std::array<uint8_t, 2048> rx_{};
   std::array<uint8_t, fri::kCmdPacketSize> tx_{};
 };

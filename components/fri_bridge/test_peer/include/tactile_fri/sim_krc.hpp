@@ -1,6 +1,9 @@
 // A simulated KUKA KRC speaking FRI over UDP on the loopback interface, with
 // fault injection, backed by a small plant interface. It is a test peer (it
-// reads the clock when pacing in real time), not a real-time core.
+// reads the clock when pacing in real time), not a real-time core. The KRC
+// itself (packet contents, command handling, the checks) is
+// tactile::fri::KrcModel, the same model the headless runner uses; this class
+// adds the UDP transport, the pacing and the injected faults.
 //
 // Each cycle:
 //   1. apply the scheduled state/quality events of this cycle;
@@ -27,19 +30,13 @@
 
 #include <kdl/frames.hpp>
 
+#include "tactile_fri/krc_model.hpp"
 #include "tactile_fri/protocol.hpp"
 #include "tactile_fri/udp.hpp"
 #include "tactile_types/config_result.hpp"
 
 namespace tactile {
 namespace fri {
-
-/// What the simulated KRC reads back from the robot.
-struct PlantState {
-  std::array<double, kNumJoints> q{};     ///< measured joint positions (rad)
-  KDL::Frame pose = KDL::Frame::Identity();  ///< measured {g}T{e}
-  std::array<double, 6> wrench{};         ///< estimated external TCP wrench [Fx Fy Fz Tx Ty Tz] (N, N m)
-};
 
 /// The robot behind the simulated KRC (Cartesian impedance strategy): given the
 /// commanded flange pose and dt, produce the measured state. Keep it small so
@@ -133,16 +130,19 @@ class SimKrc {
 
   const SimKrcStats& stats() const { return stats_; }
   const PlantState& plantState() const { return plant_state_; }
-  State state() const { return state_; }
-  Quality quality() const { return quality_; }
-  const KDL::Frame& setPoint() const { return set_point_; }
+  State state() const { return model_.state(); }
+  Quality quality() const { return model_.quality(); }
+  const KDL::Frame& setPoint() const { return model_.setPoint(); }
 
  private:
   void buildMeasurement();
   void sendMeasurement(const uint8_t* buf, std::size_t n);
   void handleReply(const uint8_t* buf, std::size_t n, double t_sent, double now);
 
+  void syncStats();
+
   SimKrcParams params_{};
+  KrcModel model_;  // the KRC's packets and command handling (shared with the headless runner)
   Plant* plant_ = nullptr;
   UdpSocket socket_;
   sockaddr_in remote_{};
@@ -150,19 +150,8 @@ class SimKrc {
   std::uniform_real_distribution<double> uni_{0.0, 1.0};
   SimKrcStats stats_{};
   PlantState plant_state_{};
-  State state_ = State::Mon;
-  Quality quality_ = Quality::Perfect;
-  uint16_t power_ = 0x7F;
   std::size_t next_event_ = 0;
-  uint16_t seq_ = 0;
-  uint16_t last_remote_seq_ = 0;       // last command taken (matching reply): reflected
-  uint16_t last_seen_remote_seq_ = 0;  // last well-formed command seen (sequence check)
-  bool have_remote_seq_ = false;
-  bool have_applied_ = false;
-  KDL::Frame set_point_ = KDL::Frame::Identity();
-  KDL::Frame last_applied_ = KDL::Frame::Identity();
   MsrPacket msr_{};
-  CmdPacket cmd_{};
   std::array<uint8_t, 2048> out_{};
   std::array<uint8_t, 2048> in_{};
   std::array<uint8_t, 2048> held_{};  // reordered packet waiting for the next cycle

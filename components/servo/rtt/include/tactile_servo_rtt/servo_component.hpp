@@ -1,12 +1,14 @@
-// tactile::ServoComponent: thin RTT wrapper around tactile::TactileServo
-// (Sec. 4, Algorithm 1, Eq. 7-15). The hooks move data between ports and the
-// core; the control law, the phase program and the safety logic are in the core.
+// tactile::ServoComponent: thin RTT wrapper around tactile::ServoStage
+// (tactile::TactileServo, Sec. 4, Algorithm 1, Eq. 7-15), the same stage the
+// headless runner steps. The hooks move data between ports and the stage; the
+// control law, the phase program and the safety logic are in the core.
 //
 // Interface (documented with .doc() in the constructor):
 //   property program_file (string)  YAML phase program (components/servo/programs/*.yaml)
 //   property controller_mode (string) '' = the program's controller.mode, or
 //            proposed | baseline (Li et al., Sec. 5.2.1): the deployment picks
 //            the controller by its .cpf, as the runner's scene key `controller`
+//   property period (double)        servo period (s), dt of the first cycle; 0 = the activity's
 //   in   features     (/tactile/ContactFeatures)  from tactile::FeatureComponent
 //   in   flange_pose  (/tactile/Pose)             measured {g}T{e} (LWR simulator / FRI bridge)
 //   out  pose_command (/tactile/PoseCommand)      desired {g}T{e} (LWR simulator / FRI bridge)
@@ -22,7 +24,8 @@
 // Time: the cycle time is RTT's TimeService (seconds), the clock the sensor
 // chain must also stamp its frames with (the stale-features watchdog compares
 // them). dt is the time since the previous cycle (the activity period on the
-// first one). pose_command is written only once a finite flange pose was seen.
+// first one). Until a valid flange pose arrived the stage holds: the core is
+// not stepped and pose_command is not written (last_status Holding).
 #pragma once
 
 #include <rtt/InputPort.hpp>
@@ -33,6 +36,7 @@
 #include <string>
 
 #include "tactile_servo/servo.hpp"
+#include "tactile_servo/servo_stage.hpp"
 #include "tactile_types/types.hpp"
 
 namespace tactile {
@@ -56,6 +60,7 @@ class ServoComponent : public RTT::TaskContext {
   std::string program_file_;
   std::string controller_mode_;
   std::string mode_in_use_;
+  double period_ = 0.0;
   std::string last_error_;
   int last_status_ = static_cast<int>(ServoStatus::NotConfigured);
 
@@ -64,14 +69,12 @@ class ServoComponent : public RTT::TaskContext {
   RTT::OutputPort<PoseCommand> command_out_;
   RTT::OutputPort<PhaseState> phase_out_;
 
-  TactileServo servo_;
-  ServoInput in_;
+  ServoStage stage_;  // the loop's servo stage (the headless runner steps the same)
+  ContactFeatures features_;
+  Pose pose_;
   ServoOutput out_;
   std::atomic<int> requested_phase_{-1};
   std::atomic<int> current_phase_{0};
-  bool have_pose_ = false;
-  bool first_cycle_ = true;
-  double last_time_ = 0.0;
 };
 
 }  // namespace tactile

@@ -1,35 +1,35 @@
-// tactile::LwrSimComponent: thin RTT wrapper around the headless simulator
-// (tactile::sim::World: LWR 4+ under Cartesian impedance, Eq. 11, with the
-// WTS0614 pad on its flange) loaded from the same scene files as the headless
-// runner (sim/scenes/*.yaml, tactile::sim::loadScene).
+// tactile::LwrSimComponent: the simulated ARM (KUKA LWR 4+ under Cartesian
+// impedance, Eq. 11, with the WTS0614 pad's elastic layer on its flange):
+// thin RTT wrapper around tactile::sim::World, loaded from the headless
+// runner's scene files (sim/scenes/*.yaml, tactile::sim::loadScene).
 //
-// It stands in for the real robot + sensor: the ports have the names and
-// types of the FRI bridge (pose_command in, flange_pose out) and of the WTS
-// reader (raw_frame out), so a deployment swaps one loadComponent line.
+// It stands in for the robot: the controller-facing ports are those of the
+// FRI bridge (tactile::FriBridgeComponent), so a deployment swaps the two by
+// one loadComponent line. The tactile SENSOR is a separate component,
+// tactile::WtsSimComponent (raw counts on `raw_frame`, as tactile::WtsComponent),
+// fed by this component's sim-only `taxel_forces` port.
 //
 // Interface (documented with .doc() in the constructor):
-//   property scene_file (string)   scene YAML (objects, arm, sensor, initial pose)
-//   property wts_period (double)   s between WTS acquisitions (default 1/140)
-//   in   pose_command (/tactile/PoseCommand)  desired {g}T{e}
-//   out  flange_pose  (/tactile/Pose)         measured {g}T{e}, every update
-//   out  raw_frame    (/tactile/RawTactileFrame)  WTS acquisition (counts)
-//   out  frame        (/tactile/TactileFrame) the same acquisition calibrated with
-//        the table that inverts the simulated response (World::calibration()),
-//        for a FeatureComponent on its `frame` input
-//   attr sim_period (double)  physics step of the scene (1 / rates.sim): run the
-//        component periodically at this period
+//   property scene_file (string)   scene YAML (objects, arm, pad, initial pose, rates)
+//   in   pose_command (/tactile/PoseCommand)  desired {g}T{e} (last valid held; the start pose before any)
+//   out  flange_pose  (/tactile/Pose)         measured {g}T{e}, after every physics step (and at start)
+//   out  estimated_wrench (/tactile/Wrench)   the contact wrench on the flange, {g} axes at the flange
+//                                             origin (what the KRC's estExtTcpFT estimates), every step
+//   out  taxel_forces (/tactile/TactileFrame) SIM ONLY: the true taxel force image (N) for the
+//                                             sensor, before each WTS acquisition of the scene's schedule
+//   out  truth        (/tactile/SimTruth)     SIM ONLY: ground truth for logs (never read by the controller)
+//   attr sim_period (double)  physics step 1 / rates.sim (run the component periodically at it)
 //   attr sim_time (double)    simulated time (s)
 //   attr sim_status (int)     SimStatus of the last step (>= 10: fatal, see lwr_arm.hpp)
-//   op   string statusName()  sim_status as text ("ok", "joint_limit", ...)
-//   attr frames (int)         acquisitions written since start
-//   op   string lastError()   message of the last failed configure()
+//   attr frames (int)         images written since start
+//   op   string statusName(), string lastError()
 //
-// updateHook: read pose_command (the last valid command is held; before any,
-// the start pose) -> World::step(cmd, sim_period) -> write flange_pose; when
-// the simulated time reached the next acquisition -> World::acquire ->
-// calibration -> write raw_frame and frame. Frames are stamped with RTT's
-// TimeService (seconds), the clock of the ServoComponent's stale-features
-// watchdog. No heap allocation per cycle (outputs preallocated).
+// Each update: read pose_command -> World::step(cmd, 1 / rates.sim) ->
+// flange_pose, estimated_wrench, truth; when the scene's schedule
+// (tactile::sim::Schedule) fires a WTS acquisition on the next physics tick,
+// World::acquireForces -> taxel_forces. start() resets the world to the
+// scene's initial state and writes the initial outputs (the image of the
+// tick-0 acquisition included). No heap allocation per cycle.
 #pragma once
 
 #include <rtt/InputPort.hpp>
@@ -39,7 +39,7 @@
 #include <atomic>
 #include <string>
 
-#include "tactile_features/calibration.hpp"
+#include "tactile_sim/loop.hpp"
 #include "tactile_sim/world.hpp"
 #include "tactile_types/types.hpp"
 
@@ -59,9 +59,10 @@ class LwrSimComponent : public RTT::TaskContext {
   const sim::World& world() const { return world_; }
 
  private:
+  void publish();
+
   // properties / attributes
   std::string scene_file_;
-  double wts_period_ = 1.0 / 140.0;
   double sim_period_ = 0.001;
   double sim_time_ = 0.0;
   int sim_status_ = static_cast<int>(sim::SimStatus::NotConfigured);
@@ -72,20 +73,21 @@ class LwrSimComponent : public RTT::TaskContext {
   // ports
   RTT::InputPort<PoseCommand> command_in_;
   RTT::OutputPort<Pose> pose_out_;
-  RTT::OutputPort<RawTactileFrame> raw_out_;
-  RTT::OutputPort<TactileFrame> frame_out_;
+  RTT::OutputPort<Wrench> wrench_out_;
+  RTT::OutputPort<TactileFrame> forces_out_;
+  RTT::OutputPort<SimTruth> truth_out_;
 
   // cores and preallocated samples
   sim::World world_;
   sim::WorldParams world_params_;
-  Calibration calibration_;
+  sim::Schedule schedule_;  // the loop's schedule: when the sensor acquires
   sim::SimState state_;
-  sim::SensorTruth truth_;
+  sim::SensorTruth acq_;
   PoseCommand cmd_in_;
   Pose cmd_;
-  RawTactileFrame raw_;
-  TactileFrame frame_;
-  double next_acquisition_ = 0.0;
+  TactileFrame forces_;
+  SimTruth truth_;
+  Wrench wrench_;
 };
 
 }  // namespace tactile

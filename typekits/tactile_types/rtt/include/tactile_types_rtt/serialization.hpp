@@ -97,5 +97,25 @@ void serialize(Archive& a, tactile::PhaseState& s, const unsigned int) {
   a& make_nvp("status", s.status);
 }
 
+template <class Archive>
+void serialize(Archive& a, tactile::Wrench& w, const unsigned int) {
+  a& make_nvp("time_s", w.time_s);
+  tactile_detail::array(a, "w", w.w);
+}
+
+template <class Archive>
+void serialize(Archive& a, tactile::SimTruth& t, const unsigned int) {
+  a& make_nvp("time_s", t.time_s);
+  tactile_detail::array(a, "wrench_s", t.wrench_s);
+  a& make_nvp("layer_force", t.layer_force);
+  a& make_nvp("housing_force", t.housing_force);
+  a& make_nvp("tray_pitch", t.tray_pitch);
+  a& make_nvp("tray_roll", t.tray_roll);
+  tactile_detail::array(a, "contact_point_g", t.contact_point_g);
+  a& make_nvp("in_contact", t.in_contact);
+  a& make_nvp("sensor_pose", t.sensor_pose);
+  a& make_nvp("sim_status", t.sim_status);
+}
+
 }  // namespace serialization
 }  // namespace boost

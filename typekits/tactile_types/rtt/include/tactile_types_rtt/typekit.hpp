@@ -3,6 +3,7 @@
 // Registered RTT type names (the ones to use in deployment scripts):
 //   /tactile/RawTactileFrame   /tactile/TactileFrame   /tactile/ContactFeatures
 //   /tactile/Pose              /tactile/PoseCommand    /tactile/PhaseState
+//   /tactile/Wrench            /tactile/SimTruth
 //   /tactile/ContactType       /tactile/FeatureStatus  /tactile/ServoStatus  (enums:
 //        decompose to their name, e.g. "edge"; convert automatically to/from int)
 //   /uint16_t                  (member type of frames and features; converts to/from int)
@@ -25,6 +26,8 @@ constexpr const char* kContactFeatures = "/tactile/ContactFeatures";
 constexpr const char* kPose = "/tactile/Pose";
 constexpr const char* kPoseCommand = "/tactile/PoseCommand";
 constexpr const char* kPhaseState = "/tactile/PhaseState";
+constexpr const char* kWrench = "/tactile/Wrench";
+constexpr const char* kSimTruth = "/tactile/SimTruth";
 constexpr const char* kContactType = "/tactile/ContactType";
 constexpr const char* kFeatureStatus = "/tactile/FeatureStatus";
 constexpr const char* kServoStatus = "/tactile/ServoStatus";

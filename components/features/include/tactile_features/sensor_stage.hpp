@@ -1,0 +1,42 @@
+// The sensor stage of the loop: raw 12-bit counts -> calibrated frame (App. A,
+// tactile::Calibration) -> contact features (Sec. 3, App. B,
+// tactile::FeatureExtractor). The one implementation used by
+// tactile::FeatureComponent (RTT) and by the headless runner (tactile_sim):
+// they only move data to and from it.
+//
+// RTT-free, allocation-free, exception-free per step; configuration allocates.
+#pragma once
+
+#include "tactile_features/calibration.hpp"
+#include "tactile_features/extractor.hpp"
+#include "tactile_types/config_result.hpp"
+#include "tactile_types/types.hpp"
+
+namespace tactile {
+
+class SensorStage {
+ public:
+  ConfigResult configure(const FeatureParams& features, const CalibrationParams& calibration);
+
+  /// Forget the extractor's history (start of a run) and any pending tare.
+  void reset();
+  /// The next raw frame becomes the tare offset of every taxel (App. A).
+  void requestTare() { tare_requested_ = true; }
+
+  /// One raw frame: calibration, then features. `frame` is written when the
+  /// calibration succeeded (`frame_valid`); on a wrong frame size (or before
+  /// configure) `out` carries the status and no stale numbers.
+  FeatureStatus step(const RawTactileFrame& raw, TactileFrame& frame, ContactFeatures& out, bool& frame_valid);
+  /// An already calibrated frame -> features.
+  FeatureStatus stepCalibrated(const TactileFrame& frame, ContactFeatures& out);
+
+  const Calibration& calibration() const { return calibration_; }
+  const FeatureExtractor& extractor() const { return extractor_; }
+
+ private:
+  Calibration calibration_;
+  FeatureExtractor extractor_;
+  bool tare_requested_ = false;
+};
+
+}  // namespace tactile

@@ -1,0 +1,108 @@
+// The KUKA KRC's side of FRI, clock-free: what the controller cabinet puts in
+// each measurement packet and what it does with each command reply. One model
+// for both simulated KRCs: the headless runner's (tactile_sim run
+// --through-fri, bytes through tactile::fri::FriBridge in-process) and the
+// UDP test peer tactile::fri::SimKrc (which adds the transport, the pacing and
+// the fault injection around it). Time is passed in; nothing here reads a
+// clock, allocates or throws per cycle.
+//
+// Per cycle:
+//   1. setState(): the interface state / quality / drive power of the cycle
+//      (leaving CMD makes the next applied command an "entry" again);
+//   2. holdUnlessCommanding(measured): outside CMD (or with the drives off) the
+//      robot holds still: the set point is the measured pose;
+//   3. the plant moves toward setPoint();
+//   4. buildMeasurement(): header (sendSeqCount + 1, reflSeqCount = the last
+//      command taken), timestamp (ms of `t`), state, quality, sample times,
+//      control strategy, measured joints / pose / wrench, the current set point;
+//   5. handleReply(): decode; the remote's sendSeqCount must grow by one; a
+//      reply whose reflSeqCount is not this cycle's measurement is stale
+//      (ignored, as the KRC does); in CMD with the drives on and quality >= OK
+//      a finite Cartesian command (flag 0x10 under Cartesian impedance) becomes
+//      the set point (step statistics, "no pose jump"); in MON the reply must
+//      echo the measured pose.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include <kdl/frames.hpp>
+
+#include "tactile_fri/protocol.hpp"
+#include "tactile_types/config_result.hpp"
+
+namespace tactile {
+namespace fri {
+
+/// What the simulated KRC reads back from the robot.
+struct PlantState {
+  std::array<double, kNumJoints> q{};     ///< measured joint positions (rad)
+  KDL::Frame pose = KDL::Frame::Identity();  ///< measured {g}T{e}
+  std::array<double, 6> wrench{};         ///< estimated external TCP wrench [Fx Fy Fz Tx Ty Tz] (N, N m)
+};
+
+struct KrcModelParams {
+  double period_s = 0.001;  ///< the KRC's measurement / command sample time (s), (0, 0.1]
+  ControlStrategy control = ControlStrategy::CartImpedance;
+};
+
+struct KrcModelStats {
+  uint64_t replies = 0;           ///< replies matching the cycle's sendSeqCount
+  uint64_t stale_replies = 0;     ///< well-formed replies reflecting an older measurement
+  uint64_t malformed_replies = 0; ///< wrong size / id
+  uint64_t remote_seq_errors = 0; ///< the remote's sendSeqCount did not increase by exactly 1
+  uint64_t flag_errors = 0;       ///< CMD reply without the Cartesian pose flag
+  uint64_t nonfinite_commands = 0;
+  uint64_t applied = 0;           ///< commands applied (CMD, quality >= OK)
+  uint64_t mon_echo_errors = 0;   ///< MON/power-off replies whose pose differs from the measured one by > 1e-5
+  double max_cmd_step_m = 0.0;    ///< largest translation between consecutive applied commands
+  double max_cmd_step_rad = 0.0;  ///< largest rotation between consecutive applied commands
+  double max_entry_offset_m = 0.0;   ///< first applied command after entering CMD vs the measured pose
+  double max_entry_offset_rad = 0.0;
+};
+
+enum class ReplyResult : uint8_t { Matched = 0, Stale = 1, Malformed = 2 };
+
+class KrcModel {
+ public:
+  ConfigResult configure(const KrcModelParams& params);
+  /// Start: no packet exchanged yet, the set point at `pose`, statistics cleared.
+  void reset(const KDL::Frame& pose);
+
+  void setState(State state, Quality quality, uint16_t power);
+  /// Outside CMD (or drives off) the set point follows the measured pose.
+  void holdUnlessCommanding(const KDL::Frame& measured);
+  /// The next measurement packet from the measured plant state at time t (s).
+  void buildMeasurement(const PlantState& plant, double t_s, MsrPacket& out);
+  /// One reply datagram (a size beyond the buffer is passed as such: decoding rejects it).
+  ReplyResult handleReply(const uint8_t* data, std::size_t size);
+
+  const KDL::Frame& setPoint() const { return set_point_; }
+  State state() const { return state_; }
+  Quality quality() const { return quality_; }
+  uint16_t power() const { return power_; }
+  uint16_t sendSeq() const { return seq_; }
+  const KrcModelStats& stats() const { return stats_; }
+  const MsrPacket& lastMeasurement() const { return msr_; }
+  const CmdPacket& lastCommand() const { return cmd_; }
+
+ private:
+  KrcModelParams params_{};
+  KrcModelStats stats_{};
+  State state_ = State::Mon;
+  Quality quality_ = Quality::Perfect;
+  uint16_t power_ = 0x7F;
+  uint16_t seq_ = 0;
+  uint16_t last_remote_seq_ = 0;       // last command taken (matching reply): reflected
+  uint16_t last_seen_remote_seq_ = 0;  // last well-formed command seen (sequence check)
+  bool have_remote_seq_ = false;
+  bool have_applied_ = false;
+  KDL::Frame set_point_ = KDL::Frame::Identity();
+  KDL::Frame last_applied_ = KDL::Frame::Identity();
+  MsrPacket msr_{};
+  CmdPacket cmd_{};
+};
+
+}  // namespace fri
+}  // namespace tactile

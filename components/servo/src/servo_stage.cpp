@@ -1,0 +1,57 @@
+#include "tactile_servo/servo_stage.hpp"
+
+#include <cmath>
+
+namespace tactile {
+
+ConfigResult ServoStage::configure(const ServoParams& params, double nominal_period_s) {
+  if (!(nominal_period_s > 0.0) || !std::isfinite(nominal_period_s) || nominal_period_s > 10.0)
+    return rangeError("servo period", nominal_period_s, "must be in (0, 10] s");
+  ConfigResult r = servo_.configure(params);
+  if (!r) return r;
+  nominal_period_ = nominal_period_s;
+  reset();
+  return ConfigResult::success();
+}
+
+void ServoStage::reset() {
+  servo_.reset();
+  in_ = ServoInput();
+  have_pose_ = false;
+  first_cycle_ = true;
+  last_time_ = 0.0;
+}
+
+bool ServoStage::setMeasuredPose(const Pose& p) {
+  double qn = 0.0;
+  bool ok = true;
+  for (double v : p.p) ok = ok && std::isfinite(v);
+  for (double v : p.q) {
+    ok = ok && std::isfinite(v);
+    qn += v * v;
+  }
+  ok = ok && qn > 1e-12;
+  // Before the first valid pose an invalid one is ignored (it must not seed
+  // the command); afterwards it reaches the core, which holds (InvalidInput).
+  if (ok || have_pose_) in_.flange_measured = p;
+  if (ok) have_pose_ = true;
+  return ok;
+}
+
+bool ServoStage::step(double now, const ContactFeatures& features, ServoOutput& out, ServoStatus& status) {
+  if (!have_pose_) {  // hold: no command before a measured pose
+    out.valid = false;
+    out.command.status = ServoStatus::Holding;
+    status = ServoStatus::Holding;
+    return false;
+  }
+  const double dt = first_cycle_ ? nominal_period_ : now - last_time_;
+  first_cycle_ = false;
+  last_time_ = now;
+  in_.time_s = now;
+  in_.features = features;
+  status = servo_.step(in_, dt, out);
+  return out.valid;
+}
+
+}  // namespace tactile

@@ -1,0 +1,83 @@
+// tactile::SimClock: the deterministic scheduler of the RTT sim deployment.
+// Its activity executes the loop's components, which run as its slaves
+// (deployer: setMasterSlaveActivity("Clock", name)), tick by tick in pipeline
+// order at the scene's rates, with the headless runner's schedule and end
+// rule (tactile::sim::Schedule, tactile::sim::EndRule): on physics tick i
+//   RTT's TimeService := t_i (simulated time; the system clock is disabled)
+//   Sensor.update()    if the WTS acquisition fires
+//   Features.update()  if feature extraction fires
+//   Servo.update()     if the servo fires; end at its force ceiling / 1 s after Done
+//   Robot.update()     every tick (physics); end at a fatal simulator status
+// until the scene's duration or the end rule. So the deployment runs the same
+// loop as `tactile_sim run` (same stages, same schedule, same seed): the same
+// pose command on every servo cycle.
+//
+// Interface (documented with .doc() in the constructor):
+//   property scene_file (string)        the scene (rates, duration); the components load the same file
+//   property realtime_factor (double)   0 = as fast as possible; r > 0: r x wall-clock speed
+//   property robot, sensor, features, servo (string)  peer names of the stages
+//                                       (defaults Robot, Sensor, Features, Servo)
+//   property reporter (string)          optional peer executed right after each servo cycle
+//                                       (a logger such as OCL::FileReporting, a slave too); '' = none
+//   attr sim_time (double)   simulated time of the current tick (s)
+//   attr ticks (int)         physics ticks executed since start
+//   attr finished (bool)     the run ended (duration or end rule); the clock then idles
+//   attr status (string)     "running", then summary.json's status ("ok", "servo_force_ceiling", "sim_...")
+//   attr exit_code (int)     tactile_sim's exit code for that status (0, 3, 4)
+//   op   string lastError()
+//
+// Execution: a non-periodic activity (setActivity("Clock", 0, ...)); each
+// update runs up to 50 ticks and triggers the next one. The slaves must be
+// started before the clock. start() resets the schedule, disables the
+// system clock of RTT's TimeService and sets it to t = 0. Per tick: no heap
+// allocation.
+#pragma once
+
+#include <rtt/TaskContext.hpp>
+#include <rtt/internal/DataSource.hpp>
+
+#include <string>
+
+#include "tactile_sim/loop.hpp"
+
+namespace tactile {
+
+class SimClock : public RTT::TaskContext {
+ public:
+  explicit SimClock(const std::string& name);
+
+  bool configureHook() override;
+  bool startHook() override;
+  void updateHook() override;
+
+  std::string lastError() const { return last_error_; }
+
+ private:
+  /// One physics tick; false when the run ended.
+  bool tick();
+  void finish(sim::EndReason reason, sim::SimStatus st);
+  void setTime(int64_t t_ns);
+
+  std::string scene_file_;
+  double realtime_factor_ = 0.0;
+  std::string robot_name_ = "Robot", sensor_name_ = "Sensor", features_name_ = "Features", servo_name_ = "Servo";
+  std::string reporter_name_;
+  double sim_time_ = 0.0;
+  int ticks_ = 0;
+  bool finished_ = false;
+  std::string status_ = "running";
+  int exit_code_ = 0;
+  std::string last_error_;
+
+  sim::Schedule schedule_;
+  sim::EndRule end_;
+  RTT::TaskContext* robot_ = nullptr;
+  RTT::TaskContext* sensor_ = nullptr;
+  RTT::TaskContext* features_ = nullptr;
+  RTT::TaskContext* servo_ = nullptr;
+  RTT::TaskContext* reporter_ = nullptr;
+  RTT::internal::DataSource<int>::shared_ptr servo_status_, sim_status_;
+  int64_t wall_start_ns_ = 0;
+};
+
+}  // namespace tactile

@@ -1,0 +1,113 @@
+// The loop's shared rules, used unchanged by the headless runner
+// (tactile_sim run) and by the RTT sim deployment (tactile::SimClock and the
+// simulated arm), so that both ARE the same loop:
+//
+//  * Schedule: which stages fire on physics tick i, from the scene's rates
+//    (Table 2: physics 1 kHz, WTS 140 Hz, features 200 Hz, servo 100 Hz).
+//    Per tick, in pipeline order: WTS acquisition (sensor), feature
+//    extraction on the latest raw frame, servo on the latest features, then
+//    one physics step of the arm toward the latest command. A stage fires
+//    when t_i + dt/4 >= its next event time, which then advances by its
+//    period (no drift; exact rates when they divide the physics rate,
+//    otherwise the nearest tick). Time is an integer count of nanoseconds,
+//    t_i = i * round(1e9 / rates.sim) ns, converted to seconds exactly as
+//    RTT's TimeService does (double(ns) / 1e9): the clock component sets the
+//    TimeService to it, the runner uses the same numbers.
+//  * EndRule: a run ends at the servo's force ceiling (after that cycle,
+//    before the physics step), one second (rates.servo cycles) after the
+//    servo reports Done, at a fatal simulator status (after the physics
+//    step), or at the scene's duration.
+//  * Rows and the summary: makeRow() builds one servo-rate log row from what
+//    the ports carry (features, pose command, phase, the simulator's
+//    ground truth); computeSummary() computes summary.json's metrics from
+//    the rows alone.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "tactile_sim/run_log.hpp"
+#include "tactile_sim/scene.hpp"
+#include "tactile_sim/world.hpp"
+#include "tactile_types/types.hpp"
+
+namespace tactile {
+namespace sim {
+
+struct StageFires {
+  bool wts = false;       ///< WTS acquisition (the sensor)
+  bool features = false;  ///< feature extraction on the latest raw frame
+  bool servo = false;     ///< tactile servo on the latest features
+};
+
+class Schedule {
+ public:
+  /// Validates the rates (> 0, <= rates.sim) and the duration (> 0 s).
+  ConfigResult configure(const Rates& rates, double duration_s);
+  /// Back to tick 0 (every stage fires on tick 0).
+  void reset();
+
+  long tick() const { return i_; }
+  long ticks() const { return steps_; }           ///< round(duration * rates.sim)
+  bool finished() const { return i_ >= steps_; }
+  int64_t periodNs() const { return period_ns_; }
+  double dt() const { return dt_; }               ///< physics step (s), 1 / rates.sim
+  double time() const { return timeOf(i_); }      ///< t of the current tick (s)
+  double timeOf(long i) const { return static_cast<double>(static_cast<int64_t>(i) * period_ns_) / 1e9; }
+  const Rates& rates() const { return rates_; }
+
+  /// The stages firing on the current tick (the physics step always does).
+  StageFires fires() const;
+  /// Commits the current tick's events and moves to the next tick.
+  void advance();
+
+ private:
+  Rates rates_;
+  long steps_ = 0;
+  int64_t period_ns_ = 1000000;
+  double dt_ = 0.001;
+  long i_ = 0;
+  double next_wts_ = 0, next_feat_ = 0, next_servo_ = 0;
+};
+
+enum class EndReason : uint8_t { None = 0, Duration, ServoForceCeiling, DoneHeld, SimFatal };
+
+class EndRule {
+ public:
+  void configure(const Rates& rates) { done_limit_ = static_cast<int>(rates.servo); }
+  void reset() { done_cycles_ = 0; }
+  /// After a servo cycle: ForceCeiling ends the run at once; Done ends it
+  /// after one more second (rates.servo cycles) of holding.
+  EndReason afterServo(ServoStatus st);
+  /// After a physics step: a fatal simulator status ends the run.
+  EndReason afterPhysics(SimStatus st) const { return fatal(st) ? EndReason::SimFatal : EndReason::None; }
+
+ private:
+  int done_limit_ = 100;
+  int done_cycles_ = 0;
+};
+
+/// summary.json's status and exit code for an end reason (sim_status: the
+/// simulator's status when reason == SimFatal).
+void applyEnd(EndReason reason, SimStatus sim_status, Summary& s);
+
+/// The simulator's ground truth port value: the state after a physics step
+/// and the last acquisition's contact point.
+void fillTruth(const SimState& state, const SensorTruth& last_acquisition, SimTruth& out);
+
+/// One servo-rate row from the loop's signals. `u_s`/`beta` are for the
+/// timeseries only (zero when not known).
+LogRow makeRow(const Scene& scene, double t, int phase, ServoStatus status, const ContactFeatures& f,
+               const Pose& command_flange, const SimTruth& truth, const Vec6& u_s = Vec6::Zero(), int beta = 0);
+
+/// Phase entries (first row of each phase run) from the rows.
+std::vector<PhaseEntry> phaseEntries(const Scene& scene, const std::vector<LogRow>& rows);
+
+/// summary.json's metrics from out.rows and out.phases (and the scene): force
+/// metrics, contact losses, alignment time, path, DZMP, tray. Leaves status,
+/// exit code, times and FRI counters alone.
+void computeSummary(const Scene& scene, RunResult& out);
+
+}  // namespace sim
+}  // namespace tactile

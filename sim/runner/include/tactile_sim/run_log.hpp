@@ -1,0 +1,83 @@
+// What one run of the loop logs (timeseries.csv rows, phases, snapshots,
+// contacts) and its summary.json: the headless runner fills it, and the RTT
+// sim deployment's recordings give the same rows (tactile_sim/loop.hpp).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "tactile_servo/servo.hpp"
+#include "tactile_types/types.hpp"
+
+namespace tactile {
+namespace sim {
+
+/// One row of timeseries.csv (logged at the servo rate).
+struct LogRow {
+  double t = 0;
+  int phase = 0;
+  ServoStatus servo = ServoStatus::NotConfigured;
+  ContactType contact = ContactType::None;
+  FeatureStatus feature_status = FeatureStatus::NotConfigured;
+  std::array<double, 3> cmd{}, act{};      ///< sensor position {g}: commanded, actual (m)
+  std::array<double, 3> cmd_rpy{}, act_rpy{};  ///< sensor orientation {g} (rad)
+  ContactFeatures f;
+  Vec6 s_d = Vec6::Zero();
+  double sd_force = 0;                     ///< desired force (N) = s_d(d_z) / c_z
+  double force_true = 0;                   ///< N, normal force on the sensor (layer + housing)
+  double force_layer = 0, housing_force = 0;
+  double moment_x_true = 0, moment_y_true = 0;  ///< N m, about x_s / y_s
+  double tray_angle_deg = 0;
+  std::array<double, 3> true_contact{};    ///< pressure centre on the surface {g} (m)
+  bool true_in_contact = false;
+  Vec6 u_s = Vec6::Zero();
+  int beta = 0;
+  double feature_age = 0;                  ///< t - features.time_s (s)
+};
+
+struct PhaseEntry {
+  std::string name;
+  double t_enter = 0;
+};
+
+struct Snapshot {
+  double t = 0;
+  std::string label;
+  TactileFrame frame;
+};
+
+struct ContactPoint {
+  double t = 0;
+  std::array<double, 3> p{};     ///< CoP mapped to {g} (m)
+  std::array<double, 3> truth{}; ///< true pressure centre {g} (m)
+};
+
+/// summary.json. Metrics a scene does not have are NaN (written as null).
+struct Summary {
+  std::string scene, controller, status = "ok", fidelity;
+  uint64_t seed = 1;
+  double sim_time_s = 0, wall_time_s = 0, real_time_factor = 0;
+  int contact_lost_count = 0;  ///< contact held >= 5 servo cycles, then absent >= 5, in a contact phase
+  double force_true_mean_n = 0, force_true_max_n = 0, force_true_rms_error_n = 0, force_true_in_band_fraction = 0;
+  double alignment_time_s = 0, path_length_m = 0, slide_speed_mps = 0;
+  double dzmp_final_m = 0, tray_angle_max_deg = 0, dzmp_recovery_time_s = 0, translation_x_m = 0;
+  // Through FRI (scene through_fri): bridge replies and the largest step
+  // between consecutive commands the simulated KRC applied.
+  long fri_replies = 0;
+  double fri_max_step_m = 0, fri_max_step_rad = 0;
+  int exit_code = 0;  ///< 0 ok, 3 simulator fatal (NaN, joint limit, singularity, force limit), 4 servo force ceiling
+};
+
+struct RunResult {
+  std::vector<std::string> phase_names;  ///< by phase index
+  std::vector<LogRow> rows;
+  std::vector<PhaseEntry> phases;
+  std::vector<Snapshot> snapshots;
+  std::vector<ContactPoint> contacts;
+  Summary summary;
+};
+
+}  // namespace sim
+}  // namespace tactile

@@ -1,0 +1,267 @@
+#include "tactile_sim/loop.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace tactile {
+namespace sim {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::array<double, 3> rpyOf(const KDL::Rotation& R) {
+  double r, p, y;
+  R.GetRPY(r, p, y);
+  return {r, p, y};
+}
+
+bool phaseIn(const std::vector<std::string>& list, const std::string& name) {
+  for (const auto& s : list)
+    if (s == name) return true;
+  return false;
+}
+
+}  // namespace
+
+// ---- Schedule -----------------------------------------------------------------
+
+ConfigResult Schedule::configure(const Rates& r, double duration_s) {
+  for (auto [name, v] : {std::pair<const char*, double>{"rates.sim", r.sim}, {"rates.servo", r.servo},
+                         {"rates.wts", r.wts}, {"rates.features", r.features}})
+    if (!(v > 0.0) || !std::isfinite(v) || v > 1e6) return rangeError(name, v, "must be in (0, 1e6] Hz");
+  for (auto [name, v] : {std::pair<const char*, double>{"rates.servo", r.servo}, {"rates.wts", r.wts},
+                         {"rates.features", r.features}})
+    if (v > r.sim + 1e-9) return rangeError(name, v, "must be <= rates.sim (the physics rate)");
+  if (!(duration_s > 0.0) || !std::isfinite(duration_s)) return rangeError("duration", duration_s, "must be > 0 (s)");
+  rates_ = r;
+  dt_ = 1.0 / r.sim;
+  period_ns_ = std::max<int64_t>(1, std::llround(1e9 / r.sim));
+  steps_ = std::lround(duration_s * r.sim);
+  reset();
+  return ConfigResult::success();
+}
+
+void Schedule::reset() {
+  i_ = 0;
+  next_wts_ = next_feat_ = next_servo_ = 0.0;
+}
+
+StageFires Schedule::fires() const {
+  const double t = time(), eps = 0.25 * dt_;
+  StageFires f;
+  f.wts = t + eps >= next_wts_;
+  f.features = t + eps >= next_feat_;
+  f.servo = t + eps >= next_servo_;
+  return f;
+}
+
+void Schedule::advance() {
+  const StageFires f = fires();
+  if (f.wts) next_wts_ += 1.0 / rates_.wts;
+  if (f.features) next_feat_ += 1.0 / rates_.features;
+  if (f.servo) next_servo_ += 1.0 / rates_.servo;
+  ++i_;
+}
+
+// ---- EndRule ------------------------------------------------------------------
+
+EndReason EndRule::afterServo(ServoStatus st) {
+  if (st == ServoStatus::ForceCeiling) return EndReason::ServoForceCeiling;
+  // A terminal phase ends the run after one more second of holding.
+  if (st == ServoStatus::Done && ++done_cycles_ > done_limit_) return EndReason::DoneHeld;
+  return EndReason::None;
+}
+
+void applyEnd(EndReason reason, SimStatus sim_status, Summary& s) {
+  switch (reason) {
+    case EndReason::ServoForceCeiling:
+      s.status = "servo_force_ceiling";
+      s.exit_code = 4;
+      break;
+    case EndReason::SimFatal:
+      s.status = std::string("sim_") + toString(sim_status);
+      s.exit_code = 3;
+      break;
+    default:
+      s.status = "ok";
+      s.exit_code = 0;
+  }
+}
+
+// ---- rows -------------------------------------------------------------------
+
+void fillTruth(const SimState& st, const SensorTruth& acq, SimTruth& out) {
+  out.time_s = st.time_s;
+  out.wrench_s = st.wrench_s;
+  out.layer_force = st.normal_force;
+  out.housing_force = st.housing_force;
+  out.tray_pitch = st.tray_pitch;
+  out.tray_roll = st.tray_roll;
+  out.contact_point_g = acq.contact_point_g;
+  out.in_contact = acq.in_contact;
+  out.sensor_pose = st.sensor_g;
+  out.sim_status = static_cast<int>(st.status);
+}
+
+LogRow makeRow(const Scene& sc, double t, int phase, ServoStatus status, const ContactFeatures& f,
+               const Pose& cmd, const SimTruth& truth, const Vec6& u_s, int beta) {
+  LogRow row;
+  const PhaseParams& pp = sc.servo.phases[static_cast<std::size_t>(phase)];
+  row.t = t;
+  row.phase = phase;
+  row.servo = status;
+  row.contact = f.contact;
+  row.feature_status = f.status;
+  const KDL::Frame T_cmd_s = toFrame(cmd) * sc.servo.sensor_mount;
+  const KDL::Frame T_gs = toFrame(truth.sensor_pose);
+  row.cmd = {T_cmd_s.p.x(), T_cmd_s.p.y(), T_cmd_s.p.z()};
+  row.act = {T_gs.p.x(), T_gs.p.y(), T_gs.p.z()};
+  row.cmd_rpy = rpyOf(T_cmd_s.M);
+  row.act_rpy = rpyOf(T_gs.M);
+  row.f = f;
+  row.s_d = pp.s_d;
+  row.sd_force = pp.s_d(kZ) / sc.servo.c_z;
+  row.force_true = -truth.wrench_s[2];
+  row.force_layer = truth.layer_force;
+  row.housing_force = truth.housing_force;
+  row.moment_x_true = truth.wrench_s[3];
+  row.moment_y_true = truth.wrench_s[4];
+  row.tray_angle_deg = truth.tray_roll * 180.0 / kPi;
+  row.true_contact = truth.contact_point_g;
+  row.true_in_contact = truth.in_contact;
+  row.u_s = u_s;
+  row.beta = beta;
+  row.feature_age = f.status == FeatureStatus::NotConfigured ? kNaN : t - f.time_s;
+  return row;
+}
+
+std::vector<PhaseEntry> phaseEntries(const Scene& sc, const std::vector<LogRow>& rows) {
+  std::vector<PhaseEntry> out;
+  int last = -1;
+  for (const auto& r : rows)
+    if (r.phase != last) {
+      out.push_back({sc.servo.phases[static_cast<std::size_t>(r.phase)].name, r.t});
+      last = r.phase;
+    }
+  return out;
+}
+
+void computeSummary(const Scene& sc, RunResult& out) {
+  Summary& s = out.summary;
+  const auto& rows = out.rows;
+  // Phase entry times (first occurrence).
+  auto tEnter = [&](const std::string& name) {
+    for (const auto& p : out.phases)
+      if (p.name == name) return p.t_enter;
+    return kNaN;
+  };
+  s.alignment_time_s = (!sc.metrics.align_from.empty() && !sc.metrics.align_to.empty())
+                           ? tEnter(sc.metrics.align_to) - tEnter(sc.metrics.align_from)
+                           : kNaN;
+
+  // A loss is a contact that held for >= 5 servo cycles and then stayed
+  // absent for >= 5 cycles in a phase that needs it: single-frame flicker of
+  // a taxel at the firing threshold is not a loss.
+  s.contact_lost_count = 0;
+  int contact_run = 0, absent_run = 0;
+  for (const auto& r : rows) {
+    if (r.contact != ContactType::None) {
+      ++contact_run;
+      absent_run = 0;
+    } else {
+      ++absent_run;
+      if (sc.servo.phases[static_cast<std::size_t>(r.phase)].requires_contact && absent_run == 5 && contact_run >= 5)
+        ++s.contact_lost_count;
+      if (absent_run >= 5) contact_run = 0;
+    }
+  }
+
+  // Force metrics over the servoing phases, after each phase's transient.
+  double sum_f = 0, sum_e2 = 0, max_f = 0, path = 0, t_scored = 0;
+  double n = 0, in_band = 0;
+  const LogRow* prev = nullptr;
+  double phase_t0 = 0;
+  int phase_cur = -1;
+  for (const auto& r : rows) {
+    if (r.phase != phase_cur) {
+      phase_cur = r.phase;
+      phase_t0 = r.t;
+    }
+    const PhaseParams& pp = sc.servo.phases[static_cast<std::size_t>(r.phase)];
+    const bool scored = sc.metrics.force_phases.empty() ? (pp.requires_contact && !pp.terminal)
+                                                        : phaseIn(sc.metrics.force_phases, pp.name);
+    if (!scored || r.t - phase_t0 < sc.metrics.transient_s) {
+      prev = nullptr;
+      continue;
+    }
+    sum_f += r.force_true;
+    sum_e2 += (r.force_true - r.sd_force) * (r.force_true - r.sd_force);
+    max_f = std::max(max_f, r.force_true);
+    in_band += std::fabs(r.force_true - r.sd_force) <= sc.metrics.force_band_n ? 1.0 : 0.0;
+    ++n;
+    if (prev && prev->true_in_contact && r.true_in_contact) {
+      double d2 = 0;
+      for (int k = 0; k < 3; ++k) d2 += (r.true_contact[k] - prev->true_contact[k]) * (r.true_contact[k] - prev->true_contact[k]);
+      path += std::sqrt(d2);
+      t_scored += r.t - prev->t;
+    }
+    prev = &r;
+  }
+  s.force_true_mean_n = n ? sum_f / n : kNaN;
+  s.force_true_max_n = n ? max_f : kNaN;
+  s.force_true_rms_error_n = n ? std::sqrt(sum_e2 / n) : kNaN;
+  s.force_true_in_band_fraction = n ? in_band / n : kNaN;
+  s.path_length_m = path;
+  s.slide_speed_mps = t_scored > 0 ? path / t_scored : kNaN;
+
+  // Final DZMP_y: mean over the last 0.5 s.
+  double sd = 0;
+  double nd = 0;
+  const double t_end = rows.empty() ? 0 : rows.back().t;
+  for (const auto& r : rows)
+    if (r.t >= t_end - 0.5 && r.f.contact != ContactType::None) {
+      sd += r.f.dzmp_y;
+      ++nd;
+    }
+  s.dzmp_final_m = nd ? sd / nd : kNaN;
+
+  // Co-manipulation metrics (scenes with a tray).
+  const TrayParams* tray = nullptr;
+  for (const auto& o : sc.world.objects)
+    if (o.type == ObjectType::Tray) tray = &o.tray;
+  if (tray) {
+    const TrayParams& tp = *tray;
+    double amax = 0;
+    for (const auto& r : rows) amax = std::max(amax, std::fabs(r.tray_angle_deg));
+    s.tray_angle_max_deg = amax;
+    // DZMP recovery: from the start of the move until |DZMP_y| <= 0.5 mm for good.
+    const double t_move = tp.move_start_s;
+    double t_settled = kNaN;
+    for (auto it = rows.rbegin(); it != rows.rend(); ++it) {
+      if (it->t < t_move) break;
+      if (std::fabs(it->f.dzmp_y) > 0.0005 || it->f.contact == ContactType::None) break;
+      t_settled = it->t;
+    }
+    s.dzmp_recovery_time_s = std::isnan(t_settled) ? kNaN : t_settled - t_move;
+    // Translation along the sensor's initial x axis since the move.
+    const LogRow* before = nullptr;
+    for (const auto& r : rows)
+      if (r.t <= t_move) before = &r;
+    if (before && !rows.empty()) {
+      const KDL::Vector xs =
+          KDL::Rotation::RPY(before->act_rpy[0], before->act_rpy[1], before->act_rpy[2]).UnitX();
+      const KDL::Vector d(rows.back().act[0] - before->act[0], rows.back().act[1] - before->act[1],
+                          rows.back().act[2] - before->act[2]);
+      s.translation_x_m = KDL::dot(d, xs);
+    }
+  } else {
+    s.tray_angle_max_deg = kNaN;
+    s.dzmp_recovery_time_s = kNaN;
+    s.translation_x_m = kNaN;
+  }
+}
+
+}  // namespace sim
+}  // namespace tactile

@@ -1,0 +1,282 @@
+// One loop, two hosts: the RTT sim deployment (tactile::SimClock executing
+// Robot = tactile::LwrSimComponent, Sensor = tactile::WtsSimComponent,
+// Features = tactile::FeatureComponent, Servo = tactile::ServoComponent as its
+// slaves, wired as deployments/sim_loop.ops does) against the headless runner
+// (tactile_sim run) on every shipped scene, full duration, same seed:
+//  * the pose command of every servo cycle (a BUFFER connection on
+//    Servo.pose_command) equals the runner's to 1e-12 (position m, quaternion);
+//  * the rows rebuilt from the deployment's ports (features, phase, pose
+//    command, the arm's ground truth) give the runner's summary
+//    (tactile::sim::computeSummary on both), and the clock ends the run with
+//    the runner's status.
+#include <gtest/gtest.h>
+
+#include <rtt/Activity.hpp>
+#include <rtt/Attribute.hpp>
+#include <rtt/ConnPolicy.hpp>
+#include <rtt/InputPort.hpp>
+#include <rtt/TaskContext.hpp>
+#include <rtt/extras/SlaveActivity.hpp>
+#include <rtt/os/TimeService.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <tuple>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "support/rtt_environment.hpp"
+#include "tactile_features_rtt/feature_component.hpp"
+#include "tactile_servo_rtt/servo_component.hpp"
+#include "tactile_sim/loop.hpp"
+#include "tactile_sim/runner.hpp"
+#include "tactile_sim_rtt/lwr_sim_component.hpp"
+#include "tactile_sim_rtt/sim_clock.hpp"
+#include "tactile_sim_rtt/wts_sim_component.hpp"
+#include "temp_file.hpp"
+
+namespace {
+
+using namespace tactile;
+
+const auto* const env = ::testing::AddGlobalTestEnvironment(new test::RttEnvironment(test::Clock::System));
+
+const std::string kScenes = TACTILE_SCENE_DIR "/";
+
+/// What the deployment produced, captured through buffer connections.
+struct Recording {
+  std::vector<PoseCommand> commands;
+  std::vector<PhaseState> phases;
+  std::vector<ContactFeatures> features;
+  std::vector<SimTruth> truths;
+  std::string status;
+  int exit_code = -1;
+  int ticks = 0;
+};
+
+template <typename T>
+void drain(RTT::InputPort<T>& port, std::vector<T>& out) {
+  T v;
+  while (port.read(v, false) == RTT::NewData) out.push_back(v);
+}
+
+/// The sim deployment in-process, as deployments/sim_loop.ops wires it; the
+/// scene's controller mode is written into a temporary program file.
+Recording runDeployment(const std::string& scene_file, const std::string& program_file, double servo_period) {
+  Recording rec;
+  SimClock clock("Clock");
+  LwrSimComponent robot("Robot");
+  WtsSimComponent sensor("Sensor");
+  FeatureComponent features("Features");
+  ServoComponent servo("Servo");
+  clock.setActivity(new RTT::Activity(ORO_SCHED_OTHER, 0, 0.0));
+  for (RTT::TaskContext* s : std::initializer_list<RTT::TaskContext*>{&robot, &sensor, &features, &servo}) {
+    EXPECT_TRUE(s->setActivity(new RTT::extras::SlaveActivity(clock.getActivity())));
+    clock.addPeer(s);
+  }
+  robot.properties()->getPropertyType<std::string>("scene_file")->set(scene_file);
+  sensor.properties()->getPropertyType<std::string>("scene_file")->set(scene_file);
+  clock.properties()->getPropertyType<std::string>("scene_file")->set(scene_file);
+  features.properties()->getPropertyType<std::string>("param_file")->set(TACTILE_SOURCE_DIR
+                                                                          "/components/features/params/wts0614.yaml");
+  servo.properties()->getPropertyType<std::string>("program_file")->set(program_file);
+  servo.properties()->getPropertyType<double>("period")->set(servo_period);
+
+  const RTT::ConnPolicy data = RTT::ConnPolicy::data(RTT::ConnPolicy::LOCK_FREE);
+  auto connect = [&](RTT::TaskContext& a, const char* out, RTT::TaskContext& b, const char* in) {
+    EXPECT_TRUE(a.ports()->getPort(out)->connectTo(b.ports()->getPort(in), data)) << out << " -> " << in;
+  };
+  connect(robot, "taxel_forces", sensor, "taxel_forces");
+  connect(sensor, "raw_frame", features, "raw_frame");
+  connect(features, "features", servo, "features");
+  connect(robot, "flange_pose", servo, "flange_pose");
+  connect(servo, "pose_command", robot, "pose_command");
+
+  // Recorders (buffers large enough for a whole run: nothing is dropped).
+  RTT::InputPort<PoseCommand> cmd_in("cmd_in");
+  RTT::InputPort<PhaseState> phase_in("phase_in");
+  RTT::InputPort<ContactFeatures> feat_in("feat_in");
+  RTT::InputPort<SimTruth> truth_in("truth_in");
+  RTT::TaskContext io("io");
+  io.ports()->addPort(cmd_in);
+  io.ports()->addPort(phase_in);
+  io.ports()->addPort(feat_in);
+  io.ports()->addPort(truth_in);
+  EXPECT_TRUE(servo.ports()->getPort("pose_command")->connectTo(&cmd_in, RTT::ConnPolicy::buffer(20000)));
+  EXPECT_TRUE(servo.ports()->getPort("phase")->connectTo(&phase_in, RTT::ConnPolicy::buffer(20000)));
+  EXPECT_TRUE(features.ports()->getPort("features")->connectTo(&feat_in, RTT::ConnPolicy::buffer(20000)));
+  EXPECT_TRUE(robot.ports()->getPort("truth")->connectTo(&truth_in, RTT::ConnPolicy::buffer(70000)));
+
+  EXPECT_TRUE(robot.configure()) << robot.lastError();
+  EXPECT_TRUE(sensor.configure()) << sensor.lastError();
+  EXPECT_TRUE(features.configure()) << features.lastError();
+  EXPECT_TRUE(servo.configure()) << servo.lastError();
+  EXPECT_TRUE(clock.configure()) << clock.lastError();
+  EXPECT_TRUE(sensor.start() && features.start() && servo.start() && robot.start());
+  drain(truth_in, rec.truths);  // the arm's initial state
+  EXPECT_TRUE(clock.start());
+  RTT::Attribute<bool> finished(clock.provides()->getAttribute("finished"));
+  // The truth buffer (one sample per physics tick) is drained while the clock runs.
+  const auto t0 = std::chrono::steady_clock::now();
+  while (!finished.get()) {
+    drain(truth_in, rec.truths);
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+    if (std::chrono::steady_clock::now() - t0 > std::chrono::seconds(300)) {
+      ADD_FAILURE() << "the clock did not finish in 300 s";
+      break;
+    }
+  }
+  clock.stop();
+  drain(truth_in, rec.truths);
+  drain(cmd_in, rec.commands);
+  drain(phase_in, rec.phases);
+  drain(feat_in, rec.features);
+  rec.status = RTT::Attribute<std::string>(clock.provides()->getAttribute("status")).get();
+  rec.exit_code = RTT::Attribute<int>(clock.provides()->getAttribute("exit_code")).get();
+  rec.ticks = RTT::Attribute<int>(clock.provides()->getAttribute("ticks")).get();
+  servo.stop();
+  features.stop();
+  sensor.stop();
+  robot.stop();
+  RTT::os::TimeService::Instance()->enableSystemClock(true);
+  return rec;
+}
+
+/// The runner's rows rebuilt from the deployment's recordings: the schedule
+/// says on which tick each features sample was written (a features tick after
+/// a new raw frame) and which truth sample a servo cycle saw (the state after
+/// the previous physics tick: sample i on tick i).
+bool rowsFromRecording(const sim::Scene& sc, const Recording& rec, sim::RunResult& out, std::string& why) {
+  sim::Schedule sched;
+  if (!sched.configure(sc.rates, sc.duration)) return false;
+  std::size_t fi = 0, ci = 0, pi = 0;
+  bool new_raw = false;
+  ContactFeatures feats;  // NotConfigured until the first extraction
+  Pose cmd;
+  bool have_cmd = false;
+  for (long i = 0; pi < rec.phases.size(); ++i, sched.advance()) {
+    const sim::StageFires f = sched.fires();
+    if (f.wts) new_raw = true;
+    if (f.features && new_raw) {
+      if (fi >= rec.features.size()) {
+        why = "fewer features samples than features ticks";
+        return false;
+      }
+      feats = rec.features[fi++];
+      new_raw = false;
+    }
+    if (!f.servo) continue;
+    const PhaseState& ph = rec.phases[pi++];
+    // One command per servo cycle in the sim (the pose is there from tick 0).
+    if (ci < rec.commands.size()) {
+      cmd = rec.commands[ci++].pose;
+      have_cmd = true;
+    }
+    if (!have_cmd || static_cast<std::size_t>(i) >= rec.truths.size()) {
+      why = "servo cycle " + std::to_string(pi) + " without a command or a truth sample";
+      return false;
+    }
+    out.rows.push_back(sim::makeRow(sc, sched.timeOf(i), ph.index, ph.status, feats, cmd,
+                                    rec.truths[static_cast<std::size_t>(i)]));
+  }
+  out.phases = sim::phaseEntries(sc, out.rows);
+  sim::computeSummary(sc, out);
+  return true;
+}
+
+struct Case {
+  const char* scene;
+  ControllerMode mode;
+};
+
+class SimLoop : public ::testing::TestWithParam<Case> {};
+
+TEST_P(SimLoop, DeploymentIsTheRunnersLoop) {
+  const Case c = GetParam();
+  sim::Scene sc;
+  ASSERT_TRUE(sim::loadScene(kScenes + c.scene, sc).ok());
+  sc.controller = c.mode;
+  // The servo component reads the mode from its program file: the scene's
+  // program with the controller overridden (as --controller does).
+  std::string program_file = sc.program_file;
+  if (c.mode == ControllerMode::Baseline) {
+    std::ifstream in(sc.program_file);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::size_t at = text.find("  mode: proposed");
+    ASSERT_NE(at, std::string::npos) << sc.program_file;
+    text.replace(at, 16, "  mode: baseline");
+    program_file = test::writeTempFile(std::string("baseline_") + c.scene, text);
+  }
+  sim::Runner runner;
+  ASSERT_TRUE(runner.configure(sc).ok());
+  sim::RunResult want;
+  runner.run(want);
+
+  const Recording rec = runDeployment(kScenes + c.scene, program_file, 1.0 / sc.rates.servo);
+
+  // Every servo cycle's pose command, to 1e-12.
+  ASSERT_EQ(rec.phases.size(), want.rows.size()) << "servo cycles";
+  ASSERT_EQ(rec.commands.size(), want.rows.size()) << "pose commands (one per servo cycle)";
+  double worst = 0.0;
+  for (std::size_t k = 0; k < want.rows.size(); ++k) {
+    const KDL::Frame T = toFrame(rec.commands[k].pose) * sc.servo.sensor_mount;
+    const sim::LogRow& w = want.rows[k];
+    const double d[] = {T.p.x() - w.cmd[0], T.p.y() - w.cmd[1], T.p.z() - w.cmd[2]};
+    for (double e : d) worst = std::max(worst, std::fabs(e));
+    double r, p, y;
+    T.M.GetRPY(r, p, y);
+    for (double e : {r - w.cmd_rpy[0], p - w.cmd_rpy[1], y - w.cmd_rpy[2]}) worst = std::max(worst, std::fabs(e));
+    ASSERT_LE(worst, 1e-12) << "servo cycle " << k << " t = " << w.t;
+    ASSERT_EQ(rec.commands[k].status, w.servo) << "servo cycle " << k;
+    ASSERT_EQ(rec.phases[k].index, w.phase) << "servo cycle " << k;
+  }
+  std::printf("%s (%s): %zu servo cycles, largest pose command difference %.3g (m, rad), %d ticks\n", c.scene,
+              c.mode == ControllerMode::Baseline ? "baseline" : "proposed", want.rows.size(), worst, rec.ticks);
+
+  // The same summary from the deployment's rows, and the same end.
+  sim::RunResult got;
+  std::string why;
+  ASSERT_TRUE(rowsFromRecording(sc, rec, got, why)) << why;
+  ASSERT_EQ(got.rows.size(), want.rows.size());
+  EXPECT_EQ(rec.status, want.summary.status);
+  EXPECT_EQ(rec.exit_code, want.summary.exit_code);
+  const sim::Summary &g = got.summary, &w = want.summary;
+  auto same = [](double a, double b) { return (std::isnan(a) && std::isnan(b)) || a == b; };
+  EXPECT_EQ(g.contact_lost_count, w.contact_lost_count);
+  for (auto [name, a, b] : {std::tuple<const char*, double, double>{"force_true_mean_n", g.force_true_mean_n, w.force_true_mean_n},
+                            {"force_true_max_n", g.force_true_max_n, w.force_true_max_n},
+                            {"force_true_rms_error_n", g.force_true_rms_error_n, w.force_true_rms_error_n},
+                            {"force_true_in_band_fraction", g.force_true_in_band_fraction, w.force_true_in_band_fraction},
+                            {"alignment_time_s", g.alignment_time_s, w.alignment_time_s},
+                            {"path_length_m", g.path_length_m, w.path_length_m},
+                            {"slide_speed_mps", g.slide_speed_mps, w.slide_speed_mps},
+                            {"dzmp_final_m", g.dzmp_final_m, w.dzmp_final_m},
+                            {"tray_angle_max_deg", g.tray_angle_max_deg, w.tray_angle_max_deg},
+                            {"dzmp_recovery_time_s", g.dzmp_recovery_time_s, w.dzmp_recovery_time_s},
+                            {"translation_x_m", g.translation_x_m, w.translation_x_m}})
+    EXPECT_TRUE(same(a, b)) << name << ": deployment " << a << ", runner " << b;
+  ASSERT_EQ(got.phases.size(), want.phases.size());
+  for (std::size_t k = 0; k < got.phases.size(); ++k) {
+    EXPECT_EQ(got.phases[k].name, want.phases[k].name);
+    EXPECT_EQ(got.phases[k].t_enter, want.phases[k].t_enter);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, SimLoop,
+                         ::testing::Values(Case{"edge_exploration.yaml", ControllerMode::Proposed},
+                                           Case{"bent_bar.yaml", ControllerMode::Proposed},
+                                           Case{"bent_bar.yaml", ControllerMode::Baseline},
+                                           Case{"co_manipulation.yaml", ControllerMode::Proposed},
+                                           Case{"sphere_table.yaml", ControllerMode::Proposed}),
+                         [](const ::testing::TestParamInfo<Case>& i) {
+                           std::string n = i.param.scene;
+                           n = n.substr(0, n.find('.'));
+                           return n + (i.param.mode == ControllerMode::Baseline ? "_baseline" : "_proposed");
+                         });
+
+}  // namespace
