@@ -30,6 +30,7 @@
 #include <thread>
 #include <vector>
 
+#include "alloc_counter.hpp"
 #include "support/rtt_environment.hpp"
 #include "tactile_features_rtt/feature_component.hpp"
 #include "tactile_servo_rtt/servo_component.hpp"
@@ -278,5 +279,54 @@ INSTANTIATE_TEST_SUITE_P(Scenes, SimLoop,
                            n = n.substr(0, n.find('.'));
                            return n + (i.param.mode == ControllerMode::Baseline ? "_baseline" : "_proposed");
                          });
+
+// The whole deployed loop per tick allocates nothing: the clock (on a
+// SlaveActivity here, so its updates run in this thread) executing the four
+// stages through an edge exploration into contact.
+TEST(SimLoopClock, TicksDoNotAllocate) {
+  const std::string scene = kScenes + "edge_exploration.yaml";
+  SimClock clock("Clock");
+  LwrSimComponent robot("Robot");
+  WtsSimComponent sensor("Sensor");
+  FeatureComponent features("Features");
+  ServoComponent servo("Servo");
+  clock.setActivity(new RTT::extras::SlaveActivity(0.0));
+  for (RTT::TaskContext* s : std::initializer_list<RTT::TaskContext*>{&robot, &sensor, &features, &servo}) {
+    ASSERT_TRUE(s->setActivity(new RTT::extras::SlaveActivity(clock.getActivity())));
+    clock.addPeer(s);
+  }
+  robot.properties()->getPropertyType<std::string>("scene_file")->set(scene);
+  sensor.properties()->getPropertyType<std::string>("scene_file")->set(scene);
+  clock.properties()->getPropertyType<std::string>("scene_file")->set(scene);
+  features.properties()->getPropertyType<std::string>("param_file")->set(TACTILE_SOURCE_DIR
+                                                                          "/components/features/params/wts0614.yaml");
+  servo.properties()->getPropertyType<std::string>("program_file")->set(TACTILE_SOURCE_DIR
+                                                                         "/components/servo/programs/edge_exploration.yaml");
+  servo.properties()->getPropertyType<double>("period")->set(0.01);
+  const RTT::ConnPolicy data = RTT::ConnPolicy::data(RTT::ConnPolicy::LOCK_FREE);
+  ASSERT_TRUE(robot.ports()->getPort("taxel_forces")->connectTo(sensor.ports()->getPort("taxel_forces"), data));
+  ASSERT_TRUE(sensor.ports()->getPort("raw_frame")->connectTo(features.ports()->getPort("raw_frame"), data));
+  ASSERT_TRUE(features.ports()->getPort("features")->connectTo(servo.ports()->getPort("features"), data));
+  ASSERT_TRUE(robot.ports()->getPort("flange_pose")->connectTo(servo.ports()->getPort("flange_pose"), data));
+  ASSERT_TRUE(servo.ports()->getPort("pose_command")->connectTo(robot.ports()->getPort("pose_command"), data));
+  ASSERT_TRUE(robot.configure() && sensor.configure() && features.configure() && servo.configure());
+  ASSERT_TRUE(clock.configure()) << clock.lastError();
+  ASSERT_TRUE(sensor.start() && features.start() && servo.start() && robot.start());
+  ASSERT_TRUE(clock.start());
+  RTT::Attribute<int> ticks(clock.provides()->getAttribute("ticks"));
+  for (int k = 0; k < 40; ++k) ASSERT_TRUE(clock.update());  // warm-up: 2000 ticks, every port used
+  {
+    tactile::test::AllocationScope scope;
+    for (int k = 0; k < 100; ++k) clock.update();  // 5000 ticks: free motion into contact and alignment
+    EXPECT_EQ(scope.count(), 0u);
+  }
+  EXPECT_EQ(ticks.get(), 7000);
+  EXPECT_NE(servo.phaseName(), "free_motion") << "the loop reached the bar";
+  clock.stop();
+  // The stages' port events queued trigger messages on the clock's engine:
+  // process them before the stages go away.
+  clock.update();
+  RTT::os::TimeService::Instance()->enableSystemClock(true);
+}
 
 }  // namespace

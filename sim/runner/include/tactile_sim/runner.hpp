@@ -9,9 +9,14 @@
 // Each stage reads the latest output of the stage before it, so the servo
 // sees features that are up to 1/wts + 1/features old, as on the robot (the
 // feature's time_s is its frame's acquisition time: the servo's stale-data
-// watchdog works on it). The same cores run here as in the RTT components:
-// tactile::Calibration, tactile::FeatureExtractor, tactile::TactileServo, and
-// the simulator's World in place of the robot.
+// watchdog works on it); features are extracted when a new raw frame arrived.
+// It is the loop of the RTT sim deployment (deployments/sim_loop.ops), stage
+// for stage: the arm (World::step, World::acquireForces), the sensor
+// (tactile::sim::TaxelResponse on the sensor's calibration file),
+// tactile::SensorStage, tactile::ServoStage and, with through_fri,
+// tactile::fri::FriBridge against tactile::fri::KrcModel, fired by
+// tactile::sim::Schedule and ended by tactile::sim::EndRule (loop.hpp);
+// tests/rtt/test_sim_loop.cpp checks equal pose commands on every servo cycle.
 //
 // Deterministic for a given scene and seed (the only randomness is the
 // sensor noise, seeded). The runner is an application, not a core: it

@@ -1,0 +1,115 @@
+// tactile::fri::KrcModel: the KRC side of FRI shared by the headless runner
+// and the SimKrc test peer, driven here without a socket against the real
+// tactile::fri::FriBridge, time passed in.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+
+#include "alloc_counter.hpp"
+#include "tactile_fri/bridge.hpp"
+#include "tactile_fri/krc_model.hpp"
+
+using namespace tactile;
+using namespace tactile::fri;
+
+namespace {
+
+struct Loop {
+  KrcModel krc;
+  FriBridge bridge;
+  PlantState plant;
+  std::array<uint8_t, 2048> wire{};
+  MsrPacket msr{};
+  BridgeOutput out;
+
+  Loop() {
+    KrcModelParams kp;
+    EXPECT_TRUE(krc.configure(kp).ok());
+    BridgeParams bp;
+    EXPECT_TRUE(bridge.configure(bp).ok());
+    plant.pose = KDL::Frame(KDL::Rotation::RPY(3.14159265358979, 0, 0), KDL::Vector(0.5, 0, 0.4));
+    krc.reset(plant.pose);
+  }
+  /// One cycle at time t: the robot follows the set point exactly.
+  ReplyResult cycle(double t, State s, const PoseCommand& desired) {
+    krc.setState(s, Quality::Perfect, 0x7F);
+    krc.holdUnlessCommanding(plant.pose);
+    plant.pose = krc.setPoint();
+    krc.buildMeasurement(plant, t, msr);
+    std::size_t n = 0;
+    EXPECT_EQ(encodeMeasurement(msr, wire.data(), wire.size(), n), PacketStatus::Ok);
+    bridge.stepDatagram(wire.data(), n, desired, t, out);
+    if (!out.reply) return ReplyResult::Malformed;
+    EXPECT_EQ(encodeCommand(out.cmd, wire.data(), wire.size(), n), PacketStatus::Ok);
+    return krc.handleReply(wire.data(), n);
+  }
+};
+
+}  // namespace
+
+TEST(KrcModel, MonEchoThenCmdFollowsTheRateLimitedCommand) {
+  Loop l;
+  PoseCommand desired;
+  desired.pose = toPose(KDL::Frame(l.plant.pose.M, l.plant.pose.p + KDL::Vector(0, 0, -0.01)));
+  desired.status = ServoStatus::Ok;
+  for (int k = 0; k < 50; ++k) {  // MON: the bridge echoes, nothing moves
+    desired.time_s = 0.001 * k;
+    ASSERT_EQ(l.cycle(0.001 * k, State::Mon, desired), ReplyResult::Matched) << k;
+    EXPECT_EQ(l.msr.head.send_seq, k + 1);
+    EXPECT_EQ(l.msr.intf.timestamp, static_cast<uint32_t>(0.001 * k * 1000.0));
+  }
+  EXPECT_EQ(l.krc.stats().mon_echo_errors, 0u);
+  EXPECT_EQ(l.krc.stats().applied, 0u);
+  EXPECT_NEAR(l.plant.pose.p.z(), 0.4, 1e-6);
+  {
+    tactile::test::AllocationScope scope;
+    for (int k = 50; k < 300; ++k) {  // CMD: the set point follows the rate-limited command
+      desired.time_s = 0.001 * k;
+      ASSERT_EQ(l.cycle(0.001 * k, State::Cmd, desired), ReplyResult::Matched) << k;
+    }
+    EXPECT_EQ(scope.count(), 0u);
+  }
+  const KrcModelStats& s = l.krc.stats();
+  EXPECT_EQ(s.replies, 300u);
+  EXPECT_EQ(s.applied, 250u);
+  EXPECT_EQ(s.remote_seq_errors, 0u);
+  EXPECT_EQ(s.flag_errors, 0u);
+  EXPECT_LE(s.max_cmd_step_m, 0.05 * 0.001 + 2e-7) << "the bridge's 0.05 m/s limit at 1 kHz";
+  EXPECT_LE(s.max_entry_offset_m, 0.05 * 0.001 + 2e-7) << "no jump on entering CMD: one limited step";
+  EXPECT_NEAR(l.plant.pose.p.z(), 0.39, 1e-5) << "200 limited steps reach the command 1 cm below";
+  // The next measurement's reflSeqCount is the last command taken.
+  const uint16_t last = l.out.cmd.head.send_seq;
+  l.krc.buildMeasurement(l.plant, 0.3, l.msr);
+  EXPECT_EQ(l.msr.head.refl_seq, last);
+}
+
+TEST(KrcModel, StaleAndMalformedRepliesAreNotApplied) {
+  Loop l;
+  PoseCommand desired;
+  desired.pose = toPose(l.plant.pose);
+  desired.status = ServoStatus::Ok;
+  ASSERT_EQ(l.cycle(0.0, State::Cmd, desired), ReplyResult::Matched);
+  // A reply to the previous measurement arriving after a new one: stale, ignored.
+  CmdPacket old = l.out.cmd;
+  l.plant.pose = l.krc.setPoint();
+  l.krc.buildMeasurement(l.plant, 0.001, l.msr);
+  std::size_t n = 0;
+  old.head.send_seq = static_cast<uint16_t>(old.head.send_seq + 1);
+  ASSERT_EQ(encodeCommand(old, l.wire.data(), l.wire.size(), n), PacketStatus::Ok);
+  EXPECT_EQ(l.krc.handleReply(l.wire.data(), n), ReplyResult::Stale);
+  EXPECT_EQ(l.krc.stats().stale_replies, 1u);
+  EXPECT_EQ(l.krc.handleReply(l.wire.data(), 10), ReplyResult::Malformed);
+  EXPECT_EQ(l.krc.stats().malformed_replies, 1u);
+  EXPECT_EQ(l.krc.stats().applied, 1u);
+  // Leaving CMD: the set point follows the measured pose again.
+  l.krc.setState(State::Mon, Quality::Perfect, 0x7F);
+  const KDL::Frame moved(l.plant.pose.M, l.plant.pose.p + KDL::Vector(0.01, 0, 0));
+  l.krc.holdUnlessCommanding(moved);
+  EXPECT_NEAR((l.krc.setPoint().p - moved.p).Norm(), 0.0, 1e-12);
+  KrcModelParams bad;
+  bad.period_s = 0.0;
+  const ConfigResult r = l.krc.configure(bad);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("krc.period_s"), std::string::npos) << r.message();
+}
