@@ -423,9 +423,17 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   const bool time_ok = std::isfinite(now);
   KDL::Frame meas;
   const bool pose_ok = toFrame(in.flange_measured, meas);
-  if (pose_ok && !has_cmd_) {  // first cycle (or after reset): start from the measured pose
+  if (!has_cmd_) {
+    // Start (or after reset): no command before a valid measured pose; the
+    // first command is that pose, x(0) of Eq. 15.
+    if (!pose_ok)
+      return finish(isNoPose(in.flange_measured) ? ServoStatus::WaitingForPose : ServoStatus::InvalidInput, now, out);
+    if (!time_ok) return finish(ServoStatus::InvalidInput, now, out);
     cmd_ = meas;
     has_cmd_ = true;
+    enterPhase(pending_ >= 0 ? pending_ : current_, now);
+    pending_ = -1;
+    return finish(ServoStatus::Starting, now, out);
   }
   if (time_ok && pending_ >= 0) {
     enterPhase(pending_, now);

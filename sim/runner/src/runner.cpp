@@ -220,7 +220,11 @@ bool Runner::friCycle(const SimState& st, const PoseCommand& desired, double t, 
   m.head.packet_size = static_cast<uint16_t>(kMsrPacketSize);
   m.head.datagram_id = kDatagramIdMsr;
   m.intf.timestamp = static_cast<uint32_t>(t * 1000.0);
-  const bool monitor = t < 0.05;  // the KRC starts in MON, then switches to CMD
+  // The KRC starts in MON, then switches to CMD before the servo's second
+  // cycle: the servo's first command is the measured pose, which passes the
+  // bridge's start gate. (A servo that integrated further while the KRC was in
+  // MON is refused by the gate: status desired_far, the arm holds.)
+  const bool monitor = t < 0.005;
   m.intf.state = static_cast<uint16_t>(monitor ? State::Mon : State::Cmd);
   m.intf.quality = static_cast<uint16_t>(Quality::Perfect);
   m.intf.desired_msr_sample_time = static_cast<float>(dt);

@@ -56,6 +56,14 @@
 // feature error); K_I is in 1/s (the integral is ∫Δs_task dt, dt in s); the
 // feed-forward twist is in m/s, rad/s in {s}.
 //
+// START (beyond the paper): nothing is commanded before a valid measured pose
+// (validPose in tactile_types/types.hpp: finite, unit quaternion) has
+// arrived: until then out.valid is false and the status is WaitingForPose
+// (input kNoPose, nothing measured yet) or InvalidInput (a measured pose that
+// is not valid). The cycle that first sees a valid pose commands exactly that
+// pose (status Starting): x(0) of Eq. 15, and the phase program is entered at
+// that time; servoing starts at the next cycle. reset() starts over.
+//
 // SAFETY (beyond the paper):
 //  * per-axis output limits per phase (u_max) and per-cycle translational and
 //    rotational step limits (norms) for every increment, recovery moves included;
@@ -205,7 +213,9 @@ struct ServoParams {
 struct ServoInput {
   double time_s = 0.0;
   ContactFeatures features;
-  Pose flange_measured;  ///< {g}T{e}
+  /// {g}T{e} measured. kNoPose until a measurement arrived: the servo then
+  /// commands nothing (status WaitingForPose).
+  Pose flange_measured = kNoPose;
 };
 
 struct ServoOutput {
@@ -215,7 +225,7 @@ struct ServoOutput {
   Vec6 error_task = Vec6::Zero();  ///< Δs_task (Eq. 9)
   Vec6 u_s = Vec6::Zero();         ///< increment applied this cycle, in {s}
   uint8_t beta = 0;                ///< 1 when the edge Jacobian was used
-  bool valid = false;              ///< false until a finite measured pose was seen
+  bool valid = false;              ///< false until a valid measured pose was seen (validPose, types.hpp)
 };
 
 class TactileServo {

@@ -25,6 +25,10 @@ ServoComponent::ServoComponent(const std::string& name)
       .doc("Switch to the named phase at the next cycle (clears a force-ceiling latch). False for an unknown name.")
       .arg("name", "Phase name as in the program file.");
   addOperation("phaseName", &ServoComponent::phaseName, this, RTT::ClientThread).doc("Name of the current phase.");
+  addOperation("phaseIndex", &ServoComponent::phaseIndex, this, RTT::ClientThread)
+      .doc("Index of the named phase in the program (as in the phase port's `index`), -1 if unknown. "
+           "Look it up once (e.g. in a state's entry) and compare indices per cycle: no strings in the servo's thread.")
+      .arg("name", "Phase name as in the program file.");
   addOperation("lastError", &ServoComponent::lastError, this, RTT::ClientThread)
       .doc("Message of the last failed configure().");
 }
@@ -53,7 +57,11 @@ bool ServoComponent::startHook() {
   servo_.reset();
   requested_phase_.store(-1);
   current_phase_.store(servo_.phaseIndex());
-  have_pose_ = false;
+  // Only data written after this start counts: no pose, no features yet.
+  flange_in_.clear();
+  features_in_.clear();
+  in_.flange_measured = kNoPose;
+  in_.features = ContactFeatures();
   first_cycle_ = true;
   return true;
 }
@@ -66,6 +74,11 @@ bool ServoComponent::switchPhase(const std::string& name) {
   return true;
 }
 
+int ServoComponent::phaseIndex(const std::string& name) const {
+  if (!isConfigured()) return -1;
+  return servo_.phaseIndexOf(name.c_str());  // reads the configured program only
+}
+
 std::string ServoComponent::phaseName() const {
   if (!isConfigured()) return std::string();
   return servo_.phase(current_phase_.load()).name;
@@ -74,8 +87,8 @@ std::string ServoComponent::phaseName() const {
 void ServoComponent::updateHook() {
   const int req = requested_phase_.exchange(-1);
   if (req >= 0) servo_.requestPhase(req);
-  features_in_.read(in_.features, false);  // keeps the last sample when nothing new
-  if (flange_in_.read(in_.flange_measured, false) != RTT::NoData) have_pose_ = true;
+  features_in_.read(in_.features, false);        // keeps the last sample when nothing new
+  flange_in_.read(in_.flange_measured, false);    // kNoPose until the first sample (the core waits)
   const double now = RTT::os::TimeService::Instance()->secondsSince(0);
   double dt = now - last_time_;
   if (first_cycle_) dt = getPeriod() > 0.0 ? getPeriod() : 1e-3;
@@ -85,7 +98,7 @@ void ServoComponent::updateHook() {
   const ServoStatus st = servo_.step(in_, dt, out_);
   last_status_ = static_cast<int>(st);
   current_phase_.store(servo_.phaseIndex());
-  if (have_pose_ && out_.valid) command_out_.write(out_.command);
+  if (out_.valid) command_out_.write(out_.command);  // nothing before a valid measured pose
   phase_out_.write(out_.phase);
 }
 

@@ -10,13 +10,15 @@
 //   out  phase        (/tactile/PhaseState)       where the phase program is
 //   op   bool switchPhase(string name)  switch phase at the next cycle (false: unknown name)
 //   op   string phaseName()             name of the current phase
+//   op   int phaseIndex(string name)    index of a phase (as in phase.index), -1 if unknown
 //   op   string lastError()             message of the last failed configure()
 //   attr last_status (int)              ServoStatus of the last cycle
 //
 // Time: the cycle time is RTT's TimeService (seconds), the clock the sensor
 // chain must also stamp its frames with (the stale-features watchdog compares
 // them). dt is the time since the previous cycle (the activity period on the
-// first one). pose_command is written only once a finite flange pose was seen.
+// first one). pose_command is written only once the core has a valid measured
+// flange pose (written after this start); the first one written is that pose.
 #pragma once
 
 #include <rtt/InputPort.hpp>
@@ -41,6 +43,7 @@ class ServoComponent : public RTT::TaskContext {
 
   bool switchPhase(const std::string& name);
   std::string phaseName() const;
+  int phaseIndex(const std::string& name) const;
   std::string lastError() const { return last_error_; }
 
  private:
@@ -58,7 +61,6 @@ class ServoComponent : public RTT::TaskContext {
   ServoOutput out_;
   std::atomic<int> requested_phase_{-1};
   std::atomic<int> current_phase_{0};
-  bool have_pose_ = false;
   bool first_cycle_ = true;
   double last_time_ = 0.0;
 };
