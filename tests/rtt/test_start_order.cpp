@@ -34,7 +34,6 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <memory>
 #include <string>
 #include <thread>
@@ -88,12 +87,6 @@ bool connectByName(RTT::TaskContext& from, const std::string& out, RTT::TaskCont
 template <typename T>
 T attr(RTT::TaskContext& tc, const char* name) {
   return RTT::Attribute<T>(tc.provides()->getAttribute(name)).get();
-}
-
-std::string writeTemp(const std::string& name, const std::string& text) {
-  const std::string path = ::testing::TempDir() + name;
-  std::ofstream(path) << text;
-  return path;
 }
 
 // The program's step limits (the bound on every later command's motion).
@@ -238,8 +231,9 @@ TEST(StartOrder, SimLoopEveryOrderStartsFromTheMeasuredPose) {
       }
       PhaseState ph;
       if (L.probe.phase.read(ph, false) == RTT::NewData) phase = ph.name.data();
-      if (L.get("arm").isRunning())  // no joint limit, no singularity, no force limit
+      if (L.get("arm").isRunning()) {  // no joint limit, no singularity, no force limit
         ASSERT_LT(attr<int>(L.get("arm"), "sim_status"), 10) << "tick " << tick;
+      }
     }
     EXPECT_GT(commands, 10);
     EXPECT_NE(phase, "free_motion") << "the arm never reached the bar";
