@@ -40,6 +40,13 @@ struct Harness {
     desired.time_s = now;
   }
   BridgeStatus send(State st, Quality q, uint16_t power = 0x7F) { return sendSeq(++seq, st, q, power); }
+  /// A session as the servo starts it: MON, then CMD with the desired pose at
+  /// the measured one (the servo's first command): the start gate opens.
+  void engage() {
+    EXPECT_EQ(send(State::Mon, Quality::Perfect), BridgeStatus::Monitor);
+    setDesired(measured);
+    EXPECT_EQ(send(State::Cmd, Quality::Perfect), BridgeStatus::Commanding);
+  }
   BridgeStatus sendSeq(uint16_t s, State st, Quality q, uint16_t power = 0x7F) {
     now += kT;
     desired.time_s = now;
@@ -104,7 +111,7 @@ TEST(FriBridge, CommandIsRateLimitedTowardsDesired) {
   p.max_lin_speed = 0.1;
   p.max_rot_speed = 0.5;
   Harness h(p);
-  h.send(State::Mon, Quality::Perfect);
+  h.engage();
   const KDL::Frame target(KDL::Rotation::RotZ(0.05) * h.measured.M, h.measured.p + KDL::Vector(0.01, 0.0, -0.005));
   h.setDesired(target);
   KDL::Frame prev = h.measured;
@@ -170,7 +177,7 @@ TEST(FriBridge, PacketLossHoldsAndNeverCatchesUp) {
   BridgeParams p;
   p.max_lin_speed = 0.05;
   Harness h(p);
-  h.send(State::Mon, Quality::Perfect);
+  h.engage();
   h.setDesired(KDL::Frame(h.measured.M, h.measured.p + KDL::Vector(0.0, 0.1, 0.0)));
   for (int i = 0; i < 20; ++i) h.send(State::Cmd, Quality::Perfect);
   const KDL::Frame before = h.commanded();
@@ -185,7 +192,7 @@ TEST(FriBridge, RewindsToTheCommandTheKrcReflects) {
   // Our reply k was lost: the next measurement reflects k-1. The new command
   // is one limited step from command k-1 (what the KRC holds), not from k.
   Harness h;
-  h.send(State::Mon, Quality::Perfect);
+  h.engage();
   h.setDesired(KDL::Frame(h.measured.M, h.measured.p + KDL::Vector(0.05, 0.0, 0.0)));
   auto sendRefl = [&h](uint16_t refl) {
     std::vector<uint8_t> b = makeMsr(++h.seq, State::Cmd, Quality::Perfect, h.measured);
@@ -211,7 +218,7 @@ TEST(FriBridge, RewindsToTheCommandTheKrcReflects) {
   BridgeParams p;
   p.rewind_on_refl = false;
   Harness g(p);
-  g.send(State::Mon, Quality::Perfect);
+  g.engage();
   g.setDesired(KDL::Frame(g.measured.M, g.measured.p + KDL::Vector(0.05, 0.0, 0.0)));
   g.send(State::Cmd, Quality::Perfect);
   const KDL::Frame g_held = g.commanded();
@@ -223,7 +230,7 @@ TEST(FriBridge, RewindsToTheCommandTheKrcReflects) {
 
 TEST(FriBridge, QualityBelowOkHoldsLastCommand) {
   Harness h;
-  h.send(State::Mon, Quality::Perfect);
+  h.engage();
   h.setDesired(KDL::Frame(h.measured.M, h.measured.p + KDL::Vector(0.05, 0.0, 0.0)));
   for (int i = 0; i < 10; ++i) h.send(State::Cmd, Quality::Ok);
   const KDL::Frame held = h.commanded();
@@ -239,8 +246,7 @@ TEST(FriBridge, QualityBelowOkHoldsLastCommand) {
 
 TEST(FriBridge, LeavingCmdGivesClearStatusAndReentryStartsAtMeasured) {
   Harness h;
-  h.send(State::Mon, Quality::Perfect);
-  EXPECT_EQ(h.out.status, BridgeStatus::Monitor);
+  h.engage();
   h.setDesired(KDL::Frame(h.measured.M, h.measured.p + KDL::Vector(0.0, 0.0, 0.05)));
   for (int i = 0; i < 10; ++i) h.send(State::Cmd, Quality::Perfect);
   // KRC drops to MON; meanwhile the robot was pushed elsewhere.
@@ -249,9 +255,16 @@ TEST(FriBridge, LeavingCmdGivesClearStatusAndReentryStartsAtMeasured) {
   EXPECT_TRUE(h.out.state_changed);
   EXPECT_TRUE(KDL::Equal(h.commanded(), h.measured, 1e-6));
   EXPECT_EQ(h.send(State::Mon, Quality::Perfect), BridgeStatus::LeftCmd);  // sticky while out of CMD
-  // Back to CMD: the first command is within one step of the MEASURED pose.
+  // Back to CMD: the command stays at the MEASURED pose while the desired
+  // pose is far from it (start gate)...
+  for (int i = 0; i < 100; ++i) {
+    EXPECT_EQ(h.send(State::Cmd, Quality::Perfect), BridgeStatus::DesiredFar);
+    EXPECT_TRUE(KDL::Equal(h.commanded(), h.measured, 1e-6));
+  }
+  // ...and follows from there once the desired pose starts at it.
+  h.setDesired(KDL::Frame(h.measured.M, h.measured.p + KDL::Vector(0.0, 0.0, 0.0004)));
   EXPECT_EQ(h.send(State::Cmd, Quality::Perfect), BridgeStatus::Limited);
-  EXPECT_LE(dist(h.commanded(), h.measured), 0.05 * kT + kPosTol);
+  EXPECT_NEAR(dist(h.commanded(), h.measured), 0.05 * kT, kPosTol);
 }
 
 TEST(FriBridge, PowerOffEchoesMeasuredEvenInCmd) {
@@ -264,10 +277,11 @@ TEST(FriBridge, PowerOffEchoesMeasuredEvenInCmd) {
 
 TEST(FriBridge, InvalidOrStaleDesiredHolds) {
   Harness h;
-  h.send(State::Mon, Quality::Perfect);
+  h.engage();
   h.setDesired(KDL::Frame(h.measured.M, h.measured.p + KDL::Vector(0.0, 0.05, 0.0)));
   for (int i = 0; i < 5; ++i) h.send(State::Cmd, Quality::Perfect);
   const KDL::Frame held = h.commanded();
+  ASSERT_GT(dist(held, h.measured), 4 * 0.05 * kT);
   h.desired.pose.p[0] = std::numeric_limits<double>::quiet_NaN();
   EXPECT_EQ(h.send(State::Cmd, Quality::Perfect), BridgeStatus::DesiredInvalid);
   EXPECT_TRUE(KDL::Equal(h.commanded(), held, 1e-9));
@@ -284,6 +298,75 @@ TEST(FriBridge, InvalidOrStaleDesiredHolds) {
   EXPECT_EQ(h.out.status, BridgeStatus::DesiredStale);
   EXPECT_TRUE(KDL::Equal(h.commanded(), held, 1e-9));
   for (float v : h.out.cmd.cmd.cart_pos) EXPECT_TRUE(std::isfinite(v));
+  // After an invalid or stale desired pose the start gate closes again: a
+  // fresh desired pose far from the held command is not followed.
+  h.setDesired(KDL::Frame(h.measured.M, h.measured.p + KDL::Vector(0.0, 0.05, 0.0)));
+  EXPECT_EQ(h.send(State::Cmd, Quality::Perfect), BridgeStatus::DesiredFar);
+  EXPECT_TRUE(KDL::Equal(h.commanded(), held, 1e-9));
+  h.setDesired(held);
+  EXPECT_EQ(h.send(State::Cmd, Quality::Perfect), BridgeStatus::Commanding);
+}
+
+// The robot incident: the KRC came up after the deployer and the servo's first
+// command was the default pose, (0, 0, 0.019) m, identity rotation; the rate
+// limiter then moved the arm 0.2 m and 64 deg towards it within 4.5 s. With the
+// start gate the bridge holds the measured pose, whatever the KRC's first state.
+TEST(FriBridge, FirstCommandFarFromTheMeasuredPoseIsNeverFollowed) {
+  for (State first : {State::Mon, State::Cmd}) {
+    Harness h;
+    toPose(KDL::Frame(KDL::Vector(0.0, 0.0, 0.019)), h.desired.pose);
+    const int mon = first == State::Mon ? 50 : 0;
+    for (int i = 0; i < mon; ++i) EXPECT_EQ(h.send(State::Mon, Quality::Perfect), BridgeStatus::Monitor);
+    for (int i = 0; i < 4500; ++i) {  // 4.5 s at 1 kHz
+      ASSERT_EQ(h.send(State::Cmd, Quality::Perfect), BridgeStatus::DesiredFar) << i;
+      ASSERT_TRUE(h.out.reply);
+      ASSERT_TRUE(KDL::Equal(h.commanded(), h.measured, 1e-6)) << i;
+    }
+    EXPECT_EQ(h.bridge.stats().limited, 0u);
+    // The servo (re)starts and commands the measured pose: followed from there.
+    h.setDesired(h.measured);
+    EXPECT_EQ(h.send(State::Cmd, Quality::Perfect), BridgeStatus::Commanding);
+    EXPECT_TRUE(KDL::Equal(h.commanded(), h.measured, 1e-6));
+  }
+}
+
+// The gate is one program step: translation engage_max_trans, rotation
+// engage_max_rot, each on its own; inside it the first command moves at most
+// that far (and at most one rate-limited step).
+TEST(FriBridge, StartGateIsOneProgramStep) {
+  BridgeParams p;
+  p.engage_max_trans = 0.0005;
+  p.engage_max_rot = 0.5 * 3.14159265358979323846 / 180.0;
+  struct Case { KDL::Vector dp; double rz; bool follows; };
+  const Case cases[] = {{KDL::Vector(0.0004, 0.0, 0.0), 0.0, true},
+                        {KDL::Vector(0.0, 0.0006, 0.0), 0.0, false},
+                        {KDL::Vector(0.0003, 0.0003, 0.0003), 0.0, false},  // 0.52 mm
+                        {KDL::Vector(0.0, 0.0, 0.0), 0.008, true},
+                        {KDL::Vector(0.0, 0.0, 0.0), 0.0095, false},
+                        {KDL::Vector(0.0004, 0.0, 0.0), 0.008, true}};
+  for (const Case& c : cases) {
+    Harness h(p);
+    h.send(State::Mon, Quality::Perfect);
+    h.setDesired(KDL::Frame(h.measured.M * KDL::Rotation::RotZ(c.rz), h.measured.p + c.dp));
+    const BridgeStatus st = h.send(State::Cmd, Quality::Perfect);
+    if (c.follows) {
+      EXPECT_TRUE(st == BridgeStatus::Commanding || st == BridgeStatus::Limited) << toString(st);
+      EXPECT_LE(dist(h.commanded(), h.measured), std::min(p.engage_max_trans, p.max_lin_speed * kT) + kPosTol);
+      EXPECT_LE(angle(h.commanded(), h.measured), std::min(p.engage_max_rot, p.max_rot_speed * kT) + kRotTol);
+    } else {
+      EXPECT_EQ(st, BridgeStatus::DesiredFar);
+      EXPECT_TRUE(KDL::Equal(h.commanded(), h.measured, 1e-6));
+    }
+  }
+  // Parameters are checked.
+  FriBridge b;
+  p.engage_max_trans = 0.0;
+  ConfigResult r = b.configure(p);
+  EXPECT_NE(r.message().find("fri.engage_max_trans"), std::string::npos) << r.message();
+  p.engage_max_trans = 0.0005;
+  p.engage_max_rot = std::numeric_limits<double>::quiet_NaN();
+  r = b.configure(p);
+  EXPECT_NE(r.message().find("fri.engage_max_rot"), std::string::npos) << r.message();
 }
 
 TEST(FriBridge, SlightlyNonUnitDesiredQuaternionStillGivesARotation) {
@@ -335,7 +418,7 @@ TEST(FriBridge, InvalidKrcSampleTimeFallsBackToNominal) {
   BridgeParams p;
   p.nominal_period_s = 0.002;
   Harness h(p);
-  h.send(State::Mon, Quality::Perfect);
+  h.engage();
   const KDL::Frame start = h.commanded();
   h.setDesired(KDL::Frame(h.measured.M, h.measured.p + KDL::Vector(0.1, 0.0, 0.0)));
   const std::vector<uint8_t> b =
@@ -347,7 +430,8 @@ TEST(FriBridge, InvalidKrcSampleTimeFallsBackToNominal) {
 TEST(FriBridge, NoHeapAllocationPerCycle) {
   Harness h;
   std::vector<std::vector<uint8_t>> packets;
-  const KDL::Frame far(h.measured.M, h.measured.p + KDL::Vector(0.1, 0.0, 0.0));
+  // Within the start gate: the bridge follows (rate-limited) after each CMD entry.
+  const KDL::Frame target(h.measured.M, h.measured.p + KDL::Vector(0.0004, 0.0, 0.0));
   for (int i = 0; i < 3000; ++i) {
     const State st = i < 100 ? State::Mon : (i < 2800 ? State::Cmd : State::Mon);
     const Quality q = (i > 1000 && i < 1100) ? Quality::Bad : Quality::Perfect;
@@ -356,7 +440,7 @@ TEST(FriBridge, NoHeapAllocationPerCycle) {
     packets.push_back(makeMsr(seq, st, q, h.measured));
   }
   packets.push_back(std::vector<uint8_t>(100, 0xAB));  // malformed
-  h.setDesired(far);
+  h.setDesired(target);
   uint8_t wire[kCmdPacketSize];
   std::size_t replies = 0;
   tactile::test::AllocationScope scope;

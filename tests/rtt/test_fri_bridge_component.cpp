@@ -55,8 +55,12 @@ std::string writeTemp(const std::string& name, const std::string& text) {
 }
 
 // Loopback, ephemeral port, and a desired-pose age limit the test's writes meet.
+// The tests here move the desired pose centimetres from the start to check the
+// component's plumbing: the bridge's start gate is opened to its widest (the
+// gate is tested in test_bridge.cpp and, with the servo, test_start_order.cpp).
 const char* kParams =
     "fri:\n  max_lin_speed: 0.05\n  max_rot_speed: 0.25\n  max_desired_age_s: 10\n"
+    "  engage_max_trans: 0.1\n  engage_max_rot: 0.5\n"
     "  udp: {bind_address: 127.0.0.1, port: 0}\n";
 
 // Counts updateHook calls (the component's cycles).

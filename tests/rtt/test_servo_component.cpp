@@ -2,6 +2,7 @@
 // by hand, outputs compared with tactile::TactileServo run directly.
 #include <gtest/gtest.h>
 
+#include <rtt/Attribute.hpp>
 #include <rtt/InputPort.hpp>
 #include <rtt/OutputPort.hpp>
 #include <rtt/TaskContext.hpp>
@@ -168,9 +169,10 @@ TEST(ServoComponent, FreeMotionMovesAlongTheApproachDirection) {
     ASSERT_EQ(rig.command_in.read(c), RTT::NewData);
     pose = c.pose;
   }
-  // Sensor facing down ({s} z along -z_g): 10 cycles at 0.01 m/s, 10 ms: 1 mm down.
+  // Sensor facing down ({s} z along -z_g): the first command is the measured
+  // pose, then 9 cycles at 0.01 m/s, 10 ms: 0.9 mm down.
   // Tolerance 1e-9 m: floating-point accumulation over 10 pose compositions.
-  EXPECT_NEAR(pose.p[2], 0.4 - 0.001, 1e-9);
+  EXPECT_NEAR(pose.p[2], 0.4 - 0.0009, 1e-9);
   EXPECT_NEAR(pose.p[0], 0.5, 1e-9);
 }
 
@@ -190,6 +192,9 @@ TEST(ServoComponent, SwitchPhaseByName) {
   ASSERT_EQ(rig.phase_in.read(ph), RTT::NewData);
   EXPECT_STREQ(ph.name.data(), "explore");
   EXPECT_EQ(ph.index, 3);
+  EXPECT_EQ(rig.comp.phaseIndex("explore"), 3);
+  EXPECT_EQ(rig.comp.phaseIndex("free_motion"), 0);
+  EXPECT_EQ(rig.comp.phaseIndex("no_such_phase"), -1);
 }
 
 TEST(ServoComponent, PhaseIndexOperations) {
@@ -238,6 +243,33 @@ TEST(ServoComponent, NoFlangePoseNoCommand) {
   EXPECT_EQ(rig.command_in.read(c), RTT::NoData);
   PhaseState ph;
   EXPECT_EQ(rig.phase_in.read(ph), RTT::NewData);  // the phase is still reported
+}
+
+// A pose written before start() does not count (it may be stale): the servo
+// waits for a sample written after it, and its first command is that pose.
+TEST(ServoComponent, FirstCommandIsAPoseWrittenAfterStart) {
+  Rig rig(kProgram);
+  ASSERT_TRUE(rig.comp.configure());
+  Pose stale = startPose();
+  stale.p = {0.0, 0.0, 0.019};
+  rig.pose_out.write(stale);
+  ASSERT_TRUE(rig.comp.start());
+  PoseCommand c;
+  for (int k = 0; k < 5; ++k) {
+    RTT::os::TimeService::Instance()->secondsChange(kDt);
+    rig.features_out.write(noContact(now()));
+    rig.comp.update();
+    EXPECT_EQ(rig.command_in.read(c), RTT::NoData) << k;
+    EXPECT_EQ(RTT::Attribute<int>(rig.comp.provides()->getAttribute("last_status")).get(),
+              static_cast<int>(ServoStatus::WaitingForPose));
+  }
+  RTT::os::TimeService::Instance()->secondsChange(kDt);
+  rig.features_out.write(noContact(now()));
+  rig.pose_out.write(startPose());
+  rig.comp.update();
+  ASSERT_EQ(rig.command_in.read(c), RTT::NewData);
+  EXPECT_EQ(c.status, ServoStatus::Starting);
+  EXPECT_EQ(c.pose.p, startPose().p);
 }
 
 TEST(ServoComponent, NaNPoseHoldsWithAFiniteCommand) {

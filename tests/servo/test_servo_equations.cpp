@@ -117,8 +117,11 @@ TEST(ServoEquations, Eq13PiAndMotionSignHandComputed) {
   TactileServo s;
   ASSERT_TRUE(s.configure(singlePhase(ph)).ok());
   ServoInput in;
+  in.flange_measured = Pose();  // the robot at the base origin
   in.features = makeFeatures(0, 0.01, -0.004, 0.002, 0.006, -0.001, 0.1, ContactType::Edge);
   ServoOutput out;
+  ASSERT_EQ(s.step(in, 0.01, out), ServoStatus::Starting);  // commands the measured pose
+  EXPECT_EQ(out.u_s, Vec6::Zero());
   Vec6 d;
   d << -0.035, 0.004, 0.0005, 0.003, -0.004, -0.1;
   Vec6 S;
@@ -141,6 +144,7 @@ TEST(ServoEquations, Eq13IntegratorClampAndOutputLimit) {
   TactileServo s;
   ASSERT_TRUE(s.configure(singlePhase(ph)).ok());
   ServoInput in;
+  in.flange_measured = Pose();
   ServoOutput out;
   for (int k = 0; k < 200; ++k) {
     in.time_s = 0.01 * k;
@@ -154,6 +158,7 @@ TEST(ServoEquations, Eq13IntegratorClampAndOutputLimit) {
   ph.s_d(kZ) = 0.01;
   ASSERT_TRUE(s.configure(singlePhase(ph)).ok());
   in.features.time_s = in.time_s = 0;
+  ASSERT_EQ(s.step(in, 0.01, out), ServoStatus::Starting);  // configure() started over
   s.step(in, 0.01, out);
   EXPECT_DOUBLE_EQ(out.u_s(kZ), 2e-4);
 }
@@ -173,6 +178,8 @@ TEST(ServoEquations, Eq13SensorToBaseTransformHandComputed) {
   in.flange_measured = toPose(T_ge);
   in.features = makeFeatures(0, 0, 0, 0.001, 0, 0, 0);
   ServoOutput out;
+  ASSERT_EQ(s.step(in, 0.01, out), ServoStatus::Starting);
+  EXPECT_EQ(out.command.pose.p, in.flange_measured.p);  // the first command is the measured pose
   s.step(in, 0.01, out);
   EXPECT_NEAR(out.command.pose.p[0], 0.5, 1e-15);
   EXPECT_NEAR(out.command.pose.p[1], 0.001, 1e-15);
@@ -183,6 +190,7 @@ TEST(ServoEquations, Eq13SensorToBaseTransformHandComputed) {
   // R = Rz(90 deg - 0.01).
   p.phases[0].feedforward << 0, 0, 0, 0, 0, 0.5;  // 0.5 rad/s * 0.02 s
   ASSERT_TRUE(s.configure(p).ok());
+  ASSERT_EQ(s.step(in, 0.02, out), ServoStatus::Starting);
   s.step(in, 0.02, out);
   EXPECT_NEAR(out.command.pose.p[0], 0.5 - 0.02 * std::sin(0.01), 1e-15);
   EXPECT_NEAR(out.command.pose.p[1], 0.02 - 0.02 * std::cos(0.01), 1e-15);
@@ -194,13 +202,16 @@ TEST(ServoEquations, Eq13SensorToBaseTransformHandComputed) {
 TEST(ServoEquations, Eq12MeasuredVersusEq15Integrated) {
   ServoParams p = singlePhase(identityPhase("p", 0.0, 0.0));
   p.phases[0].feedforward << 0, 0, 0.1, 0, 0, 0;  // 1 mm per 10 ms cycle along z_s
-  ServoInput in;  // measured pose stays at the origin (robot does not move)
+  ServoInput in;
+  in.flange_measured = Pose();  // measured pose stays at the origin (robot does not move)
   in.features = makeFeatures(0, 0, 0, 0.001, 0, 0, 0);
   ServoOutput out;
   for (PoseUpdate mode : {PoseUpdate::Measured, PoseUpdate::Integrated}) {
     p.pose_update = mode;
     TactileServo s;
     ASSERT_TRUE(s.configure(p).ok());
+    in.time_s = in.features.time_s = 0.0;
+    ASSERT_EQ(s.step(in, 0.01, out), ServoStatus::Starting);  // x(0) = the measured pose
     for (int k = 0; k < 3; ++k) {
       in.time_s = in.features.time_s = 0.01 * k;
       s.step(in, 0.01, out);
@@ -259,8 +270,10 @@ TEST(ServoReciprocity, TableC3PointAndEdge) {
     TactileServo s;
     EXPECT_TRUE(s.configure(p).ok());
     ServoInput in;
+    in.flange_measured = Pose();
     in.features = f;
     ServoOutput out;
+    EXPECT_EQ(s.step(in, 0.01, out), ServoStatus::Starting);
     s.step(in, 0.01, out);
     return Vec6(out.u_s);
   };
@@ -294,8 +307,10 @@ TEST(ServoReciprocity, BaselineNeverCommandsRotationsAboutXY) {
   TactileServo s;
   ASSERT_TRUE(s.configure(p).ok());
   ServoInput in;
+  in.flange_measured = Pose();
   in.features = makeFeatures(0, 0.004, -0.003, 0.002, -0.002, 0.003, 0.2, ContactType::Edge);
   ServoOutput out;
+  ASSERT_EQ(s.step(in, 0.01, out), ServoStatus::Starting);
   s.step(in, 0.01, out);
   EXPECT_EQ(out.u_s(kWX), 0.0);
   EXPECT_EQ(out.u_s(kWY), 0.0);

@@ -27,6 +27,12 @@ struct Rig {
     in.flange_measured = toPose(KDL::Frame(KDL::Rotation::RotX(kPi), KDL::Vector(0.5, 0.1, 0.3)));
     in.features = makeFeatures(0, 0.004, -0.003, 0.002, 0.001, -0.001, 0.1);
   }
+  // The start cycle: the first valid measured pose is commanded unchanged.
+  void start() {
+    in.time_s = in.features.time_s = t;
+    EXPECT_EQ(s.step(in, 0.01, out), ServoStatus::Starting);
+    EXPECT_EQ(out.command.pose.p, in.flange_measured.p);
+  }
   // One step with fresh features (time-stamped now); integrated mode: the robot follows.
   ServoStatus step(double dt = 0.01) {
     t += dt > 0 && std::isfinite(dt) ? dt : 0.0;
@@ -58,6 +64,7 @@ TEST(ServoSafety, NotConfiguredReportsAndDoesNotCommand) {
 TEST(ServoSafety, ZeroGainsNoMotion) {
   Rig r(singlePhase(identityPhase("p", 0.0, 0.0)));
   const Pose start = r.in.flange_measured;
+  r.start();
   for (int k = 0; k < 100; ++k) EXPECT_EQ(r.step(), ServoStatus::Ok);
   // Only the quaternion <-> rotation matrix round trip (double precision).
   EXPECT_LT(transDist(r.out.command.pose, start), 1e-12);
@@ -72,6 +79,7 @@ TEST(ServoSafety, HugeGainsBoundedByStepLimits) {
   p.safety.max_trans_step = 0.0005;
   p.safety.max_rot_step = 0.5 * kPi / 180;
   Rig r(p);
+  r.start();
   for (int k = 0; k < 50; ++k) {
     Pose before = r.in.flange_measured;
     EXPECT_EQ(r.step(), ServoStatus::Limited);
@@ -454,4 +462,114 @@ TEST(ServoFuzz, RandomInputsNeverProduceNanOrOversizedSteps) {
     }
   }
   std::printf("[ servo    ] fuzz: %d random steps, no NaN, no oversized step\n", steps);
+}
+
+// Safe start: no command before a valid measured pose (validPose: finite, unit
+// quaternion); the first command is that pose, unchanged; the phase program
+// starts then, not while waiting.
+TEST(ServoStart, NoCommandBeforeAValidPoseThenExactlyTheMeasuredPose) {
+  ServoParams p = singlePhase(identityPhase("first", 0.05, 0.1));
+  p.phases.push_back(identityPhase("second", 0.05, 0.1));
+  TransitionParams t;
+  t.on = TransitionEvent::Timeout;
+  t.timeout_s = 0.1;
+  t.to = "second";
+  p.phases[0].transitions.push_back(t);
+  p.safety.max_trans_step = 0.0005;
+  TactileServo s;
+  ASSERT_TRUE(s.configure(p).ok());
+  ServoInput in;  // flange_measured = kNoPose: nothing measured yet
+  ServoOutput out;
+  double t_now = 0.0;
+  for (int k = 0; k < 100; ++k) {  // 1 s of waiting, fresh features
+    t_now += 0.01;
+    in.time_s = t_now;
+    in.features = makeFeatures(t_now, 0.004, -0.003, 0.002, 0.001, -0.001, 0.1);
+    ASSERT_EQ(s.step(in, 0.01, out), ServoStatus::WaitingForPose) << k;
+    ASSERT_FALSE(out.valid);
+    ASSERT_EQ(out.command.status, ServoStatus::WaitingForPose);
+    ASSERT_EQ(out.u_s, Vec6::Zero());
+  }
+  EXPECT_STREQ(toString(ServoStatus::WaitingForPose), "waiting_for_pose");
+  // Not a unit quaternion (|q| = 1.01) or the default pose's zero quaternion
+  // with a position: invalid input, still no command.
+  const Pose measured = toPose(KDL::Frame(KDL::Rotation::RPY(3.0, 0.1, -0.4), KDL::Vector(0.5, -0.1, 0.4)));
+  in.flange_measured = measured;
+  for (double& q : in.flange_measured.q) q *= 1.01;
+  EXPECT_EQ(s.step(in, 0.01, out), ServoStatus::InvalidInput);
+  EXPECT_FALSE(out.valid);
+  in.flange_measured = measured;
+  in.flange_measured.q = {0, 0, 0, 0};
+  EXPECT_EQ(s.step(in, 0.01, out), ServoStatus::InvalidInput);
+  EXPECT_FALSE(out.valid);
+  // The first valid pose: commanded unchanged, and the program starts now.
+  t_now += 0.01;
+  in.time_s = t_now;
+  in.features.time_s = t_now;
+  in.flange_measured = measured;
+  ASSERT_EQ(s.step(in, 0.01, out), ServoStatus::Starting);
+  EXPECT_TRUE(out.valid);
+  EXPECT_EQ(out.command.pose.p, measured.p);
+  EXPECT_LT(rotDist(out.command.pose, measured), 1e-15);
+  EXPECT_EQ(out.u_s, Vec6::Zero());
+  EXPECT_STREQ(out.phase.name.data(), "first");
+  EXPECT_DOUBLE_EQ(out.phase.t_enter_s, t_now);
+  // Servoing from there: one step at most per cycle, and the 0.1 s timeout
+  // counts from the start, not from the second of waiting.
+  for (int k = 0; k < 5; ++k) {
+    const Pose before = out.command.pose;
+    t_now += 0.01;
+    in.time_s = in.features.time_s = t_now;
+    in.flange_measured = out.command.pose;
+    EXPECT_EQ(s.step(in, 0.01, out), ServoStatus::Ok);
+    EXPECT_LE(transDist(before, out.command.pose), 0.0005 + 1e-12);
+    EXPECT_STREQ(out.phase.name.data(), "first");
+  }
+  // reset(): waits again, starts again from the pose measured then.
+  s.reset();
+  in.flange_measured = kNoPose;
+  EXPECT_EQ(s.step(in, 0.01, out), ServoStatus::WaitingForPose);
+  EXPECT_FALSE(out.valid);
+  in.flange_measured = measured;
+  EXPECT_EQ(s.step(in, 0.01, out), ServoStatus::Starting);
+  EXPECT_EQ(out.command.pose.p, measured.p);
+}
+
+TEST(ServoStart, PhaseRequestedWhileWaitingIsEnteredAtTheStart) {
+  ServoParams p = singlePhase(identityPhase("first", 0.05, 0.1));
+  p.phases.push_back(identityPhase("second", 0.0, 0.0));
+  TransitionParams t;
+  t.on = TransitionEvent::Timeout;
+  t.timeout_s = 100.0;
+  t.to = "second";
+  p.phases[0].transitions.push_back(t);
+  TactileServo s;
+  ASSERT_TRUE(s.configure(p).ok());
+  ServoInput in;
+  ServoOutput out;
+  in.time_s = 1.0;
+  EXPECT_EQ(s.step(in, 0.01, out), ServoStatus::WaitingForPose);
+  EXPECT_TRUE(s.requestPhase("second"));
+  in.time_s = 2.0;
+  in.flange_measured = toPose(KDL::Frame(KDL::Vector(0.4, 0.0, 0.3)));
+  EXPECT_EQ(s.step(in, 0.01, out), ServoStatus::Starting);
+  EXPECT_STREQ(out.phase.name.data(), "second");
+  EXPECT_DOUBLE_EQ(out.phase.t_enter_s, 2.0);
+}
+
+TEST(PoseValidity, OneRuleFiniteAndUnitQuaternion) {
+  Pose p;
+  EXPECT_TRUE(validPose(p));
+  p.q = {0.0, 0.0, 0.0, 1.0 + 0.9e-3};
+  EXPECT_TRUE(validPose(p));
+  p.q = {0.0, 0.0, 0.0, 1.0 + 1.1e-3};
+  EXPECT_FALSE(validPose(p));
+  p.q = {0.0, 0.0, 0.0, 1.0 - 1.1e-3};
+  EXPECT_FALSE(validPose(p));
+  p = Pose();
+  p.p[2] = std::numeric_limits<double>::infinity();
+  EXPECT_FALSE(validPose(p));
+  EXPECT_FALSE(validPose(kNoPose));
+  EXPECT_TRUE(isNoPose(kNoPose));
+  EXPECT_FALSE(isNoPose(Pose()));
 }

@@ -31,6 +31,8 @@ const char* toString(ServoStatus s) {
     case ServoStatus::ContactLost: return "contact_lost";
     case ServoStatus::Limited: return "limited";
     case ServoStatus::Done: return "done";
+    case ServoStatus::WaitingForPose: return "waiting_for_pose";
+    case ServoStatus::Starting: return "starting";
     case ServoStatus::ForceCeiling: return "force_ceiling";
     case ServoStatus::InvalidInput: return "invalid_input";
     case ServoStatus::NotConfigured: return "not_configured";

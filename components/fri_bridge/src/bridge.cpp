@@ -44,6 +44,7 @@ const char* toString(BridgeStatus s) {
     case BridgeStatus::DesiredStale: return "desired_stale";
     case BridgeStatus::MeasurementInvalid: return "measurement_invalid";
     case BridgeStatus::WrongStrategy: return "wrong_strategy";
+    case BridgeStatus::DesiredFar: return "desired_far";
     case BridgeStatus::DroppedDuplicate: return "dropped_duplicate";
     case BridgeStatus::DroppedOutOfOrder: return "dropped_out_of_order";
     case BridgeStatus::Malformed: return "malformed";
@@ -66,6 +67,10 @@ ConfigResult FriBridge::configure(const BridgeParams& p) {
     return rangeError("fri.nominal_period_s", p.nominal_period_s, "must be in (0, 0.1] (s)");
   if (!inRange(p.max_desired_age_s, 0.0, 10.0))
     return rangeError("fri.max_desired_age_s", p.max_desired_age_s, "must be in (0, 10] (s)");
+  if (!inRange(p.engage_max_trans, 0.0, 0.1))
+    return rangeError("fri.engage_max_trans", p.engage_max_trans, "must be in (0, 0.1] (m)");
+  if (!inRange(p.engage_max_rot, 0.0, 0.5))
+    return rangeError("fri.engage_max_rot", p.engage_max_rot, "must be in (0, 0.5] (rad)");
   if (p.resync_after < 1 || p.resync_after > 1000)
     return rangeError("fri.resync_after", p.resync_after, "must be in [1, 1000] (packets)");
   for (int i = 0; i < 6; ++i) {
@@ -95,6 +100,7 @@ void FriBridge::reset() noexcept {
   last_state_ = State::Off;
   last_quality_ = Quality::Unacceptable;
   have_command_ = false;
+  engaged_ = false;
   was_in_cmd_ = false;
   sent_valid_.fill(false);
 }
@@ -201,7 +207,8 @@ BridgeStatus FriBridge::step(const MsrPacket& msr, const PoseCommand& desired, d
   const double T = (std::isfinite(krc_T) && krc_T > 0.0 && krc_T <= 0.1) ? krc_T : params_.nominal_period_s;
 
   if (state != State::Cmd || !powerOn(msr)) {
-    // MON / OFF / power off: echo the measured pose.
+    // MON / OFF / power off: echo the measured pose; (re)entering CMD passes the start gate again.
+    engaged_ = false;
     if (state != State::Cmd && was_in_cmd_) {
       out.status = BridgeStatus::LeftCmd;
     } else if (!powerOn(msr)) {
@@ -223,6 +230,7 @@ BridgeStatus FriBridge::step(const MsrPacket& msr, const PoseCommand& desired, d
   was_in_cmd_ = true;
   if (msr.robot.control != static_cast<uint16_t>(ControlStrategy::CartImpedance)) {
     out.status = BridgeStatus::WrongStrategy;
+    engaged_ = false;
     if (!msr_valid) {
       have_command_ = false;
       return out.status = BridgeStatus::MeasurementInvalid;
@@ -251,13 +259,31 @@ BridgeStatus FriBridge::step(const MsrPacket& msr, const PoseCommand& desired, d
     out.status = BridgeStatus::MeasurementInvalid;
   } else if (quality < Quality::Ok) {
     out.status = BridgeStatus::QualityLow;
-  } else if (desired.status == ServoStatus::NotConfigured || !validPose(desired.pose)) {
+  } else if (desired.status == ServoStatus::NotConfigured || desired.status == ServoStatus::WaitingForPose ||
+             !validPose(desired.pose)) {
     out.status = BridgeStatus::DesiredInvalid;
+    engaged_ = false;
   } else if (!(std::fabs(age) <= params_.max_desired_age_s)) {
     out.status = BridgeStatus::DesiredStale;
+    engaged_ = false;
   } else {
     KDL::Frame target;
     toFrame(desired.pose, target);
+    if (!engaged_) {
+      // Start gate: follow only a desired pose within one program step of the
+      // pose held now (the measured pose at the start of the session/CMD).
+      KDL::Vector axis;
+      const KDL::Frame& from = limiter_.current();
+      const double d = (target.p - from.p).Norm();
+      const double a = rotationAngle(from.M.Inverse() * target.M, axis);
+      engaged_ = d <= params_.engage_max_trans && a <= params_.engage_max_rot;
+    }
+    if (!engaged_) {
+      out.status = BridgeStatus::DesiredFar;
+      ++stats_.holds;
+      fillReply(msr, limiter_.current(), out);
+      return out.status;
+    }
     const bool limited = limiter_.step(target, T);
     if (limited) ++stats_.limited;
     out.status = limited ? BridgeStatus::Limited : BridgeStatus::Commanding;

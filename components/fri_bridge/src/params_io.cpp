@@ -25,13 +25,15 @@ ConfigResult loadBridgeParams(const YAML::Node& node, const Where& where, Bridge
   if (node) {
     ConfigResult r = checkKeys(node, where,
                                {"max_lin_speed", "max_rot_speed", "nominal_period_s", "max_desired_age_s",
-                                "resync_after", "rewind_on_refl", "command_impedance", "cart_stiffness",
+                                "engage_max_trans", "engage_max_rot", "resync_after", "rewind_on_refl", "command_impedance", "cart_stiffness",
                                 "cart_damping", "udp"});
     if (!r) return r;
     for (auto rr : {read(node, "max_lin_speed", bp.max_lin_speed, where),
                     read(node, "max_rot_speed", bp.max_rot_speed, where),
                     read(node, "nominal_period_s", bp.nominal_period_s, where),
                     read(node, "max_desired_age_s", bp.max_desired_age_s, where),
+                    read(node, "engage_max_trans", bp.engage_max_trans, where),
+                    read(node, "engage_max_rot", bp.engage_max_rot, where),
                     read(node, "resync_after", bp.resync_after, where),
                     read(node, "rewind_on_refl", bp.rewind_on_refl, where),
                     read(node, "command_impedance", bp.command_impedance, where),

@@ -135,19 +135,6 @@ bool validFriPose(const float (&m)[kCartFrameDim], double tol) noexcept {
   return det > 0.0;
 }
 
-bool validPose(const Pose& p, double tol) noexcept {
-  double n2 = 0.0;
-  for (double v : p.p) {
-    if (!std::isfinite(v)) return false;
-  }
-  for (double v : p.q) {
-    if (!std::isfinite(v)) return false;
-    n2 += v * v;
-  }
-  const double n = std::sqrt(n2);
-  return n >= 1.0 - tol && n <= 1.0 + tol;
-}
-
 double rotationAngle(const KDL::Rotation& r, KDL::Vector& axis) noexcept {
   double x, y, z, w;
   r.GetQuaternion(x, y, z, w);

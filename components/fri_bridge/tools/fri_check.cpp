@@ -143,6 +143,7 @@ int main(int argc, char** argv) {
   PoseCommand desired;
   desired.status = ServoStatus::Ok;
   KDL::Frame anchor = KDL::Frame::Identity();
+  bool have_anchor = false;  // the desired pose starts where the robot is (the bridge's start gate)
   bool in_cmd = false;
   uint64_t cmd_cycles = 0;
   RunningStat processing_us, period_ms;
@@ -213,8 +214,10 @@ int main(int argc, char** argv) {
     krc_miss = msr.intf.stat.miss_counter;
 
     const bool cmd_now = out.state == State::Cmd && powerOn(msr);
-    if (!cmd_now && out.reply) {
-      anchor = out.commanded;  // outside CMD: the echoed measured pose; CMD starts from it
+    if ((!cmd_now || !have_anchor) && out.reply) {
+      // outside CMD (or the KRC came up in CMD): the echoed/held measured pose; CMD starts from it
+      anchor = out.commanded;
+      have_anchor = true;
       cmd_cycles = 0;
     }
     in_cmd = cmd_now;

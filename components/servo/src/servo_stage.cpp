@@ -23,14 +23,7 @@ void ServoStage::reset() {
 }
 
 bool ServoStage::setMeasuredPose(const Pose& p) {
-  double qn = 0.0;
-  bool ok = true;
-  for (double v : p.p) ok = ok && std::isfinite(v);
-  for (double v : p.q) {
-    ok = ok && std::isfinite(v);
-    qn += v * v;
-  }
-  ok = ok && qn > 1e-12;
+  const bool ok = validPose(p);  // the one pose-validity rule (tactile_types)
   // Before the first valid pose an invalid one is ignored (it must not seed
   // the command); afterwards it reaches the core, which holds (InvalidInput).
   if (ok || have_pose_) in_.flange_measured = p;

@@ -41,17 +41,6 @@ KDL::Rotation rotationFromVector(const KDL::Vector& w) {
                        -a * y + b * x * z, a * x + b * y * z, 1.0 - b * (x * x + y * y));
 }
 
-bool validPose(const tactile::Pose& p) {
-  double n2 = 0.0;
-  for (double v : p.p)
-    if (!std::isfinite(v)) return false;
-  for (double v : p.q) {
-    if (!std::isfinite(v)) return false;
-    n2 += v * v;
-  }
-  return n2 >= 0.25 && n2 <= 4.0;
-}
-
 namespace {
 constexpr double kAlpha[kLwrJoints] = {kPi / 2, -kPi / 2, -kPi / 2, kPi / 2, kPi / 2, -kPi / 2, 0.0};
 constexpr double kD[kLwrJoints] = {0.31, 0.0, 0.4, 0.0, 0.39, 0.0, 0.078};

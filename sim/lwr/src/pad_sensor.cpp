@@ -13,7 +13,7 @@ namespace sim {
 
 ConfigResult PadSensor::configure(const PadParams& p) {
   auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
-  if (!validPose(p.mount)) return ConfigResult::failure("pad.mount: position must be finite and the quaternion non-zero");
+  if (!validPose(p.mount)) return ConfigResult::failure("pad.mount: position must be finite and the quaternion a unit quaternion (|q| within 1e-3 of 1)");
   if (p.rows < 1 || p.rows > kMaxRows) return rangeError("pad.rows", p.rows, "must be in [1, " + std::to_string(kMaxRows) + "]");
   if (p.cols < 1 || p.cols > kMaxCols) return rangeError("pad.cols", p.cols, "must be in [1, " + std::to_string(kMaxCols) + "]");
   if (!positive(p.pitch) || p.pitch > 0.05) return rangeError("pad.pitch", p.pitch, "must be in (0, 0.05] m");

@@ -89,7 +89,7 @@ ConfigResult World::configure(const WorldParams& p) {
   // Initial posture.
   if (p.use_initial_flange_pose) {
     if (!validPose(p.initial_flange_pose))
-      return ConfigResult::failure("initial_flange_pose: position must be finite and the quaternion non-zero");
+      return ConfigResult::failure("initial_flange_pose: position must be finite and the quaternion a unit quaternion (|q| within 1e-3 of 1)");
     const KDL::Frame T0 = toFrame(p.initial_flange_pose);
     SimStatus s = SimStatus::Ok;
     for (int k = 0; k < 30; ++k) s = arm_.settle(T0);

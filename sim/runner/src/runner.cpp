@@ -163,10 +163,13 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
 bool Runner::friCycle(const SimState& st, const PoseCommand& desired, double t, KDL::Frame& applied, Summary& sum) {
   using namespace fri;
   // The simulated KRC (tactile::fri::KrcModel, the UDP test peer's model):
-  // MON for the first 50 ms, then CMD at perfect quality under Cartesian
-  // impedance; the world's measured state in the packet.
+  // MON for the first 5 ms, then CMD at perfect quality under Cartesian
+  // impedance, before the servo's second cycle: the servo's first command is
+  // the measured pose, which passes the bridge's start gate (a servo that
+  // integrated further while the KRC was in MON is refused by the gate:
+  // status desired_far, the arm holds). The world's measured state in the packet.
   KrcModel& krc = krc_;
-  krc.setState(t < 0.05 ? State::Mon : State::Cmd, Quality::Perfect, 0x7F);
+  krc.setState(t < 0.005 ? State::Mon : State::Cmd, Quality::Perfect, 0x7F);
   krc.holdUnlessCommanding(st.T_ge);
   PlantState plant;
   for (int j = 0; j < kNumJoints; ++j) plant.q[static_cast<std::size_t>(j)] = st.q(j);

@@ -15,6 +15,14 @@
 //    CMD without a jump. The rate limiter is re-seeded from the measured pose.
 //  * CMD at quality >= OK: the desired flange pose {g}T{e} goes through the rate
 //    limiter (max translational speed, max rotational speed) and is commanded.
+//  * Start gate: at the start of a session (configure/reset), each time the KRC
+//    (re)enters CMD, and after the desired pose was invalid or stale, the
+//    bridge holds the pose it starts from (the measured pose) and follows the
+//    desired pose only once that is within one program step of it
+//    (engage_max_trans, engage_max_rot: set them to the servo program's
+//    max_trans_step / max_rot_step). Until then: status DesiredFar, hold. The
+//    first command of a session is never turned into motion away from the
+//    measured pose; the servo's first command is its measured pose.
 //  * CMD at quality < OK, invalid/stale desired pose, invalid measured pose:
 //    HOLD: the last commanded pose is repeated unchanged.
 //  * CMD with a control strategy other than Cartesian impedance (position 1,
@@ -79,12 +87,14 @@ struct BridgeParams {
   double max_desired_age_s = 0.1;   ///< s, (0, 10]: older desired poses are not followed (hold)
   int resync_after = 8;             ///< [1, 1000] consecutive old packets accepted as a restarted sequence
   bool rewind_on_refl = true;       ///< step from the command the KRC reflects (see above)
+  double engage_max_trans = 0.0005;  ///< m, (0, 0.1]: start gate, translation (the program's max_trans_step)
+  double engage_max_rot = 0.5 * 3.14159265358979323846 / 180.0;  ///< rad, (0, 0.5]: start gate, rotation (max_rot_step)
   bool command_impedance = false;   ///< also send Cartesian stiffness/damping (flags 0x1000|0x2000)
   std::array<double, 6> cart_stiffness{{2000.0, 2000.0, 2000.0, 200.0, 200.0, 200.0}};  ///< N/m x3 [0.01,5000], N m/rad x3 [0.01,300]
   std::array<double, 6> cart_damping{{0.7, 0.7, 0.7, 0.7, 0.7, 0.7}};  ///< normalised, [0.1, 1.0]
 };
 
-/// Outcome of one step(). Values < 10 produce a reply; the others do not.
+/// Outcome of one step(). Values < kBridgeFirstNoReply (16) produce a reply; the others do not.
 enum class BridgeStatus : uint8_t {
   Commanding = 0,      ///< CMD, quality >= OK, following the desired pose
   Limited = 1,         ///< as Commanding, but the rate limiter clipped the step
@@ -97,11 +107,15 @@ enum class BridgeStatus : uint8_t {
   MeasurementInvalid = 8,  ///< measured pose NaN/non-rotation; CMD: holding (reply), else no reply
   WrongStrategy = 9,   ///< CMD, but the KRC's control strategy is not Cartesian impedance:
                        ///< joint hold (flag 0x1, jntPos = cmdJntPos + cmdJntPosFriOffset), nothing else applied
-  DroppedDuplicate = 10,   ///< same sendSeqCount as the last accepted packet: no reply
-  DroppedOutOfOrder = 11,  ///< older sendSeqCount: no reply
-  Malformed = 12,          ///< decode failed (see packet_status): no reply
-  NotConfigured = 13
+  DesiredFar = 10,     ///< CMD, start gate: the desired pose is more than one program step from the
+                       ///< pose the bridge starts from (engage_max_trans/rot): holding that pose
+  DroppedDuplicate = 16,   ///< same sendSeqCount as the last accepted packet: no reply
+  DroppedOutOfOrder = 17,  ///< older sendSeqCount: no reply
+  Malformed = 18,          ///< decode failed (see packet_status): no reply
+  NotConfigured = 19
 };
+constexpr uint8_t kBridgeFirstNoReply = 16;
+inline bool producesReply(BridgeStatus s) { return static_cast<uint8_t>(s) < kBridgeFirstNoReply; }
 const char* toString(BridgeStatus s);
 
 struct BridgeOutput {
@@ -171,6 +185,7 @@ class FriBridge {
   std::array<uint16_t, kRing> sent_seq_{};
   std::array<bool, kRing> sent_valid_{};
   bool have_command_ = false;  // limiter_ holds a pose that was sent
+  bool engaged_ = false;       // start gate passed: following the desired pose
   bool was_in_cmd_ = false;    // sticky LeftCmd
 };
 

@@ -5,6 +5,8 @@
 //     max_rot_speed: 0.25        # rad/s, (0, 3]
 //     nominal_period_s: 0.001    # s, (0, 0.1]
 //     max_desired_age_s: 0.1     # s, (0, 10]
+//     engage_max_trans: 0.0005   # m, (0, 0.1]: start gate (see bridge.hpp)
+//     engage_max_rot: 0.00872665 # rad, (0, 0.5]: start gate
 //     resync_after: 8            # packets, [1, 1000]
 //     rewind_on_refl: true
 //     command_impedance: false

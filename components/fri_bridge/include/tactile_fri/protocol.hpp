@@ -246,8 +246,8 @@ using tactile::toPose;
 /// All 12 entries finite and the 3x3 part a rotation within `tol`
 /// (|R^T R - I|_max <= tol and det(R) > 0).
 bool validFriPose(const float (&m)[kCartFrameDim], double tol = 1e-3) noexcept;
-/// Finite position and quaternion with norm in [1 - tol, 1 + tol].
-bool validPose(const Pose& p, double tol = 1e-3) noexcept;
+/// Finite position and unit quaternion: the project's one rule (tactile_types/types.hpp).
+using tactile::validPose;
 
 /// Angle (in [0, pi]) and unit axis of a rotation, accurate for small angles
 /// (computed from the quaternion with atan2; KDL's GetRotAngle returns 0 below

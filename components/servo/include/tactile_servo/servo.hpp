@@ -56,6 +56,14 @@
 // feature error); K_I is in 1/s (the integral is ∫Δs_task dt, dt in s); the
 // feed-forward twist is in m/s, rad/s in {s}.
 //
+// START (beyond the paper): nothing is commanded before a valid measured pose
+// (validPose in tactile_types/types.hpp: finite, unit quaternion) has
+// arrived: until then out.valid is false and the status is WaitingForPose
+// (input kNoPose, nothing measured yet) or InvalidInput (a measured pose that
+// is not valid). The cycle that first sees a valid pose commands exactly that
+// pose (status Starting): x(0) of Eq. 15, and the phase program is entered at
+// that time; servoing starts at the next cycle. reset() starts over.
+//
 // SAFETY (beyond the paper):
 //  * per-axis output limits per phase (u_max) and per-cycle translational and
 //    rotational step limits (norms) for every increment, recovery moves included;
@@ -84,128 +92,35 @@
 // |CoC| below tolerances), contact_lost, force_above, timeout (time in phase).
 // While holding (stale/invalid input) transitions are not evaluated.
 //
+// STRUCTURE. TactileServo composes three parts, each usable and tested alone:
+//   ServoControlLaw   (control_law.hpp)       Eq. 7-15: J^-1, P, PI, sensor-to-base
+//   PhaseProgram      (phase_program.hpp)     phases and event-driven transitions
+//   SafetySupervisor  (safety_supervisor.hpp) force ceiling, step limits,
+//                                             workspace box, stale data, contact loss
+// and owns the command (Eq. 15's x(t)) and the start from the measured pose.
+//
 // Real-time: step() and requestPhase() do not allocate, throw, log or block.
 // They are not thread-safe: call them from the same thread (in RTT, run the
 // requestPhase operation in the component's own thread).
 #pragma once
 
-#include <Eigen/Core>
-#include <kdl/frames.hpp>
-
-#include <array>
 #include <cstdint>
-#include <string>
-#include <vector>
 
+#include "tactile_servo/control_law.hpp"
+#include "tactile_servo/phase_program.hpp"
+#include "tactile_servo/safety_supervisor.hpp"
+#include "tactile_servo/servo_params.hpp"
 #include "tactile_types/config_result.hpp"
 #include "tactile_types/types.hpp"
 
 namespace tactile {
 
-using Vec6 = Eigen::Matrix<double, 6, 1>;
-using Mat6 = Eigen::Matrix<double, 6, 6>;
-
-/// Row/axis indices.
-enum Axis : int { kX = 0, kY = 1, kZ = 2, kWX = 3, kWY = 4, kWZ = 5 };
-
-/// Feature vector s (Eq. 6) from the extractor's output.
-Vec6 featureVector(const ContactFeatures& f);
-
-/// Inverse tactile Jacobian J^-1(β) (Eq. 8, 6x6 form, see the header comment).
-Mat6 paperJinv(double beta);
-
-/// Li et al. (RSS 2013) constant Jacobian as compared in Sec. 5.2.1: CoP_x,
-/// CoP_y, d_z (force), alpha_z; no DZMP rows.
-Mat6 baselineJinv();
-
-/// Projection matrix of Eq. 10.
-Mat6 projection(double gx, double gy, double gz, double gwx, double gwy, double gwz, double gcom = 0.0);
-
-/// Default motion sign S (see the header comment).
-Vec6 defaultMotionSign();
-
-enum class TransitionEvent : uint8_t { Contact, Edge, Point, Aligned, ContactLost, ForceAbove, Timeout };
-const char* toString(TransitionEvent e);
-
-/// Tolerance quantities for the `aligned` event. The first six are the rows of
-/// Δs (|Δs_i|); Force is |Δs_dz| / c_z (N); CocX/CocY are |CoC| (m), the
-/// distance of the centre of contact from the sensor centre.
-enum ToleranceIndex : int { kTolCopX = 0, kTolCopY, kTolDz, kTolDzmpX, kTolDzmpY, kTolAlphaZ, kTolForce, kTolCocX, kTolCocY, kNumTol };
-/// Names used in files for ToleranceIndex (and, first six, for rows of Δs / s_d).
-extern const char* const kToleranceNames[kNumTol];
-/// Names of the six entries of s (columns of J^-1).
-extern const char* const kFeatureNames[6];
-/// Names of the task axes (rows of P, gains): x y z wx wy wz.
-extern const char* const kAxisNames[6];
-
-struct TransitionParams {
-  TransitionEvent on = TransitionEvent::Contact;
-  std::string to;          ///< target phase name
-  int cycles = 1;          ///< consecutive cycles the condition must hold (>= 1)
-  std::array<double, kNumTol> tolerance;  ///< aligned: per quantity, < 0 = unused
-  double timeout_s = 0.0;  ///< timeout: seconds in the phase (> 0)
-  double force_n = 0.0;    ///< force_above: threshold (N, > 0)
-  TransitionParams() { tolerance.fill(-1.0); }
-};
-
-enum class JacobianMode : uint8_t {
-  Touch = 0,  ///< β from the contact type each cycle: edge -> jinv_edge, otherwise jinv_point
-  Fixed = 1   ///< always jinv_edge if fixed_beta_edge, else jinv_point
-};
-
-struct PhaseParams {
-  std::string name;
-  Vec6 s_d = Vec6::Zero();                 ///< desired features, rows of Δs
-  JacobianMode jacobian = JacobianMode::Touch;
-  bool fixed_edge = true;                  ///< for Fixed: use jinv_edge (true) or jinv_point
-  Mat6 jinv_point = paperJinv(0.0);
-  Mat6 jinv_edge = paperJinv(1.0);
-  Mat6 P = Mat6::Zero();                   ///< Eq. 10
-  Vec6 kp = Vec6::Zero();                  ///< per cycle, >= 0
-  Vec6 ki = Vec6::Zero();                  ///< 1/s, >= 0
-  Vec6 integral_limit = Vec6::Constant(1e-3);  ///< |K_I ∫Δ| per axis (m or rad per cycle), >= 0
-  Vec6 u_max = Vec6::Constant(1e9);        ///< per-axis limit of the PI output per cycle, > 0
-  Vec6 feedforward = Vec6::Zero();         ///< twist in {s} (m/s, rad/s)
-  bool requires_contact = true;            ///< contact-loss recovery applies in this phase
-  bool reset_integrator = true;            ///< zero the integrator on entering this phase
-  bool terminal = false;                   ///< entering it -> status Done, hold
-  std::vector<TransitionParams> transitions;
-};
-
-enum class PoseUpdate : uint8_t { Measured = 0, Integrated = 1 };  ///< Eq. 12 / Eq. 15
-enum class ControllerMode : uint8_t { Proposed = 0, Baseline = 1 };
-enum class ContactLossMode : uint8_t { Hold = 0, Backoff = 1, Search = 2 };
-
-struct SafetyParams {
-  double max_trans_step = 0.0005;               ///< m per cycle (norm), > 0
-  double max_rot_step = 0.5 * kPi / 180.0;      ///< rad per cycle (norm), > 0
-  std::array<double, 3> workspace_min{{-2.0, -2.0, -2.0}};  ///< m, flange position in {g}
-  std::array<double, 3> workspace_max{{2.0, 2.0, 2.0}};
-  double force_ceiling = 40.0;                  ///< N, > 0
-  double ceiling_retreat = 0.01;                ///< m, >= 0
-  double stale_timeout = 0.05;                  ///< s, > 0
-  ContactLossMode contact_loss = ContactLossMode::Hold;
-  double backoff_distance = 0.005;              ///< m, >= 0
-  double search_speed = 0.005;                  ///< m/s, >= 0
-  double search_max_distance = 0.01;            ///< m, >= 0
-};
-
-struct ServoParams {
-  KDL::Frame sensor_mount = KDL::Frame::Identity();  ///< {e}T{s}
-  Vec6 motion_sign = defaultMotionSign();
-  PoseUpdate pose_update = PoseUpdate::Integrated;
-  ControllerMode mode = ControllerMode::Proposed;
-  double c_z = 1.0 / 1800.0;                          ///< m/N (Eq. 2), > 0
-  SafetyParams safety;
-  std::vector<PhaseParams> phases;
-  std::string initial_phase;                          ///< empty = first phase
-  std::string source;                                 ///< file name, for messages
-};
-
 struct ServoInput {
   double time_s = 0.0;
   ContactFeatures features;
-  Pose flange_measured;  ///< {g}T{e}
+  /// {g}T{e} measured. kNoPose until a measurement arrived: the servo then
+  /// commands nothing (status WaitingForPose).
+  Pose flange_measured = kNoPose;
 };
 
 struct ServoOutput {
@@ -215,7 +130,7 @@ struct ServoOutput {
   Vec6 error_task = Vec6::Zero();  ///< Δs_task (Eq. 9)
   Vec6 u_s = Vec6::Zero();         ///< increment applied this cycle, in {s}
   uint8_t beta = 0;                ///< 1 when the edge Jacobian was used
-  bool valid = false;              ///< false until a finite measured pose was seen
+  bool valid = false;              ///< false until a valid measured pose was seen (validPose, types.hpp)
 };
 
 class TactileServo {
@@ -236,9 +151,9 @@ class TactileServo {
   /// Back to the initial phase; the next step re-reads the measured pose.
   void reset();
 
-  int phaseCount() const { return static_cast<int>(phases_.size()); }
-  int phaseIndex() const { return current_; }
-  int phaseIndexOf(const char* name) const;  ///< -1 if unknown
+  int phaseCount() const { return configured_ ? program_.count() : 0; }
+  int phaseIndex() const { return program_.current(); }
+  int phaseIndexOf(const char* name) const { return program_.indexOf(name); }  ///< -1 if unknown
   const PhaseParams& phase(int i) const { return params_.phases[static_cast<std::size_t>(i)]; }
   const ServoParams& params() const { return params_; }
 
@@ -249,51 +164,24 @@ class TactileServo {
   /// included), e.g. for reporting on a port. `phase` must be valid.
   const Mat6& jacobian(int phase, ContactType c, uint8_t* beta_out = nullptr) const;
 
- private:
-  struct Transition {
-    TransitionEvent on;
-    int to;
-    int cycles;
-    std::array<double, kNumTol> tol;
-    double timeout_s, force_n;
-    int count;
-  };
-  struct Phase {
-    std::array<char, kPhaseNameLen> name{};
-    Vec6 s_d;
-    Mat6 j_point, j_edge;
-    bool touch, fixed_edge;
-    Mat6 P;
-    Vec6 kp, ki, i_lim, u_max, ff;
-    bool requires_contact, reset_integrator, terminal, free_motion;
-    int first_transition, num_transitions;
-  };
+  /// The parts (read-only), e.g. for tests and reporting.
+  const ServoControlLaw& controlLaw() const { return law_; }
+  const PhaseProgram& program() const { return program_; }
+  const SafetySupervisor& safety() const { return safety_; }
 
+ private:
   void enterPhase(int idx, double now);
-  bool evaluateTransitions(const ContactFeatures& f, const Vec6& err, double now, int& target);
-  const Mat6& jacobianFor(const Phase& ph, ContactType c, uint8_t& beta) const;
-  bool limitIncrement(Vec6& u) const;
   ServoStatus finish(ServoStatus st, double now, ServoOutput& out);
   ServoStatus applyIncrement(const KDL::Frame& base, Vec6 u_s, ServoStatus st, double now, ServoOutput& out);
 
   bool configured_ = false;
   ServoParams params_;
-  std::vector<Phase> phases_;
-  std::vector<Transition> transitions_;
-  KDL::Frame T_es_, T_se_;
-  int initial_ = 0;
-  int current_ = 0;
-  int pending_ = -1;
-  bool entered_ = false;
-  double t_enter_ = 0.0;
-  Vec6 integral_ = Vec6::Zero();
+  ServoControlLaw law_;
+  PhaseProgram program_;
+  SafetySupervisor safety_;
   KDL::Frame cmd_;
   bool has_cmd_ = false;
-  bool ceiling_latched_ = false;
-  double ceiling_moved_ = 0.0;
-  double recovery_moved_ = 0.0;
   uint32_t seq_ = 0;
-  Mat6 baseline_ = baselineJinv();
 };
 
 }  // namespace tactile

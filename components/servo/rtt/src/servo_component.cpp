@@ -81,6 +81,9 @@ bool ServoComponent::startHook() {
   features_ = ContactFeatures();
   requested_phase_.store(-1);
   current_phase_.store(stage_.servo().phaseIndex());
+  // Only data written after this start counts: no pose, no features yet.
+  flange_in_.clear();
+  features_in_.clear();
   return true;
 }
 

@@ -214,8 +214,8 @@ using tactile::toPose;
 /// Rotation matrix of a rotation vector (Rodrigues), exact for small angles
 /// (KDL::Rot and KDL::addDelta return the identity below ~1e-6 rad).
 KDL::Rotation rotationFromVector(const KDL::Vector& w);
-/// Finite position and a quaternion of norm in [0.5, 2] (normalised on use).
-bool validPose(const tactile::Pose& p);
+/// The project's pose-validity rule (finite, unit quaternion; tactile_types/types.hpp).
+using tactile::validPose;
 
 }  // namespace sim
 }  // namespace tactile

@@ -11,17 +11,13 @@
 namespace tactile {
 
 /// Strict conversion for inputs from outside (ports, packets, commands):
-/// returns false and leaves `f` untouched when an entry is NaN/Inf or the
-/// quaternion's norm is not in (0.5, 1.5) (not a rotation: refuse rather than
-/// guess). Otherwise the quaternion is normalised first: KDL builds the matrix
-/// from the quaternion as given, and a norm of 1 + e would scale it by ~1 + 2e.
+/// returns false and leaves `f` untouched unless validPose(p) (types.hpp: the
+/// one pose-validity rule, finite and a unit quaternion). The quaternion is
+/// normalised first: KDL builds the matrix from the quaternion as given, and a
+/// norm of 1 + e would scale it by ~1 + 2e.
 inline bool toFrame(const Pose& p, KDL::Frame& f) noexcept {
-  for (double v : p.p)
-    if (!std::isfinite(v)) return false;
-  for (double v : p.q)
-    if (!std::isfinite(v)) return false;
+  if (!validPose(p)) return false;
   const double n = std::sqrt(p.q[0] * p.q[0] + p.q[1] * p.q[1] + p.q[2] * p.q[2] + p.q[3] * p.q[3]);
-  if (!(n > 0.5 && n < 1.5)) return false;
   f = KDL::Frame(KDL::Rotation::Quaternion(p.q[0] / n, p.q[1] / n, p.q[2] / n, p.q[3] / n),
                  KDL::Vector(p.p[0], p.p[1], p.p[2]));
   return true;

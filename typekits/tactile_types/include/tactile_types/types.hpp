@@ -6,6 +6,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 #include "tactile_types/conventions.hpp"
@@ -85,6 +86,31 @@ struct Pose {
   std::array<double, 4> q{0.0, 0.0, 0.0, 1.0};
 };
 
+/// The project's one pose-validity rule, for every pose that comes from
+/// outside (ports, packets, files, commands): every entry finite and the
+/// quaternion a unit quaternion, | |q| - 1 | <= kUnitQuaternionTol. Users
+/// normalise q before use (KDL builds the matrix from q as given).
+constexpr double kUnitQuaternionTol = 1e-3;
+inline bool validPose(const Pose& pose) noexcept {
+  double n2 = 0.0;
+  for (double v : pose.p)
+    if (!std::isfinite(v)) return false;
+  for (double v : pose.q) {
+    if (!std::isfinite(v)) return false;
+    n2 += v * v;
+  }
+  const double n = std::sqrt(n2);
+  return n >= 1.0 - kUnitQuaternionTol && n <= 1.0 + kUnitQuaternionTol;
+}
+
+/// "No pose yet": what an input holds until a measured pose arrived. Not a
+/// valid pose (zero quaternion), so nothing can start from it by mistake.
+constexpr Pose kNoPose{{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0, 0.0}};
+inline bool isNoPose(const Pose& pose) noexcept {
+  return pose.q[0] == 0.0 && pose.q[1] == 0.0 && pose.q[2] == 0.0 && pose.q[3] == 0.0 && pose.p[0] == 0.0 &&
+         pose.p[1] == 0.0 && pose.p[2] == 0.0;
+}
+
 /// Servo status, ordered by severity. Every status keeps the command finite.
 enum class ServoStatus : uint8_t {
   Ok = 0,
@@ -93,6 +119,8 @@ enum class ServoStatus : uint8_t {
   ContactLost = 3,     ///< contact lost, recovery behaviour active
   Limited = 4,         ///< command clipped by a step limit or the workspace box
   Done = 5,            ///< the phase program reached its final phase
+  WaitingForPose = 6,  ///< no valid measured pose has arrived yet: no command at all
+  Starting = 7,        ///< first valid measured pose: the command is that pose, unchanged
   ForceCeiling = 10,   ///< force ceiling hit: retreating
   InvalidInput = 11,   ///< NaN/Inf pose or dt < 0: holding
   NotConfigured = 12

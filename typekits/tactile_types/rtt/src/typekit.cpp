@@ -216,11 +216,12 @@ bool TactileTypekit::loadTypes() {
                                                  FeatureStatus::BadDimensions, FeatureStatus::NotConfigured};
   static const ServoStatus servo_status[] = {ServoStatus::Ok,           ServoStatus::FreeMotion, ServoStatus::Holding,
                                              ServoStatus::ContactLost,  ServoStatus::Limited,    ServoStatus::Done,
+                                             ServoStatus::WaitingForPose, ServoStatus::Starting,
                                              ServoStatus::ForceCeiling, ServoStatus::InvalidInput,
                                              ServoStatus::NotConfigured};
   repo->addType(new NamedEnumTypeInfo<ContactType, 3>(kContactType, contact_types));
   repo->addType(new NamedEnumTypeInfo<FeatureStatus, 6>(kFeatureStatus, feature_status));
-  repo->addType(new NamedEnumTypeInfo<ServoStatus, 9>(kServoStatus, servo_status));
+  repo->addType(new NamedEnumTypeInfo<ServoStatus, 11>(kServoStatus, servo_status));
 
   repo->addType(new StructTypeInfo<RawTactileFrame>(kRawTactileFrame));
   repo->addType(new StructTypeInfo<TactileFrame>(kTactileFrame));

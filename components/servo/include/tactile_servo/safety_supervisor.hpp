@@ -1,0 +1,65 @@
+// The servo's safety supervisor (beyond the paper; see servo.hpp, SAFETY):
+//
+//  * step limits: every increment's translation and rotation norms per cycle
+//    (max_trans_step, max_rot_step), direction kept;
+//  * workspace box on the commanded flange position {g}p{e}; from a pose
+//    already outside it only motion back towards it (no jumps onto it);
+//  * force ceiling: features.force > force_ceiling latches; retreat along
+//    -z_s by ceiling_retreat at the step limit, then hold; until cleared;
+//  * stale data: features older (or newer) than stale_timeout, or with an
+//    unusable status, hold;
+//  * contact loss in a phase that needs contact: hold, back off (along -z_s
+//    by backoff_distance) or search (along +z_s at search_speed, at most
+//    search_max_distance), each at the step limit.
+// Real-time: nothing here allocates, throws or logs after configure().
+#pragma once
+
+#include "tactile_servo/servo_params.hpp"
+
+namespace tactile {
+
+class SafetySupervisor {
+ public:
+  /// Validates the safety limits (names the key and the valid range).
+  ConfigResult configure(const ServoParams& params);
+  bool configured() const { return configured_; }
+  const SafetyParams& params() const { return p_; }
+
+  /// Ceiling latch off, recovery distances zero.
+  void reset();
+  /// Clears the force-ceiling latch (an explicit phase request).
+  void clearCeiling() { ceiling_latched_ = false; }
+
+  /// NaN/Inf in any feature field used by the servo?
+  static bool featuresFinite(const ContactFeatures& f);
+
+  /// Force ceiling, latched: true while latched (the servo commands nothing
+  /// else); `retreat` (m, >= 0) is this cycle's move along -z_s, 0 once the
+  /// full ceiling_retreat was made (hold). `finite`: featuresFinite(f).
+  bool forceCeiling(const ContactFeatures& f, bool finite, double& retreat);
+  bool ceilingLatched() const { return ceiling_latched_; }
+
+  /// Unusable status, or time stamp further than stale_timeout from `now`.
+  bool stale(const ContactFeatures& f, double now) const;
+
+  /// Contact lost in a phase that needs it: this cycle's recovery move along
+  /// z_s (m; < 0 backoff, > 0 search), 0 = hold (mode hold, or distance done).
+  double contactLoss(double dt);
+  /// Contact present (or a new phase): the next loss starts a new recovery.
+  void resetRecovery() { recovery_moved_ = 0.0; }
+
+  /// Scales u's translation and rotation to the step limits; true if it did.
+  bool limitStep(Vec6& u) const;
+  /// Clips T_ge's position to the workspace box widened to include `from`
+  /// (the pose the increment started at); true if it did.
+  bool clipWorkspace(const KDL::Vector& from, KDL::Frame& T_ge) const;
+
+ private:
+  bool configured_ = false;
+  SafetyParams p_;
+  bool ceiling_latched_ = false;
+  double ceiling_moved_ = 0.0;
+  double recovery_moved_ = 0.0;
+};
+
+}  // namespace tactile

@@ -1,0 +1,122 @@
+// Parameter and shared types of the tactile servo (paper Sec. 4, Eq. 7-15):
+// the phase program (PhaseParams, TransitionParams), the safety limits
+// (SafetyParams) and the whole program (ServoParams), plus the paper's
+// matrices. See servo.hpp for the decisions behind them (6x6 J^-1, P, motion
+// sign, units). Used by the control law, the phase program and the safety
+// supervisor, each configured from the same ServoParams.
+#pragma once
+
+#include <Eigen/Core>
+#include <kdl/frames.hpp>
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "tactile_types/config_result.hpp"
+#include "tactile_types/types.hpp"
+
+namespace tactile {
+
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+
+/// Row/axis indices.
+enum Axis : int { kX = 0, kY = 1, kZ = 2, kWX = 3, kWY = 4, kWZ = 5 };
+
+/// Feature vector s (Eq. 6) from the extractor's output.
+Vec6 featureVector(const ContactFeatures& f);
+
+/// Inverse tactile Jacobian J^-1(β) (Eq. 8, 6x6 form, see the header comment).
+Mat6 paperJinv(double beta);
+
+/// Li et al. (RSS 2013) constant Jacobian as compared in Sec. 5.2.1: CoP_x,
+/// CoP_y, d_z (force), alpha_z; no DZMP rows.
+Mat6 baselineJinv();
+
+/// Projection matrix of Eq. 10.
+Mat6 projection(double gx, double gy, double gz, double gwx, double gwy, double gwz, double gcom = 0.0);
+
+/// Default motion sign S (see the header comment).
+Vec6 defaultMotionSign();
+
+enum class TransitionEvent : uint8_t { Contact, Edge, Point, Aligned, ContactLost, ForceAbove, Timeout };
+const char* toString(TransitionEvent e);
+
+/// Tolerance quantities for the `aligned` event. The first six are the rows of
+/// Δs (|Δs_i|); Force is |Δs_dz| / c_z (N); CocX/CocY are |CoC| (m), the
+/// distance of the centre of contact from the sensor centre.
+enum ToleranceIndex : int { kTolCopX = 0, kTolCopY, kTolDz, kTolDzmpX, kTolDzmpY, kTolAlphaZ, kTolForce, kTolCocX, kTolCocY, kNumTol };
+/// Names used in files for ToleranceIndex (and, first six, for rows of Δs / s_d).
+extern const char* const kToleranceNames[kNumTol];
+/// Names of the six entries of s (columns of J^-1).
+extern const char* const kFeatureNames[6];
+/// Names of the task axes (rows of P, gains): x y z wx wy wz.
+extern const char* const kAxisNames[6];
+
+struct TransitionParams {
+  TransitionEvent on = TransitionEvent::Contact;
+  std::string to;          ///< target phase name
+  int cycles = 1;          ///< consecutive cycles the condition must hold (>= 1)
+  std::array<double, kNumTol> tolerance;  ///< aligned: per quantity, < 0 = unused
+  double timeout_s = 0.0;  ///< timeout: seconds in the phase (> 0)
+  double force_n = 0.0;    ///< force_above: threshold (N, > 0)
+  TransitionParams() { tolerance.fill(-1.0); }
+};
+
+enum class JacobianMode : uint8_t {
+  Touch = 0,  ///< β from the contact type each cycle: edge -> jinv_edge, otherwise jinv_point
+  Fixed = 1   ///< always jinv_edge if fixed_beta_edge, else jinv_point
+};
+
+struct PhaseParams {
+  std::string name;
+  Vec6 s_d = Vec6::Zero();                 ///< desired features, rows of Δs
+  JacobianMode jacobian = JacobianMode::Touch;
+  bool fixed_edge = true;                  ///< for Fixed: use jinv_edge (true) or jinv_point
+  Mat6 jinv_point = paperJinv(0.0);
+  Mat6 jinv_edge = paperJinv(1.0);
+  Mat6 P = Mat6::Zero();                   ///< Eq. 10
+  Vec6 kp = Vec6::Zero();                  ///< per cycle, >= 0
+  Vec6 ki = Vec6::Zero();                  ///< 1/s, >= 0
+  Vec6 integral_limit = Vec6::Constant(1e-3);  ///< |K_I ∫Δ| per axis (m or rad per cycle), >= 0
+  Vec6 u_max = Vec6::Constant(1e9);        ///< per-axis limit of the PI output per cycle, > 0
+  Vec6 feedforward = Vec6::Zero();         ///< twist in {s} (m/s, rad/s)
+  bool requires_contact = true;            ///< contact-loss recovery applies in this phase
+  bool reset_integrator = true;            ///< zero the integrator on entering this phase
+  bool terminal = false;                   ///< entering it -> status Done, hold
+  std::vector<TransitionParams> transitions;
+};
+
+enum class PoseUpdate : uint8_t { Measured = 0, Integrated = 1 };  ///< Eq. 12 / Eq. 15
+enum class ControllerMode : uint8_t { Proposed = 0, Baseline = 1 };
+enum class ContactLossMode : uint8_t { Hold = 0, Backoff = 1, Search = 2 };
+
+struct SafetyParams {
+  double max_trans_step = 0.0005;               ///< m per cycle (norm), > 0
+  double max_rot_step = 0.5 * kPi / 180.0;      ///< rad per cycle (norm), > 0
+  std::array<double, 3> workspace_min{{-2.0, -2.0, -2.0}};  ///< m, flange position in {g}
+  std::array<double, 3> workspace_max{{2.0, 2.0, 2.0}};
+  double force_ceiling = 40.0;                  ///< N, > 0
+  double ceiling_retreat = 0.01;                ///< m, >= 0
+  double stale_timeout = 0.05;                  ///< s, > 0
+  ContactLossMode contact_loss = ContactLossMode::Hold;
+  double backoff_distance = 0.005;              ///< m, >= 0
+  double search_speed = 0.005;                  ///< m/s, >= 0
+  double search_max_distance = 0.01;            ///< m, >= 0
+};
+
+struct ServoParams {
+  KDL::Frame sensor_mount = KDL::Frame::Identity();  ///< {e}T{s}
+  Vec6 motion_sign = defaultMotionSign();
+  PoseUpdate pose_update = PoseUpdate::Integrated;
+  ControllerMode mode = ControllerMode::Proposed;
+  double c_z = 1.0 / 1800.0;                          ///< m/N (Eq. 2), > 0
+  SafetyParams safety;
+  std::vector<PhaseParams> phases;
+  std::string initial_phase;                          ///< empty = first phase
+  std::string source;                                 ///< file name, for messages
+};
+
+}  // namespace tactile

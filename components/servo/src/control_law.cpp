@@ -1,0 +1,173 @@
+#include "tactile_servo/control_law.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "servo_config.hpp"
+
+namespace tactile {
+
+using servo_config::err;
+
+const char* const kToleranceNames[kNumTol] = {"cop_x", "cop_y", "d_z", "dzmp_x", "dzmp_y", "alpha_z",
+                                              "force", "coc_x", "coc_y"};
+const char* const kFeatureNames[6] = {"cop_x", "cop_y", "d_z", "coc_x", "coc_y", "alpha_z"};
+const char* const kAxisNames[6] = {"x", "y", "z", "wx", "wy", "wz"};
+
+// Eq. 6: s = [CoP_x, CoP_y, d_z, CoC_x, CoC_y, alpha_z].
+Vec6 featureVector(const ContactFeatures& f) {
+  Vec6 s;
+  s << f.cop_x, f.cop_y, f.d_z, f.coc_x, f.coc_y, f.alpha_z;
+  return s;
+}
+
+// Eq. 8 in its 6x6 form (decision documented in servo.hpp).
+Mat6 paperJinv(double beta) {
+  Mat6 j = Mat6::Zero();
+  j(0, 0) = 1.0;    // CoP_x
+  j(1, 1) = 1.0;    // CoP_y
+  j(2, 2) = 1.0;    // d_z
+  j(3, 1) = 1.0;    // DZMP_x = CoP_y - β CoC_y (Eq. 3)
+  j(3, 4) = -beta;
+  j(4, 0) = 1.0;    // DZMP_y = CoP_x - β CoC_x (Eq. 3)
+  j(4, 3) = -beta;
+  j(5, 5) = beta;   // α_z, edge only
+  return j;
+}
+
+// Li et al. (RSS 2013) as compared in Sec. 5.2.1: constant, no DZMP rows.
+Mat6 baselineJinv() {
+  Vec6 d;
+  d << 1, 1, 1, 0, 0, 1;
+  return d.asDiagonal();
+}
+
+// Eq. 10.
+Mat6 projection(double gx, double gy, double gz, double gwx, double gwy, double gwz, double gcom) {
+  Vec6 d;
+  d << gx, gy, gz, gwx, gwy, gwz;
+  Mat6 p = d.asDiagonal();
+  p(kX, kWY) = gcom;
+  return p;
+}
+
+Vec6 defaultMotionSign() {
+  Vec6 s;
+  s << -1, -1, 1, 1, -1, -1;
+  return s;
+}
+
+namespace {
+bool frameFinite(const KDL::Frame& f) {
+  for (int i = 0; i < 3; ++i) {
+    if (!std::isfinite(f.p(i))) return false;
+    for (int j = 0; j < 3; ++j)
+      if (!std::isfinite(f.M(i, j))) return false;
+  }
+  return true;
+}
+}  // namespace
+
+ConfigResult ServoControlLaw::configure(const ServoParams& p) {
+  configured_ = false;
+  if (!(std::isfinite(p.c_z) && p.c_z > 0)) return err(p, "", "c_z", p.c_z, "must be > 0 (m/N)");
+  for (int i = 0; i < 6; ++i)
+    if (p.motion_sign(i) != 1.0 && p.motion_sign(i) != -1.0)
+      return err(p, "", std::string("motion_sign.") + kAxisNames[i], p.motion_sign(i), "must be +1 or -1");
+  if (!frameFinite(p.sensor_mount)) return err(p, "", "sensor_mount", "non-finite", "must be finite");
+  for (const PhaseParams& ph : p.phases) {
+    const std::string& nm = ph.name;
+    if (!ph.s_d.allFinite()) return err(p, nm, "s_d", "non-finite", "must be finite");
+    if (!ph.jinv_point.allFinite()) return err(p, nm, "jacobian.point", "non-finite", "must be finite");
+    if (!ph.jinv_edge.allFinite()) return err(p, nm, "jacobian.edge", "non-finite", "must be finite");
+    if (!ph.P.allFinite()) return err(p, nm, "P", "non-finite", "must be finite");
+    for (int a = 0; a < 6; ++a) {
+      const std::string ax = kAxisNames[a];
+      if (!(std::isfinite(ph.kp(a)) && ph.kp(a) >= 0)) return err(p, nm, "kp." + ax, ph.kp(a), "must be >= 0 (per cycle)");
+      if (!(std::isfinite(ph.ki(a)) && ph.ki(a) >= 0)) return err(p, nm, "ki." + ax, ph.ki(a), "must be >= 0 (1/s)");
+      if (!(std::isfinite(ph.integral_limit(a)) && ph.integral_limit(a) >= 0))
+        return err(p, nm, "integral_limit." + ax, ph.integral_limit(a), "must be >= 0 (m or rad per cycle)");
+      if (!(ph.u_max(a) > 0)) return err(p, nm, "u_max." + ax, ph.u_max(a), "must be > 0 (m or rad per cycle)");
+      if (!std::isfinite(ph.feedforward(a)) || std::fabs(ph.feedforward(a)) > 0.5)
+        return err(p, nm, "feedforward." + ax, ph.feedforward(a), "must be in [-0.5, 0.5] (m/s or rad/s)");
+    }
+  }
+  phases_.clear();
+  phases_.reserve(p.phases.size());
+  for (const PhaseParams& ph : p.phases) {
+    Phase q;
+    q.s_d = ph.s_d;
+    q.j_point = ph.jinv_point;
+    q.j_edge = ph.jinv_edge;
+    q.touch = ph.jacobian == JacobianMode::Touch;
+    q.fixed_edge = ph.fixed_edge;
+    q.P = ph.P;
+    q.kp = ph.kp;
+    q.ki = ph.ki;
+    q.i_lim = ph.integral_limit;
+    q.u_max = ph.u_max;
+    q.ff = ph.feedforward;
+    phases_.push_back(q);
+  }
+  baseline_mode_ = p.mode == ControllerMode::Baseline;
+  motion_sign_ = p.motion_sign;
+  T_es_ = p.sensor_mount;
+  T_se_ = p.sensor_mount.Inverse();
+  c_z_ = p.c_z;
+  integral_.setZero();
+  configured_ = true;
+  return ConfigResult::success();
+}
+
+// Touch dependence (Eq. 8 with Eq. 5): edge -> β = 1, point/none -> β = 0.
+const Mat6& ServoControlLaw::jacobian(int phase, ContactType c, uint8_t& beta) const {
+  if (baseline_mode_) {
+    beta = 0;
+    return baseline_;
+  }
+  const Phase& ph = phases_[static_cast<std::size_t>(phase)];
+  const bool edge = ph.touch ? (c == ContactType::Edge) : ph.fixed_edge;
+  beta = edge ? 1 : 0;
+  return edge ? ph.j_edge : ph.j_point;
+}
+
+Vec6 ServoControlLaw::featureError(int phase, const ContactFeatures& f, uint8_t& beta) const {
+  if (phase < 0 || phase >= phaseCount()) return Vec6::Zero();
+  const Mat6& j = jacobian(phase, f.contact, beta);
+  return phases_[static_cast<std::size_t>(phase)].s_d - j * featureVector(f);  // Eq. 7
+}
+
+Vec6 ServoControlLaw::project(int phase, const Vec6& error) const {
+  return phases_[static_cast<std::size_t>(phase)].P * error;  // Eq. 9
+}
+
+Vec6 ServoControlLaw::increment(int phase, const Vec6& task, double dt) {
+  const Phase& ph = phases_[static_cast<std::size_t>(phase)];
+  // Eq. 13: PI per axis, integrator clamped so that |K_I ∫| <= integral_limit.
+  integral_ += task * dt;
+  for (int a = 0; a < 6; ++a) {
+    if (ph.ki(a) > 0.0) {
+      const double lim = ph.i_lim(a) / ph.ki(a);
+      integral_(a) = std::max(-lim, std::min(lim, integral_(a)));
+    } else {
+      integral_(a) = 0.0;
+    }
+  }
+  Vec6 pi = ph.kp.cwiseProduct(task) + ph.ki.cwiseProduct(integral_);
+  pi = pi.cwiseMax(-ph.u_max).cwiseMin(ph.u_max);
+  return motion_sign_.cwiseProduct(pi) + ph.ff * dt;
+}
+
+KDL::Frame ServoControlLaw::apply(const KDL::Frame& base, const Vec6& u_s) const {
+  // Eq. 13: {g}T{s} = {g}T{e} {e}T{s}; the increment, expressed in {s} and
+  // applied at the origin of {s}, is rotated into {g} (same reference point).
+  const KDL::Frame T_gs = base * T_es_;
+  const KDL::Twist t_s(KDL::Vector(u_s(0), u_s(1), u_s(2)), KDL::Vector(u_s(3), u_s(4), u_s(5)));
+  const KDL::Twist t_g = T_gs.M * t_s;
+  // Eq. 12 / Eq. 15: x_d = x + u.
+  const KDL::Frame T_gs_new = KDL::addDelta(T_gs, t_g, 1.0);
+  return T_gs_new * T_se_;
+}
+
+}  // namespace tactile

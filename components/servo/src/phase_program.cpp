@@ -1,0 +1,170 @@
+#include "tactile_servo/phase_program.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include "servo_config.hpp"
+
+namespace tactile {
+
+using servo_config::err;
+using servo_config::where;
+
+const char* toString(TransitionEvent e) {
+  switch (e) {
+    case TransitionEvent::Contact: return "contact";
+    case TransitionEvent::Edge: return "edge";
+    case TransitionEvent::Point: return "point";
+    case TransitionEvent::Aligned: return "aligned";
+    case TransitionEvent::ContactLost: return "contact_lost";
+    case TransitionEvent::ForceAbove: return "force_above";
+    case TransitionEvent::Timeout: return "timeout";
+  }
+  return "unknown";
+}
+
+ConfigResult PhaseProgram::configure(const ServoParams& p) {
+  configured_ = false;
+  if (p.phases.empty()) return ConfigResult::failure(where(p, "", "phases") + ": at least one phase is required");
+  const int n = static_cast<int>(p.phases.size());
+  auto indexOfName = [&](const std::string& name) {
+    for (int i = 0; i < n; ++i)
+      if (p.phases[static_cast<std::size_t>(i)].name == name) return i;
+    return -1;
+  };
+  for (int i = 0; i < n; ++i) {
+    const PhaseParams& ph = p.phases[static_cast<std::size_t>(i)];
+    const std::string& nm = ph.name;
+    if (nm.empty() || nm.size() >= static_cast<std::size_t>(kPhaseNameLen))
+      return err(p, "[" + std::to_string(i) + "]", "name", "'" + nm + "'",
+                 "must have 1.." + std::to_string(kPhaseNameLen - 1) + " characters");
+    if (indexOfName(nm) != i) return err(p, nm, "name", nm, "duplicate phase name");
+    for (std::size_t t = 0; t < ph.transitions.size(); ++t) {
+      const TransitionParams& tr = ph.transitions[t];
+      const std::string f = "transitions[" + std::to_string(t) + "]";
+      if (indexOfName(tr.to) < 0) return err(p, nm, f + ".to", "'" + tr.to + "'", "unknown phase");
+      if (tr.cycles < 1) return err(p, nm, f + ".cycles", tr.cycles, "must be >= 1");
+      if (tr.on == TransitionEvent::Aligned) {
+        bool any = false;
+        for (int k = 0; k < kNumTol; ++k) {
+          if (!std::isfinite(tr.tolerance[static_cast<std::size_t>(k)]))
+            return err(p, nm, f + ".tolerance." + kToleranceNames[k], "non-finite", "must be finite");
+          any = any || tr.tolerance[static_cast<std::size_t>(k)] >= 0;
+        }
+        if (!any) return err(p, nm, f + ".tolerance", "{}", "'aligned' needs at least one tolerance");
+      }
+      if (tr.on == TransitionEvent::Timeout && !(std::isfinite(tr.timeout_s) && tr.timeout_s > 0))
+        return err(p, nm, f + ".timeout_s", tr.timeout_s, "must be > 0 (s)");
+      if (tr.on == TransitionEvent::ForceAbove && !(std::isfinite(tr.force_n) && tr.force_n > 0))
+        return err(p, nm, f + ".force_n", tr.force_n, "must be > 0 (N)");
+    }
+  }
+  const int init = p.initial_phase.empty() ? 0 : indexOfName(p.initial_phase);
+  if (init < 0) return err(p, "", "initial_phase", "'" + p.initial_phase + "'", "unknown phase");
+  // Reachability from the initial phase through transitions.
+  std::vector<char> reach(static_cast<std::size_t>(n), 0);
+  std::vector<int> stack{init};
+  reach[static_cast<std::size_t>(init)] = 1;
+  while (!stack.empty()) {
+    const int i = stack.back();
+    stack.pop_back();
+    for (const TransitionParams& tr : p.phases[static_cast<std::size_t>(i)].transitions) {
+      const int j = indexOfName(tr.to);
+      if (!reach[static_cast<std::size_t>(j)]) {
+        reach[static_cast<std::size_t>(j)] = 1;
+        stack.push_back(j);
+      }
+    }
+  }
+  for (int i = 0; i < n; ++i)
+    if (!reach[static_cast<std::size_t>(i)])
+      return ConfigResult::failure(where(p, p.phases[static_cast<std::size_t>(i)].name, "transitions") +
+                                   ": phase unreachable from the initial phase '" +
+                                   p.phases[static_cast<std::size_t>(init)].name + "'");
+
+  phases_.clear();
+  transitions_.clear();
+  phases_.reserve(static_cast<std::size_t>(n));
+  for (const PhaseParams& ph : p.phases) {
+    Phase q;
+    std::strncpy(q.name.data(), ph.name.c_str(), q.name.size() - 1);
+    q.requires_contact = ph.requires_contact;
+    q.reset_integrator = ph.reset_integrator;
+    q.terminal = ph.terminal;
+    q.free_motion = ph.P.isZero(0.0);
+    q.first_transition = static_cast<int>(transitions_.size());
+    q.num_transitions = static_cast<int>(ph.transitions.size());
+    for (const TransitionParams& tr : ph.transitions)
+      transitions_.push_back({tr.on, indexOfName(tr.to), tr.cycles, tr.tolerance, tr.timeout_s, tr.force_n, 0});
+    phases_.push_back(q);
+  }
+  initial_ = init;
+  configured_ = true;
+  reset();
+  return ConfigResult::success();
+}
+
+void PhaseProgram::reset() {
+  current_ = initial_;
+  pending_ = -1;
+  entered_ = false;
+  for (Transition& t : transitions_) t.count = 0;
+}
+
+int PhaseProgram::indexOf(const char* name) const {
+  if (name == nullptr) return -1;
+  for (std::size_t i = 0; i < phases_.size(); ++i)
+    if (std::strncmp(phases_[i].name.data(), name, phases_[i].name.size()) == 0) return static_cast<int>(i);
+  return -1;
+}
+
+bool PhaseProgram::request(int index) {
+  if (!configured_ || index < 0 || index >= count()) return false;
+  pending_ = index;
+  return true;
+}
+
+void PhaseProgram::enter(int index, double now) {
+  current_ = index;
+  t_enter_ = now;
+  entered_ = true;
+  const Phase& ph = phases_[static_cast<std::size_t>(index)];
+  for (int k = 0; k < ph.num_transitions; ++k) transitions_[static_cast<std::size_t>(ph.first_transition + k)].count = 0;
+}
+
+bool PhaseProgram::evaluate(const ContactFeatures& f, const Vec6& e, double now, double c_z, int& target) {
+  const Phase& ph = phases_[static_cast<std::size_t>(current_)];
+  const bool contact = hasContact(f);
+  for (int k = 0; k < ph.num_transitions; ++k) {
+    Transition& t = transitions_[static_cast<std::size_t>(ph.first_transition + k)];
+    bool cond = false;
+    switch (t.on) {
+      case TransitionEvent::Contact: cond = contact; break;
+      case TransitionEvent::Edge: cond = contact && f.contact == ContactType::Edge; break;
+      case TransitionEvent::Point: cond = contact && f.contact == ContactType::Point; break;
+      case TransitionEvent::ContactLost: cond = !contact; break;
+      case TransitionEvent::ForceAbove: cond = f.force > t.force_n; break;
+      case TransitionEvent::Timeout: cond = now - t_enter_ >= t.timeout_s; break;
+      case TransitionEvent::Aligned: {
+        double q[kNumTol];
+        for (int i = 0; i < 6; ++i) q[i] = std::fabs(e(i));
+        q[kTolForce] = std::fabs(e(kZ)) / c_z;
+        q[kTolCocX] = std::fabs(f.coc_x);
+        q[kTolCocY] = std::fabs(f.coc_y);
+        cond = contact;
+        for (int i = 0; i < kNumTol; ++i)
+          if (t.tol[static_cast<std::size_t>(i)] >= 0 && !(q[i] <= t.tol[static_cast<std::size_t>(i)])) cond = false;
+        break;
+      }
+    }
+    t.count = cond ? t.count + 1 : 0;
+    if (t.count >= t.cycles) {
+      target = t.to;
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace tactile

@@ -1,0 +1,122 @@
+#include "tactile_servo/safety_supervisor.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "servo_config.hpp"
+
+namespace tactile {
+
+using servo_config::err;
+
+ConfigResult SafetySupervisor::configure(const ServoParams& p) {
+  configured_ = false;
+  const SafetyParams& s = p.safety;
+  if (!(std::isfinite(s.max_trans_step) && s.max_trans_step > 0 && s.max_trans_step <= 0.01))
+    return err(p, "", "safety.max_trans_step", s.max_trans_step, "must be in (0, 0.01] m per cycle");
+  if (!(std::isfinite(s.max_rot_step) && s.max_rot_step > 0 && s.max_rot_step <= 0.1))
+    return err(p, "", "safety.max_rot_step", s.max_rot_step, "must be in (0, 0.1] rad per cycle");
+  for (int i = 0; i < 3; ++i)
+    if (!(std::isfinite(s.workspace_min[i]) && std::isfinite(s.workspace_max[i]) &&
+          s.workspace_min[i] < s.workspace_max[i]))
+      return err(p, "", "safety.workspace", s.workspace_min[i], "min must be finite and < max on every axis");
+  if (!(std::isfinite(s.force_ceiling) && s.force_ceiling > 0))
+    return err(p, "", "safety.force_ceiling", s.force_ceiling, "must be > 0 (N)");
+  if (!(std::isfinite(s.ceiling_retreat) && s.ceiling_retreat >= 0 && s.ceiling_retreat <= 0.2))
+    return err(p, "", "safety.ceiling_retreat", s.ceiling_retreat, "must be in [0, 0.2] m");
+  if (!(std::isfinite(s.stale_timeout) && s.stale_timeout > 0))
+    return err(p, "", "safety.stale_timeout", s.stale_timeout, "must be > 0 (s)");
+  if (!(std::isfinite(s.backoff_distance) && s.backoff_distance >= 0 && s.backoff_distance <= 0.2))
+    return err(p, "", "safety.contact_loss.backoff_distance", s.backoff_distance, "must be in [0, 0.2] m");
+  if (!(std::isfinite(s.search_speed) && s.search_speed >= 0 && s.search_speed <= 0.1))
+    return err(p, "", "safety.contact_loss.search_speed", s.search_speed, "must be in [0, 0.1] m/s");
+  if (!(std::isfinite(s.search_max_distance) && s.search_max_distance >= 0 && s.search_max_distance <= 0.2))
+    return err(p, "", "safety.contact_loss.search_max_distance", s.search_max_distance, "must be in [0, 0.2] m");
+  p_ = s;
+  configured_ = true;
+  reset();
+  return ConfigResult::success();
+}
+
+void SafetySupervisor::reset() {
+  ceiling_latched_ = false;
+  ceiling_moved_ = 0.0;
+  recovery_moved_ = 0.0;
+}
+
+bool SafetySupervisor::featuresFinite(const ContactFeatures& f) {
+  const double v[] = {f.time_s, f.cop_x, f.cop_y, f.coc_x, f.coc_y, f.dzmp_x, f.dzmp_y, f.alpha_z, f.force, f.d_z};
+  for (double x : v)
+    if (!std::isfinite(x)) return false;
+  return true;
+}
+
+bool SafetySupervisor::forceCeiling(const ContactFeatures& f, bool finite, double& retreat) {
+  retreat = 0.0;
+  if (!ceiling_latched_ && finite && usable(f.status) && f.force > p_.force_ceiling) {
+    ceiling_latched_ = true;
+    ceiling_moved_ = 0.0;
+  }
+  if (!ceiling_latched_) return false;
+  const double d = std::min(p_.max_trans_step, p_.ceiling_retreat - ceiling_moved_);
+  if (d > 0.0) {
+    ceiling_moved_ += d;
+    retreat = d;
+  }
+  return true;
+}
+
+bool SafetySupervisor::stale(const ContactFeatures& f, double now) const {
+  return !usable(f.status) || now - f.time_s > p_.stale_timeout || f.time_s - now > p_.stale_timeout;
+}
+
+double SafetySupervisor::contactLoss(double dt) {
+  switch (p_.contact_loss) {
+    case ContactLossMode::Hold: return 0.0;
+    case ContactLossMode::Backoff: {
+      const double d = std::min(p_.max_trans_step, p_.backoff_distance - recovery_moved_);
+      if (d <= 0.0) return 0.0;
+      recovery_moved_ += d;
+      return -d;
+    }
+    case ContactLossMode::Search: {
+      const double d = std::min(std::min(p_.max_trans_step, p_.search_speed * dt), p_.search_max_distance - recovery_moved_);
+      if (d <= 0.0) return 0.0;
+      recovery_moved_ += d;
+      return d;
+    }
+  }
+  return 0.0;
+}
+
+// Per-cycle step limits: translation and rotation norms, scaled (direction kept).
+bool SafetySupervisor::limitStep(Vec6& u) const {
+  bool limited = false;
+  const double nt = u.head<3>().norm();
+  if (nt > p_.max_trans_step) {
+    u.head<3>() *= p_.max_trans_step / nt;
+    limited = true;
+  }
+  const double nr = u.tail<3>().norm();
+  if (nr > p_.max_rot_step) {
+    u.tail<3>() *= p_.max_rot_step / nr;
+    limited = true;
+  }
+  return limited;
+}
+
+// Workspace box on the flange position. A start pose already outside the box
+// widens it to include that pose: an increment may only move back towards
+// the box, never jump onto it.
+bool SafetySupervisor::clipWorkspace(const KDL::Vector& from, KDL::Frame& T_ge) const {
+  bool clipped = false;
+  for (int i = 0; i < 3; ++i) {
+    const double lo = std::min(p_.workspace_min[static_cast<std::size_t>(i)], from(i));
+    const double hi = std::max(p_.workspace_max[static_cast<std::size_t>(i)], from(i));
+    if (T_ge.p(i) < lo) { T_ge.p(i) = lo; clipped = true; }
+    if (T_ge.p(i) > hi) { T_ge.p(i) = hi; clipped = true; }
+  }
+  return clipped;
+}
+
+}  // namespace tactile

@@ -1,0 +1,173 @@
+// tactile::PhaseProgram alone: transitions on every event in listed order,
+// `cycles` streaks, requests, reset, configuration errors, no allocation.
+#include "alloc_counter.hpp"
+#include "servo_test_util.hpp"
+#include "tactile_servo/phase_program.hpp"
+
+using namespace tactile;
+using namespace servo_test;
+
+namespace {
+
+PhaseParams phaseOn(const std::string& n, TransitionEvent on, const std::string& to, int cycles = 1) {
+  PhaseParams ph = identityPhase(n, 0.0, 0.0);
+  TransitionParams t;
+  t.on = on;
+  t.to = to;
+  t.cycles = cycles;
+  ph.transitions.push_back(t);
+  return ph;
+}
+
+ServoParams chain() {
+  ServoParams p;
+  p.phases.push_back(phaseOn("a", TransitionEvent::Contact, "b"));
+  p.phases.push_back(phaseOn("b", TransitionEvent::Edge, "c"));
+  p.phases.push_back(phaseOn("c", TransitionEvent::Aligned, "d", 3));
+  p.phases[2].transitions[0].tolerance[kTolAlphaZ] = 0.01;
+  p.phases[2].transitions[0].tolerance[kTolForce] = 0.5;
+  p.phases.push_back(phaseOn("d", TransitionEvent::ForceAbove, "e"));
+  p.phases[3].transitions[0].force_n = 8.0;
+  p.phases.push_back(phaseOn("e", TransitionEvent::Timeout, "f"));
+  p.phases[4].transitions[0].timeout_s = 0.1;
+  p.phases.push_back(phaseOn("f", TransitionEvent::ContactLost, "g", 2));
+  p.phases.push_back(phaseOn("g", TransitionEvent::Point, "a"));
+  p.phases[6].P = Mat6::Zero();
+  p.phases[6].terminal = true;
+  return p;
+}
+
+// One evaluation; enters the target like TactileServo does.
+int stepOnce(PhaseProgram& prog, const ContactFeatures& f, const Vec6& e, double now) {
+  int target = -1;
+  if (prog.evaluate(f, e, now, 1.0 / 1800.0, target)) prog.enter(target, now);
+  return prog.current();
+}
+
+}  // namespace
+
+TEST(PhaseProgram, EveryEventFiresInOrderWithStreaks) {
+  PhaseProgram prog;
+  ASSERT_TRUE(prog.configure(chain()).ok());
+  EXPECT_EQ(prog.current(), 0);
+  EXPECT_FALSE(prog.entered());
+  prog.enter(prog.current(), 0.0);
+  const Vec6 zero = Vec6::Zero();
+  const ContactFeatures none = makeFeatures(0, 0, 0, 0, 0, 0, 0, ContactType::None);
+  EXPECT_EQ(stepOnce(prog, none, zero, 0.0), prog.indexOf("a"));
+  EXPECT_EQ(stepOnce(prog, makeFeatures(0, 0, 0, 0.002, 0, 0, 0.2, ContactType::Point), zero, 0.01), prog.indexOf("b"));
+  EXPECT_EQ(stepOnce(prog, makeFeatures(0, 0, 0, 0.002, 0, 0, 0.2, ContactType::Point), zero, 0.02), prog.indexOf("b"));
+  EXPECT_EQ(stepOnce(prog, makeFeatures(0, 0, 0, 0.002, 0, 0, 0.2, ContactType::Edge), zero, 0.03), prog.indexOf("c"));
+  // aligned: |Δα_z| <= 0.01 and |Δd_z| / c_z <= 0.5 N, three in a row; a miss restarts the streak.
+  const Vec6 ok = Vec6::Zero();  // |Δα_z| = 0, |Δd_z| / c_z = 0 N
+  const ContactFeatures edge = makeFeatures(0, 0, 0, 0.0002, 0, 0, 0.005, ContactType::Edge);
+  Vec6 bad = ok;
+  bad(kWZ) = 0.02;
+  EXPECT_EQ(stepOnce(prog, edge, ok, 0.04), prog.indexOf("c"));
+  EXPECT_EQ(stepOnce(prog, edge, ok, 0.05), prog.indexOf("c"));
+  EXPECT_EQ(stepOnce(prog, edge, bad, 0.06), prog.indexOf("c"));
+  EXPECT_EQ(stepOnce(prog, edge, ok, 0.07), prog.indexOf("c"));
+  EXPECT_EQ(stepOnce(prog, edge, ok, 0.08), prog.indexOf("c"));
+  EXPECT_EQ(stepOnce(prog, edge, ok, 0.09), prog.indexOf("d"));
+  ContactFeatures heavy = edge;
+  heavy.force = 9.0;
+  EXPECT_EQ(stepOnce(prog, heavy, zero, 0.10), prog.indexOf("e"));
+  EXPECT_DOUBLE_EQ(prog.enteredAt(), 0.10);
+  EXPECT_EQ(stepOnce(prog, edge, zero, 0.19), prog.indexOf("e"));
+  EXPECT_EQ(stepOnce(prog, edge, zero, 0.20), prog.indexOf("f"));  // 0.1 s in e
+  EXPECT_EQ(stepOnce(prog, none, zero, 0.21), prog.indexOf("f"));
+  EXPECT_EQ(stepOnce(prog, none, zero, 0.22), prog.indexOf("g"));
+  EXPECT_TRUE(prog.terminal(prog.current()));
+  EXPECT_TRUE(prog.freeMotion(prog.current()));
+  EXPECT_FALSE(prog.freeMotion(prog.indexOf("a")));
+}
+
+TEST(PhaseProgram, FirstListedTransitionWins) {
+  ServoParams p;
+  p.phases.push_back(phaseOn("a", TransitionEvent::Contact, "b"));
+  TransitionParams t;
+  t.on = TransitionEvent::Edge;
+  t.to = "c";
+  p.phases[0].transitions.push_back(t);
+  p.phases.push_back(identityPhase("b", 0, 0));
+  p.phases.push_back(identityPhase("c", 0, 0));
+  PhaseProgram prog;
+  ASSERT_TRUE(prog.configure(p).ok());
+  prog.enter(0, 0.0);
+  EXPECT_EQ(stepOnce(prog, makeFeatures(0, 0, 0, 0.002, 0, 0, 0, ContactType::Edge), Vec6::Zero(), 0.0), 1);
+}
+
+TEST(PhaseProgram, RequestsResetAndNames) {
+  PhaseProgram prog;
+  EXPECT_FALSE(prog.request(0));  // not configured
+  ServoParams p = chain();
+  p.initial_phase = "c";  // every phase stays reachable: g -> a -> b
+  ASSERT_TRUE(prog.configure(p).ok());
+  EXPECT_EQ(prog.current(), prog.indexOf("c"));
+  EXPECT_EQ(prog.initial(), prog.indexOf("c"));
+  EXPECT_STREQ(prog.name(prog.indexOf("e")).data(), "e");
+  EXPECT_EQ(prog.indexOf("nope"), -1);
+  EXPECT_EQ(prog.indexOf(nullptr), -1);
+  EXPECT_FALSE(prog.request(7));
+  EXPECT_FALSE(prog.request(-1));
+  EXPECT_EQ(prog.pending(), -1);
+  EXPECT_TRUE(prog.request(prog.indexOf("e")));
+  EXPECT_EQ(prog.pending(), prog.indexOf("e"));
+  prog.enter(prog.pending(), 1.0);
+  prog.clearPending();
+  EXPECT_EQ(prog.current(), prog.indexOf("e"));
+  EXPECT_TRUE(prog.entered());
+  prog.reset();
+  EXPECT_EQ(prog.current(), prog.indexOf("c"));
+  EXPECT_FALSE(prog.entered());
+  EXPECT_EQ(prog.pending(), -1);
+}
+
+TEST(PhaseProgram, ConfigurationErrorsNameTheKey) {
+  PhaseProgram prog;
+  ServoParams p;
+  p.source = "prog.yaml";
+  EXPECT_NE(prog.configure(p).message().find("at least one phase"), std::string::npos);
+  p = chain();
+  p.source = "prog.yaml";
+  ServoParams q = p;
+  q.phases[1].transitions[0].to = "zz";
+  EXPECT_NE(prog.configure(q).message().find("prog.yaml: phases.b.transitions[0].to"), std::string::npos);
+  q = p;
+  q.phases[3].transitions[0].force_n = 0.0;
+  EXPECT_NE(prog.configure(q).message().find("force_n"), std::string::npos);
+  q = p;
+  q.phases[2].transitions[0].tolerance.fill(-1.0);
+  EXPECT_NE(prog.configure(q).message().find("needs at least one tolerance"), std::string::npos);
+  q = p;
+  q.phases[6].transitions.clear();
+  q.phases.push_back(identityPhase("orphan", 0, 0));
+  EXPECT_NE(prog.configure(q).message().find("phases.orphan.transitions: phase unreachable"), std::string::npos);
+  q = p;
+  q.phases.push_back(identityPhase("b", 0, 0));
+  EXPECT_NE(prog.configure(q).message().find("duplicate phase name"), std::string::npos);
+  q = p;
+  q.initial_phase = "zz";
+  EXPECT_NE(prog.configure(q).message().find("initial_phase"), std::string::npos);
+  EXPECT_FALSE(prog.configured());
+}
+
+TEST(PhaseProgram, NoAllocationPerCycle) {
+  PhaseProgram prog;
+  ASSERT_TRUE(prog.configure(loadShipped("edge_exploration.yaml")).ok());
+  prog.enter(prog.current(), 0.0);
+  tactile::test::AllocationScope scope;
+  int changes = 0;
+  for (int k = 0; k < 3000; ++k) {
+    const ContactType c = k % 3 == 0 ? ContactType::None : (k % 3 == 1 ? ContactType::Point : ContactType::Edge);
+    const int before = prog.current();
+    if (stepOnce(prog, makeFeatures(0, 0, 0, 0.002, 0, 0, 0, c), Vec6::Zero(), 0.01 * k) != before) ++changes;
+    if (k % 500 == 499) prog.request(0);
+    if (prog.pending() >= 0) {
+      prog.enter(prog.pending(), 0.01 * k);
+      prog.clearPending();
+    }
+  }
+  EXPECT_EQ(scope.count(), 0u);
+  EXPECT_GT(changes, 0);
+}
