@@ -11,11 +11,15 @@
 #
 # It runs deployments/<experiment>_sim_run.ops with `deployer-gnulinux
 # --check -s` from deployments/ (the deployer exits after the script: 0, or
-# 255 at the first failed step, named in the log), in wall-clock time (the
-# simulated arm runs at 1 kHz real time: ~15-25 s per experiment). The
-# reporter's file (deployments/<experiment>_sim.dat) is moved to the output
-# directory and converted by scripts/deployment_to_run.py. One run at a time
-# (the report file and deployments/orocos.log are per directory).
+# 255 at the first failed step, named in the log). The simulated loop runs on
+# tactile::SimClock as fast as possible, the loop of `tactile_sim run` (same
+# stages, schedule, seed and end rule), with the experiment's state machine in
+# the servo and OCL::FileReporting sampling every servo cycle. The reporter's
+# file (deployments/<experiment>_sim.dat) is moved to the output directory
+# and turned into timeseries.csv and summary.json by `tactile_sim summarize`
+# (the runner's own rows and metrics; the reporter keeps 6 significant
+# digits). One run at a time (the report file and deployments/orocos.log are
+# per directory). A robot run's table is converted by scripts/deployment_to_run.py.
 # Environment: BUILD (default <repo>/build), OROCOS (default /opt/orocos).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -58,26 +62,32 @@ report="$dep/${run}_sim.dat"
 rm -f "$report"
 
 echo "run_deployment: $run (deployments/${run}_sim_run.ops) -> $out"
-start=$(date +%s.%N)
 rc=0
 (cd "$dep" && RTT_COMPONENT_PATH="$build/lib/orocos:$orocos/lib/orocos" \
    "$deployer" --check -linfo -s "${run}_sim_run.ops" < /dev/null) > "$out/deployer.log" 2>&1 || rc=$?
-end=$(date +%s.%N)
 cp "$dep/orocos.log" "$out/orocos.log" 2>/dev/null || true
-grep -E "deployment step failed|robot status at the end|\[(BentBar|CoManipulation|Sphere|Edge)[A-Za-z]*\]" "$out/deployer.log" | sed 's/^[0-9.]* \[[^]]*\]\[[^]]*\] //' || true
+grep -E "deployment step failed|status at the end|state machine .* at the end|\[(BentBar|CoManipulation|Sphere|Edge)[A-Za-z]*\]" "$out/deployer.log" | sed 's/^[0-9.]* \[[^]]*\]\[[^]]*\] //' || true
 if [ ! -s "$report" ]; then
   echo "run_deployment: no report file (deployer exit $rc); see $out/deployer.log" >&2
   exit 1
 fi
 mv "$report" "$out/report.dat"
 scene="$root/sim/scenes/$exp.yaml"
-robot_status=$(sed -n 's/.*robot status at the end: \([a-z_]*\).*/\1/p' "$out/deployer.log" | tail -1)
-"$py" "$root/scripts/deployment_to_run.py" "$out/report.dat" "$out" --servo-cpf "$dep/$servo_cpf" \
-  --scene "$scene" --experiment "$run" --source sim --deployer-exit "$rc" --robot-status "$robot_status" \
-  --wall-time "$("$py" -c "print($end - $start)")"
+clock=$(sed -n 's/.*clock status at the end: \([a-z_]*\) exit_code \([0-9-]*\) sim_time \([0-9.e+-]*\).*/\1 \2 \3/p' "$out/deployer.log" | tail -1)
+extra=()
+if [ -n "$clock" ]; then
+  read -r status exit_code sim_time <<< "$clock"
+  extra=(--sim-time "$sim_time")
+else
+  status=deployment_failed; exit_code=5
+fi
+src=0
+"$build/bin/tactile_sim" summarize "$scene" "$out/report.dat" --out "$out" --controller "$controller" \
+  --status "$status" --exit-code "$exit_code" "${extra[@]}" --no-plots || src=$?
+[ "$src" -le 4 ] || { echo "run_deployment: tactile_sim summarize failed ($src)" >&2; exit 1; }
 "$py" "$root/scripts/plot_run.py" "$out"
 if [ "$run" = bent_bar_baseline ] && [ -f "$root/out/deploy/bent_bar/summary.json" ]; then
   "$py" "$root/scripts/plot_run.py" "$root/out/deploy/bent_bar" --compare "$out"
 fi
-echo "run_deployment: deployer exit $rc; $out/{timeseries.csv,summary.json,*.png}"
+echo "run_deployment: deployer exit $rc, run status $status; $out/{timeseries.csv,summary.json,*.png}"
 exit "$rc"

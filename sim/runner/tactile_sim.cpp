@@ -1,5 +1,7 @@
 // tactile_sim: the headless experiment runner.
 //
+//   tactile_sim summarize SCENE REPORT --out DIR [--controller proposed|baseline]
+//                         [--status S --exit-code N --sim-time T] [--no-plots]
 //   tactile_sim run SCENE [--controller proposed|baseline] [--out DIR] [--seed N]
 //                         [--duration S] [--servo-rate HZ] [--sim-rate HZ]
 //                         [--wts-rate HZ] [--features-rate HZ] [--subsamples K]
@@ -9,6 +11,12 @@
 // state is encoded as a KRC measurement packet, tactile::fri::FriBridge (rate
 // limiter, sequence and state handling) answers with a command packet, and the
 // decoded pose is what the simulated robot applies.
+//
+// `summarize` turns the reporter's table of a simulated deployment
+// (scripts/run_deployment.sh; deployments/sim_loop.ops) into the same run
+// directory, with the runner's own rows and metrics (tactile/sim/report_table.hpp);
+// --status/--exit-code/--sim-time carry the deployment's end (tactile::SimClock's
+// status, exit_code, sim_time).
 //
 // Writes DIR/timeseries.csv, summary.json, snapshots.csv, contacts.csv and the
 // PNG plots (scripts/plot_run.py, Debian's /usr/bin/python3). A progress bar is
@@ -23,6 +31,7 @@
 #include <iostream>
 #include <string>
 
+#include "tactile_sim/report_table.hpp"
 #include "tactile_sim/runner.hpp"
 
 #ifndef TACTILE_SOURCE_DIR
@@ -35,7 +44,9 @@ using namespace tactile::sim;
 namespace {
 
 void usage() {
-  std::cerr << "usage: tactile_sim run SCENE [--controller proposed|baseline] [--out DIR] [--seed N]\n"
+  std::cerr << "usage: tactile_sim summarize SCENE REPORT --out DIR [--controller proposed|baseline]\n"
+               "                         [--status S --exit-code N --sim-time T] [--no-plots]\n"
+               "       tactile_sim run SCENE [--controller proposed|baseline] [--out DIR] [--seed N]\n"
                "                         [--duration S] [--servo-rate HZ] [--sim-rate HZ] [--wts-rate HZ]\n"
                "                         [--features-rate HZ] [--subsamples K] [--fidelity quasi_static|dynamics]\n"
                "                         [--through-fri] [--no-plots]\n";
@@ -60,7 +71,96 @@ int mkdirs(const std::string& dir) {
 
 }  // namespace
 
+int plot(const std::string& out_dir) {
+  const char* script_env = std::getenv("TACTILE_PLOT_SCRIPT");
+  const std::string script = script_env ? script_env : std::string(TACTILE_SOURCE_DIR) + "/scripts/plot_run.py";
+  const std::string cmd = "/usr/bin/python3 '" + script + "' '" + out_dir + "'";
+  const int rc = std::system(cmd.c_str());
+  if (rc != 0) std::cerr << "tactile_sim: plotting failed (" << cmd << ")\n";
+  return rc;
+}
+
+int summarize(int argc, char** argv) {
+  if (argc < 4) {
+    usage();
+    return 2;
+  }
+  Scene scene;
+  ConfigResult r = loadScene(argv[2], scene);
+  if (!r) {
+    std::cerr << "tactile_sim: " << r.message() << "\n";
+    return 2;
+  }
+  const std::string report = argv[3];
+  std::string out_dir, status = "ok";
+  int exit_code = 0;
+  double sim_time = -1.0;
+  bool plots = true;
+  for (int i = 4; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--out" && i + 1 < argc) {
+      out_dir = argv[++i];
+    } else if (a == "--controller" && i + 1 < argc) {
+      const std::string m = argv[++i];
+      if (m != "proposed" && m != "baseline") {
+        std::cerr << "tactile_sim: --controller must be proposed | baseline\n";
+        return 2;
+      }
+      scene.controller = m == "baseline" ? ControllerMode::Baseline : ControllerMode::Proposed;
+    } else if (a == "--status" && i + 1 < argc) {
+      status = argv[++i];
+    } else if (a == "--exit-code" && i + 1 < argc) {
+      double v = 0;
+      if (!number(argv[++i], v)) {
+        std::cerr << "tactile_sim: --exit-code needs a number\n";
+        return 2;
+      }
+      exit_code = static_cast<int>(v);
+    } else if (a == "--sim-time" && i + 1 < argc) {
+      if (!number(argv[++i], sim_time) || !(sim_time >= 0.0)) {
+        std::cerr << "tactile_sim: --sim-time needs a time >= 0 (s)\n";
+        return 2;
+      }
+    } else if (a == "--no-plots") {
+      plots = false;
+    } else {
+      std::cerr << "tactile_sim: unknown argument " << a << "\n";
+      usage();
+      return 2;
+    }
+  }
+  if (out_dir.empty()) {
+    std::cerr << "tactile_sim: summarize needs --out DIR\n";
+    return 2;
+  }
+  RunResult result;
+  if (!(r = readReportTable(report, scene, result))) {
+    std::cerr << "tactile_sim: " << r.message() << "\n";
+    return 2;
+  }
+  Summary& s = result.summary;
+  s.scene = scene.name;
+  s.controller = scene.controller == ControllerMode::Baseline ? "baseline" : "proposed";
+  s.seed = scene.seed;
+  s.fidelity = toString(scene.world.fidelity);
+  s.status = status;
+  s.exit_code = exit_code;
+  s.sim_time_s = sim_time >= 0.0 ? sim_time : result.rows.back().t;
+  computeSummary(scene, result);
+  std::string err;
+  if (mkdirs(out_dir) != 0 || !writeRun(out_dir, scene, result, err)) {
+    std::cerr << "tactile_sim: cannot write " << out_dir << " " << err << "\n";
+    return 2;
+  }
+  std::printf("%s (%s, deployment): status %s, %zu servo cycles, %.1f s simulated\n", s.scene.c_str(),
+              s.controller.c_str(), s.status.c_str(), result.rows.size(), s.sim_time_s);
+  if (plots) plot(out_dir);
+  std::printf("results: %s\n", out_dir.c_str());
+  return s.exit_code;
+}
+
 int main(int argc, char** argv) {
+  if (argc >= 2 && std::string(argv[1]) == "summarize") return summarize(argc, argv);
   if (argc < 3 || std::string(argv[1]) != "run") {
     usage();
     return 2;
@@ -162,12 +262,7 @@ int main(int argc, char** argv) {
   const Summary& s = result.summary;
   std::printf("%s (%s): status %s, %.1f s simulated in %.2f s (%.0fx real time)\n", s.scene.c_str(),
               s.controller.c_str(), s.status.c_str(), s.sim_time_s, s.wall_time_s, s.real_time_factor);
-  if (plots) {
-    const char* script_env = std::getenv("TACTILE_PLOT_SCRIPT");
-    const std::string script = script_env ? script_env : std::string(TACTILE_SOURCE_DIR) + "/scripts/plot_run.py";
-    const std::string cmd = "/usr/bin/python3 '" + script + "' '" + out_dir + "'";
-    if (std::system(cmd.c_str()) != 0) std::cerr << "tactile_sim: plotting failed (" << cmd << ")\n";
-  }
+  if (plots) plot(out_dir);
   std::printf("results: %s\n", out_dir.c_str());
   return s.exit_code;
 }

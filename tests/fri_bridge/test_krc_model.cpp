@@ -27,6 +27,10 @@ struct Loop {
     KrcModelParams kp;
     EXPECT_TRUE(krc.configure(kp).ok());
     BridgeParams bp;
+    // The bridge's start gate (engage_max_*) is tested in test_bridge.cpp; here
+    // the KRC model follows a command 1 cm away, so the gate is opened wide.
+    bp.engage_max_trans = 0.1;  // the widest the bridge accepts
+    bp.engage_max_rot = 0.5;
     EXPECT_TRUE(bridge.configure(bp).ok());
     plant.pose = KDL::Frame(KDL::Rotation::RPY(3.14159265358979, 0, 0), KDL::Vector(0.5, 0, 0.4));
     krc.reset(plant.pose);

@@ -192,9 +192,9 @@ TEST(ServoComponent, SwitchPhaseByName) {
   ASSERT_EQ(rig.phase_in.read(ph), RTT::NewData);
   EXPECT_STREQ(ph.name.data(), "explore");
   EXPECT_EQ(ph.index, 3);
-  EXPECT_EQ(rig.comp.phaseIndex("explore"), 3);
-  EXPECT_EQ(rig.comp.phaseIndex("free_motion"), 0);
-  EXPECT_EQ(rig.comp.phaseIndex("no_such_phase"), -1);
+  EXPECT_EQ(rig.comp.phaseIndexOf("explore"), 3);
+  EXPECT_EQ(rig.comp.phaseIndexOf("free_motion"), 0);
+  EXPECT_EQ(rig.comp.phaseIndexOf("no_such_phase"), -1);
 }
 
 TEST(ServoComponent, PhaseIndexOperations) {

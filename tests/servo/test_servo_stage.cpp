@@ -39,7 +39,7 @@ TEST(ServoStage, HoldsUntilAValidPoseThenMatchesTheCore) {
   ServoStatus st = ServoStatus::Ok;
   // No pose: hold, no command.
   EXPECT_FALSE(stage.step(0.0, noContact(0.0), out, st));
-  EXPECT_EQ(st, ServoStatus::Holding);
+  EXPECT_EQ(st, ServoStatus::WaitingForPose);
   EXPECT_FALSE(out.valid);
   // A default-constructed or NaN pose does not open the gate.
   Pose zero;
@@ -49,7 +49,7 @@ TEST(ServoStage, HoldsUntilAValidPoseThenMatchesTheCore) {
   nan.p[0] = std::nan("");
   EXPECT_FALSE(stage.setMeasuredPose(nan));
   EXPECT_FALSE(stage.step(0.01, noContact(0.01), out, st));
-  EXPECT_EQ(st, ServoStatus::Holding);
+  EXPECT_EQ(st, ServoStatus::WaitingForPose);
   // A valid pose: the core steps, the first dt is the nominal period.
   TactileServo core;
   ASSERT_TRUE(core.configure(p).ok());
@@ -83,7 +83,7 @@ TEST(ServoStage, HoldsUntilAValidPoseThenMatchesTheCore) {
   // reset(): the gate closes again.
   stage.reset();
   EXPECT_FALSE(stage.step(0.5, noContact(0.5), out, st));
-  EXPECT_EQ(st, ServoStatus::Holding);
+  EXPECT_EQ(st, ServoStatus::WaitingForPose);
 }
 
 TEST(ServoStage, RejectsABadPeriodAndDoesNotAllocatePerCycle) {

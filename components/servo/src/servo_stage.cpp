@@ -32,17 +32,15 @@ bool ServoStage::setMeasuredPose(const Pose& p) {
 }
 
 bool ServoStage::step(double now, const ContactFeatures& features, ServoOutput& out, ServoStatus& status) {
-  if (!have_pose_) {  // hold: no command before a measured pose
-    out.valid = false;
-    out.command.status = ServoStatus::Holding;
-    status = ServoStatus::Holding;
-    return false;
+  in_.time_s = now;
+  in_.features = features;
+  if (!have_pose_) {  // the core waits (WaitingForPose, no command) and reports its phase;
+    status = servo_.step(in_, nominal_period_, out);  // the first real cycle keeps the nominal dt
+    return out.valid;
   }
   const double dt = first_cycle_ ? nominal_period_ : now - last_time_;
   first_cycle_ = false;
   last_time_ = now;
-  in_.time_s = now;
-  in_.features = features;
   status = servo_.step(in_, dt, out);
   return out.valid;
 }

@@ -4,9 +4,10 @@
 // runner (tactile_sim): they only move data to and from it.
 //
 // On top of the core it owns the two things both hosts need:
-//  * the measured pose gate: until a valid measured pose (finite, non-zero
-//    quaternion) has arrived the stage HOLDS: the core is not stepped and no
-//    command is produced (a default pose must never seed the command);
+//  * the measured pose gate: until a valid measured pose (tactile::validPose)
+//    has arrived, the core's own gate waits (status WaitingForPose, no
+//    command: a default pose never seeds the command) and the stage keeps
+//    the first cycle's nominal period for the first cycle with a pose;
 //  * the cycle time: dt = now - previous cycle, `nominal_period_s` on the first
 //    cycle after reset().
 //
@@ -33,8 +34,8 @@ class ServoStage {
 
   /// One servo cycle at time `now` (s) on the latest features. Returns true
   /// when `out.command` is a command to send (a valid pose was seen and the
-  /// core has a command); `status` is the cycle's ServoStatus (Holding while
-  /// no measured pose arrived: the core is then not stepped).
+  /// core has a command); `status` is the cycle's ServoStatus (WaitingForPose while
+  /// no measured pose arrived).
   bool step(double now, const ContactFeatures& features, ServoOutput& out, ServoStatus& status);
 
   /// Switch phase at the next cycle (see TactileServo::requestPhase).

@@ -121,6 +121,7 @@ void SimClock::finish(sim::EndReason reason, sim::SimStatus st) {
 
 bool SimClock::tick() {
   if (schedule_.finished()) {
+    sim_time_ = schedule_.time();  // the runner's end time: after the last physics step
     finish(sim::EndReason::Duration, sim::SimStatus::Ok);
     return false;
   }
@@ -145,6 +146,7 @@ bool SimClock::tick() {
   const sim::SimStatus ss = static_cast<sim::SimStatus>(sim_status_->get());
   const sim::EndReason e = end_.afterPhysics(ss);
   if (e != sim::EndReason::None) {
+    sim_time_ = schedule_.time();  // after the fatal physics step, as the runner's
     finish(e, ss);
     return false;
   }

@@ -25,7 +25,7 @@
 // chain must also stamp its frames with (the stale-features watchdog compares
 // them). dt is the time since the previous cycle (the activity period on the
 // first one). Until a valid flange pose arrived the stage holds: the core is
-// not stepped and pose_command is not written (last_status Holding).
+// not stepped and pose_command is not written (last_status WaitingForPose).
 #pragma once
 
 #include <rtt/InputPort.hpp>

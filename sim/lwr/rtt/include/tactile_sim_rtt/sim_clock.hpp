@@ -19,7 +19,8 @@
 //                                       (defaults Robot, Sensor, Features, Servo)
 //   property reporter (string)          optional peer executed right after each servo cycle
 //                                       (a logger such as OCL::FileReporting, a slave too); '' = none
-//   attr sim_time (double)   simulated time of the current tick (s)
+//   attr sim_time (double)   simulated time of the current tick (s); at the end, the
+//                            runner's end time (summary.json sim_time_s)
 //   attr ticks (int)         physics ticks executed since start
 //   attr finished (bool)     the run ended (duration or end rule); the clock then idles
 //   attr status (string)     "running", then summary.json's status ("ok", "servo_force_ceiling", "sim_...")

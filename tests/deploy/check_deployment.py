@@ -1,0 +1,74 @@
+#!/usr/bin/python3
+"""ctest rtt_deployment_<experiment>: the experiment's simulated deployment
+(scripts/run_deployment.sh: the OCL deployer, tactile::SimClock, the
+experiment's state machine, OCL::FileReporting) passes the same criteria as
+the headless run (tests/runner/test_experiments.cpp), and its summary.json
+equals `tactile_sim run`'s for the same scene and seed.
+
+usage: check_deployment.py EXPERIMENT CONTROLLER DEPLOY_DIR HEADLESS_DIR
+
+Tolerance of the comparison: the reporter writes 6 significant digits, so a
+metric from its table differs from the runner's by rounding: relative 1e-4
+(or 1e-6 absolute near zero) for means, maxima and times; path lengths sum
+~2000 rounded steps (1e-6 m each at worst), so 1e-3 m. Counts are exact.
+"""
+import json
+import math
+import sys
+
+exp, controller, deploy_dir, headless_dir = sys.argv[1:5]
+d = json.load(open(f"{deploy_dir}/summary.json"))
+h = json.load(open(f"{headless_dir}/summary.json"))
+failures = []
+
+
+def check(ok, what):
+    print(("ok   " if ok else "FAIL ") + what)
+    if not ok:
+        failures.append(what)
+
+
+def num(x):
+    return float("nan") if x is None else float(x)
+
+
+# 1. The experiment's criteria (those of tests/runner/test_experiments.cpp).
+if exp == "edge_exploration":
+    check(d["status"] == "ok", f"status ok ({d['status']})")
+    check(num(d["alignment_time_s"]) < 10.0, f"aligned within 10 s ({d['alignment_time_s']})")
+    check(num(d["path_length_m"]) >= 0.15, f"slid >= 0.15 m ({d['path_length_m']})")
+    check(abs(num(d["force_true_mean_n"]) - 5.0) <= 1.0, f"true force mean 5 +- 1 N ({d['force_true_mean_n']})")
+elif exp == "bent_bar" and controller == "proposed":
+    check(d["status"] == "ok", f"status ok ({d['status']})")
+    check(abs(num(d["force_true_mean_n"]) - 5.0) <= 1.0, f"true force mean 5 +- 1 N ({d['force_true_mean_n']})")
+    check(num(d["force_true_max_n"]) <= 6.0, f"true force max <= 6 N ({d['force_true_max_n']})")
+    check(num(d["path_length_m"]) >= 0.2, f"slid >= 0.2 m ({d['path_length_m']})")
+elif exp == "bent_bar":
+    check(d["status"] in ("servo_force_ceiling", "sim_force_ceiling"), f"the baseline trips a ceiling ({d['status']})")
+    check(num(d["force_true_max_n"]) > 30.0, f"true force max > 30 N ({d['force_true_max_n']})")
+elif exp == "co_manipulation":
+    check(d["status"] == "ok", f"status ok ({d['status']})")
+    r = num(d["dzmp_recovery_time_s"])
+    check(math.isfinite(r) and r < 5.0, f"DZMP_y back within 0.5 mm, in < 5 s ({d['dzmp_recovery_time_s']})")
+elif exp == "sphere_table":
+    check(d["status"] == "ok", f"status ok ({d['status']})")
+    check(abs(num(d["force_true_mean_n"]) - 5.0) <= 1.0, f"true force mean 5 +- 1 N ({d['force_true_mean_n']})")
+else:
+    sys.exit(f"check_deployment.py: unknown experiment {exp}")
+
+# 2. The same summary as tactile_sim run.
+check(d["status"] == h["status"] and d["exit_code"] == h["exit_code"],
+      f"status/exit code as tactile_sim ({d['status']}/{d['exit_code']} vs {h['status']}/{h['exit_code']})")
+check(d["contact_lost_count"] == h["contact_lost_count"], "contact losses as tactile_sim")
+for key in ("force_true_mean_n", "force_true_max_n", "force_true_rms_error_n", "force_true_in_band_fraction",
+            "alignment_time_s", "dzmp_recovery_time_s", "tray_angle_max_deg", "dzmp_final_m", "translation_x_m",
+            "sim_time_s"):
+    a, b = num(d.get(key)), num(h.get(key))
+    same = (math.isnan(a) and math.isnan(b)) or abs(a - b) <= max(1e-6, 1e-4 * abs(b))
+    check(same, f"{key}: deployment {a:.9g} vs tactile_sim {b:.9g}")
+for key in ("path_length_m",):
+    a, b = num(d.get(key)), num(h.get(key))
+    check(abs(a - b) <= 1e-3, f"{key}: deployment {a:.9g} vs tactile_sim {b:.9g}")
+
+print(f"{len(failures)} failed")
+sys.exit(1 if failures else 0)
