@@ -4,7 +4,10 @@
 #   edge exploration (Sec. 5.2, Fig. 9/10), the bent bar with the proposed
 #   controller and the Li et al. baseline (Sec. 5.2.1, Fig. 12), tray
 #   co-manipulation (Sec. 5.3, Fig. 14), and a sphere (point contact).
-# Results and PNG plots go to out/<scene>/.
+# Results and PNG plots go to out/<scene>/. Then every experiment again as
+# Orocos components under the OCL deployer (scripts/run_deployment.sh: the
+# simulated deployment on tactile::SimClock, the experiment's state machine,
+# OCL's reporter), into out/deploy/<scene>/, with its own out/deploy/report.md.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$root/scripts/setup_deps.sh"
@@ -28,3 +31,18 @@ run co_manipulation co_manipulation
 run sphere_table sphere_table
 /usr/bin/python3 "$root/scripts/plot_run.py" "$out/bent_bar" --compare "$out/bent_bar_baseline"
 /usr/bin/python3 "$root/scripts/experiment_report.py" "$out"
+
+# The same experiments as deployed (the loop that runs on the robot, with the
+# simulated arm and sensor swapped in).
+deploy() {  # deploy EXPERIMENT [--controller C]: a non-zero exit is reported, not fatal
+  local rc=0 log="$out/deploy_$1${2:+_${3:-}}.log"
+  bash "$root/scripts/run_deployment.sh" "$@" > "$log" 2>&1 || rc=$?
+  tail -n 1 "$log"
+  [ "$rc" -eq 0 ] || echo "  (deployment $*: exit code $rc, log in $log)"
+}
+deploy edge_exploration
+deploy bent_bar
+deploy bent_bar --controller baseline
+deploy co_manipulation
+deploy sphere_table
+/usr/bin/python3 "$root/scripts/experiment_report.py" "$out/deploy"
