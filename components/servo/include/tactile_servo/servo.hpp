@@ -81,7 +81,8 @@
 //    contact, losing it triggers `contact_loss`: hold, backoff (retreat along
 //    -z_s by a distance, then hold) or search (move along +z_s, i.e. towards the
 //    object along the surface normal, at a speed until contact returns, at most
-//    `search_max_distance`, then hold). The "search along -z of {s}"
+//    `search_max_distance`, then hold). A "search along -z of {s}" in the
+//    convention where z_s points into the object
 //    is +z_s here because our z_s points out of the surface at the object.
 //
 // PHASE PROGRAM. Each cycle with valid features, the current phase's
