@@ -58,6 +58,15 @@ bool number(const char* s, double& v) {
   return end != s && *end == '\0';
 }
 
+bool parseController(const std::string& m, ControllerMode& mode) {
+  if (m == "proposed" || m == "baseline") {
+    mode = m == "baseline" ? ControllerMode::Baseline : ControllerMode::Proposed;
+    return true;
+  }
+  std::cerr << "tactile_sim: --controller must be proposed | baseline\n";
+  return false;
+}
+
 int mkdirs(const std::string& dir) {
   std::string cur;
   for (std::size_t i = 0; i <= dir.size(); ++i) {
@@ -101,12 +110,7 @@ int summarize(int argc, char** argv) {
     if (a == "--out" && i + 1 < argc) {
       out_dir = argv[++i];
     } else if (a == "--controller" && i + 1 < argc) {
-      const std::string m = argv[++i];
-      if (m != "proposed" && m != "baseline") {
-        std::cerr << "tactile_sim: --controller must be proposed | baseline\n";
-        return 2;
-      }
-      scene.controller = m == "baseline" ? ControllerMode::Baseline : ControllerMode::Proposed;
+      if (!parseController(argv[++i], scene.controller)) return 2;
     } else if (a == "--status" && i + 1 < argc) {
       status = argv[++i];
     } else if (a == "--exit-code" && i + 1 < argc) {
@@ -185,15 +189,7 @@ int main(int argc, char** argv) {
     };
     double v = 0;
     if (a == "--controller" && i + 1 < argc) {
-      const std::string m = argv[++i];
-      if (m == "proposed")
-        scene.controller = ControllerMode::Proposed;
-      else if (m == "baseline")
-        scene.controller = ControllerMode::Baseline;
-      else {
-        std::cerr << "tactile_sim: --controller must be proposed | baseline\n";
-        return 2;
-      }
+      if (!parseController(argv[++i], scene.controller)) return 2;
     } else if (a == "--out" && i + 1 < argc) {
       out_dir = argv[++i];
       out_given = true;

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "servo_config.hpp"
+#include "tactile_types/kdl_pose.hpp"
 
 namespace tactile {
 
@@ -57,17 +58,6 @@ Vec6 defaultMotionSign() {
   s << -1, -1, 1, 1, -1, -1;
   return s;
 }
-
-namespace {
-bool frameFinite(const KDL::Frame& f) {
-  for (int i = 0; i < 3; ++i) {
-    if (!std::isfinite(f.p(i))) return false;
-    for (int j = 0; j < 3; ++j)
-      if (!std::isfinite(f.M(i, j))) return false;
-  }
-  return true;
-}
-}  // namespace
 
 ConfigResult ServoControlLaw::configure(const ServoParams& p) {
   configured_ = false;

@@ -5,17 +5,6 @@
 
 namespace tactile {
 
-namespace {
-bool frameFinite(const KDL::Frame& f) {
-  for (int i = 0; i < 3; ++i) {
-    if (!std::isfinite(f.p(i))) return false;
-    for (int j = 0; j < 3; ++j)
-      if (!std::isfinite(f.M(i, j))) return false;
-  }
-  return true;
-}
-}  // namespace
-
 ConfigResult TactileServo::configure(const ServoParams& p) {
   configured_ = false;
   ConfigResult r = law_.configure(p);  // c_z, motion sign, mount; per phase s_d, J^-1, P, gains

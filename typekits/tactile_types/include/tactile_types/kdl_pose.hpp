@@ -33,6 +33,16 @@ inline KDL::Frame toFrame(const Pose& p) noexcept {
   return KDL::Frame(R, KDL::Vector(p.p[0], p.p[1], p.p[2]));
 }
 
+/// Every entry of the frame (position, rotation matrix) is finite.
+inline bool frameFinite(const KDL::Frame& f) noexcept {
+  for (int i = 0; i < 3; ++i) {
+    if (!std::isfinite(f.p(i))) return false;
+    for (int j = 0; j < 3; ++j)
+      if (!std::isfinite(f.M(i, j))) return false;
+  }
+  return true;
+}
+
 inline void toPose(const KDL::Frame& f, Pose& p) noexcept {
   p.p = {f.p.x(), f.p.y(), f.p.z()};
   f.M.GetQuaternion(p.q[0], p.q[1], p.q[2], p.q[3]);
