@@ -23,11 +23,15 @@ TEST(Schedule, FiresAtTable2RatesInPipelineOrder) {
   long last_servo = -1;
   for (; !s.finished(); s.advance()) {
     const StageFires f = s.fires();
-    if (s.tick() == 0) EXPECT_TRUE(f.wts && f.features && f.servo) << "every stage fires on tick 0";
+    if (s.tick() == 0) {
+      EXPECT_TRUE(f.wts && f.features && f.servo) << "every stage fires on tick 0";
+    }
     wts += f.wts;
     feat += f.features;
     if (f.servo) {
-      if (last_servo >= 0) EXPECT_EQ(s.tick() - last_servo, 10) << "100 Hz: every 10th tick";
+      if (last_servo >= 0) {
+        EXPECT_EQ(s.tick() - last_servo, 10) << "100 Hz: every 10th tick";
+      }
       last_servo = s.tick();
       ++servo;
     }
