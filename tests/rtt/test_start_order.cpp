@@ -142,7 +142,8 @@ struct Probe {
 
 // ---------------------------------------------------------------- sim loop
 
-struct SimLoop {
+/// A loop of components under test and the probe on its ports.
+struct Loop {
   std::vector<Node> nodes;  // data-flow order: update order within a tick
   Probe probe;
   RTT::TaskContext& get(const std::string& role) {
@@ -152,6 +153,7 @@ struct SimLoop {
     return *nodes.front().tc;
   }
 };
+using SimLoop = Loop;
 
 std::unique_ptr<SimLoop> makeSimLoop() {
   auto loop = std::make_unique<SimLoop>();
@@ -253,16 +255,7 @@ TEST(StartOrder, SimLoopEveryOrderStartsFromTheMeasuredPose) {
 
 // ---------------------------------------------------------------- robot loop
 
-struct RobotLoop {
-  std::vector<Node> nodes;
-  Probe probe;
-  RTT::TaskContext& get(const std::string& role) {
-    for (Node& n : nodes)
-      if (n.role == role) return *n.tc;
-    ADD_FAILURE() << "no node " << role;
-    return *nodes.front().tc;
-  }
-};
+using RobotLoop = Loop;
 
 std::unique_ptr<RobotLoop> makeRobotLoop() {
   auto loop = std::make_unique<RobotLoop>();
