@@ -90,19 +90,7 @@ void SimKrc::buildMeasurement() {
 }
 
 void SimKrc::syncStats() {
-  const KrcModelStats& k = model_.stats();
-  stats_.replies = k.replies;
-  stats_.stale_replies = k.stale_replies;
-  stats_.malformed_replies = k.malformed_replies;
-  stats_.remote_seq_errors = k.remote_seq_errors;
-  stats_.flag_errors = k.flag_errors;
-  stats_.nonfinite_commands = k.nonfinite_commands;
-  stats_.applied = k.applied;
-  stats_.mon_echo_errors = k.mon_echo_errors;
-  stats_.max_cmd_step_m = k.max_cmd_step_m;
-  stats_.max_cmd_step_rad = k.max_cmd_step_rad;
-  stats_.max_entry_offset_m = k.max_entry_offset_m;
-  stats_.max_entry_offset_rad = k.max_entry_offset_rad;
+  static_cast<KrcModelStats&>(stats_) = model_.stats();  // the model's counters; the peer's own stay
 }
 
 void SimKrc::sendMeasurement(const uint8_t* buf, std::size_t n) {

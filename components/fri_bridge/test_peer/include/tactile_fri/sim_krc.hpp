@@ -94,25 +94,16 @@ struct SimKrcParams {
   FaultParams faults{};
 };
 
-struct SimKrcStats {
+/// The peer's statistics: the KRC model's (replies, applied commands, step
+/// and entry checks) plus what only the UDP peer knows (injected faults,
+/// misses, overruns, latency).
+struct SimKrcStats : KrcModelStats {
   uint64_t cycles = 0;
   uint64_t sent = 0;              ///< measurement datagrams sent (incl. duplicates, corrupted)
   uint64_t inj_lost = 0, inj_duplicate = 0, inj_reorder = 0, inj_late = 0, inj_wrong_size = 0, inj_wrong_id = 0,
            inj_cmd_lost = 0;
-  uint64_t replies = 0;           ///< replies matching the cycle's sendSeqCount
-  uint64_t stale_replies = 0;     ///< well-formed replies reflecting an older measurement
-  uint64_t malformed_replies = 0; ///< wrong size / id
   uint64_t missed = 0;            ///< cycles without a matching reply
   uint64_t overruns = 0;          ///< real time: host late by > 2 periods, period grid re-anchored
-  uint64_t remote_seq_errors = 0; ///< the remote's sendSeqCount did not increase by exactly 1
-  uint64_t flag_errors = 0;       ///< CMD reply without the Cartesian pose flag
-  uint64_t nonfinite_commands = 0;
-  uint64_t applied = 0;           ///< commands applied (CMD, quality >= OK)
-  uint64_t mon_echo_errors = 0;   ///< MON/power-off replies whose pose differs from the measured one by > 1e-5
-  double max_cmd_step_m = 0.0;    ///< largest translation between consecutive applied commands
-  double max_cmd_step_rad = 0.0;  ///< largest rotation between consecutive applied commands
-  double max_entry_offset_m = 0.0;   ///< first applied command after entering CMD vs the measured pose
-  double max_entry_offset_rad = 0.0;
   double max_latency_s = 0.0;     ///< send -> matching reply
   double sum_latency_s = 0.0;
 };
