@@ -6,6 +6,10 @@
 //                         [--duration S] [--servo-rate HZ] [--sim-rate HZ]
 //                         [--wts-rate HZ] [--features-rate HZ] [--subsamples K]
 //                         [--fidelity quasi_static|dynamics] [--through-fri] [--no-plots]
+//                         [--set KEY.PATH=VALUE ...]
+//
+// --set overrides a scene key before the scene is read (repeatable):
+// `--set sensor.noise_counts=30 --set rates.servo=1000`; errors as for the file.
 //
 // --through-fri sends every 1 kHz command through the FRI protocol: the world
 // state is encoded as a KRC measurement packet, tactile::fri::FriBridge (rate
@@ -49,7 +53,7 @@ void usage() {
                "       tactile_sim run SCENE [--controller proposed|baseline] [--out DIR] [--seed N]\n"
                "                         [--duration S] [--servo-rate HZ] [--sim-rate HZ] [--wts-rate HZ]\n"
                "                         [--features-rate HZ] [--subsamples K] [--fidelity quasi_static|dynamics]\n"
-               "                         [--through-fri] [--no-plots]\n";
+               "                         [--through-fri] [--no-plots] [--set KEY.PATH=VALUE ...]\n";
 }
 
 bool number(const char* s, double& v) {
@@ -127,6 +131,8 @@ int summarize(int argc, char** argv) {
       }
     } else if (a == "--no-plots") {
       plots = false;
+    } else if (a == "--set" && i + 1 < argc) {
+      ++i;  // applied when the scene was read
     } else {
       std::cerr << "tactile_sim: unknown argument " << a << "\n";
       usage();
@@ -170,8 +176,11 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string scene_file = argv[2];
+  std::vector<std::string> overrides;  // --set, applied to the scene file before it is read
+  for (int i = 3; i + 1 < argc; ++i)
+    if (std::string(argv[i]) == "--set") overrides.push_back(argv[++i]);
   Scene scene;
-  ConfigResult r = loadScene(scene_file, scene);
+  ConfigResult r = loadScene(scene_file, scene, overrides);
   if (!r) {
     std::cerr << "tactile_sim: " << r.message() << "\n";
     return 2;
@@ -219,6 +228,8 @@ int main(int argc, char** argv) {
       if (scene.fri_file.empty()) scene.fri_file = std::string(TACTILE_SOURCE_DIR) + "/components/fri_bridge/params/fri.yaml";
     } else if (a == "--no-plots") {
       plots = false;
+    } else if (a == "--set" && i + 1 < argc) {
+      ++i;  // applied when the scene was read
     } else {
       std::cerr << "tactile_sim: unknown argument " << a << "\n";
       usage();

@@ -262,6 +262,28 @@ TEST(SceneErrors, NameTheFileAndTheField) {
   EXPECT_NE(missing.message().find("/nonexistent/scene.yaml: cannot open file"), std::string::npos);
 }
 
+TEST(SceneOverrides, SetKeysBeforeReadingAndAreCheckedLikeTheFile) {
+  const std::string path = writeScene("override.yaml", "name: x\nrates: {servo: 100}\nsensor: {noise_counts: 6}\n");
+  Scene sc;
+  ASSERT_TRUE(loadScene(path, sc, {"rates.servo=250", "sensor.noise_counts=30", "arm.k_trans=1500"}).ok());
+  EXPECT_EQ(sc.rates.servo, 250.0);
+  EXPECT_EQ(sc.world.pad.noise_counts, 30.0);
+  EXPECT_EQ(sc.world.arm.k_trans, 1500.0);  // a map the file did not have
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"rates.servo", "key.path=value"},            // no '='
+      {"rates..servo=3", "empty key"},              // empty key
+      {"name.first=3", "name is not a map"},        // descends into a scalar
+      {"speed_of_light=3", "speed_of_light: unknown key"},  // checked like the file
+      {"rates.servo=0", "rates.servo = 0: must be > 0 (Hz)"},
+  };
+  for (const auto& b : bad) {
+    const ConfigResult r = loadScene(path, sc, {b.first});
+    ASSERT_FALSE(r.ok()) << b.first;
+    EXPECT_NE(r.message().find(path), std::string::npos) << r.message();
+    EXPECT_NE(r.message().find(b.second), std::string::npos) << b.first << ": " << r.message();
+  }
+}
+
 TEST(Runner, AnUnstableRunStopsWithAStatusAndANonZeroExitCode) {
   // Drive the sensor into a table far beyond the force limits: the world's
   // force ceiling (or the servo's) must stop the run, never hang or go NaN.

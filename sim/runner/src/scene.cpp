@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "tactile_config/yaml_params.hpp"
@@ -99,12 +100,48 @@ ConfigResult readObject(const YAML::Node& n, const Where& w, ObjectParams& o) {
   return ConfigResult::success();
 }
 
+// "a.b.c=VALUE": walk (creating) maps a and b, set c to VALUE parsed as YAML.
+ConfigResult applyOverride(YAML::Node& root, const std::string& o, const std::string& file) {
+  const std::size_t eq = o.find('=');
+  if (eq == std::string::npos || eq == 0 || o[0] == '.' || o[eq - 1] == '.')
+    return ConfigResult::failure(file + ": override '" + o + "' must be key.path=value");
+  std::vector<std::string> keys;
+  std::size_t a = 0;
+  while (a < eq) {
+    const std::size_t b = std::min(o.find('.', a), eq);
+    if (b == a) return ConfigResult::failure(file + ": override '" + o + "' has an empty key");
+    keys.push_back(o.substr(a, b - a));
+    a = b + 1;
+  }
+  YAML::Node value;
+  try {
+    value = YAML::Load(o.substr(eq + 1));
+  } catch (const YAML::Exception& e) {
+    return ConfigResult::failure(file + ": override '" + o + "': value is not YAML: " + e.what());
+  }
+  // yaml-cpp nodes are handles: reassigning one rebinds it, so descend by copies
+  // of the child handles (operator[] on a non-const map creates the key).
+  std::vector<YAML::Node> path{root};
+  for (std::size_t k = 0; k + 1 < keys.size(); ++k) {
+    YAML::Node parent = path.back();
+    if (parent[keys[k]] && !parent[keys[k]].IsMap())
+      return ConfigResult::failure(file + ": override '" + o + "': " + keys[k] + " is not a map");
+    path.push_back(parent[keys[k]]);
+  }
+  path.back()[keys.back()] = value;
+  return ConfigResult::success();
+}
+
 }  // namespace
 
-ConfigResult loadScene(const std::string& file, Scene& s) {
+ConfigResult loadScene(const std::string& file, Scene& s) { return loadScene(file, s, {}); }
+
+ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std::string>& overrides) {
   YAML::Node root;
   ConfigResult r = config::loadFile(file, root);
   if (!r) return r;
+  for (const std::string& o : overrides)
+    if (!(r = applyOverride(root, o, file))) return r;
   const Where w{file, ""};
   if (!(r = checkKeys(root, w,
                       {"name", "description", "figure", "program", "controller", "features_file", "duration", "seed",

@@ -85,6 +85,12 @@ struct Scene {
 /// Errors name the file and the field.
 ConfigResult loadScene(const std::string& file, Scene& out);
 
+/// The same, with overrides applied to the scene's YAML before it is read:
+/// each "a.b.c=VALUE" sets key c of map b of map a (created if absent) to
+/// VALUE parsed as YAML ("sensor.noise_counts=30", "rates={sim: 500}"); the
+/// result is checked like the file itself (`tactile_sim run --set`).
+ConfigResult loadScene(const std::string& file, Scene& out, const std::vector<std::string>& overrides);
+
 /// Cross-checks after command-line overrides (rates, sub-samples...).
 ConfigResult validateScene(const Scene& s);
 
