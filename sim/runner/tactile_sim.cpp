@@ -71,6 +71,15 @@ bool parseController(const std::string& m, ControllerMode& mode) {
   return false;
 }
 
+void printCriteria(const Summary& s) {
+  if (s.criteria_failed.empty()) {
+    std::printf("criteria: passed\n");
+    return;
+  }
+  std::printf("criteria: FAILED\n");
+  for (const auto& f : s.criteria_failed) std::printf("  %s\n", f.c_str());
+}
+
 int mkdirs(const std::string& dir) {
   std::string cur;
   for (std::size_t i = 0; i <= dir.size(); ++i) {
@@ -164,6 +173,7 @@ int summarize(int argc, char** argv) {
   }
   std::printf("%s (%s, deployment): status %s, %zu servo cycles, %.1f s simulated\n", s.scene.c_str(),
               s.controller.c_str(), s.status.c_str(), result.rows.size(), s.sim_time_s);
+  printCriteria(s);
   if (plots) plot(out_dir);
   std::printf("results: %s\n", out_dir.c_str());
   return s.exit_code;
@@ -269,6 +279,7 @@ int main(int argc, char** argv) {
   const Summary& s = result.summary;
   std::printf("%s (%s): status %s, %.1f s simulated in %.2f s (%.0fx real time)\n", s.scene.c_str(),
               s.controller.c_str(), s.status.c_str(), s.sim_time_s, s.wall_time_s, s.real_time_factor);
+  printCriteria(s);
   if (plots) plot(out_dir);
   std::printf("results: %s\n", out_dir.c_str());
   return s.exit_code;

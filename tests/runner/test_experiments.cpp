@@ -6,8 +6,10 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <string>
 
+#include "tactile_sim/loop.hpp"
 #include "tactile_sim/runner.hpp"
 
 using namespace tactile;
@@ -260,6 +262,44 @@ TEST(SceneErrors, NameTheFileAndTheField) {
   const ConfigResult missing = loadScene("/nonexistent/scene.yaml", sc);
   ASSERT_FALSE(missing.ok());
   EXPECT_NE(missing.message().find("/nonexistent/scene.yaml: cannot open file"), std::string::npos);
+}
+
+// Every shipped scene declares its pass criteria (metrics.criteria), and the
+// proposed controller meets them; the bent bar's no-DZMP baseline does not.
+TEST(SceneCriteria, ShippedScenesPassTheirCriteria) {
+  for (const char* f : {"edge_exploration.yaml", "bent_bar.yaml", "co_manipulation.yaml", "sphere_table.yaml"}) {
+    Scene sc;
+    ASSERT_TRUE(loadScene(kScenes + f, sc).ok()) << f;
+    EXPECT_GE(sc.metrics.criteria.size(), 1u) << f;
+    const RunResult r = runScene(f);
+    EXPECT_TRUE(r.summary.criteria_failed.empty()) << f << ": " << r.summary.criteria_failed.front();
+  }
+  const RunResult b = runScene("bent_bar.yaml", ControllerMode::Baseline);
+  EXPECT_FALSE(b.summary.criteria_failed.empty());
+}
+
+TEST(SceneCriteria, BoundsAreInclusiveAndNaNFails) {
+  Scene sc;
+  sc.metrics.criteria = {{"force_true_mean_n", 4.0, 6.0}, {"alignment_time_s", -1e300, 5.0}, {"path_length_m", 0.15, 1e300}};
+  Summary s;
+  s.force_true_mean_n = 6.0;
+  s.alignment_time_s = 5.0;
+  s.path_length_m = 0.15;
+  checkCriteria(sc, s);
+  EXPECT_TRUE(s.criteria_failed.empty());
+  s.force_true_mean_n = 6.0001;
+  s.alignment_time_s = std::numeric_limits<double>::quiet_NaN();  // never aligned
+  s.path_length_m = 0.1499;
+  checkCriteria(sc, s);
+  ASSERT_EQ(s.criteria_failed.size(), 3u);
+  EXPECT_EQ(s.criteria_failed[0], "force_true_mean_n = 6.0001 > 6");
+  EXPECT_EQ(s.criteria_failed[1], "alignment_time_s = nan < -1e+300");
+  EXPECT_EQ(s.criteria_failed[2], "path_length_m = 0.1499 < 0.15");
+  // Scene errors name the file and the key.
+  const std::string path = writeScene("bad_criteria.yaml", "name: x\nmetrics: {criteria: {speed_of_light: {max: 3}}}\n");
+  const ConfigResult r = loadScene(path, sc);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("metrics.criteria.speed_of_light: not a summary.json metric"), std::string::npos) << r.message();
 }
 
 TEST(SceneOverrides, SetKeysBeforeReadingAndAreCheckedLikeTheFile) {

@@ -8,6 +8,7 @@
 #include "tactile_config/yaml_params.hpp"
 #include "tactile_features/params_io.hpp"
 #include "tactile_servo/program_io.hpp"
+#include "tactile_sim/run_log.hpp"
 
 namespace tactile {
 namespace sim {
@@ -281,7 +282,25 @@ ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std:
 
   if (const YAML::Node n = root["metrics"]) {
     const Where wm = w.child("metrics");
-    if (!(r = checkKeys(n, wm, {"transient_s", "force_phases", "alignment", "force_band_n"}))) return r;
+    if (!(r = checkKeys(n, wm, {"transient_s", "force_phases", "alignment", "force_band_n", "criteria"}))) return r;
+    if (const YAML::Node c = n["criteria"]) {
+      const Where wc = wm.child("criteria");
+      if (!c.IsMap()) return fail(wc, "must be a map: metric: {min: .., max: ..}");
+      for (const auto& kv : c) {
+        Criterion cr;
+        cr.metric = kv.first.as<std::string>();
+        const Where wk = wc.child(cr.metric);
+        double probe = 0;
+        if (!summaryMetric(Summary{}, cr.metric, probe)) return fail(wk, "not a summary.json metric");
+        if (!kv.second.IsMap() || (!kv.second["min"] && !kv.second["max"]))
+          return fail(wk, "must be {min: .., max: ..} (at least one bound)");
+        if (!(r = checkKeys(kv.second, wk, {"min", "max"})) || !(r = read(kv.second, "min", cr.min, wk)) ||
+            !(r = read(kv.second, "max", cr.max, wk)))
+          return r;
+        if (!(cr.min <= cr.max)) return fail(wk, "min must be <= max");
+        s.metrics.criteria.push_back(cr);
+      }
+    }
     for (auto rr : {read(n, "transient_s", s.metrics.transient_s, wm), read(n, "force_phases", s.metrics.force_phases, wm),
                     read(n, "force_band_n", s.metrics.force_band_n, wm)})
       if (!rr) return rr;

@@ -109,5 +109,9 @@ std::vector<PhaseEntry> phaseEntries(const Scene& scene, const std::vector<LogRo
 /// exit code, times and FRI counters alone.
 void computeSummary(const Scene& scene, RunResult& out);
 
+/// summary.criteria_failed from the scene's metrics.criteria (computeSummary
+/// calls it last; call again after changing the status or exit code).
+void checkCriteria(const Scene& scene, Summary& summary);
+
 }  // namespace sim
 }  // namespace tactile

@@ -67,8 +67,13 @@ struct Summary {
   // between consecutive commands the simulated KRC applied.
   long fri_replies = 0;
   double fri_max_step_m = 0, fri_max_step_rad = 0;
+  std::vector<std::string> criteria_failed;  ///< scene criteria not met, "metric = v > max"; empty = passed
   int exit_code = 0;  ///< 0 ok, 3 simulator fatal (NaN, joint limit, singularity, force limit), 4 servo force ceiling
 };
+
+/// The summary metric called `name` in summary.json (the numeric ones), false
+/// if there is none of that name.
+bool summaryMetric(const Summary& s, const std::string& name, double& value);
 
 struct RunResult {
   std::vector<std::string> phase_names;  ///< by phase index

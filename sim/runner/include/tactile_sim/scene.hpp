@@ -37,8 +37,12 @@
 //     force_phases: [explore]         # phases whose force error is scored (default: all contact phases)
 //     alignment: {from: align, to: explore}   # alignment_time_s = t(to) - t(from)
 //     force_band_n: 1.0               # |f_true - f_desired| band for force_true_in_band_fraction
+//     criteria:                       # the experiment passes when every summary.json metric named
+//       alignment_time_s: {max: 10}   # here is within [min, max] (either bound optional); the result
+//       path_length_m: {min: 0.15}    # is summary.json's criteria_passed / criteria_failed
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -57,7 +61,16 @@ struct Rates {
   double features = 200.0;  ///< Hz: feature extraction
 };
 
+/// One pass criterion of an experiment: min <= summary.json[metric] <= max
+/// (a NaN value fails: e.g. an alignment that never happened).
+struct Criterion {
+  std::string metric;  ///< a summary.json key (summaryMetric())
+  double min = -std::numeric_limits<double>::infinity();
+  double max = std::numeric_limits<double>::infinity();
+};
+
 struct SceneMetrics {
+  std::vector<Criterion> criteria;  ///< what "the experiment passes" means (metrics.criteria)
   double transient_s = 2.0;
   std::vector<std::string> force_phases;
   std::string align_from, align_to;
