@@ -309,6 +309,14 @@ TEST(SceneOverrides, SetKeysBeforeReadingAndAreCheckedLikeTheFile) {
   EXPECT_EQ(sc.rates.servo, 250.0);
   EXPECT_EQ(sc.world.pad.noise_counts, 30.0);
   EXPECT_EQ(sc.world.arm.k_trans, 1500.0);  // a map the file did not have
+  const std::string with_list =
+      writeScene("override_list.yaml", "name: x\nobjects: [{name: a, type: sphere, center: [0.72, 0, 0.2], radius: 0.01}]\n");
+  ASSERT_TRUE(loadScene(with_list, sc, {"objects.0.radius=0.02"}).ok());
+  ASSERT_EQ(sc.world.objects.size(), 1u);
+  EXPECT_EQ(sc.world.objects[0].radius, 0.02);
+  const ConfigResult past_end = loadScene(with_list, sc, {"objects.1.radius=0.02"});
+  ASSERT_FALSE(past_end.ok());
+  EXPECT_NE(past_end.message().find("1 is not an index of a list of 1"), std::string::npos) << past_end.message();
   const std::vector<std::pair<std::string, std::string>> bad = {
       {"rates.servo", "key.path=value"},            // no '='
       {"rates..servo=3", "empty key"},              // empty key

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 #include "tactile_config/yaml_params.hpp"
 #include "tactile_features/params_io.hpp"
@@ -122,14 +123,37 @@ ConfigResult applyOverride(YAML::Node& root, const std::string& o, const std::st
   }
   // yaml-cpp nodes are handles: reassigning one rebinds it, so descend by copies
   // of the child handles (operator[] on a non-const map creates the key).
+  // A numeric key indexes a list ("objects.0.fidelity=dynamics").
+  auto child = [&](YAML::Node parent, const std::string& key, YAML::Node& out) -> ConfigResult {
+    if (parent.IsSequence()) {
+      char* end = nullptr;
+      const unsigned long i = std::strtoul(key.c_str(), &end, 10);
+      if (end == key.c_str() || *end != '\0' || i >= parent.size())
+        return ConfigResult::failure(file + ": override '" + o + "': " + key + " is not an index of a list of " +
+                                     std::to_string(parent.size()));
+      out = parent[i];
+    } else {
+      out = parent[key];
+    }
+    return ConfigResult::success();
+  };
   std::vector<YAML::Node> path{root};
   for (std::size_t k = 0; k + 1 < keys.size(); ++k) {
-    YAML::Node parent = path.back();
-    if (parent[keys[k]] && !parent[keys[k]].IsMap())
+    YAML::Node next;
+    ConfigResult r = child(path.back(), keys[k], next);
+    if (!r) return r;
+    if (next && !next.IsMap() && !next.IsSequence())
       return ConfigResult::failure(file + ": override '" + o + "': " + keys[k] + " is not a map");
-    path.push_back(parent[keys[k]]);
+    path.push_back(next);
   }
-  path.back()[keys.back()] = value;
+  if (path.back().IsSequence()) {
+    YAML::Node target;
+    ConfigResult r = child(path.back(), keys.back(), target);
+    if (!r) return r;
+    target = value;
+  } else {
+    path.back()[keys.back()] = value;
+  }
   return ConfigResult::success();
 }
 
