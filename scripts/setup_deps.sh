@@ -6,7 +6,7 @@ PKGS=(
   build-essential cmake pkg-config
   libeigen3-dev liborocos-kdl-dev libopencv-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  python3 python3-matplotlib python3-numpy
+  python3 python3-matplotlib python3-numpy python3-yaml
 )
 missing=()
 for p in "${PKGS[@]}"; do

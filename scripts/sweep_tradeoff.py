@@ -11,10 +11,7 @@ Writes tradeoff.csv, tradeoff.md and tradeoff.png into the output folder.
 """
 import argparse
 import concurrent.futures
-import json
-import math
 import os
-import subprocess
 import sys
 
 import matplotlib
@@ -22,14 +19,12 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import simsweep  # noqa: E402
 
+ROOT = simsweep.ROOT
 # Scene -> key metrics (summary.json keys) compared with the finest setting.
-SCENES = {
-    "edge_exploration": ["alignment_time_s", "path_length_m", "force_true_mean_n"],
-    "bent_bar": ["force_true_mean_n", "force_true_rms_error_n", "slide_speed_mps"],
-    "co_manipulation": ["dzmp_recovery_time_s", "force_true_mean_n", "translation_x_m"],
-}
+SCENES = simsweep.KEY_METRICS
 
 FINEST = {"fidelity": "dynamics", "sim": 2000, "subsamples": 8, "servo": 100}
 GRID = [
@@ -53,23 +48,14 @@ def label(s):
 
 def run(sim, scene, s, out):
     d = os.path.join(out, "runs", f'{scene}_{s["fidelity"]}_{s["sim"]}_{s["subsamples"]}_{s["servo"]}')
-    cmd = [sim, "run", os.path.join(ROOT, "sim", "scenes", scene + ".yaml"), "--out", d, "--no-plots",
-           "--fidelity", s["fidelity"], "--sim-rate", str(s["sim"]), "--subsamples", str(s["subsamples"]),
-           "--servo-rate", str(s["servo"])]
+    args = ["--fidelity", s["fidelity"], "--sim-rate", str(s["sim"]), "--subsamples", str(s["subsamples"]),
+            "--servo-rate", str(s["servo"])]
     if s["sim"] < 200:
-        cmd += ["--wts-rate", str(s["sim"]), "--features-rate", str(s["sim"])]
-    subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    return json.load(open(os.path.join(d, "summary.json")))
+        args += ["--wts-rate", str(s["sim"]), "--features-rate", str(s["sim"])]
+    return simsweep.run(scene, d, args, sim=sim)
 
 
-def rel_err(v, ref):
-    """Relative error; a metric defined on one side only (e.g. a recovery that
-    never happened) counts as 100 %."""
-    if v is None and ref is None:
-        return 0.0
-    if v is None or ref is None:
-        return 1.0
-    return abs(v - ref) / max(abs(ref), 1e-9)
+rel_err = simsweep.rel_err
 
 
 def main():

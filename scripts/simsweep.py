@@ -1,0 +1,76 @@
+"""Shared helpers of the sweep scripts (sweep_tradeoff.py, sweep_effects.py):
+run `tactile_sim run` on a scene with overrides and read its summary.json.
+
+Debian's /usr/bin/python3 with python3-yaml; no PyPI.
+"""
+import glob
+import json
+import os
+import subprocess
+
+import yaml
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SIM = os.path.join(ROOT, "build", "bin", "tactile_sim")
+SCENE_DIR = os.path.join(ROOT, "sim", "scenes")
+
+# Scene -> its key metrics (summary.json keys); scenes not listed use FORCE_METRICS.
+KEY_METRICS = {
+    "edge_exploration": ["alignment_time_s", "path_length_m", "force_true_mean_n"],
+    "bent_bar": ["force_true_mean_n", "force_true_rms_error_n", "slide_speed_mps"],
+    "co_manipulation": ["dzmp_recovery_time_s", "force_true_mean_n", "translation_x_m"],
+}
+FORCE_METRICS = ["force_true_mean_n", "force_true_rms_error_n", "force_true_in_band_fraction"]
+
+
+def scene_path(name):
+    return os.path.join(SCENE_DIR, name + ".yaml")
+
+
+def shipped_scenes():
+    """Names of the shipped scenes (sim/scenes/*.yaml), sorted."""
+    return sorted(os.path.splitext(os.path.basename(p))[0] for p in glob.glob(os.path.join(SCENE_DIR, "*.yaml")))
+
+
+def key_metrics(scene):
+    return KEY_METRICS.get(scene, FORCE_METRICS)
+
+
+def load_scene(scene):
+    with open(scene_path(scene)) as f:
+        return yaml.safe_load(f)
+
+
+def tray_index(scene):
+    """Index of the tray in the scene's objects list, or None."""
+    for i, o in enumerate(load_scene(scene).get("objects", []) or []):
+        if o.get("type") == "tray":
+            return i
+    return None
+
+
+def run(scene, out_dir, args=(), sim=SIM):
+    """Runs `tactile_sim run SCENE --out OUT_DIR --no-plots ARGS`; returns the
+    summary dict with 'returncode' added (a run that wrote no summary gives
+    {'status': 'no_summary', ...} and the tool's stderr)."""
+    cmd = [sim, "run", scene_path(scene), "--out", out_dir, "--no-plots", *args]
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    path = os.path.join(out_dir, "summary.json")
+    if p.returncode == 2 or not os.path.exists(path):
+        return {"status": "no_summary", "returncode": p.returncode, "error": p.stderr.strip(), "criteria_passed": False}
+    with open(path) as f:
+        d = json.load(f)
+    d["returncode"] = p.returncode
+    return d
+
+
+def rel_err(v, ref):
+    """Relative error; a metric defined on one side only (e.g. a recovery that
+    never happened) counts as 100 %."""
+    def bad(x):
+        return x is None or (isinstance(x, float) and x != x)
+    if bad(v) and bad(ref):
+        return 0.0
+    if bad(v) or bad(ref):
+        return 1.0
+    return abs(v - ref) / max(abs(ref), 1e-9)
