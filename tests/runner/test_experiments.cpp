@@ -296,7 +296,7 @@ TEST(Runner, AnUnstableRunStopsWithAStatusAndANonZeroExitCode) {
   // A huge feed-forward towards the table in the free-motion phase, and no
   // contact detection (threshold above any taxel force): nothing stops it but safety.
   sc.servo.phases[0].feedforward(2) = 0.05;
-  sc.servo.safety.max_trans_step = 0.001;
+  sc.servo.safety.max_trans_speed = 0.1;  // m/s
   sc.features.contact_threshold = 1e6;
   Runner runner;
   ASSERT_TRUE(runner.configure(sc).ok());

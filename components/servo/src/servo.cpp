@@ -67,10 +67,10 @@ ServoStatus TactileServo::finish(ServoStatus st, double now, ServoOutput& out) {
   return st;
 }
 
-ServoStatus TactileServo::applyIncrement(const KDL::Frame& base, Vec6 u_s, ServoStatus st, double now,
+ServoStatus TactileServo::applyIncrement(const KDL::Frame& base, Vec6 u_s, double dt, ServoStatus st, double now,
                                          ServoOutput& out) {
   if (!u_s.allFinite()) return finish(ServoStatus::InvalidInput, now, out);
-  const bool limited = safety_.limitStep(u_s);
+  const bool limited = safety_.limitStep(u_s, dt);
   KDL::Frame T_ge_new = law_.apply(base, u_s);  // Eq. 12/13/15
   const bool clipped = safety_.clipWorkspace(base.p, T_ge_new);
   if (!frameFinite(T_ge_new)) return finish(ServoStatus::InvalidInput, now, out);
@@ -122,10 +122,10 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   // Force ceiling, latched: retreat along -z_s, then hold.
   const bool f_finite = SafetySupervisor::featuresFinite(f);
   double retreat = 0.0;
-  if (safety_.forceCeiling(f, f_finite, retreat)) {
+  if (safety_.forceCeiling(f, f_finite, dt, retreat)) {
     if (retreat <= 0.0) return finish(ServoStatus::ForceCeiling, now, out);
     u(kZ) = -retreat;
-    return applyIncrement(base, u, ServoStatus::ForceCeiling, now, out);
+    return applyIncrement(base, u, dt, ServoStatus::ForceCeiling, now, out);
   }
   if (!f_finite) return finish(ServoStatus::InvalidInput, now, out);
   // Stale-features watchdog.
@@ -135,7 +135,7 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   uint8_t beta = 0;
   Vec6 e = law_.featureError(program_.current(), f, beta);
   int target = -1;
-  if (program_.evaluate(f, e, now, law_.c_z(), target)) {
+  if (program_.evaluate(f, e, now, dt, law_.c_z(), target)) {
     enterPhase(target, now);
     e = law_.featureError(program_.current(), f, beta);
   }
@@ -149,7 +149,7 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
     const double dz = safety_.contactLoss(dt);
     if (dz == 0.0) return finish(ServoStatus::ContactLost, now, out);
     u(kZ) = dz;
-    return applyIncrement(base, u, ServoStatus::ContactLost, now, out);
+    return applyIncrement(base, u, dt, ServoStatus::ContactLost, now, out);
   }
   safety_.resetRecovery();
 
@@ -157,7 +157,7 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   const Vec6 task = law_.project(ph, e);
   out.error_task = task;
   u = law_.increment(ph, task, dt);
-  return applyIncrement(base, u, program_.freeMotion(ph) ? ServoStatus::FreeMotion : ServoStatus::Ok, now, out);
+  return applyIncrement(base, u, dt, program_.freeMotion(ph) ? ServoStatus::FreeMotion : ServoStatus::Ok, now, out);
 }
 
 }  // namespace tactile

@@ -7,7 +7,7 @@
 //   J^-1     = touch-dependent inverse tactile Jacobian (6x6)          (Eq. 8)
 //   Δs       = s_d - J^-1 s                                           (Eq. 7)
 //   Δs_task  = P Δs                                                   (Eq. 9, 10)
-//   u_s      = S (K_P Δs_task + K_I ∫Δs_task dt) + v_ff dt            (Eq. 13)
+//   u_s      = (S (K_P Δs_task + K_I ∫Δs_task dt) + v_ff) dt          (Eq. 13)
 //   {g}T{s}  = {g}T{e} {e}T{s};  t_g = R_gs u_s (reference point: the
 //              origin of {s});  {g}T{s}' = addDelta({g}T{s}, t_g)      (Eq. 13)
 //   x_d      = x_a + u  (measured pose each cycle, Eq. 12)   or
@@ -51,10 +51,13 @@
 //          sensor by +alpha_z about z_s: S_wz = -1.
 // S is the program parameter `motion_sign` (entries +-1).
 //
-// UNITS. u is a pose increment per servo cycle [m m m rad rad rad], expressed
-// in {s} and applied at the origin of {s}. K_P is per cycle (increment per unit
-// feature error); K_I is in 1/s (the integral is ∫Δs_task dt, dt in s); the
-// feed-forward twist is in m/s, rad/s in {s}.
+// UNITS. Everything is per second, so that the behaviour does not depend on
+// the servo rate. u is the pose increment of one cycle [m m m rad rad rad],
+// expressed in {s} and applied at the origin of {s}: the commanded rate times
+// dt. K_P is in 1/s (rate per unit feature error), K_I in 1/s^2 (the integral
+// is ∫Δs_task dt), integral_limit and u_max in m/s, rad/s, the feed-forward
+// twist in m/s, rad/s in {s}; the step limits are speeds (max_trans_speed m/s,
+// max_rot_speed rad/s) and transitions hold for `for_s` seconds.
 //
 // START (beyond the paper): nothing is commanded before a valid measured pose
 // (validPose in tactile_types/types.hpp: finite, unit quaternion) has
@@ -65,8 +68,9 @@
 // that time; servoing starts at the next cycle. reset() starts over.
 //
 // SAFETY (beyond the paper):
-//  * per-axis output limits per phase (u_max) and per-cycle translational and
-//    rotational step limits (norms) for every increment, recovery moves included;
+//  * per-axis rate limits per phase (u_max) and translational and rotational
+//    speed limits (norms, times dt per cycle) for every increment, recovery
+//    moves included;
 //  * a workspace box on the commanded flange position {g}p{e} (from a pose
 //    already outside it, only motion back towards it is allowed: no jumps);
 //  * a force ceiling: features.force > ceiling -> status ForceCeiling, retreat
@@ -87,8 +91,8 @@
 //
 // PHASE PROGRAM. Each cycle with valid features, the current phase's
 // transitions are evaluated in their listed order (first to fire wins; a
-// transition fires after its condition held for `cycles` consecutive valid
-// cycles) and the new phase acts in the same cycle. Events: contact, edge,
+// transition fires once its condition held for `for_s` seconds of consecutive
+// valid cycles, each cycle counting its dt) and the new phase acts in the same cycle. Events: contact, edge,
 // point (the extractor's contact type), aligned (chosen |Δs| rows, |Δforce|,
 // |CoC| below tolerances), contact_lost, force_above, timeout (time in phase).
 // While holding (stale/invalid input) transitions are not evaluated.
@@ -173,7 +177,7 @@ class TactileServo {
  private:
   void enterPhase(int idx, double now);
   ServoStatus finish(ServoStatus st, double now, ServoOutput& out);
-  ServoStatus applyIncrement(const KDL::Frame& base, Vec6 u_s, ServoStatus st, double now, ServoOutput& out);
+  ServoStatus applyIncrement(const KDL::Frame& base, Vec6 u_s, double dt, ServoStatus st, double now, ServoOutput& out);
 
   bool configured_ = false;
   ServoParams params_;
