@@ -161,20 +161,27 @@ void computeSummary(const Scene& sc, RunResult& out) {
                            ? tEnter(sc.metrics.align_to) - tEnter(sc.metrics.align_from)
                            : kNaN;
 
-  // A loss is a contact that held for >= 5 servo cycles and then stayed
-  // absent for >= 5 cycles in a phase that needs it: single-frame flicker of
-  // a taxel at the firing threshold is not a loss.
+  // A loss is a contact that held for >= 50 ms and then stayed absent for
+  // >= 50 ms in a phase that needs it: single-frame flicker of a taxel at the
+  // firing threshold is not a loss. Times (each row counts one servo period),
+  // not row counts, so that the count does not depend on the servo rate.
   s.contact_lost_count = 0;
-  int contact_run = 0, absent_run = 0;
+  const double row_s = 1.0 / sc.rates.servo, hold_s = 0.05 - 1e-6;
+  double contact_s = 0, absent_s = 0;
+  bool counted = false;
   for (const auto& r : rows) {
     if (r.contact != ContactType::None) {
-      ++contact_run;
-      absent_run = 0;
+      contact_s += row_s;
+      absent_s = 0;
+      counted = false;
     } else {
-      ++absent_run;
-      if (sc.servo.phases[static_cast<std::size_t>(r.phase)].requires_contact && absent_run == 5 && contact_run >= 5)
-        ++s.contact_lost_count;
-      if (absent_run >= 5) contact_run = 0;
+      absent_s += row_s;
+      if (!counted && absent_s >= hold_s) {
+        if (sc.servo.phases[static_cast<std::size_t>(r.phase)].requires_contact && contact_s >= hold_s)
+          ++s.contact_lost_count;
+        counted = true;
+        contact_s = 0;
+      }
     }
   }
 
