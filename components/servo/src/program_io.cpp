@@ -267,7 +267,7 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
   ServoParams p;
   p.source = file;
   const Where top{file, ""};
-  ConfigResult r = checkKeys(root, top, {"controller", "safety", "phase_defaults", "phases"});
+  ConfigResult r = checkKeys(root, top, {"controller", "safety", "watchdogs", "phase_defaults", "phases"});
   if (!r) return r;
   if (const YAML::Node c = root["controller"]) {
     const Where w = top.child("controller");
@@ -333,6 +333,27 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
       }
       for (auto rr : {read(cl, "backoff_distance", sp.backoff_distance, wc), read(cl, "search_speed", sp.search_speed, wc),
                       read(cl, "search_max_distance", sp.search_max_distance, wc)})
+        if (!rr) return rr;
+    }
+  }
+  if (const YAML::Node wd = root["watchdogs"]) {
+    const Where w = top.child("watchdogs");
+    WatchdogParams& wp = p.watchdogs;
+    if (!(r = checkKeys(wd, w, {"arm_stall", "force_mismatch"}))) return r;
+    if (const YAML::Node st = wd["arm_stall"]) {
+      const Where ws = w.child("arm_stall");
+      if (!(r = checkKeys(st, ws, {"window_s", "min_distance", "min_angle_deg", "min_fraction"}))) return r;
+      double deg = wp.stall_min_angle * 180.0 / kPi;
+      for (auto rr : {read(st, "window_s", wp.stall_window_s, ws), read(st, "min_distance", wp.stall_min_distance, ws),
+                      read(st, "min_angle_deg", deg, ws), read(st, "min_fraction", wp.stall_min_fraction, ws)})
+        if (!rr) return rr;
+      wp.stall_min_angle = deg * kPi / 180.0;
+    }
+    if (const YAML::Node fm = wd["force_mismatch"]) {
+      const Where wf = w.child("force_mismatch");
+      if (!(r = checkKeys(fm, wf, {"window_s", "tolerance_n", "tolerance_rel"}))) return r;
+      for (auto rr : {read(fm, "window_s", wp.mismatch_window_s, wf), read(fm, "tolerance_n", wp.mismatch_tolerance_n, wf),
+                      read(fm, "tolerance_rel", wp.mismatch_tolerance_rel, wf)})
         if (!rr) return rr;
     }
   }

@@ -10,6 +10,7 @@ ConfigResult TactileServo::configure(const ServoParams& p) {
   ConfigResult r = law_.configure(p);  // c_z, motion sign, mount; per phase s_d, J^-1, P, gains
   if (r) r = safety_.configure(p);     // step limits, box, ceiling, stale, contact loss
   if (r) r = program_.configure(p);    // names, transitions, initial phase, reachability
+  if (r) r = watchdogs_.configure(p);  // phase timeout, arm stall, force mismatch
   if (!r) return r;
   params_ = p;
   configured_ = true;
@@ -21,6 +22,7 @@ void TactileServo::reset() {
   program_.reset();
   law_.resetIntegrator();
   safety_.reset();
+  watchdogs_.reset();
   has_cmd_ = false;
 }
 
@@ -29,6 +31,7 @@ bool TactileServo::requestPhase(const char* name) { return requestPhase(phaseInd
 bool TactileServo::requestPhase(int index) {
   if (!configured_ || !program_.request(index)) return false;
   safety_.clearCeiling();
+  watchdogs_.clear();
   return true;
 }
 
@@ -53,6 +56,7 @@ Vec6 TactileServo::featureError(int phase, const ContactFeatures& f, uint8_t* be
 }
 
 ServoStatus TactileServo::finish(ServoStatus st, double now, ServoOutput& out) {
+  if (!motion_cycle_) watchdogs_.restartStall();
   const double t = std::isfinite(now) ? now : 0.0;
   if (has_cmd_) toPose(cmd_, out.command.pose);
   out.valid = has_cmd_;
@@ -71,6 +75,10 @@ ServoStatus TactileServo::applyIncrement(const KDL::Frame& base, Vec6 u_s, doubl
                                          ServoOutput& out) {
   if (!u_s.allFinite()) return finish(ServoStatus::InvalidInput, now, out);
   const bool limited = safety_.limitStep(u_s, dt);
+  if (st != ServoStatus::ForceCeiling) {  // commanded motion: the measured pose must follow
+    motion_cycle_ = true;
+    if (watchdogs_.armStalled(meas_ * law_.sensorMount(), u_s, now)) return finish(ServoStatus::ArmStalled, now, out);
+  }
   KDL::Frame T_ge_new = law_.apply(base, u_s);  // Eq. 12/13/15
   const bool clipped = safety_.clipWorkspace(base.p, T_ge_new);
   if (!frameFinite(T_ge_new)) return finish(ServoStatus::InvalidInput, now, out);
@@ -92,6 +100,7 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
     return ServoStatus::NotConfigured;
   }
   ++seq_;
+  motion_cycle_ = false;
   const double now = in.time_s;
   const bool time_ok = std::isfinite(now);
   KDL::Frame meas;
@@ -113,7 +122,14 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
     program_.clearPending();
   }
   if (time_ok && !program_.entered()) enterPhase(program_.current(), now);
+  // Watchdogs: a latched one holds; a phase longer than its limit latches.
+  if (watchdogs_.latched() != ServoStatus::Ok) return finish(watchdogs_.latched(), now, out);
+  if (time_ok && !program_.terminal(program_.current()) &&
+      watchdogs_.phaseTimeout(now - program_.enteredAt(),
+                              params_.phases[static_cast<std::size_t>(program_.current())].max_duration_s))
+    return finish(ServoStatus::PhaseTimeout, now, out);
   if (!time_ok || !pose_ok || !(std::isfinite(dt) && dt > 0)) return finish(ServoStatus::InvalidInput, now, out);
+  meas_ = meas;
 
   const KDL::Frame base = params_.pose_update == PoseUpdate::Measured ? meas : cmd_;
   const ContactFeatures& f = in.features;
@@ -130,6 +146,10 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   if (!f_finite) return finish(ServoStatus::InvalidInput, now, out);
   // Stale-features watchdog.
   if (safety_.stale(f, now)) return finish(ServoStatus::Holding, now, out);
+  // The tactile force against the arm's estimated wrench along z_s.
+  if (watchdogs_.forceMismatch(f.force, PhaseProgram::hasContact(f), in.have_wrench, in.wrench,
+                               (meas * law_.sensorMount()).M.UnitZ(), now, dt, params_.safety.stale_timeout))
+    return finish(ServoStatus::ForceMismatch, now, out);
 
   // Eq. 7-8 and the phase program.
   uint8_t beta = 0;

@@ -69,6 +69,9 @@ void Schedule::advance() {
 
 EndReason EndRule::afterServo(ServoStatus st) {
   if (st == ServoStatus::ForceCeiling) return EndReason::ServoForceCeiling;
+  if (st == ServoStatus::PhaseTimeout) return EndReason::ServoPhaseTimeout;
+  if (st == ServoStatus::ArmStalled) return EndReason::ServoArmStalled;
+  if (st == ServoStatus::ForceMismatch) return EndReason::ServoForceMismatch;
   // A terminal phase ends the run after one more second of holding.
   if (st == ServoStatus::Done && ++done_cycles_ > done_limit_) return EndReason::DoneHeld;
   return EndReason::None;
@@ -79,6 +82,18 @@ void applyEnd(EndReason reason, SimStatus sim_status, Summary& s) {
     case EndReason::ServoForceCeiling:
       s.status = "servo_force_ceiling";
       s.exit_code = 4;
+      break;
+    case EndReason::ServoPhaseTimeout:
+      s.status = "servo_phase_timeout";
+      s.exit_code = 5;
+      break;
+    case EndReason::ServoArmStalled:
+      s.status = "servo_arm_stalled";
+      s.exit_code = 6;
+      break;
+    case EndReason::ServoForceMismatch:
+      s.status = "servo_force_mismatch";
+      s.exit_code = 7;
       break;
     case EndReason::SimFatal:
       s.status = std::string("sim_") + toString(sim_status);
@@ -91,6 +106,15 @@ void applyEnd(EndReason reason, SimStatus sim_status, Summary& s) {
 }
 
 // ---- rows -------------------------------------------------------------------
+
+void fillEstimatedWrench(const SimState& st, Wrench& out) {
+  const KDL::Wrench w_s(KDL::Vector(st.wrench_s[0], st.wrench_s[1], st.wrench_s[2]),
+                        KDL::Vector(st.wrench_s[3], st.wrench_s[4], st.wrench_s[5]));
+  const KDL::Wrench w_g = st.T_gs.M * w_s;                  // {g} axes, about the sensor origin
+  const KDL::Wrench w_e = w_g.RefPoint(st.T_ge.p - st.T_gs.p);  // about the flange origin
+  out.time_s = st.time_s;
+  out.w = {w_e.force.x(), w_e.force.y(), w_e.force.z(), w_e.torque.x(), w_e.torque.y(), w_e.torque.z()};
+}
 
 void fillTruth(const SimState& st, const SensorTruth& acq, SimTruth& out) {
   out.time_s = st.time_s;

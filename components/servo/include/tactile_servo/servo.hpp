@@ -80,6 +80,10 @@
 //    unusable status -> hold the last command (status Holding);
 //  * NaN/Inf in features, pose or dt, dt <= 0 -> hold (status InvalidInput);
 //    no output is ever NaN;
+//  * watchdogs (watchdog.hpp), fatal and latched, the command held: a phase
+//    longer than its max_duration_s (PhaseTimeout), commanded motion the
+//    measured pose does not follow (ArmStalled), a tactile force the arm's
+//    estimated wrench contradicts (ForceMismatch);
 //  * contact loss (the paper's limitation: "as soon as the contact disappears
 //    the controller does not send new set points"): in a phase that requires
 //    contact, losing it triggers `contact_loss`: hold, backoff (retreat along
@@ -115,6 +119,7 @@
 #include "tactile_servo/phase_program.hpp"
 #include "tactile_servo/safety_supervisor.hpp"
 #include "tactile_servo/servo_params.hpp"
+#include "tactile_servo/watchdog.hpp"
 #include "tactile_types/config_result.hpp"
 #include "tactile_types/types.hpp"
 
@@ -126,6 +131,11 @@ struct ServoInput {
   /// {g}T{e} measured. kNoPose until a measurement arrived: the servo then
   /// commands nothing (status WaitingForPose).
   Pose flange_measured = kNoPose;
+  /// The arm's estimated external wrench ({g} axes; FRI: the KRC's
+  /// estExtTcpFT, simulator: the contact wrench at the flange), for the
+  /// force-mismatch watchdog; unused while have_wrench is false.
+  Wrench wrench;
+  bool have_wrench = false;
 };
 
 struct ServoOutput {
@@ -173,6 +183,7 @@ class TactileServo {
   const ServoControlLaw& controlLaw() const { return law_; }
   const PhaseProgram& program() const { return program_; }
   const SafetySupervisor& safety() const { return safety_; }
+  const ServoWatchdogs& watchdogs() const { return watchdogs_; }
 
  private:
   void enterPhase(int idx, double now);
@@ -184,7 +195,10 @@ class TactileServo {
   ServoControlLaw law_;
   PhaseProgram program_;
   SafetySupervisor safety_;
+  ServoWatchdogs watchdogs_;
   KDL::Frame cmd_;
+  KDL::Frame meas_;            ///< this cycle's measured flange pose
+  bool motion_cycle_ = false;  ///< this cycle commanded motion (the stall watchdog's window)
   bool has_cmd_ = false;
   uint32_t seq_ = 0;
 };

@@ -113,6 +113,25 @@ struct SafetyParams {
   double search_max_distance = 0.01;            ///< m, >= 0
 };
 
+/// Watchdogs (beyond the paper): what must never pass silently. Each ends in
+/// a fatal, latched status (see watchdog.hpp). A window of 0 switches it off.
+struct WatchdogParams {
+  /// Arm stalled: over each window of commanded motion, the measured sensor
+  /// origin must move at least min_fraction of the commanded translation
+  /// (when that is >= min_distance) and turn at least min_fraction of the
+  /// commanded rotation (when that is >= min_angle).
+  double stall_window_s = 1.0;                   ///< s, 0 = off
+  double stall_min_distance = 0.005;             ///< m, > 0
+  double stall_min_angle = 5.0 * kPi / 180.0;    ///< rad, > 0
+  double stall_min_fraction = 0.2;               ///< (0, 1]
+  /// Force mismatch: with contact, |tactile force - estimated wrench force
+  /// along z_s| above max(tolerance_n, tolerance_rel * the larger of the two)
+  /// for window_s.
+  double mismatch_window_s = 0.5;                ///< s, 0 = off
+  double mismatch_tolerance_n = 4.0;             ///< N, > 0
+  double mismatch_tolerance_rel = 0.3;           ///< [0, 1]
+};
+
 struct ServoParams {
   KDL::Frame sensor_mount = KDL::Frame::Identity();  ///< {e}T{s}
   Vec6 motion_sign = defaultMotionSign();
@@ -120,6 +139,7 @@ struct ServoParams {
   ControllerMode mode = ControllerMode::Proposed;
   double c_z = 1.0 / 1800.0;                          ///< m/N (Eq. 2), > 0
   SafetyParams safety;
+  WatchdogParams watchdogs;
   std::vector<PhaseParams> phases;
   std::string initial_phase;                          ///< empty = first phase
   std::string source;                                 ///< file name, for messages
