@@ -351,9 +351,10 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
     }
     if (const YAML::Node fm = wd["force_mismatch"]) {
       const Where wf = w.child("force_mismatch");
-      if (!(r = checkKeys(fm, wf, {"window_s", "tolerance_n", "tolerance_rel"}))) return r;
+      if (!(r = checkKeys(fm, wf, {"window_s", "tolerance_n", "tolerance_rel", "no_contact_n"}))) return r;
       for (auto rr : {read(fm, "window_s", wp.mismatch_window_s, wf), read(fm, "tolerance_n", wp.mismatch_tolerance_n, wf),
-                      read(fm, "tolerance_rel", wp.mismatch_tolerance_rel, wf)})
+                      read(fm, "tolerance_rel", wp.mismatch_tolerance_rel, wf),
+                      read(fm, "no_contact_n", wp.mismatch_no_contact_n, wf)})
         if (!rr) return rr;
     }
   }

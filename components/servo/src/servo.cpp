@@ -75,12 +75,14 @@ ServoStatus TactileServo::applyIncrement(const KDL::Frame& base, Vec6 u_s, doubl
                                          ServoOutput& out) {
   if (!u_s.allFinite()) return finish(ServoStatus::InvalidInput, now, out);
   const bool limited = safety_.limitStep(u_s, dt);
-  if (st != ServoStatus::ForceCeiling) {  // commanded motion: the measured pose must follow
+  KDL::Frame T_ge_new = law_.apply(base, u_s);  // Eq. 12/13/15
+  const bool clipped = safety_.clipWorkspace(base.p, T_ge_new);
+  // Commanded motion (not the ceiling's retreat, not held at the workspace
+  // box): the measured pose must follow.
+  if (st != ServoStatus::ForceCeiling && !clipped) {
     motion_cycle_ = true;
     if (watchdogs_.armStalled(meas_ * law_.sensorMount(), u_s, now)) return finish(ServoStatus::ArmStalled, now, out);
   }
-  KDL::Frame T_ge_new = law_.apply(base, u_s);  // Eq. 12/13/15
-  const bool clipped = safety_.clipWorkspace(base.p, T_ge_new);
   if (!frameFinite(T_ge_new)) return finish(ServoStatus::InvalidInput, now, out);
   cmd_ = T_ge_new;
   out.u_s = u_s;

@@ -26,6 +26,8 @@ ConfigResult ServoWatchdogs::configure(const ServoParams& p) {
     return err(p, "", "watchdogs.force_mismatch.tolerance_n", w.mismatch_tolerance_n, "must be in (0, 1e4] N");
   if (!in(w.mismatch_tolerance_rel, 0.0, 1.0))
     return err(p, "", "watchdogs.force_mismatch.tolerance_rel", w.mismatch_tolerance_rel, "must be in [0, 1]");
+  if (!(in(w.mismatch_no_contact_n, 0.0, 1e4) && w.mismatch_no_contact_n > 0))
+    return err(p, "", "watchdogs.force_mismatch.no_contact_n", w.mismatch_no_contact_n, "must be in (0, 1e4] N");
   p_ = w;
   reset();
   return ConfigResult::success();
@@ -68,17 +70,19 @@ bool ServoWatchdogs::forceMismatch(double force, bool contact, bool have_wrench,
                                    const KDL::Vector& z_s, double now, double dt, double stale_s) {
   if (!(p_.mismatch_window_s > 0.0)) return false;
   const bool fresh = have_wrench && std::fabs(now - w.time_s) <= stale_s;
-  if (!contact || !fresh || !std::isfinite(force)) {
-    mismatch_s_ = 0.0;
-    return false;
-  }
   const double f_w = std::fabs(w.w[0] * z_s.x() + w.w[1] * z_s.y() + w.w[2] * z_s.z());
-  if (!std::isfinite(f_w)) {
+  if (!fresh || !std::isfinite(force) || !std::isfinite(f_w)) {
     mismatch_s_ = 0.0;
     return false;
   }
-  const double tol = std::max(p_.mismatch_tolerance_n, p_.mismatch_tolerance_rel * std::max(std::fabs(force), f_w));
-  mismatch_s_ = std::fabs(force - f_w) > tol ? mismatch_s_ + dt : 0.0;
+  bool bad = false;
+  if (contact) {  // Eq. 2's force from the taxels against the wrench along z_s
+    const double tol = std::max(p_.mismatch_tolerance_n, p_.mismatch_tolerance_rel * std::max(std::fabs(force), f_w));
+    bad = std::fabs(force - f_w) > tol;
+  } else {  // no tactile contact: the wrench must not carry a load either
+    bad = f_w > p_.mismatch_no_contact_n;
+  }
+  mismatch_s_ = bad ? mismatch_s_ + dt : 0.0;
   return mismatch_s_ >= p_.mismatch_window_s - 1e-6 ? latch(ServoStatus::ForceMismatch) : false;
 }
 

@@ -27,7 +27,7 @@
 //                    search_speed: 0.005, search_max_distance: 0.01}
 //   watchdogs:                           # fatal statuses (watchdog.hpp); window 0 = off
 //     arm_stall: {window_s: 1.0, min_distance: 0.005, min_angle_deg: 5, min_fraction: 0.2}
-//     force_mismatch: {window_s: 0.5, tolerance_n: 4, tolerance_rel: 0.3}
+//     force_mismatch: {window_s: 0.5, tolerance_n: 4, tolerance_rel: 0.3, no_contact_n: 10}
 //   phase_defaults: {kp_per_s: .., ki_per_s2: .., integral_limit_per_s: .., u_max_per_s: ..,   # per-axis maps
 //                    max_duration_s: 0}  # default of every non-terminal phase (0 = no limit)
 //   phases:                              # required, a list

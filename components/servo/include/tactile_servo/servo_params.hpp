@@ -124,12 +124,14 @@ struct WatchdogParams {
   double stall_min_distance = 0.005;             ///< m, > 0
   double stall_min_angle = 5.0 * kPi / 180.0;    ///< rad, > 0
   double stall_min_fraction = 0.2;               ///< (0, 1]
-  /// Force mismatch: with contact, |tactile force - estimated wrench force
-  /// along z_s| above max(tolerance_n, tolerance_rel * the larger of the two)
-  /// for window_s.
+  /// Force mismatch, held for window_s: with tactile contact, |tactile force -
+  /// estimated wrench force along z_s| above max(tolerance_n, tolerance_rel *
+  /// the larger of the two); without tactile contact, a wrench force along
+  /// z_s above no_contact_n (load the taxels do not see, e.g. on the housing).
   double mismatch_window_s = 0.5;                ///< s, 0 = off
   double mismatch_tolerance_n = 4.0;             ///< N, > 0
   double mismatch_tolerance_rel = 0.3;           ///< [0, 1]
+  double mismatch_no_contact_n = 10.0;           ///< N, > 0
 };
 
 struct ServoParams {

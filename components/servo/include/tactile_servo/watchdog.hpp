@@ -9,10 +9,12 @@
 //    less than min_fraction of the commanded translation, or turned less than
 //    min_fraction of the commanded rotation, while that command was at least
 //    min_distance / min_angle (an arm or simulator that does not follow);
-//  * force mismatch: while the features report contact, the tactile force
-//    (Eq. 2, f = d_z / C_z) and the arm's estimated external wrench
-//    projected on z_s differ by more than max(tolerance_n, tolerance_rel *
-//    the larger) for window_s (e.g. a pad much softer than calibrated).
+//  * force mismatch, held for window_s: while the features report contact,
+//    the tactile force (Eq. 2, f = d_z / C_z) and the arm's estimated
+//    external wrench projected on z_s differ by more than max(tolerance_n,
+//    tolerance_rel * the larger); without tactile contact, the wrench along
+//    z_s exceeds no_contact_n (a pad much softer than calibrated: the rigid
+//    housing carries the load, the taxels see little or nothing).
 //    The wrench force is |F . z_s|, independent of the sign convention of the
 //    estimate (the KRC's estExtTcpFT or the simulated arm's contact wrench);
 //    a wrench older than `stale_s` is not used.
