@@ -80,3 +80,15 @@ TEST(Watchdogs, PhaseThatNeverEndsEndsWithPhaseTimeout) {
   off.duration = 2.0;
   EXPECT_EQ(run(off).status, "ok");
 }
+
+// The shipped program's default (phase_defaults.max_duration_s: 30 s) at a
+// servo rate far below the 50 Hz .. 1 kHz range it is sized for: at 10 Hz
+// alpha_z keeps cycling around the aligned tolerance, edge_control never
+// ends, and the run says so instead of `ok` after 60 s of nothing.
+TEST(Watchdogs, EdgeExplorationAt10HzEndsWithPhaseTimeoutNotOk) {
+  Scene sc = load("edge_exploration.yaml", {"rates.servo=10"});
+  const Summary s = run(sc);
+  EXPECT_EQ(s.status, "servo_phase_timeout");
+  EXPECT_EQ(s.exit_code, 5);
+  EXPECT_LT(s.sim_time_s, 40.0);
+}
