@@ -79,12 +79,12 @@ if [ -n "$clock" ]; then
   read -r status exit_code sim_time <<< "$clock"
   extra=(--sim-time "$sim_time")
 else
-  status=deployment_failed; exit_code=5
+  status=deployment_failed; exit_code=8  # 3-7: the loop's own end statuses (tactile_sim)
 fi
 src=0
 "$build/bin/tactile_sim" summarize "$scene" "$out/report.dat" --out "$out" --controller "$controller" \
   --status "$status" --exit-code "$exit_code" "${extra[@]}" --no-plots || src=$?
-[ "$src" -le 4 ] || { echo "run_deployment: tactile_sim summarize failed ($src)" >&2; exit 1; }
+[ "$src" -le 8 ] || { echo "run_deployment: tactile_sim summarize failed ($src)" >&2; exit 1; }
 "$py" "$root/scripts/plot_run.py" "$out"
 if [ "$run" = bent_bar_baseline ] && [ -f "$root/out/deploy/bent_bar/summary.json" ]; then
   "$py" "$root/scripts/plot_run.py" "$root/out/deploy/bent_bar" --compare "$out"

@@ -44,8 +44,11 @@ elif exp == "bent_bar" and controller == "proposed":
     check(num(d["force_true_max_n"]) <= 6.0, f"true force max <= 6 N ({d['force_true_max_n']})")
     check(num(d["path_length_m"]) >= 0.2, f"slid >= 0.2 m ({d['path_length_m']})")
 elif exp == "bent_bar":
-    check(d["status"] in ("servo_force_ceiling", "sim_force_ceiling"), f"the baseline trips a ceiling ({d['status']})")
-    check(num(d["force_true_max_n"]) > 30.0, f"true force max > 30 N ({d['force_true_max_n']})")
+    # The baseline's drift onto the rigid housing is stopped by the servo's
+    # force-mismatch watchdog (or a ceiling): never `ok`, outside 5 +- 1 N.
+    check(d["status"] in ("servo_force_mismatch", "servo_force_ceiling", "sim_force_ceiling"),
+          f"the baseline is stopped by a watchdog or a ceiling ({d['status']})")
+    check(num(d["force_true_max_n"]) > 6.0, f"true force max > 6 N ({d['force_true_max_n']})")
 elif exp == "co_manipulation":
     check(d["status"] == "ok", f"status ok ({d['status']})")
     r = num(d["dzmp_recovery_time_s"])

@@ -342,6 +342,11 @@ TEST(RttTypekit, ScriptOperatorsOnEnumsAndUint16) {
   EXPECT_EQ(apply("==", FeatureStatus::Saturated, std::string("saturated")), 1);
   EXPECT_EQ(apply("==", FeatureStatus::Saturated, std::string("ok")), 0);
   EXPECT_EQ(apply("!=", tactile::ServoStatus::Done, std::string("done")), 0);
+  // The watchdog statuses have their names in the typekit's table too.
+  EXPECT_EQ(apply("==", tactile::ServoStatus::PhaseTimeout, std::string("phase_timeout")), 1);
+  EXPECT_EQ(apply("==", tactile::ServoStatus::ArmStalled, std::string("arm_stalled")), 1);
+  EXPECT_EQ(apply("==", tactile::ServoStatus::ForceMismatch, std::string("force_mismatch")), 1);
+  EXPECT_EQ(apply("==", tactile::ServoStatus::ForceMismatch, 15), 1);
   EXPECT_EQ(apply("==", uint16_t{3}, 3), 1);
   EXPECT_EQ(apply(">", uint16_t{3}, 5), 0);
   EXPECT_EQ(apply(">", uint16_t{3}, -1), 1);  // compared as int: no clamping of -1

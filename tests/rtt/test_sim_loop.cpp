@@ -96,6 +96,7 @@ Recording runDeployment(const std::string& scene_file, const std::string& progra
   connect(sensor, "raw_frame", features, "raw_frame");
   connect(features, "features", servo, "features");
   connect(robot, "flange_pose", servo, "flange_pose");
+  connect(robot, "estimated_wrench", servo, "estimated_wrench");  // the force-mismatch watchdog, as the runner
   connect(servo, "pose_command", robot, "pose_command");
 
   // Recorders (buffers large enough for a whole run: nothing is dropped).
@@ -308,6 +309,7 @@ TEST(SimLoopClock, TicksDoNotAllocate) {
   ASSERT_TRUE(sensor.ports()->getPort("raw_frame")->connectTo(features.ports()->getPort("raw_frame"), data));
   ASSERT_TRUE(features.ports()->getPort("features")->connectTo(servo.ports()->getPort("features"), data));
   ASSERT_TRUE(robot.ports()->getPort("flange_pose")->connectTo(servo.ports()->getPort("flange_pose"), data));
+  ASSERT_TRUE(robot.ports()->getPort("estimated_wrench")->connectTo(servo.ports()->getPort("estimated_wrench"), data));
   ASSERT_TRUE(servo.ports()->getPort("pose_command")->connectTo(robot.ports()->getPort("pose_command"), data));
   ASSERT_TRUE(robot.configure() && sensor.configure() && features.configure() && servo.configure());
   ASSERT_TRUE(clock.configure()) << clock.lastError();

@@ -2,7 +2,7 @@
 // commanded before the servo has a valid measured pose, the servo's first
 // command IS that measured pose, and the arm never moves further than the
 // program's steps allow (none before the first command, none with the first,
-// at most one max_trans_step / max_rot_step per later command).
+// at most max_trans_speed / max_rot_speed times the servo period per later command).
 //
 //  * Sim loop: arm (LwrSimComponent), sensor (WtsSimComponent), features (FeatureComponent), servo
 //    (ServoComponent) started in all 24 orders, 20 ms apart, each on a
@@ -97,7 +97,8 @@ struct Steps {
 Steps programSteps() {
   tactile::ServoParams p;
   EXPECT_TRUE(tactile::loadServoProgram(kProgram, p).ok());
-  return {p.safety.max_trans_step, p.safety.max_rot_step, p.sensor_mount.p.Norm()};
+  const double period = 0.01;  // the servo's period here: every 10 ticks of 1 ms
+  return {p.safety.max_trans_speed * period, p.safety.max_rot_speed * period, p.sensor_mount.p.Norm()};
 }
 
 double transDist(const Pose& a, const Pose& b) {

@@ -19,11 +19,13 @@ namespace {
 
 const std::string kScenes = std::string(TACTILE_SOURCE_DIR) + "/sim/scenes/";
 
-RunResult runScene(const std::string& name, ControllerMode mode = ControllerMode::Proposed, Scene* out = nullptr) {
+RunResult runScene(const std::string& name, ControllerMode mode = ControllerMode::Proposed, Scene* out = nullptr,
+                   bool force_mismatch_watchdog = true) {
   Scene sc;
   const ConfigResult r = loadScene(kScenes + name, sc);
   EXPECT_TRUE(r.ok()) << r.message();
   sc.controller = mode;
+  if (!force_mismatch_watchdog) sc.servo.watchdogs.mismatch_window_s = 0.0;
   Runner runner;
   const ConfigResult c = runner.configure(sc);
   EXPECT_TRUE(c.ok()) << c.message();
@@ -121,7 +123,8 @@ TEST(Experiments, EdgeExplorationThroughFri) {
 // near 5 N while sliding at >= 10 mm/s; the Li et al. baseline drifts far.
 TEST(Experiments, BentBarProposedHoldsTheForceBaselineDrifts) {
   const RunResult p = runScene("bent_bar.yaml", ControllerMode::Proposed);
-  const RunResult b = runScene("bent_bar.yaml", ControllerMode::Baseline);
+  // The baseline's drift, watched to the end: its force-mismatch watchdog off.
+  const RunResult b = runScene("bent_bar.yaml", ControllerMode::Baseline, nullptr, false);
   EXPECT_EQ(p.summary.status, "ok");
   EXPECT_GE(p.summary.slide_speed_mps, 0.010);
   EXPECT_GE(p.summary.path_length_m, 0.2);
@@ -150,6 +153,13 @@ TEST(Experiments, BentBarProposedHoldsTheForceBaselineDrifts) {
   double housing = 0;
   for (const auto& row : b.rows) housing = std::max(housing, row.housing_force);
   EXPECT_GT(housing, 10.0);
+  // With the watchdog on (the shipped program), the baseline run does not end
+  // `ok`: the arm's estimated wrench contradicts the tactile force (the rigid
+  // housing carries load the taxels do not see) and the servo stops it.
+  const RunResult w = runScene("bent_bar.yaml", ControllerMode::Baseline);
+  EXPECT_EQ(w.summary.status, "servo_force_mismatch");
+  EXPECT_EQ(w.summary.exit_code, 7);
+  EXPECT_LT(w.summary.force_true_max_n, b.summary.force_true_max_n);
 }
 
 // (c) Co-manipulation (Sec. 5.3, Fig. 14): after the weight moves, the arm
@@ -344,7 +354,7 @@ TEST(Runner, AnUnstableRunStopsWithAStatusAndANonZeroExitCode) {
   // A huge feed-forward towards the table in the free-motion phase, and no
   // contact detection (threshold above any taxel force): nothing stops it but safety.
   sc.servo.phases[0].feedforward(2) = 0.05;
-  sc.servo.safety.max_trans_step = 0.001;
+  sc.servo.safety.max_trans_speed = 0.1;  // m/s
   sc.features.contact_threshold = 1e6;
   Runner runner;
   ASSERT_TRUE(runner.configure(sc).ok());

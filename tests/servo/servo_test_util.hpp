@@ -70,23 +70,30 @@ inline ContactFeatures makeFeatures(double t, double cop_x, double cop_y, double
   return f;
 }
 
-/// A phase with every axis selected (P = I) and the given gains; wide limits.
+/// The servo period the tests step at (s): the values below are given per
+/// cycle of it and converted to the servo's per-second units.
+constexpr double kTestPeriod = 0.01;
+
+/// A phase with every axis selected (P = I) and the given gains, per cycle of
+/// kTestPeriod (kp: increment per unit error per cycle; ki: per cycle per
+/// second of integral), i.e. K_P = kp / kTestPeriod (1/s), K_I = ki /
+/// kTestPeriod (1/s^2); wide limits (1 per cycle).
 inline PhaseParams identityPhase(const std::string& name, double kp, double ki) {
   PhaseParams ph;
   ph.name = name;
   ph.P = Mat6::Identity();
-  ph.kp = Vec6::Constant(kp);
-  ph.ki = Vec6::Constant(ki);
-  ph.integral_limit = Vec6::Constant(1.0);
-  ph.u_max = Vec6::Constant(1.0);
+  ph.kp = Vec6::Constant(kp / kTestPeriod);
+  ph.ki = Vec6::Constant(ki / kTestPeriod);
+  ph.integral_limit = Vec6::Constant(1.0 / kTestPeriod);
+  ph.u_max = Vec6::Constant(1.0 / kTestPeriod);
   return ph;
 }
 
 inline ServoParams singlePhase(const PhaseParams& ph) {
   ServoParams p;
   p.phases.push_back(ph);
-  p.safety.max_trans_step = 0.01;
-  p.safety.max_rot_step = 0.1;
+  p.safety.max_trans_speed = 0.01 / kTestPeriod;  // 10 mm per cycle
+  p.safety.max_rot_speed = 0.1 / kTestPeriod;     // 0.1 rad per cycle
   p.safety.force_ceiling = 1e6;
   return p;
 }

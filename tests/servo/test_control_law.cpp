@@ -67,7 +67,7 @@ TEST(ControlLaw, Eq9ProjectionAndEq13PiHandComputed) {
 
 TEST(ControlLaw, Eq13IntegratorClampOutputLimitAndFeedForward) {
   PhaseParams ph = identityPhase("p", 0.0, 10.0);
-  ph.integral_limit = Vec6::Constant(1e-4);
+  ph.integral_limit = Vec6::Constant(1e-4 / kTestPeriod);  // 0.1 mm per cycle
   ph.feedforward << 0, 0, 0.1, 0, 0, 0;  // 1 mm per 10 ms
   ServoControlLaw law = configured(singlePhase(ph));
   Vec6 task = Vec6::Zero();
@@ -75,9 +75,9 @@ TEST(ControlLaw, Eq13IntegratorClampOutputLimitAndFeedForward) {
   Vec6 u;
   for (int k = 0; k < 200; ++k) u = law.increment(0, task, 0.01);
   EXPECT_NEAR(u(kZ), 1e-4 + 0.001, 1e-15);   // clamped |K_I ∫| plus feed-forward (S_z = +1)
-  EXPECT_NEAR(law.integral()(kZ), 1e-5, 1e-18);  // = integral_limit / K_I
+  EXPECT_NEAR(law.integral()(kZ), 1e-5, 1e-18);  // = integral_limit / K_I (m s)
   ph = identityPhase("p", 1.0, 0.0);
-  ph.u_max = Vec6::Constant(2e-4);
+  ph.u_max = Vec6::Constant(2e-4 / kTestPeriod);
   ServoControlLaw lim = configured(singlePhase(ph));
   EXPECT_DOUBLE_EQ(lim.increment(0, task, 0.01)(kZ), 2e-4);
   EXPECT_EQ(lim.integral()(kZ), 0.0);  // K_I = 0: no integral kept
@@ -116,7 +116,7 @@ TEST(ControlLaw, ConfigurationErrorsNameTheKey) {
   EXPECT_NE(law.configure(q).message().find("motion_sign.wy"), std::string::npos);
   q = p;
   q.phases[0].ki(kY) = -1.0;
-  EXPECT_NE(law.configure(q).message().find("phases.p.ki.y"), std::string::npos);
+  EXPECT_NE(law.configure(q).message().find("phases.p.ki_per_s2.y"), std::string::npos);
   q = p;
   q.phases[0].feedforward(kZ) = 0.6;
   EXPECT_NE(law.configure(q).message().find("[-0.5, 0.5]"), std::string::npos);

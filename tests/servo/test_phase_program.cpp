@@ -1,5 +1,5 @@
 // tactile::PhaseProgram alone: transitions on every event in listed order,
-// `cycles` streaks, requests, reset, configuration errors, no allocation.
+// `for_s` streaks (the same held time at every servo rate), requests, reset, configuration errors, no allocation.
 #include "alloc_counter.hpp"
 #include "servo_test_util.hpp"
 #include "tactile_servo/phase_program.hpp"
@@ -9,12 +9,13 @@ using namespace servo_test;
 
 namespace {
 
+/// `cycles`: the condition must hold for that many cycles of kTestPeriod (for_s).
 PhaseParams phaseOn(const std::string& n, TransitionEvent on, const std::string& to, int cycles = 1) {
   PhaseParams ph = identityPhase(n, 0.0, 0.0);
   TransitionParams t;
   t.on = on;
   t.to = to;
-  t.cycles = cycles;
+  t.for_s = cycles * kTestPeriod;
   ph.transitions.push_back(t);
   return ph;
 }
@@ -38,9 +39,9 @@ ServoParams chain() {
 }
 
 // One evaluation; enters the target like TactileServo does.
-int stepOnce(PhaseProgram& prog, const ContactFeatures& f, const Vec6& e, double now) {
+int stepOnce(PhaseProgram& prog, const ContactFeatures& f, const Vec6& e, double now, double dt = kTestPeriod) {
   int target = -1;
-  if (prog.evaluate(f, e, now, 1.0 / 1800.0, target)) prog.enter(target, now);
+  if (prog.evaluate(f, e, now, dt, 1.0 / 1800.0, target)) prog.enter(target, now);
   return prog.current();
 }
 
@@ -80,6 +81,29 @@ TEST(PhaseProgram, EveryEventFiresInOrderWithStreaks) {
   EXPECT_TRUE(prog.terminal(prog.current()));
   EXPECT_TRUE(prog.freeMotion(prog.current()));
   EXPECT_FALSE(prog.freeMotion(prog.indexOf("a")));
+}
+
+// `for_s` is a time: a condition that must hold 0.2 s fires after 0.2 s of
+// cycles at 50 Hz, 100 Hz and 1 kHz alike (at 100 Hz: the old 20 cycles).
+TEST(PhaseProgram, ForSHoldsTheSameTimeAtEveryServoRate) {
+  for (double dt : {0.02, 0.01, 0.002, 0.001}) {
+    ServoParams p;
+    p.phases.push_back(phaseOn("a", TransitionEvent::Edge, "b"));
+    p.phases[0].transitions[0].for_s = 0.2;
+    p.phases.push_back(identityPhase("b", 0, 0));
+    PhaseProgram prog;
+    ASSERT_TRUE(prog.configure(p).ok());
+    prog.enter(0, 0.0);
+    const ContactFeatures edge = makeFeatures(0, 0, 0, 0.002, 0, 0, 0, ContactType::Edge);
+    const ContactFeatures point = makeFeatures(0, 0, 0, 0.002, 0, 0, 0, ContactType::Point);
+    const int n = static_cast<int>(std::lround(0.2 / dt));
+    double t = 0.0;
+    // A streak broken just before the end restarts the count.
+    for (int k = 0; k < n - 1; ++k) ASSERT_EQ(stepOnce(prog, edge, Vec6::Zero(), t += dt, dt), 0) << dt;
+    ASSERT_EQ(stepOnce(prog, point, Vec6::Zero(), t += dt, dt), 0) << dt;
+    for (int k = 0; k < n - 1; ++k) ASSERT_EQ(stepOnce(prog, edge, Vec6::Zero(), t += dt, dt), 0) << dt << " " << k;
+    EXPECT_EQ(stepOnce(prog, edge, Vec6::Zero(), t += dt, dt), 1) << dt;  // held 0.2 s
+  }
 }
 
 TEST(PhaseProgram, FirstListedTransitionWins) {

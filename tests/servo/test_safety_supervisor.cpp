@@ -22,18 +22,29 @@ SafetySupervisor configured(const SafetyParams& s) {
 
 TEST(SafetySupervisor, StepLimitsScaleKeepingTheDirection) {
   SafetyParams s;
-  s.max_trans_step = 0.0005;
-  s.max_rot_step = 0.01;
+  s.max_trans_speed = 0.05;  // m/s: 0.5 mm per 10 ms cycle
+  s.max_rot_speed = 1.0;     // rad/s: 0.01 rad per cycle
   const SafetySupervisor sup = configured(s);
   Vec6 u;
   u << 0.003, 0.004, 0.0, 0.0, 0.0, 0.02;  // 5 mm, 0.02 rad
-  EXPECT_TRUE(sup.limitStep(u));
+  Vec6 v = u;
+  EXPECT_TRUE(sup.limitStep(u, 0.01));
   EXPECT_NEAR(u(kX), 0.0003, 1e-15);
   EXPECT_NEAR(u(kY), 0.0004, 1e-15);
   EXPECT_NEAR(u(kWZ), 0.01, 1e-15);
+  // The same speed over a 1 ms cycle: a tenth of the step.
+  EXPECT_TRUE(sup.limitStep(v, 0.001));
+  EXPECT_NEAR(v(kX), 0.00003, 1e-15);
+  EXPECT_NEAR(v(kY), 0.00004, 1e-15);
+  EXPECT_NEAR(v(kWZ), 0.001, 1e-15);
+  // A stalled loop (dt = 5 s) moves at most max_step_dt (0.1 s) worth.
+  Vec6 w;
+  w << 0.3, 0.4, 0, 0, 0, 0;
+  EXPECT_TRUE(sup.limitStep(w, 5.0));
+  EXPECT_NEAR(w.head<3>().norm(), 0.005, 1e-15);
   Vec6 small = Vec6::Constant(1e-5);
   const Vec6 keep = small;
-  EXPECT_FALSE(sup.limitStep(small));
+  EXPECT_FALSE(sup.limitStep(small, 0.01));
   EXPECT_EQ(small, keep);
 }
 
@@ -58,22 +69,22 @@ TEST(SafetySupervisor, ForceCeilingLatchesRetreatsThenHolds) {
   SafetyParams s;
   s.force_ceiling = 20.0;
   s.ceiling_retreat = 0.0012;
-  s.max_trans_step = 0.0005;
+  s.max_trans_speed = 0.05;  // 0.5 mm per 10 ms cycle
   SafetySupervisor sup = configured(s);
   ContactFeatures f = makeFeatures(0, 0, 0, 0.002, 0, 0, 0);
   f.force = 19.0;
   double r = -1.0;
-  EXPECT_FALSE(sup.forceCeiling(f, true, r));
+  EXPECT_FALSE(sup.forceCeiling(f, true, 0.01, r));
   EXPECT_EQ(r, 0.0);
   f.force = 25.0;
   ContactFeatures bad = f;
   bad.status = FeatureStatus::InvalidInput;  // unusable features do not trip it
-  EXPECT_FALSE(sup.forceCeiling(bad, true, r));
-  EXPECT_FALSE(sup.forceCeiling(f, false, r));  // nor non-finite ones
+  EXPECT_FALSE(sup.forceCeiling(bad, true, 0.01, r));
+  EXPECT_FALSE(sup.forceCeiling(f, false, 0.01, r));  // nor non-finite ones
   double total = 0.0;
   std::vector<double> steps;
   for (int k = 0; k < 6; ++k) {
-    EXPECT_TRUE(sup.forceCeiling(f, true, r));
+    EXPECT_TRUE(sup.forceCeiling(f, true, 0.01, r));
     steps.push_back(r);
     total += r;
     f.force = 1.0;  // latched: the force going back down changes nothing
@@ -85,7 +96,7 @@ TEST(SafetySupervisor, ForceCeilingLatchesRetreatsThenHolds) {
   EXPECT_NEAR(total, 0.0012, 1e-15);
   EXPECT_TRUE(sup.ceilingLatched());
   sup.clearCeiling();
-  EXPECT_FALSE(sup.forceCeiling(f, true, r));
+  EXPECT_FALSE(sup.forceCeiling(f, true, 0.01, r));
 }
 
 TEST(SafetySupervisor, StaleOrUnusableFeatures) {
@@ -112,7 +123,7 @@ TEST(SafetySupervisor, ContactLossHoldBackoffSearch) {
   for (ContactLossMode mode : {ContactLossMode::Hold, ContactLossMode::Backoff, ContactLossMode::Search}) {
     SafetyParams s;
     s.contact_loss = mode;
-    s.max_trans_step = 0.0005;
+    s.max_trans_speed = 0.05;  // 0.5 mm per 10 ms cycle
     s.backoff_distance = 0.0012;
     s.search_speed = 0.02;  // 0.2 mm per 10 ms
     s.search_max_distance = 0.0005;
@@ -143,8 +154,8 @@ TEST(SafetySupervisor, ConfigurationErrorsNameTheKeyAndRange) {
   p.source = "prog.yaml";
   SafetySupervisor sup;
   ServoParams q = p;
-  q.safety.max_trans_step = 0.02;
-  EXPECT_NE(sup.configure(q).message().find("prog.yaml: safety.max_trans_step = 0.02: must be in (0, 0.01]"),
+  q.safety.max_trans_speed = 2.0;
+  EXPECT_NE(sup.configure(q).message().find("prog.yaml: safety.max_trans_speed = 2: must be in (0, 1] m/s"),
             std::string::npos) << sup.configure(q).message();
   q = p;
   q.safety.workspace_min[1] = 3.0;
@@ -166,10 +177,10 @@ TEST(SafetySupervisor, NoAllocationPerCycle) {
   for (int k = 0; k < 1000; ++k) {
     double r = 0.0;
     f.force = k % 100 == 50 ? 100.0 : 5.0;
-    sup.forceCeiling(f, true, r);
+    sup.forceCeiling(f, true, 0.01, r);
     if (k % 200 == 0) sup.clearCeiling();
     Vec6 u = Vec6::Constant(0.001 * (k % 5));
-    sup.limitStep(u);
+    sup.limitStep(u, 0.001 * (k % 20));
     KDL::Frame T(KDL::Vector(0.0, 0.0, 3.0));
     sup.clipWorkspace(KDL::Vector(), T);
     sink += r + u.sum() + T.p.z() + sup.contactLoss(0.01) + (sup.stale(f, 0.01 * k) ? 1.0 : 0.0);

@@ -139,10 +139,12 @@ TEST(ServoEquations, Eq13PiAndMotionSignHandComputed) {
 
 TEST(ServoEquations, Eq13IntegratorClampAndOutputLimit) {
   PhaseParams ph = identityPhase("p", 0.0, 10.0);
-  ph.integral_limit = Vec6::Constant(1e-4);  // |K_I ∫| <= 0.1 mm per cycle
+  ph.integral_limit = Vec6::Constant(1e-4 / kTestPeriod);  // |K_I ∫| <= 0.1 mm per cycle (10 mm/s)
   ph.s_d(kZ) = 0.01;                          // Δd_z = 0.01 - 0.001 = 0.009 m
   TactileServo s;
-  ASSERT_TRUE(s.configure(singlePhase(ph)).ok());
+  ServoParams sp = singlePhase(ph);
+  sp.watchdogs.stall_window_s = 0.0;  // no arm here: the measured pose never moves
+  ASSERT_TRUE(s.configure(sp).ok());
   ServoInput in;
   in.flange_measured = Pose();
   ServoOutput out;
@@ -151,10 +153,10 @@ TEST(ServoEquations, Eq13IntegratorClampAndOutputLimit) {
     in.features = makeFeatures(in.time_s, 0, 0, 0.001, 0, 0, 0, ContactType::Point);
     s.step(in, 0.01, out);
   }
-  EXPECT_NEAR(out.u_s(kZ), 1e-4, 1e-15);  // clamped (unclamped: 10 * 0.009 * 2 = 0.18 m)
+  EXPECT_NEAR(out.u_s(kZ), 1e-4, 1e-15);  // clamped (unclamped: 10 * 0.009 * 2 = 0.18 m per cycle)
   // u_max caps the PI output per axis.
   ph = identityPhase("p", 1.0, 0.0);
-  ph.u_max = Vec6::Constant(2e-4);
+  ph.u_max = Vec6::Constant(2e-4 / kTestPeriod);  // 0.2 mm per cycle
   ph.s_d(kZ) = 0.01;
   ASSERT_TRUE(s.configure(singlePhase(ph)).ok());
   in.features.time_s = in.time_s = 0;

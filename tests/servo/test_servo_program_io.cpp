@@ -25,7 +25,7 @@ std::string program(const std::string& phase1_extra, const std::string& phase2 =
          "    transitions: [{on: contact, to: hold}]\n" +
          phase1_extra +
          "  - name: hold\n" +
-         (phase2.empty() ? std::string("    P: {y: 1, z: 1}\n    kp: {y: 0.03, z: 0.03}\n") : phase2);
+         (phase2.empty() ? std::string("    P: {y: 1, z: 1}\n    kp_per_s: {y: 3, z: 3}\n") : phase2);
 }
 
 void expectRejected(const std::string& name, const std::string& text, std::initializer_list<const char*> parts) {
@@ -46,9 +46,11 @@ TEST(ServoProgramIo, ShippedProgramsLoadAndConfigure) {
     ASSERT_TRUE(r.ok()) << r.message();
     TactileServo s;
     EXPECT_TRUE(s.configure(p).ok());
-    // Default limits: below 1 mm and 0.5 deg per cycle.
-    EXPECT_LE(p.safety.max_trans_step, 0.001);
-    EXPECT_LE(p.safety.max_rot_step, 0.5 * kPi / 180 + 1e-12);
+    // Shipped speed limits: at most 0.1 m/s and 50 deg/s (0.5 mm, 0.5 deg per 10 ms).
+    EXPECT_LE(p.safety.max_trans_speed, 0.1);
+    EXPECT_LE(p.safety.max_rot_speed, 50.0 * kPi / 180 + 1e-12);
+    for (const PhaseParams& ph : p.phases)
+      for (const TransitionParams& t : ph.transitions) EXPECT_GE(t.for_s, 0.0);
   }
   ServoParams p = loadShipped("edge_exploration.yaml");
   EXPECT_EQ(p.initial_phase, "free_motion");
@@ -58,7 +60,9 @@ TEST(ServoProgramIo, ShippedProgramsLoadAndConfigure) {
   EXPECT_NEAR(p.sensor_mount.p.z(), 0.03, 1e-15);
   EXPECT_NEAR(p.phases[0].feedforward(kZ), 0.01, 1e-15);
   EXPECT_EQ(p.phases[2].transitions[0].on, TransitionEvent::Aligned);
-  EXPECT_EQ(p.phases[2].transitions[0].cycles, 20);
+  EXPECT_DOUBLE_EQ(p.phases[2].transitions[0].for_s, 0.2);  // 20 cycles at 100 Hz
+  EXPECT_DOUBLE_EQ(p.phases[1].kp(kWY), 20.0);                // 1/s
+  EXPECT_DOUBLE_EQ(p.safety.max_trans_speed, 0.05);           // m/s
   EXPECT_EQ(p.phases[2].transitions[0].tolerance[kTolAlphaZ], 0.035);
   EXPECT_EQ(p.phases[2].transitions[0].tolerance[kTolCocX], -1.0);  // unused
 }
@@ -72,7 +76,7 @@ TEST(ServoProgramIo, AlternativeFormsParse) {
       "    jacobian: {point: [[1,0,0,0,0,0],[0,1,0,0,0,0],[0,0,1,0,0,0],[0,0,0,0,0,0],[0,0,0,0,0,0],[0,0,0,0,0,0]],\n"
       "               edge:  [[1,0,0,0,0,0],[0,1,0,0,0,0],[0,0,1,0,0,0],[0,1,0,0,-0.5,0],[1,0,0,-0.5,0,0],[0,0,0,0,0,1]]}\n"
       "    P: [[1,0,0,0,0,0],[0,1,0,0,0,0],[0,0,1,0,0,0],[0,0,0,1,0,0],[0,0,0,0,1,0],[0,0,0,0,0,1]]\n"
-      "    kp: [0.1, 0.1, 0.1, 1, 1, 0.1]\n";
+      "    kp_per_s: [0.1, 0.1, 0.1, 1, 1, 0.1]\n";
   ServoParams p;
   const ConfigResult r = loadServoProgram(writeTemp("alt", text), p);
   ASSERT_TRUE(r.ok()) << r.message();
@@ -95,8 +99,8 @@ TEST(ServoProgramIo, BadProgramsNameFilePhaseField) {
                  program("", "    P: [[1,0,0,0,0,0],[0,1,0,0,0],[0,0,1,0,0,0],[0,0,0,1,0,0],[0,0,0,0,1,0],[0,0,0,0,0,1]]\n"),
                  {"phases.hold", "P.1", "6 entries"});
   expectRejected("short_sd", program("", "    s_d: [0, 0, 0, 0, 0]\n"), {"phases.hold", "s_d", "6 entries"});
-  expectRejected("negative_kp", program("", "    ki: {wy: -0.5}\n"), {"phases.hold", "ki.wy", "-0.5", ">= 0"});
-  expectRejected("negative_default", "phase_defaults: {kp: {x: -1}}\n" + program(""), {"phase_defaults.kp.x"});
+  expectRejected("negative_kp", program("", "    ki_per_s2: {wy: -0.5}\n"), {"phases.hold", "ki_per_s2.wy", "-0.5", ">= 0"});
+  expectRejected("negative_default", "phase_defaults: {kp_per_s: {x: -1}}\n" + program(""), {"phase_defaults.kp_per_s.x"});
   expectRejected("unknown_target", program("", "    transitions: [{on: contact_lost, to: nowhere}]\n"),
                  {"phases.hold", "transitions[0].to", "nowhere", "unknown phase"});
   expectRejected("unreachable",
@@ -114,11 +118,32 @@ TEST(ServoProgramIo, BadProgramsNameFilePhaseField) {
   expectRejected("duplicate", program("", "    P: {z: 1}\n  - name: hold\n"), {"phases.hold", "duplicate"});
   expectRejected("bad_sign", "controller: {motion_sign: {x: 2}}\n" + program(""), {"motion_sign.x", "+1 or -1"});
   expectRejected("bad_initial", "controller: {initial_phase: zzz}\n" + program(""), {"initial_phase", "zzz"});
-  expectRejected("bad_safety", "safety: {max_trans_step: -1}\n" + program(""), {"safety.max_trans_step", "(0, 0.01]"});
+  expectRejected("bad_safety", "safety: {max_trans_speed: -1}\n" + program(""), {"safety.max_trans_speed", "(0, 1] m/s"});
+  expectRejected("bad_for_s", program("", "    transitions: [{on: contact_lost, to: approach, for_s: -0.1}]\n"),
+                 {"phases.hold", "transitions[0].for_s", "[0, 3600] s"});
+  expectRejected("bad_max_duration", program("", "    max_duration_s: -1\n"), {"phases.hold", "max_duration_s", ">= 0"});
   expectRejected("bad_loss", "safety: {contact_loss: {mode: pray}}\n" + program(""), {"contact_loss.mode", "pray"});
-  expectRejected("not_a_number", program("", "    kp: {y: fast}\n"), {"phases.hold", "kp.y", "fast"});
+  expectRejected("not_a_number", program("", "    kp_per_s: {y: fast}\n"), {"phases.hold", "kp_per_s.y", "fast"});
   expectRejected("no_phases", "controller: {mode: proposed}\n", {"phases", "non-empty"});
   expectRejected("yaml_syntax", "phases: [ {name: a\n", {"YAML error"});
+}
+
+// Rates in physical units: the per-cycle keys of earlier programs are rejected
+// (never silently reinterpreted as per second), naming the file, the key and
+// its replacement with the unit.
+TEST(ServoProgramIo, PerCycleKeysAreRejectedNamingTheNewKey) {
+  expectRejected("old_kp", program("", "    kp: {y: 0.03}\n"), {"phases.hold.kp", "kp_per_s", "1/s", "per-cycle"});
+  expectRejected("old_ki", program("", "    ki: {y: 0.02}\n"), {"phases.hold.ki", "ki_per_s2", "1/s^2"});
+  expectRejected("old_ilim", program("", "    integral_limit: {y: 0.0002}\n"),
+                 {"phases.hold.integral_limit", "integral_limit_per_s", "m/s"});
+  expectRejected("old_umax", program("", "    u_max: {y: 0.0005}\n"), {"phases.hold.u_max", "u_max_per_s", "m/s"});
+  expectRejected("old_default", "phase_defaults: {kp: {x: 0.03}}\n" + program(""), {"phase_defaults.kp", "kp_per_s"});
+  expectRejected("old_cycles", program("", "    transitions: [{on: contact_lost, to: approach, cycles: 50}]\n"),
+                 {"phases.hold.transitions[0].cycles", "for_s", "cycles 20 at 100 Hz = for_s 0.2"});
+  expectRejected("old_trans_step", "safety: {max_trans_step: 0.0005}\n" + program(""),
+                 {"safety.max_trans_step", "max_trans_speed", "m/s"});
+  expectRejected("old_rot_step", "safety: {max_rot_step_deg: 0.5}\n" + program(""),
+                 {"safety.max_rot_step_deg", "max_rot_speed_deg", "deg/s"});
 }
 
 TEST(ServoProgramIo, MissingFileIsReported) {

@@ -76,8 +76,8 @@ TEST(ServoSafety, HugeGainsBoundedByStepLimits) {
   ServoParams p = singlePhase(identityPhase("p", 1e12, 1e12));
   p.phases[0].u_max = Vec6::Constant(1e9);
   p.phases[0].integral_limit = Vec6::Constant(1e9);
-  p.safety.max_trans_step = 0.0005;
-  p.safety.max_rot_step = 0.5 * kPi / 180;
+  p.safety.max_trans_speed = 0.05;            // 0.5 mm per 10 ms cycle
+  p.safety.max_rot_speed = 50.0 * kPi / 180;  // 0.5 deg per cycle
   Rig r(p);
   r.start();
   for (int k = 0; k < 50; ++k) {
@@ -186,7 +186,7 @@ TEST(ServoSafety, ForceCeilingRetreatsAlongMinusZsAndLatches) {
   p.phases[0].name = "servo";
   p.safety.force_ceiling = 20.0;
   p.safety.ceiling_retreat = 0.004;
-  p.safety.max_trans_step = 0.0005;
+  p.safety.max_trans_speed = 0.05;  // 0.5 mm per 10 ms cycle
   p.sensor_mount = KDL::Frame(KDL::Rotation::RotY(0.3), KDL::Vector(0.01, 0, 0.03));
   Rig r(p);
   r.step();
@@ -214,7 +214,7 @@ TEST(ServoSafety, ContactLossHoldBackoffSearch) {
     p.safety.backoff_distance = 0.003;
     p.safety.search_speed = 0.02;          // 0.2 mm per 10 ms cycle
     p.safety.search_max_distance = 0.002;
-    p.safety.max_trans_step = 0.0005;
+    p.safety.max_trans_speed = 0.05;       // 0.5 mm per cycle
     Rig r(p);
     r.step();
     const Pose before = r.out.command.pose;
@@ -299,7 +299,7 @@ TEST(ServoSafety, TransitionsOnEvents) {
   p.phases.push_back(phase("a", TransitionEvent::Contact, "b"));
   p.phases.push_back(phase("b", TransitionEvent::Edge, "c"));
   p.phases.push_back(phase("c", TransitionEvent::Aligned, "d"));
-  p.phases[2].transitions[0].cycles = 5;
+  p.phases[2].transitions[0].for_s = 0.05;  // 5 cycles of 10 ms
   p.phases[2].transitions[0].tolerance[kTolAlphaZ] = 0.01;
   p.phases[2].transitions[0].tolerance[kTolForce] = 0.5;
   p.phases.push_back(phase("d", TransitionEvent::ForceAbove, "e"));
@@ -307,7 +307,7 @@ TEST(ServoSafety, TransitionsOnEvents) {
   p.phases.push_back(phase("e", TransitionEvent::Timeout, "f"));
   p.phases[4].transitions[0].timeout_s = 0.1;
   p.phases.push_back(phase("f", TransitionEvent::ContactLost, "g"));
-  p.phases[5].transitions[0].cycles = 3;
+  p.phases[5].transitions[0].for_s = 0.03;  // 3 cycles
   p.phases.push_back(identityPhase("g", 0, 0));
   p.phases.back().terminal = true;
   Rig r(p);
@@ -448,15 +448,18 @@ TEST(ServoFuzz, RandomInputsNeverProduceNanOrOversizedSteps) {
         s.step(in, dt, out);
         ASSERT_TRUE(poseFinite(out.command.pose)) << file << " step " << k;
         ASSERT_TRUE(out.u_s.allFinite());
-        ASSERT_LE(out.u_s.head<3>().norm(), p.safety.max_trans_step * (1 + 1e-12));
-        ASSERT_LE(out.u_s.tail<3>().norm(), p.safety.max_rot_step * (1 + 1e-12));
+        // The speed limits over this cycle (dt counted at most max_step_dt).
+        const double cyc = dt > 0 ? std::min(dt, p.safety.max_step_dt) : 0.0;
+        const double max_t = p.safety.max_trans_speed * cyc, max_r = p.safety.max_rot_speed * cyc;
+        ASSERT_LE(out.u_s.head<3>().norm(), max_t * (1 + 1e-12));
+        ASSERT_LE(out.u_s.tail<3>().norm(), max_r * (1 + 1e-12));
         const auto& q = out.command.pose.q;
         ASSERT_NEAR(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3], 1.0, 1e-9);
         if (was_valid && mode == PoseUpdate::Integrated) {  // Eq. 15: the command moves by at most one step
           // flange displacement <= translation step + lever arm |{e}p{s}| * rotation step
           ASSERT_LE(transDist(before, out.command.pose),
-                    p.safety.max_trans_step + p.sensor_mount.p.Norm() * p.safety.max_rot_step + 1e-9) << toString(out.command.status)  << " u " << out.u_s.transpose() << " dt " << dt << " phase " << out.phase.name.data() << " before " << before.p[0] << " " << before.p[1] << " " << before.p[2] << " after " << out.command.pose.p[0] << " " << out.command.pose.p[1] << " " << out.command.pose.p[2];
-          ASSERT_LE(rotDist(before, out.command.pose), p.safety.max_rot_step + 1e-9);
+                    max_t + p.sensor_mount.p.Norm() * max_r + 1e-9) << toString(out.command.status)  << " u " << out.u_s.transpose() << " dt " << dt << " phase " << out.phase.name.data() << " before " << before.p[0] << " " << before.p[1] << " " << before.p[2] << " after " << out.command.pose.p[0] << " " << out.command.pose.p[1] << " " << out.command.pose.p[2];
+          ASSERT_LE(rotDist(before, out.command.pose), max_r + 1e-9);
         }
       }
     }
@@ -475,7 +478,7 @@ TEST(ServoStart, NoCommandBeforeAValidPoseThenExactlyTheMeasuredPose) {
   t.timeout_s = 0.1;
   t.to = "second";
   p.phases[0].transitions.push_back(t);
-  p.safety.max_trans_step = 0.0005;
+  p.safety.max_trans_speed = 0.05;
   TactileServo s;
   ASSERT_TRUE(s.configure(p).ok());
   ServoInput in;  // flange_measured = kNoPose: nothing measured yet

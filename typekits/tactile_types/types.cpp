@@ -36,6 +36,9 @@ const char* toString(ServoStatus s) {
     case ServoStatus::ForceCeiling: return "force_ceiling";
     case ServoStatus::InvalidInput: return "invalid_input";
     case ServoStatus::NotConfigured: return "not_configured";
+    case ServoStatus::PhaseTimeout: return "phase_timeout";
+    case ServoStatus::ArmStalled: return "arm_stalled";
+    case ServoStatus::ForceMismatch: return "force_mismatch";
   }
   return "unknown";
 }

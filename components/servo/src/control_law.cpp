@@ -74,11 +74,11 @@ ConfigResult ServoControlLaw::configure(const ServoParams& p) {
     if (!ph.P.allFinite()) return err(p, nm, "P", "non-finite", "must be finite");
     for (int a = 0; a < 6; ++a) {
       const std::string ax = kAxisNames[a];
-      if (!(std::isfinite(ph.kp(a)) && ph.kp(a) >= 0)) return err(p, nm, "kp." + ax, ph.kp(a), "must be >= 0 (per cycle)");
-      if (!(std::isfinite(ph.ki(a)) && ph.ki(a) >= 0)) return err(p, nm, "ki." + ax, ph.ki(a), "must be >= 0 (1/s)");
+      if (!(std::isfinite(ph.kp(a)) && ph.kp(a) >= 0)) return err(p, nm, "kp_per_s." + ax, ph.kp(a), "must be >= 0 (1/s)");
+      if (!(std::isfinite(ph.ki(a)) && ph.ki(a) >= 0)) return err(p, nm, "ki_per_s2." + ax, ph.ki(a), "must be >= 0 (1/s^2)");
       if (!(std::isfinite(ph.integral_limit(a)) && ph.integral_limit(a) >= 0))
-        return err(p, nm, "integral_limit." + ax, ph.integral_limit(a), "must be >= 0 (m or rad per cycle)");
-      if (!(ph.u_max(a) > 0)) return err(p, nm, "u_max." + ax, ph.u_max(a), "must be > 0 (m or rad per cycle)");
+        return err(p, nm, "integral_limit_per_s." + ax, ph.integral_limit(a), "must be >= 0 (m/s or rad/s)");
+      if (!(ph.u_max(a) > 0)) return err(p, nm, "u_max_per_s." + ax, ph.u_max(a), "must be > 0 (m/s or rad/s)");
       if (!std::isfinite(ph.feedforward(a)) || std::fabs(ph.feedforward(a)) > 0.5)
         return err(p, nm, "feedforward." + ax, ph.feedforward(a), "must be in [-0.5, 0.5] (m/s or rad/s)");
     }
@@ -134,7 +134,10 @@ Vec6 ServoControlLaw::project(int phase, const Vec6& error) const {
 
 Vec6 ServoControlLaw::increment(int phase, const Vec6& task, double dt) {
   const Phase& ph = phases_[static_cast<std::size_t>(phase)];
-  // Eq. 13: PI per axis, integrator clamped so that |K_I ∫| <= integral_limit.
+  // Eq. 13 as a rate: PI per axis (K_P in 1/s, K_I in 1/s^2), integrator
+  // clamped so that |K_I ∫| <= integral_limit (m/s or rad/s), the rate
+  // clamped to u_max, then integrated over the cycle: u = (S rate + v_ff) dt.
+  // The motion per second is therefore independent of the servo rate.
   integral_ += task * dt;
   for (int a = 0; a < 6; ++a) {
     if (ph.ki(a) > 0.0) {
@@ -144,9 +147,9 @@ Vec6 ServoControlLaw::increment(int phase, const Vec6& task, double dt) {
       integral_(a) = 0.0;
     }
   }
-  Vec6 pi = ph.kp.cwiseProduct(task) + ph.ki.cwiseProduct(integral_);
-  pi = pi.cwiseMax(-ph.u_max).cwiseMin(ph.u_max);
-  return motion_sign_.cwiseProduct(pi) + ph.ff * dt;
+  Vec6 rate = ph.kp.cwiseProduct(task) + ph.ki.cwiseProduct(integral_);
+  rate = rate.cwiseMax(-ph.u_max).cwiseMin(ph.u_max);
+  return (motion_sign_.cwiseProduct(rate) + ph.ff) * dt;
 }
 
 KDL::Frame ServoControlLaw::apply(const KDL::Frame& base, const Vec6& u_s) const {

@@ -40,11 +40,14 @@ ConfigResult PhaseProgram::configure(const ServoParams& p) {
       return err(p, "[" + std::to_string(i) + "]", "name", "'" + nm + "'",
                  "must have 1.." + std::to_string(kPhaseNameLen - 1) + " characters");
     if (indexOfName(nm) != i) return err(p, nm, "name", nm, "duplicate phase name");
+    if (!(std::isfinite(ph.max_duration_s) && ph.max_duration_s >= 0))
+      return err(p, nm, "max_duration_s", ph.max_duration_s, "must be >= 0 (s; 0 = no limit)");
     for (std::size_t t = 0; t < ph.transitions.size(); ++t) {
       const TransitionParams& tr = ph.transitions[t];
       const std::string f = "transitions[" + std::to_string(t) + "]";
       if (indexOfName(tr.to) < 0) return err(p, nm, f + ".to", "'" + tr.to + "'", "unknown phase");
-      if (tr.cycles < 1) return err(p, nm, f + ".cycles", tr.cycles, "must be >= 1");
+      if (!(std::isfinite(tr.for_s) && tr.for_s >= 0 && tr.for_s <= 3600))
+        return err(p, nm, f + ".for_s", tr.for_s, "must be in [0, 3600] s");
       if (tr.on == TransitionEvent::Aligned) {
         bool any = false;
         for (int k = 0; k < kNumTol; ++k) {
@@ -96,7 +99,7 @@ ConfigResult PhaseProgram::configure(const ServoParams& p) {
     q.first_transition = static_cast<int>(transitions_.size());
     q.num_transitions = static_cast<int>(ph.transitions.size());
     for (const TransitionParams& tr : ph.transitions)
-      transitions_.push_back({tr.on, indexOfName(tr.to), tr.cycles, tr.tolerance, tr.timeout_s, tr.force_n, 0});
+      transitions_.push_back({tr.on, indexOfName(tr.to), tr.for_s, tr.tolerance, tr.timeout_s, tr.force_n, 0.0, false});
     phases_.push_back(q);
   }
   initial_ = init;
@@ -109,7 +112,7 @@ void PhaseProgram::reset() {
   current_ = initial_;
   pending_ = -1;
   entered_ = false;
-  for (Transition& t : transitions_) t.count = 0;
+  for (Transition& t : transitions_) t.held_s = 0.0, t.holding = false;
 }
 
 int PhaseProgram::indexOf(const char* name) const {
@@ -130,10 +133,14 @@ void PhaseProgram::enter(int index, double now) {
   t_enter_ = now;
   entered_ = true;
   const Phase& ph = phases_[static_cast<std::size_t>(index)];
-  for (int k = 0; k < ph.num_transitions; ++k) transitions_[static_cast<std::size_t>(ph.first_transition + k)].count = 0;
+  for (int k = 0; k < ph.num_transitions; ++k) {
+    Transition& t = transitions_[static_cast<std::size_t>(ph.first_transition + k)];
+    t.held_s = 0.0;
+    t.holding = false;
+  }
 }
 
-bool PhaseProgram::evaluate(const ContactFeatures& f, const Vec6& e, double now, double c_z, int& target) {
+bool PhaseProgram::evaluate(const ContactFeatures& f, const Vec6& e, double now, double dt, double c_z, int& target) {
   const Phase& ph = phases_[static_cast<std::size_t>(current_)];
   const bool contact = hasContact(f);
   for (int k = 0; k < ph.num_transitions; ++k) {
@@ -158,8 +165,12 @@ bool PhaseProgram::evaluate(const ContactFeatures& f, const Vec6& e, double now,
         break;
       }
     }
-    t.count = cond ? t.count + 1 : 0;
-    if (t.count >= t.cycles) {
+    // Held time: each cycle the condition holds counts its dt (the first one
+    // included), so `for_s` means the same at every servo rate. 1 us slack
+    // absorbs the rounding of sums of dt.
+    t.held_s = cond ? (t.holding ? t.held_s + dt : dt) : 0.0;
+    t.holding = cond;
+    if (cond && t.held_s >= t.for_s - 1e-6) {
       target = t.to;
       return true;
     }

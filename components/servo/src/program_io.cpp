@@ -29,6 +29,27 @@ bool number(const YAML::Node& n, double& v) {
   return true;
 }
 
+/// The per-cycle keys of earlier programs are rejected, never reinterpreted:
+/// the error names the key and its replacement in physical units.
+struct Renamed {
+  const char* old_key;
+  const char* new_key;
+  const char* how;
+};
+const Renamed kRenamedGains[] = {
+    {"kp", "kp_per_s", "1/s; = per-cycle kp x servo rate (x100 at 100 Hz)"},
+    {"ki", "ki_per_s2", "1/s^2; = old ki (1/s) x servo rate"},
+    {"integral_limit", "integral_limit_per_s", "m/s or rad/s; = per-cycle limit x servo rate"},
+    {"u_max", "u_max_per_s", "m/s or rad/s; = per-cycle limit x servo rate"}};
+
+ConfigResult rejectRenamed(const YAML::Node& n, const config::Where& w, const Renamed* r, std::size_t count) {
+  for (std::size_t i = 0; i < count; ++i)
+    if (n[r[i].old_key])
+      return ConfigResult::failure(w.child(r[i].old_key).str() + ": per-cycle key no longer accepted: use '" +
+                                   r[i].new_key + "' (" + r[i].how + ")");
+  return ConfigResult::success();
+}
+
 std::string list(const char* const* names, int n) {
   std::string s;
   for (int i = 0; i < n; ++i) s += std::string(i ? ", " : "") + names[i];
@@ -88,20 +109,26 @@ ConfigResult readFrame(const YAML::Node& n, const Where& w, KDL::Frame& f) {
 }
 
 struct Defaults {
-  Vec6 kp = Vec6::Zero(), ki = Vec6::Zero(), ilim = Vec6::Constant(1e-3), umax = Vec6::Constant(1e9);
+  Vec6 kp = Vec6::Zero(), ki = Vec6::Zero(), ilim = Vec6::Constant(0.1), umax = Vec6::Constant(1e9);
+  double max_duration_s = 0.0;
 };
 
+// Gains and limits in physical units (Eq. 13 as a rate, see servo.hpp UNITS).
 ConfigResult readGains(const YAML::Node& n, const Where& w, Vec6& kp, Vec6& ki, Vec6& ilim, Vec6& umax) {
-  ConfigResult r;
-  if (!(r = readVec6(n["kp"], w.child("kp"), kAxisNames, "axis", kp))) return r;
-  if (!(r = readVec6(n["ki"], w.child("ki"), kAxisNames, "axis", ki))) return r;
-  if (!(r = readVec6(n["integral_limit"], w.child("integral_limit"), kAxisNames, "axis", ilim))) return r;
-  if (!(r = readVec6(n["u_max"], w.child("u_max"), kAxisNames, "axis", umax))) return r;
+  ConfigResult r = rejectRenamed(n, w, kRenamedGains, 4);
+  if (!r) return r;
+  if (!(r = readVec6(n["kp_per_s"], w.child("kp_per_s"), kAxisNames, "axis", kp))) return r;
+  if (!(r = readVec6(n["ki_per_s2"], w.child("ki_per_s2"), kAxisNames, "axis", ki))) return r;
+  if (!(r = readVec6(n["integral_limit_per_s"], w.child("integral_limit_per_s"), kAxisNames, "axis", ilim))) return r;
+  if (!(r = readVec6(n["u_max_per_s"], w.child("u_max_per_s"), kAxisNames, "axis", umax))) return r;
   return r;
 }
 
 ConfigResult readTransition(const YAML::Node& n, const Where& w, TransitionParams& t) {
-  ConfigResult r = checkKeys(n, w, {"on", "to", "cycles", "tolerance", "timeout_s", "force_n"});
+  const Renamed cyc[] = {{"cycles", "for_s", "s the condition must hold; = cycles / servo rate (cycles 20 at 100 Hz = for_s 0.2)"}};
+  ConfigResult r = rejectRenamed(n, w, cyc, 1);
+  if (!r) return r;
+  r = checkKeys(n, w, {"on", "to", "for_s", "tolerance", "timeout_s", "force_n"});
   if (!r) return r;
   std::string on;
   if (!(r = read(n, "on", on, w))) return r;
@@ -115,7 +142,7 @@ ConfigResult readTransition(const YAML::Node& n, const Where& w, TransitionParam
   if (!found) return fail(w.child("on"), "'" + on + "': unknown event (allowed: " + list(events, 7) + ")");
   if (!n["to"]) return fail(w.child("to"), "missing target phase");
   if (!(r = read(n, "to", t.to, w))) return r;
-  if (!(r = read(n, "cycles", t.cycles, w))) return r;
+  if (!(r = read(n, "for_s", t.for_s, w))) return r;
   if (!(r = read(n, "timeout_s", t.timeout_s, w))) return r;
   if (!(r = read(n, "force_n", t.force_n, w))) return r;
   if (t.on == TransitionEvent::Timeout && !n["timeout_s"]) return fail(w.child("timeout_s"), "required for 'timeout'");
@@ -147,8 +174,10 @@ ConfigResult readPhase(const YAML::Node& n, const Where& w0, const Defaults& d, 
   ConfigResult r = read(n, "name", ph.name, w0);
   if (!r) return r;
   const Where w{w0.file, "phases." + ph.name};
-  if (!(r = checkKeys(n, w, {"name", "s_d", "jacobian", "P", "kp", "ki", "integral_limit", "u_max", "feedforward",
-                             "requires_contact", "reset_integrator", "terminal", "transitions"})))
+  if (!(r = rejectRenamed(n, w, kRenamedGains, 4))) return r;
+  if (!(r = checkKeys(n, w, {"name", "s_d", "jacobian", "P", "kp_per_s", "ki_per_s2", "integral_limit_per_s",
+                             "u_max_per_s", "feedforward", "requires_contact", "reset_integrator", "terminal",
+                             "max_duration_s", "transitions"})))
     return r;
   // s_d: rows of Δs, plus `force` (N) for the d_z row.
   if (const YAML::Node sd = n["s_d"]) {
@@ -221,6 +250,8 @@ ConfigResult readPhase(const YAML::Node& n, const Where& w0, const Defaults& d, 
   for (auto rr : {read(n, "requires_contact", ph.requires_contact, w), read(n, "reset_integrator", ph.reset_integrator, w),
                   read(n, "terminal", ph.terminal, w)})
     if (!rr) return rr;
+  ph.max_duration_s = ph.terminal ? 0.0 : d.max_duration_s;  // a terminal phase is meant to last
+  if (!(r = read(n, "max_duration_s", ph.max_duration_s, w))) return r;
   if (const YAML::Node ts = n["transitions"]) {
     if (!ts.IsSequence()) return fail(w.child("transitions"), "must be a list");
     for (std::size_t i = 0; i < ts.size(); ++i) {
@@ -236,7 +267,7 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
   ServoParams p;
   p.source = file;
   const Where top{file, ""};
-  ConfigResult r = checkKeys(root, top, {"controller", "safety", "phase_defaults", "phases"});
+  ConfigResult r = checkKeys(root, top, {"controller", "safety", "watchdogs", "phase_defaults", "phases"});
   if (!r) return r;
   if (const YAML::Node c = root["controller"]) {
     const Where w = top.child("controller");
@@ -263,15 +294,20 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
   if (const YAML::Node s = root["safety"]) {
     const Where w = top.child("safety");
     SafetyParams& sp = p.safety;
-    if (!(r = checkKeys(s, w, {"max_trans_step", "max_rot_step_deg", "workspace", "force_ceiling", "ceiling_retreat",
-                               "stale_timeout", "contact_loss"})))
+    const Renamed steps[] = {
+        {"max_trans_step", "max_trans_speed", "m/s; = per-cycle step x servo rate (0.0005 m at 100 Hz = 0.05 m/s)"},
+        {"max_rot_step_deg", "max_rot_speed_deg", "deg/s; = per-cycle step x servo rate (0.5 deg at 100 Hz = 50 deg/s)"}};
+    if (!(r = rejectRenamed(s, w, steps, 2))) return r;
+    if (!(r = checkKeys(s, w, {"max_trans_speed", "max_rot_speed_deg", "max_step_dt", "workspace", "force_ceiling",
+                               "ceiling_retreat", "stale_timeout", "contact_loss"})))
       return r;
-    double rot_deg = sp.max_rot_step * 180.0 / kPi;
-    for (auto rr : {read(s, "max_trans_step", sp.max_trans_step, w), read(s, "max_rot_step_deg", rot_deg, w),
+    double rot_deg = sp.max_rot_speed * 180.0 / kPi;
+    for (auto rr : {read(s, "max_trans_speed", sp.max_trans_speed, w), read(s, "max_rot_speed_deg", rot_deg, w),
+                    read(s, "max_step_dt", sp.max_step_dt, w),
                     read(s, "force_ceiling", sp.force_ceiling, w), read(s, "ceiling_retreat", sp.ceiling_retreat, w),
                     read(s, "stale_timeout", sp.stale_timeout, w)})
       if (!rr) return rr;
-    sp.max_rot_step = rot_deg * kPi / 180.0;
+    sp.max_rot_speed = rot_deg * kPi / 180.0;
     if (const YAML::Node ws = s["workspace"]) {
       const Where ww = w.child("workspace");
       if (!(r = checkKeys(ws, ww, {"min", "max"}))) return r;
@@ -300,18 +336,44 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
         if (!rr) return rr;
     }
   }
+  if (const YAML::Node wd = root["watchdogs"]) {
+    const Where w = top.child("watchdogs");
+    WatchdogParams& wp = p.watchdogs;
+    if (!(r = checkKeys(wd, w, {"arm_stall", "force_mismatch"}))) return r;
+    if (const YAML::Node st = wd["arm_stall"]) {
+      const Where ws = w.child("arm_stall");
+      if (!(r = checkKeys(st, ws, {"window_s", "min_distance", "min_angle_deg", "min_fraction"}))) return r;
+      double deg = wp.stall_min_angle * 180.0 / kPi;
+      for (auto rr : {read(st, "window_s", wp.stall_window_s, ws), read(st, "min_distance", wp.stall_min_distance, ws),
+                      read(st, "min_angle_deg", deg, ws), read(st, "min_fraction", wp.stall_min_fraction, ws)})
+        if (!rr) return rr;
+      wp.stall_min_angle = deg * kPi / 180.0;
+    }
+    if (const YAML::Node fm = wd["force_mismatch"]) {
+      const Where wf = w.child("force_mismatch");
+      if (!(r = checkKeys(fm, wf, {"window_s", "tolerance_n", "tolerance_rel", "no_contact_n"}))) return r;
+      for (auto rr : {read(fm, "window_s", wp.mismatch_window_s, wf), read(fm, "tolerance_n", wp.mismatch_tolerance_n, wf),
+                      read(fm, "tolerance_rel", wp.mismatch_tolerance_rel, wf),
+                      read(fm, "no_contact_n", wp.mismatch_no_contact_n, wf)})
+        if (!rr) return rr;
+    }
+  }
   Defaults d;
   if (const YAML::Node pd = root["phase_defaults"]) {
     const Where w = top.child("phase_defaults");
-    if (!(r = checkKeys(pd, w, {"kp", "ki", "integral_limit", "u_max"}))) return r;
+    if (!(r = rejectRenamed(pd, w, kRenamedGains, 4))) return r;
+    if (!(r = checkKeys(pd, w, {"kp_per_s", "ki_per_s2", "integral_limit_per_s", "u_max_per_s", "max_duration_s"})))
+      return r;
     if (!(r = readGains(pd, w, d.kp, d.ki, d.ilim, d.umax))) return r;
-    const std::pair<const char*, const Vec6*> vs[] = {{"kp", &d.kp}, {"ki", &d.ki}, {"integral_limit", &d.ilim}};
+    if (!(r = read(pd, "max_duration_s", d.max_duration_s, w))) return r;
+    const std::pair<const char*, const Vec6*> vs[] = {
+        {"kp_per_s", &d.kp}, {"ki_per_s2", &d.ki}, {"integral_limit_per_s", &d.ilim}};
     for (const auto& v : vs)
       for (int i = 0; i < 6; ++i)
         if (!((*v.second)(i) >= 0))
           return rangeError(w.child(v.first).child(kAxisNames[i]).str(), (*v.second)(i), "must be >= 0");
     for (int i = 0; i < 6; ++i)
-      if (!(d.umax(i) > 0)) return rangeError(w.child("u_max").child(kAxisNames[i]).str(), d.umax(i), "must be > 0");
+      if (!(d.umax(i) > 0)) return rangeError(w.child("u_max_per_s").child(kAxisNames[i]).str(), d.umax(i), "must be > 0");
   }
   const YAML::Node phases = root["phases"];
   if (!phases || !phases.IsSequence() || phases.size() == 0)

@@ -12,10 +12,12 @@ using servo_config::err;
 ConfigResult SafetySupervisor::configure(const ServoParams& p) {
   configured_ = false;
   const SafetyParams& s = p.safety;
-  if (!(std::isfinite(s.max_trans_step) && s.max_trans_step > 0 && s.max_trans_step <= 0.01))
-    return err(p, "", "safety.max_trans_step", s.max_trans_step, "must be in (0, 0.01] m per cycle");
-  if (!(std::isfinite(s.max_rot_step) && s.max_rot_step > 0 && s.max_rot_step <= 0.1))
-    return err(p, "", "safety.max_rot_step", s.max_rot_step, "must be in (0, 0.1] rad per cycle");
+  if (!(std::isfinite(s.max_trans_speed) && s.max_trans_speed > 0 && s.max_trans_speed <= 1.0))
+    return err(p, "", "safety.max_trans_speed", s.max_trans_speed, "must be in (0, 1] m/s");
+  if (!(std::isfinite(s.max_rot_speed) && s.max_rot_speed > 0 && s.max_rot_speed <= 10.0))
+    return err(p, "", "safety.max_rot_speed", s.max_rot_speed, "must be in (0, 10] rad/s");
+  if (!(std::isfinite(s.max_step_dt) && s.max_step_dt > 0 && s.max_step_dt <= 1.0))
+    return err(p, "", "safety.max_step_dt", s.max_step_dt, "must be in (0, 1] s");
   for (int i = 0; i < 3; ++i)
     if (!(std::isfinite(s.workspace_min[i]) && std::isfinite(s.workspace_max[i]) &&
           s.workspace_min[i] < s.workspace_max[i]))
@@ -51,14 +53,14 @@ bool SafetySupervisor::featuresFinite(const ContactFeatures& f) {
   return true;
 }
 
-bool SafetySupervisor::forceCeiling(const ContactFeatures& f, bool finite, double& retreat) {
+bool SafetySupervisor::forceCeiling(const ContactFeatures& f, bool finite, double dt, double& retreat) {
   retreat = 0.0;
   if (!ceiling_latched_ && finite && usable(f.status) && f.force > p_.force_ceiling) {
     ceiling_latched_ = true;
     ceiling_moved_ = 0.0;
   }
   if (!ceiling_latched_) return false;
-  const double d = std::min(p_.max_trans_step, p_.ceiling_retreat - ceiling_moved_);
+  const double d = std::min(maxTransStep(dt), p_.ceiling_retreat - ceiling_moved_);
   if (d > 0.0) {
     ceiling_moved_ += d;
     retreat = d;
@@ -74,13 +76,13 @@ double SafetySupervisor::contactLoss(double dt) {
   switch (p_.contact_loss) {
     case ContactLossMode::Hold: return 0.0;
     case ContactLossMode::Backoff: {
-      const double d = std::min(p_.max_trans_step, p_.backoff_distance - recovery_moved_);
+      const double d = std::min(maxTransStep(dt), p_.backoff_distance - recovery_moved_);
       if (d <= 0.0) return 0.0;
       recovery_moved_ += d;
       return -d;
     }
     case ContactLossMode::Search: {
-      const double d = std::min(std::min(p_.max_trans_step, p_.search_speed * dt), p_.search_max_distance - recovery_moved_);
+      const double d = std::min(std::min(maxTransStep(dt), p_.search_speed * dt), p_.search_max_distance - recovery_moved_);
       if (d <= 0.0) return 0.0;
       recovery_moved_ += d;
       return d;
@@ -89,17 +91,19 @@ double SafetySupervisor::contactLoss(double dt) {
   return 0.0;
 }
 
-// Per-cycle step limits: translation and rotation norms, scaled (direction kept).
-bool SafetySupervisor::limitStep(Vec6& u) const {
+// Speed limits over the cycle: translation and rotation norms of the
+// increment at most speed * dt, scaled (direction kept).
+bool SafetySupervisor::limitStep(Vec6& u, double dt) const {
   bool limited = false;
+  const double max_t = maxTransStep(dt), max_r = maxRotStep(dt);
   const double nt = u.head<3>().norm();
-  if (nt > p_.max_trans_step) {
-    u.head<3>() *= p_.max_trans_step / nt;
+  if (nt > max_t) {
+    u.head<3>() *= max_t / nt;
     limited = true;
   }
   const double nr = u.tail<3>().norm();
-  if (nr > p_.max_rot_step) {
-    u.tail<3>() *= p_.max_rot_step / nr;
+  if (nr > max_r) {
+    u.tail<3>() *= max_r / nr;
     limited = true;
   }
   return limited;

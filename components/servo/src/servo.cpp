@@ -10,6 +10,7 @@ ConfigResult TactileServo::configure(const ServoParams& p) {
   ConfigResult r = law_.configure(p);  // c_z, motion sign, mount; per phase s_d, J^-1, P, gains
   if (r) r = safety_.configure(p);     // step limits, box, ceiling, stale, contact loss
   if (r) r = program_.configure(p);    // names, transitions, initial phase, reachability
+  if (r) r = watchdogs_.configure(p);  // phase timeout, arm stall, force mismatch
   if (!r) return r;
   params_ = p;
   configured_ = true;
@@ -21,6 +22,7 @@ void TactileServo::reset() {
   program_.reset();
   law_.resetIntegrator();
   safety_.reset();
+  watchdogs_.reset();
   has_cmd_ = false;
 }
 
@@ -29,6 +31,7 @@ bool TactileServo::requestPhase(const char* name) { return requestPhase(phaseInd
 bool TactileServo::requestPhase(int index) {
   if (!configured_ || !program_.request(index)) return false;
   safety_.clearCeiling();
+  watchdogs_.clear();
   return true;
 }
 
@@ -53,6 +56,7 @@ Vec6 TactileServo::featureError(int phase, const ContactFeatures& f, uint8_t* be
 }
 
 ServoStatus TactileServo::finish(ServoStatus st, double now, ServoOutput& out) {
+  if (!motion_cycle_) watchdogs_.restartStall();
   const double t = std::isfinite(now) ? now : 0.0;
   if (has_cmd_) toPose(cmd_, out.command.pose);
   out.valid = has_cmd_;
@@ -67,12 +71,18 @@ ServoStatus TactileServo::finish(ServoStatus st, double now, ServoOutput& out) {
   return st;
 }
 
-ServoStatus TactileServo::applyIncrement(const KDL::Frame& base, Vec6 u_s, ServoStatus st, double now,
+ServoStatus TactileServo::applyIncrement(const KDL::Frame& base, Vec6 u_s, double dt, ServoStatus st, double now,
                                          ServoOutput& out) {
   if (!u_s.allFinite()) return finish(ServoStatus::InvalidInput, now, out);
-  const bool limited = safety_.limitStep(u_s);
+  const bool limited = safety_.limitStep(u_s, dt);
   KDL::Frame T_ge_new = law_.apply(base, u_s);  // Eq. 12/13/15
   const bool clipped = safety_.clipWorkspace(base.p, T_ge_new);
+  // Commanded motion (not the ceiling's retreat, not held at the workspace
+  // box): the measured pose must follow.
+  if (st != ServoStatus::ForceCeiling && !clipped) {
+    motion_cycle_ = true;
+    if (watchdogs_.armStalled(meas_ * law_.sensorMount(), u_s, now)) return finish(ServoStatus::ArmStalled, now, out);
+  }
   if (!frameFinite(T_ge_new)) return finish(ServoStatus::InvalidInput, now, out);
   cmd_ = T_ge_new;
   out.u_s = u_s;
@@ -92,6 +102,7 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
     return ServoStatus::NotConfigured;
   }
   ++seq_;
+  motion_cycle_ = false;
   const double now = in.time_s;
   const bool time_ok = std::isfinite(now);
   KDL::Frame meas;
@@ -113,7 +124,14 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
     program_.clearPending();
   }
   if (time_ok && !program_.entered()) enterPhase(program_.current(), now);
+  // Watchdogs: a latched one holds; a phase longer than its limit latches.
+  if (watchdogs_.latched() != ServoStatus::Ok) return finish(watchdogs_.latched(), now, out);
+  if (time_ok && !program_.terminal(program_.current()) &&
+      watchdogs_.phaseTimeout(now - program_.enteredAt(),
+                              params_.phases[static_cast<std::size_t>(program_.current())].max_duration_s))
+    return finish(ServoStatus::PhaseTimeout, now, out);
   if (!time_ok || !pose_ok || !(std::isfinite(dt) && dt > 0)) return finish(ServoStatus::InvalidInput, now, out);
+  meas_ = meas;
 
   const KDL::Frame base = params_.pose_update == PoseUpdate::Measured ? meas : cmd_;
   const ContactFeatures& f = in.features;
@@ -122,20 +140,24 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   // Force ceiling, latched: retreat along -z_s, then hold.
   const bool f_finite = SafetySupervisor::featuresFinite(f);
   double retreat = 0.0;
-  if (safety_.forceCeiling(f, f_finite, retreat)) {
+  if (safety_.forceCeiling(f, f_finite, dt, retreat)) {
     if (retreat <= 0.0) return finish(ServoStatus::ForceCeiling, now, out);
     u(kZ) = -retreat;
-    return applyIncrement(base, u, ServoStatus::ForceCeiling, now, out);
+    return applyIncrement(base, u, dt, ServoStatus::ForceCeiling, now, out);
   }
   if (!f_finite) return finish(ServoStatus::InvalidInput, now, out);
   // Stale-features watchdog.
   if (safety_.stale(f, now)) return finish(ServoStatus::Holding, now, out);
+  // The tactile force against the arm's estimated wrench along z_s.
+  if (watchdogs_.forceMismatch(f.force, PhaseProgram::hasContact(f), in.have_wrench, in.wrench,
+                               (meas * law_.sensorMount()).M.UnitZ(), now, dt, params_.safety.stale_timeout))
+    return finish(ServoStatus::ForceMismatch, now, out);
 
   // Eq. 7-8 and the phase program.
   uint8_t beta = 0;
   Vec6 e = law_.featureError(program_.current(), f, beta);
   int target = -1;
-  if (program_.evaluate(f, e, now, law_.c_z(), target)) {
+  if (program_.evaluate(f, e, now, dt, law_.c_z(), target)) {
     enterPhase(target, now);
     e = law_.featureError(program_.current(), f, beta);
   }
@@ -149,7 +171,7 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
     const double dz = safety_.contactLoss(dt);
     if (dz == 0.0) return finish(ServoStatus::ContactLost, now, out);
     u(kZ) = dz;
-    return applyIncrement(base, u, ServoStatus::ContactLost, now, out);
+    return applyIncrement(base, u, dt, ServoStatus::ContactLost, now, out);
   }
   safety_.resetRecovery();
 
@@ -157,7 +179,7 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   const Vec6 task = law_.project(ph, e);
   out.error_task = task;
   u = law_.increment(ph, task, dt);
-  return applyIncrement(base, u, program_.freeMotion(ph) ? ServoStatus::FreeMotion : ServoStatus::Ok, now, out);
+  return applyIncrement(base, u, dt, program_.freeMotion(ph) ? ServoStatus::FreeMotion : ServoStatus::Ok, now, out);
 }
 
 }  // namespace tactile

@@ -31,6 +31,16 @@ bool ServoStage::setMeasuredPose(const Pose& p) {
   return ok;
 }
 
+bool ServoStage::setEstimatedWrench(const Wrench& w) {
+  bool ok = std::isfinite(w.time_s);
+  for (double v : w.w) ok = ok && std::isfinite(v);
+  if (ok) {
+    in_.wrench = w;
+    in_.have_wrench = true;
+  }
+  return ok;
+}
+
 bool ServoStage::step(double now, const ContactFeatures& features, ServoOutput& out, ServoStatus& status) {
   in_.time_s = now;
   in_.features = features;

@@ -70,6 +70,9 @@ void Schedule::advance() {
 
 EndReason EndRule::afterServo(ServoStatus st) {
   if (st == ServoStatus::ForceCeiling) return EndReason::ServoForceCeiling;
+  if (st == ServoStatus::PhaseTimeout) return EndReason::ServoPhaseTimeout;
+  if (st == ServoStatus::ArmStalled) return EndReason::ServoArmStalled;
+  if (st == ServoStatus::ForceMismatch) return EndReason::ServoForceMismatch;
   // A terminal phase ends the run after one more second of holding.
   if (st == ServoStatus::Done && ++done_cycles_ > done_limit_) return EndReason::DoneHeld;
   return EndReason::None;
@@ -80,6 +83,18 @@ void applyEnd(EndReason reason, SimStatus sim_status, Summary& s) {
     case EndReason::ServoForceCeiling:
       s.status = "servo_force_ceiling";
       s.exit_code = 4;
+      break;
+    case EndReason::ServoPhaseTimeout:
+      s.status = "servo_phase_timeout";
+      s.exit_code = 5;
+      break;
+    case EndReason::ServoArmStalled:
+      s.status = "servo_arm_stalled";
+      s.exit_code = 6;
+      break;
+    case EndReason::ServoForceMismatch:
+      s.status = "servo_force_mismatch";
+      s.exit_code = 7;
       break;
     case EndReason::SimFatal:
       s.status = std::string("sim_") + toString(sim_status);
@@ -92,6 +107,15 @@ void applyEnd(EndReason reason, SimStatus sim_status, Summary& s) {
 }
 
 // ---- rows -------------------------------------------------------------------
+
+void fillEstimatedWrench(const SimState& st, Wrench& out) {
+  const KDL::Wrench w_s(KDL::Vector(st.wrench_s[0], st.wrench_s[1], st.wrench_s[2]),
+                        KDL::Vector(st.wrench_s[3], st.wrench_s[4], st.wrench_s[5]));
+  const KDL::Wrench w_g = st.T_gs.M * w_s;                  // {g} axes, about the sensor origin
+  const KDL::Wrench w_e = w_g.RefPoint(st.T_ge.p - st.T_gs.p);  // about the flange origin
+  out.time_s = st.time_s;
+  out.w = {w_e.force.x(), w_e.force.y(), w_e.force.z(), w_e.torque.x(), w_e.torque.y(), w_e.torque.z()};
+}
 
 void fillTruth(const SimState& st, const SensorTruth& acq, SimTruth& out) {
   out.time_s = st.time_s;
@@ -162,20 +186,27 @@ void computeSummary(const Scene& sc, RunResult& out) {
                            ? tEnter(sc.metrics.align_to) - tEnter(sc.metrics.align_from)
                            : kNaN;
 
-  // A loss is a contact that held for >= 5 servo cycles and then stayed
-  // absent for >= 5 cycles in a phase that needs it: single-frame flicker of
-  // a taxel at the firing threshold is not a loss.
+  // A loss is a contact that held for >= 50 ms and then stayed absent for
+  // >= 50 ms in a phase that needs it: single-frame flicker of a taxel at the
+  // firing threshold is not a loss. Times (each row counts one servo period),
+  // not row counts, so that the count does not depend on the servo rate.
   s.contact_lost_count = 0;
-  int contact_run = 0, absent_run = 0;
+  const double row_s = 1.0 / sc.rates.servo, hold_s = 0.05 - 1e-6;
+  double contact_s = 0, absent_s = 0;
+  bool counted = false;
   for (const auto& r : rows) {
     if (r.contact != ContactType::None) {
-      ++contact_run;
-      absent_run = 0;
+      contact_s += row_s;
+      absent_s = 0;
+      counted = false;
     } else {
-      ++absent_run;
-      if (sc.servo.phases[static_cast<std::size_t>(r.phase)].requires_contact && absent_run == 5 && contact_run >= 5)
-        ++s.contact_lost_count;
-      if (absent_run >= 5) contact_run = 0;
+      absent_s += row_s;
+      if (!counted && absent_s >= hold_s) {
+        if (sc.servo.phases[static_cast<std::size_t>(r.phase)].requires_contact && contact_s >= hold_s)
+          ++s.contact_lost_count;
+        counted = true;
+        contact_s = 0;
+      }
     }
   }
 

@@ -108,6 +108,9 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
     }
     if (fi.servo) {  // tactile servo (100 Hz)
       servo_.setMeasuredPose(state.flange_g);
+      Wrench wrench;  // the arm's estimated wrench, as the RTT arm publishes it
+      fillEstimatedWrench(state, wrench);
+      servo_.setEstimatedWrench(wrench);
       if (servo_.step(t, feats, sout, st)) cmd = sout.command.pose;
 
       const int ph = servo_.servo().phaseIndex();

@@ -20,7 +20,7 @@
 //    bridge holds the pose it starts from (the measured pose) and follows the
 //    desired pose only once that is within one program step of it
 //    (engage_max_trans, engage_max_rot: set them to the servo program's
-//    max_trans_step / max_rot_step). Until then: status DesiredFar, hold. The
+//    max_trans_speed / max_rot_speed over one servo cycle). Until then: status DesiredFar, hold. The
 //    first command of a session is never turned into motion away from the
 //    measured pose; the servo's first command is its measured pose.
 //  * CMD at quality < OK, invalid/stale desired pose, invalid measured pose:
@@ -87,8 +87,8 @@ struct BridgeParams {
   double max_desired_age_s = 0.1;   ///< s, (0, 10]: older desired poses are not followed (hold)
   int resync_after = 8;             ///< [1, 1000] consecutive old packets accepted as a restarted sequence
   bool rewind_on_refl = true;       ///< step from the command the KRC reflects (see above)
-  double engage_max_trans = 0.0005;  ///< m, (0, 0.1]: start gate, translation (the program's max_trans_step)
-  double engage_max_rot = 0.5 * 3.14159265358979323846 / 180.0;  ///< rad, (0, 0.5]: start gate, rotation (max_rot_step)
+  double engage_max_trans = 0.0005;  ///< m, (0, 0.1]: start gate, translation (the program's max_trans_speed x servo period)
+  double engage_max_rot = 0.5 * 3.14159265358979323846 / 180.0;  ///< rad, (0, 0.5]: start gate, rotation (max_rot_speed x servo period)
   bool command_impedance = false;   ///< also send Cartesian stiffness/damping (flags 0x1000|0x2000)
   std::array<double, 6> cart_stiffness{{2000.0, 2000.0, 2000.0, 200.0, 200.0, 200.0}};  ///< N/m x3 [0.01,5000], N m/rad x3 [0.01,300]
   std::array<double, 6> cart_damping{{0.7, 0.7, 0.7, 0.7, 0.7, 0.7}};  ///< normalised, [0.1, 1.0]

@@ -2,7 +2,7 @@
 //
 //   Δs       = s_d - J^-1(β) s                          (Eq. 7, 8; β from the contact type, Eq. 5)
 //   Δs_task  = P Δs                                     (Eq. 9, 10)
-//   u_s      = S clamp(K_P Δs_task + K_I ∫Δs_task dt) + v_ff dt   (Eq. 13, PI per axis)
+//   u_s      = (S clamp(K_P Δs_task + K_I ∫Δs_task dt) + v_ff) dt   (Eq. 13, PI per axis, as a rate)
 //   {g}T{e}' = ({g}T{e} {e}T{s} (+) R_gs u_s) {e}T{s}^-1  (Eq. 13 sensor-to-base; Eq. 12 or 15
 //              by the choice of the base pose passed in)
 //
@@ -33,8 +33,9 @@ class ServoControlLaw {
   Vec6 featureError(int phase, const ContactFeatures& f, uint8_t& beta) const;
   /// Δs_task = P Δs (Eq. 9).
   Vec6 project(int phase, const Vec6& error) const;
-  /// u_s (Eq. 13): PI per axis (integrator clamped to |K_I ∫| <= integral_limit,
-  /// output to u_max), motion sign S, plus the feed-forward twist times dt.
+  /// u_s (Eq. 13): PI rate per axis (integrator clamped to |K_I ∫| <=
+  /// integral_limit, rate to u_max), motion sign S, plus the feed-forward
+  /// twist; all times dt (rates in m/s, rad/s: independent of the servo rate).
   /// Advances the integrator by task * dt.
   Vec6 increment(int phase, const Vec6& task, double dt);
   void resetIntegrator() { integral_.setZero(); }

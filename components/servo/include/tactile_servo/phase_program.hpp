@@ -3,7 +3,8 @@
 //
 // Each evaluation (a cycle with valid features), the current phase's
 // transitions are checked in their listed order; the first whose condition has
-// held for `cycles` consecutive evaluations fires. Events: contact, edge, point
+// held for `for_s` seconds of consecutive evaluations (each counting its dt,
+// the first included) fires. Events: contact, edge, point
 // (the extractor's contact type), aligned (chosen |Δs| rows, |Δforce| = |Δd_z| /
 // c_z, |CoC| below tolerances), contact_lost, force_above, timeout (time in
 // the phase). A request (by index) is kept until the caller enters it.
@@ -20,7 +21,7 @@ namespace tactile {
 class PhaseProgram {
  public:
   /// Validates names (unique, 1..kPhaseNameLen-1 characters), transitions
-  /// (targets, cycles, tolerances, timeouts, forces), the initial phase and
+  /// (targets, for_s, tolerances, timeouts, forces), the initial phase and
   /// that every phase is reachable from it. Allocates (configuration time).
   ConfigResult configure(const ServoParams& params);
   bool configured() const { return configured_; }
@@ -39,8 +40,9 @@ class PhaseProgram {
 
   /// Checks the current phase's transitions (see the file comment) for
   /// features `f` and feature error `error` (Eq. 7); true and `target` set
-  /// when one fires (the caller enters it). `c_z` converts Δd_z to force.
-  bool evaluate(const ContactFeatures& f, const Vec6& error, double now, double c_z, int& target);
+  /// when one fires (the caller enters it). `dt` (s) is this cycle's length,
+  /// counted towards `for_s`. `c_z` converts Δd_z to force.
+  bool evaluate(const ContactFeatures& f, const Vec6& error, double now, double dt, double c_z, int& target);
 
   int count() const { return static_cast<int>(phases_.size()); }
   int current() const { return current_; }
@@ -63,10 +65,11 @@ class PhaseProgram {
   struct Transition {
     TransitionEvent on;
     int to;
-    int cycles;
+    double for_s;
     std::array<double, kNumTol> tol;
     double timeout_s, force_n;
-    int count;
+    double held_s;  ///< s the condition has held so far
+    bool holding;
   };
   struct Phase {
     std::array<char, kPhaseNameLen> name{};

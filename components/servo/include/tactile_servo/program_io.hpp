@@ -1,6 +1,10 @@
 // Phase programs (YAML) -> ServoParams. Every error names the file, the phase
 // and the field, e.g.
-//   "programs/x.yaml: phases.align.kp.wy = -1: must be >= 0 (per cycle)".
+//   "programs/x.yaml: phases.align.kp_per_s.wy = -1: must be >= 0 (1/s)".
+// Every gain, limit and delay is per second / in seconds (independent of the
+// servo rate). The per-cycle keys of earlier programs (kp, ki, integral_limit,
+// u_max, max_trans_step, max_rot_step_deg, transitions' cycles) are rejected
+// with an error naming the key and its replacement.
 //
 // Format (all keys optional unless marked; see programs/*.yaml for examples):
 //
@@ -12,32 +16,38 @@
 //     sensor_mount: {xyz: [0, 0, 0.03], rpy_deg: [0, 0, 0]}      # {e}T{s}
 //     initial_phase: NAME                # default: the first phase
 //   safety:
-//     max_trans_step: 0.0005             # m per cycle
-//     max_rot_step_deg: 0.5              # deg per cycle
+//     max_trans_speed: 0.05              # m/s (norm)
+//     max_rot_speed_deg: 50              # deg/s (norm)
+//     max_step_dt: 0.1                   # s: longest cycle the speed limits integrate over
 //     workspace: {min: [x, y, z], max: [x, y, z]}   # flange position in {g} (m)
 //     force_ceiling: 40                  # N
 //     ceiling_retreat: 0.01              # m
 //     stale_timeout: 0.05                # s
 //     contact_loss: {mode: hold | backoff | search, backoff_distance: 0.005,
 //                    search_speed: 0.005, search_max_distance: 0.01}
-//   phase_defaults: {kp: .., ki: .., integral_limit: .., u_max: ..}   # per-axis maps
+//   watchdogs:                           # fatal statuses (watchdog.hpp); window 0 = off
+//     arm_stall: {window_s: 1.0, min_distance: 0.005, min_angle_deg: 5, min_fraction: 0.2}
+//     force_mismatch: {window_s: 0.5, tolerance_n: 4, tolerance_rel: 0.3, no_contact_n: 10}
+//   phase_defaults: {kp_per_s: .., ki_per_s2: .., integral_limit_per_s: .., u_max_per_s: ..,   # per-axis maps
+//                    max_duration_s: 0}  # default of every non-terminal phase (0 = no limit)
 //   phases:                              # required, a list
 //     - name: NAME                       # required
 //       s_d: {cop_x: 0, cop_y: 0, d_z: 0.0033, dzmp_x: 0, dzmp_y: 0, alpha_z: 0}
 //            # rows of Δs; `force: 6` (N) sets the d_z row to c_z * 6; or a list of 6
 //       jacobian: touch                  # or {beta: 0|1} or {point: 6x6, edge: 6x6} or {matrix: 6x6}
 //       P: {x: 0, y: 1, z: 1, wx: 0, wy: 1, wz: 1, com: 0}   # gammas of Eq. 10, or a 6x6 list
-//       kp: {x: .., y: .., z: .., wx: .., wy: .., wz: ..}    # per cycle (or a list of 6)
-//       ki: {...}                        # 1/s
-//       integral_limit: {...}            # |K_I ∫Δ| per axis (m or rad per cycle)
-//       u_max: {...}                     # PI output limit per axis (m or rad per cycle)
+//       kp_per_s: {x: .., y: .., z: .., wx: .., wy: .., wz: ..}   # 1/s (or a list of 6)
+//       ki_per_s2: {...}                 # 1/s^2
+//       integral_limit_per_s: {...}      # |K_I ∫Δ| per axis (m/s or rad/s)
+//       u_max_per_s: {...}               # PI rate limit per axis (m/s or rad/s)
 //       feedforward: {vx: 0, vy: 0, vz: 0.01, wx: 0, wy: 0, wz: 0}   # {s}, m/s and rad/s
 //       requires_contact: true
 //       reset_integrator: true
 //       terminal: false
+//       max_duration_s: 30               # longer in this phase -> status phase_timeout (fatal)
 //       transitions:
-//         - {on: contact | edge | point | contact_lost, to: NAME, cycles: 1}
-//         - {on: aligned, to: NAME, cycles: 20, tolerance: {alpha_z: 0.02, dzmp_y: 0.0005, ...}}
+//         - {on: contact | edge | point | contact_lost, to: NAME, for_s: 0}   # s the condition holds
+//         - {on: aligned, to: NAME, for_s: 0.2, tolerance: {alpha_z: 0.02, dzmp_y: 0.0005, ...}}
 //         - {on: force_above, to: NAME, force_n: 20}
 //         - {on: timeout, to: NAME, timeout_s: 30}
 #pragma once

@@ -1,7 +1,7 @@
 // The servo's safety supervisor (beyond the paper; see servo.hpp, SAFETY):
 //
-//  * step limits: every increment's translation and rotation norms per cycle
-//    (max_trans_step, max_rot_step), direction kept;
+//  * speed limits: every increment's translation and rotation norms at most
+//    max_trans_speed * dt, max_rot_speed * dt (m/s, rad/s), direction kept;
 //  * workspace box on the commanded flange position {g}p{e}; from a pose
 //    already outside it only motion back towards it (no jumps onto it);
 //  * force ceiling: features.force > force_ceiling latches; retreat along
@@ -34,9 +34,10 @@ class SafetySupervisor {
   static bool featuresFinite(const ContactFeatures& f);
 
   /// Force ceiling, latched: true while latched (the servo commands nothing
-  /// else); `retreat` (m, >= 0) is this cycle's move along -z_s, 0 once the
-  /// full ceiling_retreat was made (hold). `finite`: featuresFinite(f).
-  bool forceCeiling(const ContactFeatures& f, bool finite, double& retreat);
+  /// else); `retreat` (m, >= 0) is this cycle's move along -z_s (at most
+  /// max_trans_speed * dt), 0 once the full ceiling_retreat was made (hold).
+  /// `finite`: featuresFinite(f).
+  bool forceCeiling(const ContactFeatures& f, bool finite, double dt, double& retreat);
   bool ceilingLatched() const { return ceiling_latched_; }
 
   /// Unusable status, or time stamp further than stale_timeout from `now`.
@@ -48,13 +49,19 @@ class SafetySupervisor {
   /// Contact present (or a new phase): the next loss starts a new recovery.
   void resetRecovery() { recovery_moved_ = 0.0; }
 
-  /// Scales u's translation and rotation to the step limits; true if it did.
-  bool limitStep(Vec6& u) const;
+  /// Scales u's translation and rotation to the speed limits over `dt` (s);
+  /// true if it did.
+  bool limitStep(Vec6& u, double dt) const;
+  /// The largest translation (m) / rotation (rad) of a cycle of `dt` s.
+  /// dt is counted at most max_step_dt; <= 0 or NaN gives 0.
+  double maxTransStep(double dt) const { return p_.max_trans_speed * stepDt(dt); }
+  double maxRotStep(double dt) const { return p_.max_rot_speed * stepDt(dt); }
   /// Clips T_ge's position to the workspace box widened to include `from`
   /// (the pose the increment started at); true if it did.
   bool clipWorkspace(const KDL::Vector& from, KDL::Frame& T_ge) const;
 
  private:
+  double stepDt(double dt) const { return dt > 0.0 ? (dt < p_.max_step_dt ? dt : p_.max_step_dt) : 0.0; }
   bool configured_ = false;
   SafetyParams p_;
   bool ceiling_latched_ = false;

@@ -7,7 +7,7 @@
 //   J^-1     = touch-dependent inverse tactile Jacobian (6x6)          (Eq. 8)
 //   Δs       = s_d - J^-1 s                                           (Eq. 7)
 //   Δs_task  = P Δs                                                   (Eq. 9, 10)
-//   u_s      = S (K_P Δs_task + K_I ∫Δs_task dt) + v_ff dt            (Eq. 13)
+//   u_s      = (S (K_P Δs_task + K_I ∫Δs_task dt) + v_ff) dt          (Eq. 13)
 //   {g}T{s}  = {g}T{e} {e}T{s};  t_g = R_gs u_s (reference point: the
 //              origin of {s});  {g}T{s}' = addDelta({g}T{s}, t_g)      (Eq. 13)
 //   x_d      = x_a + u  (measured pose each cycle, Eq. 12)   or
@@ -51,10 +51,13 @@
 //          sensor by +alpha_z about z_s: S_wz = -1.
 // S is the program parameter `motion_sign` (entries +-1).
 //
-// UNITS. u is a pose increment per servo cycle [m m m rad rad rad], expressed
-// in {s} and applied at the origin of {s}. K_P is per cycle (increment per unit
-// feature error); K_I is in 1/s (the integral is ∫Δs_task dt, dt in s); the
-// feed-forward twist is in m/s, rad/s in {s}.
+// UNITS. Everything is per second, so that the behaviour does not depend on
+// the servo rate. u is the pose increment of one cycle [m m m rad rad rad],
+// expressed in {s} and applied at the origin of {s}: the commanded rate times
+// dt. K_P is in 1/s (rate per unit feature error), K_I in 1/s^2 (the integral
+// is ∫Δs_task dt), integral_limit and u_max in m/s, rad/s, the feed-forward
+// twist in m/s, rad/s in {s}; the step limits are speeds (max_trans_speed m/s,
+// max_rot_speed rad/s) and transitions hold for `for_s` seconds.
 //
 // START (beyond the paper): nothing is commanded before a valid measured pose
 // (validPose in tactile_types/types.hpp: finite, unit quaternion) has
@@ -65,8 +68,9 @@
 // that time; servoing starts at the next cycle. reset() starts over.
 //
 // SAFETY (beyond the paper):
-//  * per-axis output limits per phase (u_max) and per-cycle translational and
-//    rotational step limits (norms) for every increment, recovery moves included;
+//  * per-axis rate limits per phase (u_max) and translational and rotational
+//    speed limits (norms, times dt per cycle) for every increment, recovery
+//    moves included;
 //  * a workspace box on the commanded flange position {g}p{e} (from a pose
 //    already outside it, only motion back towards it is allowed: no jumps);
 //  * a force ceiling: features.force > ceiling -> status ForceCeiling, retreat
@@ -76,6 +80,10 @@
 //    unusable status -> hold the last command (status Holding);
 //  * NaN/Inf in features, pose or dt, dt <= 0 -> hold (status InvalidInput);
 //    no output is ever NaN;
+//  * watchdogs (watchdog.hpp), fatal and latched, the command held: a phase
+//    longer than its max_duration_s (PhaseTimeout), commanded motion the
+//    measured pose does not follow (ArmStalled), a tactile force the arm's
+//    estimated wrench contradicts (ForceMismatch);
 //  * contact loss (the paper's limitation: "as soon as the contact disappears
 //    the controller does not send new set points"): in a phase that requires
 //    contact, losing it triggers `contact_loss`: hold, backoff (retreat along
@@ -87,8 +95,8 @@
 //
 // PHASE PROGRAM. Each cycle with valid features, the current phase's
 // transitions are evaluated in their listed order (first to fire wins; a
-// transition fires after its condition held for `cycles` consecutive valid
-// cycles) and the new phase acts in the same cycle. Events: contact, edge,
+// transition fires once its condition held for `for_s` seconds of consecutive
+// valid cycles, each cycle counting its dt) and the new phase acts in the same cycle. Events: contact, edge,
 // point (the extractor's contact type), aligned (chosen |Δs| rows, |Δforce|,
 // |CoC| below tolerances), contact_lost, force_above, timeout (time in phase).
 // While holding (stale/invalid input) transitions are not evaluated.
@@ -111,6 +119,7 @@
 #include "tactile_servo/phase_program.hpp"
 #include "tactile_servo/safety_supervisor.hpp"
 #include "tactile_servo/servo_params.hpp"
+#include "tactile_servo/watchdog.hpp"
 #include "tactile_types/config_result.hpp"
 #include "tactile_types/types.hpp"
 
@@ -122,6 +131,11 @@ struct ServoInput {
   /// {g}T{e} measured. kNoPose until a measurement arrived: the servo then
   /// commands nothing (status WaitingForPose).
   Pose flange_measured = kNoPose;
+  /// The arm's estimated external wrench ({g} axes; FRI: the KRC's
+  /// estExtTcpFT, simulator: the contact wrench at the flange), for the
+  /// force-mismatch watchdog; unused while have_wrench is false.
+  Wrench wrench;
+  bool have_wrench = false;
 };
 
 struct ServoOutput {
@@ -169,18 +183,22 @@ class TactileServo {
   const ServoControlLaw& controlLaw() const { return law_; }
   const PhaseProgram& program() const { return program_; }
   const SafetySupervisor& safety() const { return safety_; }
+  const ServoWatchdogs& watchdogs() const { return watchdogs_; }
 
  private:
   void enterPhase(int idx, double now);
   ServoStatus finish(ServoStatus st, double now, ServoOutput& out);
-  ServoStatus applyIncrement(const KDL::Frame& base, Vec6 u_s, ServoStatus st, double now, ServoOutput& out);
+  ServoStatus applyIncrement(const KDL::Frame& base, Vec6 u_s, double dt, ServoStatus st, double now, ServoOutput& out);
 
   bool configured_ = false;
   ServoParams params_;
   ServoControlLaw law_;
   PhaseProgram program_;
   SafetySupervisor safety_;
+  ServoWatchdogs watchdogs_;
   KDL::Frame cmd_;
+  KDL::Frame meas_;            ///< this cycle's measured flange pose
+  bool motion_cycle_ = false;  ///< this cycle commanded motion (the stall watchdog's window)
   bool has_cmd_ = false;
   uint32_t seq_ = 0;
 };

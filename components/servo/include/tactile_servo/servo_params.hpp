@@ -58,7 +58,7 @@ extern const char* const kAxisNames[6];
 struct TransitionParams {
   TransitionEvent on = TransitionEvent::Contact;
   std::string to;          ///< target phase name
-  int cycles = 1;          ///< consecutive cycles the condition must hold (>= 1)
+  double for_s = 0.0;      ///< s the condition must hold (>= 0; 0 = the first cycle it holds)
   std::array<double, kNumTol> tolerance;  ///< aligned: per quantity, < 0 = unused
   double timeout_s = 0.0;  ///< timeout: seconds in the phase (> 0)
   double force_n = 0.0;    ///< force_above: threshold (N, > 0)
@@ -78,14 +78,17 @@ struct PhaseParams {
   Mat6 jinv_point = paperJinv(0.0);
   Mat6 jinv_edge = paperJinv(1.0);
   Mat6 P = Mat6::Zero();                   ///< Eq. 10
-  Vec6 kp = Vec6::Zero();                  ///< per cycle, >= 0
-  Vec6 ki = Vec6::Zero();                  ///< 1/s, >= 0
-  Vec6 integral_limit = Vec6::Constant(1e-3);  ///< |K_I ∫Δ| per axis (m or rad per cycle), >= 0
-  Vec6 u_max = Vec6::Constant(1e9);        ///< per-axis limit of the PI output per cycle, > 0
+  Vec6 kp = Vec6::Zero();                  ///< 1/s (rate per unit feature error), >= 0
+  Vec6 ki = Vec6::Zero();                  ///< 1/s^2, >= 0
+  Vec6 integral_limit = Vec6::Constant(0.1);   ///< |K_I ∫Δ| per axis (m/s or rad/s), >= 0
+  Vec6 u_max = Vec6::Constant(1e9);        ///< per-axis limit of the PI rate (m/s or rad/s), > 0
   Vec6 feedforward = Vec6::Zero();         ///< twist in {s} (m/s, rad/s)
   bool requires_contact = true;            ///< contact-loss recovery applies in this phase
   bool reset_integrator = true;            ///< zero the integrator on entering this phase
   bool terminal = false;                   ///< entering it -> status Done, hold
+  /// s in the phase after which the servo reports PhaseTimeout (fatal, a
+  /// phase that never ends); 0 = no limit. Not for terminal phases.
+  double max_duration_s = 0.0;
   std::vector<TransitionParams> transitions;
 };
 
@@ -94,8 +97,11 @@ enum class ControllerMode : uint8_t { Proposed = 0, Baseline = 1 };
 enum class ContactLossMode : uint8_t { Hold = 0, Backoff = 1, Search = 2 };
 
 struct SafetyParams {
-  double max_trans_step = 0.0005;               ///< m per cycle (norm), > 0
-  double max_rot_step = 0.5 * kPi / 180.0;      ///< rad per cycle (norm), > 0
+  double max_trans_speed = 0.05;                ///< m/s (norm of the commanded translation rate), > 0
+  double max_rot_speed = 50.0 * kPi / 180.0;    ///< rad/s (norm of the commanded rotation rate), > 0
+  /// s: the longest cycle the speed limits integrate over, so that a stalled
+  /// loop (a long dt) never allows a jump; (0, 1].
+  double max_step_dt = 0.1;
   std::array<double, 3> workspace_min{{-2.0, -2.0, -2.0}};  ///< m, flange position in {g}
   std::array<double, 3> workspace_max{{2.0, 2.0, 2.0}};
   double force_ceiling = 40.0;                  ///< N, > 0
@@ -107,6 +113,27 @@ struct SafetyParams {
   double search_max_distance = 0.01;            ///< m, >= 0
 };
 
+/// Watchdogs (beyond the paper): what must never pass silently. Each ends in
+/// a fatal, latched status (see watchdog.hpp). A window of 0 switches it off.
+struct WatchdogParams {
+  /// Arm stalled: over each window of commanded motion, the measured sensor
+  /// origin must move at least min_fraction of the commanded translation
+  /// (when that is >= min_distance) and turn at least min_fraction of the
+  /// commanded rotation (when that is >= min_angle).
+  double stall_window_s = 1.0;                   ///< s, 0 = off
+  double stall_min_distance = 0.005;             ///< m, > 0
+  double stall_min_angle = 5.0 * kPi / 180.0;    ///< rad, > 0
+  double stall_min_fraction = 0.2;               ///< (0, 1]
+  /// Force mismatch, held for window_s: with tactile contact, |tactile force -
+  /// estimated wrench force along z_s| above max(tolerance_n, tolerance_rel *
+  /// the larger of the two); without tactile contact, a wrench force along
+  /// z_s above no_contact_n (load the taxels do not see, e.g. on the housing).
+  double mismatch_window_s = 0.5;                ///< s, 0 = off
+  double mismatch_tolerance_n = 4.0;             ///< N, > 0
+  double mismatch_tolerance_rel = 0.3;           ///< [0, 1]
+  double mismatch_no_contact_n = 10.0;           ///< N, > 0
+};
+
 struct ServoParams {
   KDL::Frame sensor_mount = KDL::Frame::Identity();  ///< {e}T{s}
   Vec6 motion_sign = defaultMotionSign();
@@ -114,6 +141,7 @@ struct ServoParams {
   ControllerMode mode = ControllerMode::Proposed;
   double c_z = 1.0 / 1800.0;                          ///< m/N (Eq. 2), > 0
   SafetyParams safety;
+  WatchdogParams watchdogs;
   std::vector<PhaseParams> phases;
   std::string initial_phase;                          ///< empty = first phase
   std::string source;                                 ///< file name, for messages

@@ -31,6 +31,9 @@ class ServoStage {
   /// (status InvalidInput).
   bool setMeasuredPose(const Pose& flange_g);
   bool havePose() const { return have_pose_; }
+  /// The arm's estimated external wrench ({g} axes, time-stamped), for the
+  /// force-mismatch watchdog. Returns false (and ignores it) when not finite.
+  bool setEstimatedWrench(const Wrench& w);
 
   /// One servo cycle at time `now` (s) on the latest features. Returns true
   /// when `out.command` is a command to send (a valid pose was seen and the

@@ -12,6 +12,7 @@ ServoComponent::ServoComponent(const std::string& name)
     : RTT::TaskContext(name, PreOperational),
       features_in_("features"),
       flange_in_("flange_pose"),
+      wrench_in_("estimated_wrench"),
       command_out_("pose_command"),
       phase_out_("phase") {
   addProperty("program_file", program_file_)
@@ -26,6 +27,9 @@ ServoComponent::ServoComponent(const std::string& name)
   addAttribute("last_status", last_status_);
   addEventPort(features_in_).doc("Contact features in {s} (from the feature component).");
   addPort(flange_in_).doc("Measured flange pose {g}T{e} (LWR simulator or FRI bridge).");
+  addPort(wrench_in_).doc("The arm's estimated external wrench [Fx Fy Fz Tx Ty Tz] ({g} axes; LWR simulator or FRI "
+                          "bridge): the force-mismatch watchdog compares its force along z_s with the tactile force. "
+                          "Unconnected: that check is off.");
   addPort(command_out_).doc("Desired flange pose {g}T{e} for the Cartesian impedance controller, with the servo status.");
   addPort(phase_out_).doc("Phase program state: index, name, entry time, status.");
   addOperation("switchPhase", &ServoComponent::switchPhase, this, RTT::ClientThread)
@@ -83,6 +87,7 @@ bool ServoComponent::startHook() {
   current_phase_.store(stage_.servo().phaseIndex());
   // Only data written after this start counts: no pose, no features yet.
   flange_in_.clear();
+  wrench_in_.clear();
   features_in_.clear();
   return true;
 }
@@ -111,6 +116,7 @@ void ServoComponent::updateHook() {
   if (req >= 0) stage_.requestPhase(req);
   features_in_.read(features_, false);  // keeps the last sample when nothing new
   if (flange_in_.read(pose_, false) != RTT::NoData) stage_.setMeasuredPose(pose_);
+  if (wrench_in_.read(wrench_, false) != RTT::NoData) stage_.setEstimatedWrench(wrench_);
   const double now = RTT::os::TimeService::Instance()->secondsSince(0);
   ServoStatus st = ServoStatus::NotConfigured;
   const bool command = stage_.step(now, features_, out_, st);  // holds (no command) until a valid pose arrived

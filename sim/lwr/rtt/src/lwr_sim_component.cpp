@@ -81,13 +81,8 @@ void LwrSimComponent::publish() {
   sim::fillTruth(state_, acq_, truth_);
   truth_out_.write(truth_);
   pose_out_.write(state_.flange_g);
-  // Contact wrench on the sensor ({s}, about its origin) moved to the flange, {g} axes.
-  const KDL::Wrench w_s(KDL::Vector(state_.wrench_s[0], state_.wrench_s[1], state_.wrench_s[2]),
-                        KDL::Vector(state_.wrench_s[3], state_.wrench_s[4], state_.wrench_s[5]));
-  const KDL::Wrench w_g = state_.T_gs.M * w_s;
-  const KDL::Wrench w_e = w_g.RefPoint(state_.T_ge.p - state_.T_gs.p);
-  wrench_.time_s = state_.time_s;
-  wrench_.w = {w_e.force.x(), w_e.force.y(), w_e.force.z(), w_e.torque.x(), w_e.torque.y(), w_e.torque.z()};
+  // Contact wrench on the sensor moved to the flange, {g} axes (the loop's rule, as the runner).
+  sim::fillEstimatedWrench(state_, wrench_);
   wrench_out_.write(wrench_);
 }
 

@@ -71,14 +71,24 @@ class Schedule {
   double next_wts_ = 0, next_feat_ = 0, next_servo_ = 0;
 };
 
-enum class EndReason : uint8_t { None = 0, Duration, ServoForceCeiling, DoneHeld, SimFatal };
+enum class EndReason : uint8_t {
+  None = 0,
+  Duration,
+  ServoForceCeiling,
+  DoneHeld,
+  SimFatal,
+  ServoPhaseTimeout,   ///< the servo's watchdogs (tactile::watchdogStatus): never `ok`
+  ServoArmStalled,
+  ServoForceMismatch
+};
 
 class EndRule {
  public:
   void configure(const Rates& rates) { done_limit_ = static_cast<int>(rates.servo); }
   void reset() { done_cycles_ = 0; }
-  /// After a servo cycle: ForceCeiling ends the run at once; Done ends it
-  /// after one more second (rates.servo cycles) of holding.
+  /// After a servo cycle: ForceCeiling and the watchdog statuses
+  /// (PhaseTimeout, ArmStalled, ForceMismatch) end the run at once; Done
+  /// ends it after one more second (rates.servo cycles) of holding.
   EndReason afterServo(ServoStatus st);
   /// After a physics step: a fatal simulator status ends the run.
   EndReason afterPhysics(SimStatus st) const { return fatal(st) ? EndReason::SimFatal : EndReason::None; }
@@ -91,6 +101,11 @@ class EndRule {
 /// summary.json's status and exit code for an end reason (sim_status: the
 /// simulator's status when reason == SimFatal).
 void applyEnd(EndReason reason, SimStatus sim_status, Summary& s);
+
+/// The arm's estimated external wrench (port estimated_wrench of the
+/// simulated arm, the servo's force-mismatch input): the contact wrench on
+/// the sensor moved to the flange origin, {g} axes, stamped with the state's time.
+void fillEstimatedWrench(const SimState& state, Wrench& out);
 
 /// The simulator's ground truth port value: the state after a physics step
 /// and the last acquisition's contact point.

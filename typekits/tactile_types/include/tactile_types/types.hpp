@@ -123,8 +123,18 @@ enum class ServoStatus : uint8_t {
   Starting = 7,        ///< first valid measured pose: the command is that pose, unchanged
   ForceCeiling = 10,   ///< force ceiling hit: retreating
   InvalidInput = 11,   ///< NaN/Inf pose or dt < 0: holding
-  NotConfigured = 12
+  NotConfigured = 12,
+  // Watchdogs (fatal, latched until reset or a phase request; the command is
+  // held): a run that reports one of these did not succeed.
+  PhaseTimeout = 13,   ///< longer in a phase than its max_duration_s: a phase that never ends
+  ArmStalled = 14,     ///< motion commanded for a window but the measured pose did not follow
+  ForceMismatch = 15   ///< tactile force contradicted by the arm's estimated wrench along z_s
 };
+
+/// A watchdog status (PhaseTimeout, ArmStalled, ForceMismatch): the run failed.
+inline bool watchdogStatus(ServoStatus s) noexcept {
+  return s == ServoStatus::PhaseTimeout || s == ServoStatus::ArmStalled || s == ServoStatus::ForceMismatch;
+}
 
 /// Desired pose for the robot's Cartesian impedance controller, in {g}.
 struct PoseCommand {

@@ -218,10 +218,11 @@ bool TactileTypekit::loadTypes() {
                                              ServoStatus::ContactLost,  ServoStatus::Limited,    ServoStatus::Done,
                                              ServoStatus::WaitingForPose, ServoStatus::Starting,
                                              ServoStatus::ForceCeiling, ServoStatus::InvalidInput,
-                                             ServoStatus::NotConfigured};
+                                             ServoStatus::NotConfigured, ServoStatus::PhaseTimeout,
+                                             ServoStatus::ArmStalled,   ServoStatus::ForceMismatch};
   repo->addType(new NamedEnumTypeInfo<ContactType, 3>(kContactType, contact_types));
   repo->addType(new NamedEnumTypeInfo<FeatureStatus, 6>(kFeatureStatus, feature_status));
-  repo->addType(new NamedEnumTypeInfo<ServoStatus, 11>(kServoStatus, servo_status));
+  repo->addType(new NamedEnumTypeInfo<ServoStatus, 14>(kServoStatus, servo_status));
 
   repo->addType(new StructTypeInfo<RawTactileFrame>(kRawTactileFrame));
   repo->addType(new StructTypeInfo<TactileFrame>(kTactileFrame));

@@ -11,6 +11,9 @@
 //   property period (double)        servo period (s), dt of the first cycle; 0 = the activity's
 //   in   features     (/tactile/ContactFeatures)  from tactile::FeatureComponent
 //   in   flange_pose  (/tactile/Pose)             measured {g}T{e} (LWR simulator / FRI bridge)
+//   in   estimated_wrench (/tactile/Wrench)       the arm's estimated external wrench ({g} axes; LWR
+//                                                 simulator / FRI bridge): the force-mismatch watchdog
+//                                                 (unconnected: that check is off)
 //   out  pose_command (/tactile/PoseCommand)      desired {g}T{e} (LWR simulator / FRI bridge)
 //   out  phase        (/tactile/PhaseState)       where the phase program is
 //   op   bool switchPhase(string name)  switch phase at the next cycle (false: unknown name)
@@ -66,12 +69,14 @@ class ServoComponent : public RTT::TaskContext {
 
   RTT::InputPort<ContactFeatures> features_in_;
   RTT::InputPort<Pose> flange_in_;
+  RTT::InputPort<Wrench> wrench_in_;
   RTT::OutputPort<PoseCommand> command_out_;
   RTT::OutputPort<PhaseState> phase_out_;
 
   ServoStage stage_;  // the loop's servo stage (the headless runner steps the same)
   ContactFeatures features_;
   Pose pose_;
+  Wrench wrench_;
   ServoOutput out_;
   std::atomic<int> requested_phase_{-1};
   std::atomic<int> current_phase_{0};

@@ -1,0 +1,73 @@
+// The servo's watchdogs (beyond the paper): conditions that must end a run
+// with a named status instead of passing silently. Each one latches (the
+// servo then holds its command) until reset() or an explicit phase request.
+//
+//  * phase timeout: longer in a phase than its max_duration_s (a phase that
+//    never ends; distinct from the `timeout` transition, a normal event);
+//  * arm stalled: over a window of commanded motion (the increments u_s of
+//    Eq. 13, summed in {g}), the measured sensor origin {g}T{e} {e}T{s} moved
+//    less than min_fraction of the commanded translation, or turned less than
+//    min_fraction of the commanded rotation, while that command was at least
+//    min_distance / min_angle (an arm or simulator that does not follow);
+//  * force mismatch, held for window_s: while the features report contact,
+//    the tactile force (Eq. 2, f = d_z / C_z) and the arm's estimated
+//    external wrench projected on z_s differ by more than max(tolerance_n,
+//    tolerance_rel * the larger); without tactile contact, the wrench along
+//    z_s exceeds no_contact_n (a pad much softer than calibrated: the rigid
+//    housing carries the load, the taxels see little or nothing).
+//    The wrench force is |F . z_s|, independent of the sign convention of the
+//    estimate (the KRC's estExtTcpFT or the simulated arm's contact wrench);
+//    a wrench older than `stale_s` is not used.
+// Real-time: nothing here allocates, throws or logs after configure().
+#pragma once
+
+#include <kdl/frames.hpp>
+
+#include "tactile_servo/servo_params.hpp"
+
+namespace tactile {
+
+class ServoWatchdogs {
+ public:
+  /// Validates the watchdog parameters (names the key and the valid range).
+  ConfigResult configure(const ServoParams& params);
+  const WatchdogParams& params() const { return p_; }
+
+  /// No latch, windows restarted.
+  void reset();
+  /// Clears the latch (an explicit phase request) and restarts the windows.
+  void clear() { reset(); }
+  /// The latched status, ServoStatus::Ok when none.
+  ServoStatus latched() const { return latched_; }
+
+  /// Phase timeout: `in_phase_s` seconds in a phase with limit `max_s` (0 = none).
+  bool phaseTimeout(double in_phase_s, double max_s);
+
+  /// Arm stall, on a cycle that commanded the increment `u_s` ({s}, Eq. 13)
+  /// from the measured sensor pose `T_gs_meas` at time `now`.
+  bool armStalled(const KDL::Frame& T_gs_meas, const Vec6& u_s, double now);
+  /// A cycle without commanded motion: the stall window starts over.
+  void restartStall() { stall_active_ = false; }
+
+  /// Force mismatch on a cycle of `dt` s: tactile force `force` (N) with
+  /// `contact`; `wrench` the estimated external wrench ({g} axes), used when
+  /// `have_wrench` and not older than `stale_s` at `now`; `z_s` the sensor's
+  /// z axis in {g}.
+  bool forceMismatch(double force, bool contact, bool have_wrench, const Wrench& wrench, const KDL::Vector& z_s,
+                     double now, double dt, double stale_s);
+
+ private:
+  bool latch(ServoStatus s) {
+    latched_ = s;
+    return true;
+  }
+  WatchdogParams p_;
+  ServoStatus latched_ = ServoStatus::Ok;
+  bool stall_active_ = false;
+  double stall_t0_ = 0.0;
+  KDL::Frame stall_pose0_;
+  KDL::Vector stall_cmd_t_, stall_cmd_r_;
+  double mismatch_s_ = 0.0;
+};
+
+}  // namespace tactile

@@ -1,0 +1,89 @@
+#include "tactile_servo/watchdog.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "servo_config.hpp"
+
+namespace tactile {
+
+using servo_config::err;
+
+ConfigResult ServoWatchdogs::configure(const ServoParams& p) {
+  const WatchdogParams& w = p.watchdogs;
+  auto in = [](double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; };
+  if (!in(w.stall_window_s, 0.0, 60.0))
+    return err(p, "", "watchdogs.arm_stall.window_s", w.stall_window_s, "must be in [0, 60] s (0 = off)");
+  if (!(in(w.stall_min_distance, 0.0, 1.0) && w.stall_min_distance > 0))
+    return err(p, "", "watchdogs.arm_stall.min_distance", w.stall_min_distance, "must be in (0, 1] m");
+  if (!(in(w.stall_min_angle, 0.0, kPi) && w.stall_min_angle > 0))
+    return err(p, "", "watchdogs.arm_stall.min_angle_deg", w.stall_min_angle * 180.0 / kPi, "must be in (0, 180] deg");
+  if (!(in(w.stall_min_fraction, 0.0, 1.0) && w.stall_min_fraction > 0))
+    return err(p, "", "watchdogs.arm_stall.min_fraction", w.stall_min_fraction, "must be in (0, 1]");
+  if (!in(w.mismatch_window_s, 0.0, 60.0))
+    return err(p, "", "watchdogs.force_mismatch.window_s", w.mismatch_window_s, "must be in [0, 60] s (0 = off)");
+  if (!(in(w.mismatch_tolerance_n, 0.0, 1e4) && w.mismatch_tolerance_n > 0))
+    return err(p, "", "watchdogs.force_mismatch.tolerance_n", w.mismatch_tolerance_n, "must be in (0, 1e4] N");
+  if (!in(w.mismatch_tolerance_rel, 0.0, 1.0))
+    return err(p, "", "watchdogs.force_mismatch.tolerance_rel", w.mismatch_tolerance_rel, "must be in [0, 1]");
+  if (!(in(w.mismatch_no_contact_n, 0.0, 1e4) && w.mismatch_no_contact_n > 0))
+    return err(p, "", "watchdogs.force_mismatch.no_contact_n", w.mismatch_no_contact_n, "must be in (0, 1e4] N");
+  p_ = w;
+  reset();
+  return ConfigResult::success();
+}
+
+void ServoWatchdogs::reset() {
+  latched_ = ServoStatus::Ok;
+  stall_active_ = false;
+  mismatch_s_ = 0.0;
+}
+
+bool ServoWatchdogs::phaseTimeout(double in_phase_s, double max_s) {
+  if (max_s > 0.0 && in_phase_s > max_s) return latch(ServoStatus::PhaseTimeout);
+  return false;
+}
+
+bool ServoWatchdogs::armStalled(const KDL::Frame& T_gs, const Vec6& u_s, double now) {
+  if (!(p_.stall_window_s > 0.0)) return false;
+  if (!stall_active_) {
+    stall_active_ = true;
+    stall_t0_ = now;
+    stall_pose0_ = T_gs;
+    stall_cmd_t_ = KDL::Vector::Zero();
+    stall_cmd_r_ = KDL::Vector::Zero();
+  }
+  // The commanded increment (Eq. 13, in {s}) summed in {g}.
+  stall_cmd_t_ += T_gs.M * KDL::Vector(u_s(0), u_s(1), u_s(2));
+  stall_cmd_r_ += T_gs.M * KDL::Vector(u_s(3), u_s(4), u_s(5));
+  if (now - stall_t0_ < p_.stall_window_s - 1e-6) return false;
+  const double cmd_t = stall_cmd_t_.Norm(), cmd_r = stall_cmd_r_.Norm();
+  const double moved_t = (T_gs.p - stall_pose0_.p).Norm();
+  const double moved_r = KDL::diff(stall_pose0_.M, T_gs.M).Norm();
+  stall_active_ = false;  // the next cycle starts a new window
+  const bool stalled_t = cmd_t >= p_.stall_min_distance && moved_t < p_.stall_min_fraction * cmd_t;
+  const bool stalled_r = cmd_r >= p_.stall_min_angle && moved_r < p_.stall_min_fraction * cmd_r;
+  return (stalled_t || stalled_r) ? latch(ServoStatus::ArmStalled) : false;
+}
+
+bool ServoWatchdogs::forceMismatch(double force, bool contact, bool have_wrench, const Wrench& w,
+                                   const KDL::Vector& z_s, double now, double dt, double stale_s) {
+  if (!(p_.mismatch_window_s > 0.0)) return false;
+  const bool fresh = have_wrench && std::fabs(now - w.time_s) <= stale_s;
+  const double f_w = std::fabs(w.w[0] * z_s.x() + w.w[1] * z_s.y() + w.w[2] * z_s.z());
+  if (!fresh || !std::isfinite(force) || !std::isfinite(f_w)) {
+    mismatch_s_ = 0.0;
+    return false;
+  }
+  bool bad = false;
+  if (contact) {  // Eq. 2's force from the taxels against the wrench along z_s
+    const double tol = std::max(p_.mismatch_tolerance_n, p_.mismatch_tolerance_rel * std::max(std::fabs(force), f_w));
+    bad = std::fabs(force - f_w) > tol;
+  } else {  // no tactile contact: the wrench must not carry a load either
+    bad = f_w > p_.mismatch_no_contact_n;
+  }
+  mismatch_s_ = bad ? mismatch_s_ + dt : 0.0;
+  return mismatch_s_ >= p_.mismatch_window_s - 1e-6 ? latch(ServoStatus::ForceMismatch) : false;
+}
+
+}  // namespace tactile

@@ -1,0 +1,94 @@
+// Nothing passes silently: runs where the servo's watchdogs must end the run
+// with a named status and a non-zero exit code (never `ok`), each against the
+// shipped programs' defaults, and the shipped experiments do not trip them.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "tactile_sim/runner.hpp"
+
+using namespace tactile;
+using namespace tactile::sim;
+
+namespace {
+
+const std::string kScenes = std::string(TACTILE_SOURCE_DIR) + "/sim/scenes/";
+
+Scene load(const std::string& name, const std::vector<std::string>& overrides = {}) {
+  Scene sc;
+  const ConfigResult r = loadScene(kScenes + name, sc, overrides);
+  EXPECT_TRUE(r.ok()) << r.message();
+  return sc;
+}
+
+Summary run(const Scene& sc) {
+  Runner runner;
+  const ConfigResult c = runner.configure(sc);
+  EXPECT_TRUE(c.ok()) << c.message();
+  RunResult res;
+  runner.run(res);
+  return res.summary;
+}
+
+}  // namespace
+
+// A pad 10x softer than the calibration assumes (`--set sensor.modulus=5e6`):
+// the rigid housing carries the load the taxels do not see; the arm's
+// estimated wrench contradicts the tactile force: servo_force_mismatch, exit 7.
+TEST(Watchdogs, SoftPadEndsWithForceMismatch) {
+  for (const char* scene : {"edge_exploration.yaml", "bent_bar.yaml"}) {
+    Scene sc = load(scene, {"sensor.modulus=5e6"});
+    const Summary s = run(sc);
+    EXPECT_EQ(s.status, "servo_force_mismatch") << scene;
+    EXPECT_EQ(s.exit_code, 7) << scene;
+    // With the watchdog off the same run goes on (the failure it catches).
+    Scene off = sc;
+    off.servo.watchdogs.mismatch_window_s = 0.0;
+    off.duration = 3.0;
+    EXPECT_NE(run(off).status, "servo_force_mismatch") << scene;
+  }
+}
+
+// An arm that does not follow its commands (impedance 1 N/m, 1 N m/rad with
+// dynamics): the free-motion phase commands 10 mm/s and the measured pose
+// stays put: servo_arm_stalled, exit 6.
+TEST(Watchdogs, ArmThatDoesNotMoveEndsWithArmStalled) {
+  Scene sc = load("edge_exploration.yaml", {"fidelity=dynamics", "arm.k_trans=1", "arm.k_rot=1"});
+  const Summary s = run(sc);
+  EXPECT_EQ(s.status, "servo_arm_stalled");
+  EXPECT_EQ(s.exit_code, 6);
+  EXPECT_LT(s.sim_time_s, 3.0);
+  Scene off = sc;
+  off.servo.watchdogs.stall_window_s = 0.0;
+  off.duration = 5.0;
+  EXPECT_EQ(run(off).status, "ok");  // without the watchdog: `ok`, the arm never having moved
+}
+
+// A phase that never ends: the edge-exploration program with its free-motion
+// phase limited to 1 s, started far above the bar: servo_phase_timeout, exit 5.
+TEST(Watchdogs, PhaseThatNeverEndsEndsWithPhaseTimeout) {
+  Scene sc = load("edge_exploration.yaml");
+  sc.servo.phases[static_cast<std::size_t>(0)].max_duration_s = 1.0;
+  ASSERT_EQ(sc.servo.phases[0].name, "free_motion");
+  const Summary s = run(sc);
+  EXPECT_EQ(s.status, "servo_phase_timeout");
+  EXPECT_EQ(s.exit_code, 5);
+  EXPECT_NEAR(s.sim_time_s, 1.0, 0.05);
+  Scene off = sc;
+  off.servo.phases[0].max_duration_s = 0.0;
+  off.duration = 2.0;
+  EXPECT_EQ(run(off).status, "ok");
+}
+
+// The shipped program's default (phase_defaults.max_duration_s: 30 s) at a
+// servo rate far below the 50 Hz .. 1 kHz range it is sized for: at 10 Hz
+// alpha_z keeps cycling around the aligned tolerance, edge_control never
+// ends, and the run says so instead of `ok` after 60 s of nothing.
+TEST(Watchdogs, EdgeExplorationAt10HzEndsWithPhaseTimeoutNotOk) {
+  Scene sc = load("edge_exploration.yaml", {"rates.servo=10"});
+  const Summary s = run(sc);
+  EXPECT_EQ(s.status, "servo_phase_timeout");
+  EXPECT_EQ(s.exit_code, 5);
+  EXPECT_LT(s.sim_time_s, 40.0);
+}

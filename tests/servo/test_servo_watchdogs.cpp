@@ -1,0 +1,220 @@
+// The servo's watchdogs (tactile_servo/watchdog.hpp): a phase that never
+// ends, an arm that does not follow, a tactile force the estimated wrench
+// contradicts. Each latches a named status and holds the command; each is
+// checked against the case it must catch and the one it must let pass, at
+// 100 Hz and 1 kHz, without allocation.
+#include "alloc_counter.hpp"
+#include "servo_test_util.hpp"
+
+using namespace tactile;
+using namespace servo_test;
+
+namespace {
+
+// A free-motion phase (P = 0) following 10 mm/s along +z_s, then a terminal one.
+ServoParams freeMotion() {
+  PhaseParams a = identityPhase("move", 0.0, 0.0);
+  a.P = Mat6::Zero();
+  a.feedforward(kZ) = 0.01;
+  a.requires_contact = false;
+  PhaseParams b = identityPhase("done", 0.0, 0.0);
+  b.terminal = true;
+  b.requires_contact = false;
+  TransitionParams t;
+  t.on = TransitionEvent::ForceAbove;
+  t.force_n = 1e3;
+  t.to = "done";
+  a.transitions.push_back(t);
+  ServoParams p;
+  p.phases = {a, b};
+  return p;
+}
+
+struct Loop {
+  TactileServo s;
+  ServoInput in;
+  ServoOutput out;
+  double t = 0.0;
+  bool arm_follows = true;
+  explicit Loop(const ServoParams& p) {
+    const ConfigResult r = s.configure(p);
+    EXPECT_TRUE(r.ok()) << r.message();
+    in.flange_measured = toPose(KDL::Frame(KDL::Vector(0.5, 0.0, 0.3)));
+    in.features = makeFeatures(0, 0, 0, 0, 0, 0, 0, ContactType::None);
+  }
+  ServoStatus step(double dt) {
+    in.time_s = t;
+    in.features.time_s = t;
+    in.wrench.time_s = t;
+    const ServoStatus st = s.step(in, dt, out);
+    if (arm_follows && out.valid) in.flange_measured = out.command.pose;
+    t += dt;
+    return st;
+  }
+  /// Steps for `seconds`; returns the first status in `stop`, else the last.
+  ServoStatus run(double seconds, double dt, ServoStatus stop) {
+    ServoStatus st = ServoStatus::NotConfigured;
+    const int n = static_cast<int>(std::lround(seconds / dt));
+    for (int k = 0; k < n; ++k)
+      if ((st = step(dt)) == stop) return st;
+    return st;
+  }
+};
+
+}  // namespace
+
+TEST(ServoWatchdogs, PhaseTimeoutAfterMaxDurationNotBeforeAndNotOnATimeoutTransition) {
+  for (double dt : {0.01, 0.001}) {
+    ServoParams p = freeMotion();
+    p.phases[0].max_duration_s = 0.5;
+    Loop l(p);
+    ASSERT_EQ(l.step(dt), ServoStatus::Starting);
+    EXPECT_EQ(l.run(0.49, dt, ServoStatus::PhaseTimeout), ServoStatus::FreeMotion) << dt;
+    EXPECT_EQ(l.run(0.03, dt, ServoStatus::PhaseTimeout), ServoStatus::PhaseTimeout) << dt;
+    EXPECT_NEAR(l.t - dt - l.s.program().enteredAt(), 0.5, dt + 1e-9);
+    // Latched, the command held; a phase request clears it.
+    const Pose held = l.out.command.pose;
+    EXPECT_EQ(l.step(dt), ServoStatus::PhaseTimeout);
+    EXPECT_EQ(l.out.command.pose.p, held.p);
+    EXPECT_TRUE(l.s.requestPhase("move"));
+    EXPECT_EQ(l.step(dt), ServoStatus::FreeMotion);
+  }
+  // A `timeout` transition (a normal event) before max_duration_s: no PhaseTimeout.
+  ServoParams p = freeMotion();
+  p.phases[0].max_duration_s = 0.5;
+  p.phases[0].transitions[0].on = TransitionEvent::Timeout;
+  p.phases[0].transitions[0].timeout_s = 0.3;
+  p.phases[1].max_duration_s = 0.1;  // terminal: never times out
+  Loop l(p);
+  l.step(0.01);
+  EXPECT_EQ(l.run(2.0, 0.01, ServoStatus::PhaseTimeout), ServoStatus::Done);
+}
+
+TEST(ServoWatchdogs, ArmStalledWhenTheMeasuredPoseDoesNotFollow) {
+  for (double dt : {0.01, 0.001}) {
+    // The arm follows: 5 s of free motion, no stall.
+    Loop ok(freeMotion());
+    ok.step(dt);
+    EXPECT_EQ(ok.run(5.0, dt, ServoStatus::ArmStalled), ServoStatus::FreeMotion) << dt;
+    // The arm does not move: stalled after one window (1 s) of commanded motion.
+    Loop stuck(freeMotion());
+    stuck.arm_follows = false;
+    stuck.step(dt);
+    EXPECT_EQ(stuck.run(0.95, dt, ServoStatus::ArmStalled), ServoStatus::FreeMotion) << dt;
+    EXPECT_EQ(stuck.run(0.2, dt, ServoStatus::ArmStalled), ServoStatus::ArmStalled) << dt;
+    EXPECT_EQ(stuck.step(dt), ServoStatus::ArmStalled);  // latched
+    // Moving at a tenth of the commanded speed is a stall too (min_fraction 0.2).
+    Loop slow(freeMotion());
+    slow.arm_follows = false;
+    slow.step(dt);
+    ServoStatus st = ServoStatus::FreeMotion;
+    for (int k = 0; k < static_cast<int>(std::lround(1.5 / dt)) && st != ServoStatus::ArmStalled; ++k) {
+      const Pose before = slow.in.flange_measured;
+      st = slow.step(dt);
+      slow.in.flange_measured.p[2] = before.p[2] + 0.1 * slow.out.u_s(kZ);  // z_s = z_g here
+    }
+    EXPECT_EQ(st, ServoStatus::ArmStalled) << dt;
+  }
+  // Switched off (window 0): the stuck arm goes unnoticed.
+  ServoParams p = freeMotion();
+  p.watchdogs.stall_window_s = 0.0;
+  Loop off(p);
+  off.arm_follows = false;
+  off.step(0.01);
+  EXPECT_EQ(off.run(3.0, 0.01, ServoStatus::ArmStalled), ServoStatus::FreeMotion);
+}
+
+TEST(ServoWatchdogs, ForceMismatchAgainstTheEstimatedWrench) {
+  // A contact phase holding the features constant (the arm follows a zero increment).
+  auto contactLoop = [](double tactile_n, double wrench_n, bool contact, bool have_wrench, double dt) {
+    ServoParams p = freeMotion();
+    p.phases[0].feedforward.setZero();
+    Loop l(p);
+    l.in.features = makeFeatures(0, 0, 0, tactile_n / 1800.0, 0, 0, 0,
+                                 contact ? ContactType::Edge : ContactType::None);
+    l.in.features.force = contact ? tactile_n : 0.0;
+    // The sensor's z axis is z_g here (identity mount and orientation); the
+    // estimate's sign convention does not matter (|F . z_s|).
+    l.in.wrench.w = {0.3, -0.2, -wrench_n, 0, 0, 0};
+    l.in.have_wrench = have_wrench;
+    l.step(dt);
+    return l.run(2.0, dt, ServoStatus::ForceMismatch);
+  };
+  for (double dt : {0.01, 0.001}) {
+    // The soft-pad case: 5 N measured, 46 N on the arm.
+    EXPECT_EQ(contactLoop(5.0, 46.0, true, true, dt), ServoStatus::ForceMismatch) << dt;
+    // Agreement within the shipped experiments' ~1 N: fine.
+    EXPECT_NE(contactLoop(5.0, 6.2, true, true, dt), ServoStatus::ForceMismatch) << dt;
+    EXPECT_NE(contactLoop(20.0, 26.0, true, true, dt), ServoStatus::ForceMismatch) << dt;  // 30 % of 26 N
+    // No tactile contact, but the arm carries 20 N (the housing): mismatch; 5 N: fine.
+    EXPECT_EQ(contactLoop(0.0, 20.0, false, true, dt), ServoStatus::ForceMismatch) << dt;
+    EXPECT_NE(contactLoop(0.0, 5.0, false, true, dt), ServoStatus::ForceMismatch) << dt;
+    // No wrench input (port unconnected): the check is off.
+    EXPECT_NE(contactLoop(5.0, 46.0, true, false, dt), ServoStatus::ForceMismatch) << dt;
+  }
+  // A mismatch shorter than the window (0.5 s) does not trip.
+  ServoParams p = freeMotion();
+  p.phases[0].feedforward.setZero();
+  Loop l(p);
+  l.in.features = makeFeatures(0, 0, 0, 5.0 / 1800.0, 0, 0, 0, ContactType::Edge);
+  l.in.features.force = 5.0;
+  l.in.have_wrench = true;
+  l.step(0.01);
+  for (int k = 0; k < 300; ++k) {
+    l.in.wrench.w[2] = (k / 40) % 2 ? -46.0 : -5.0;  // 0.4 s on, 0.4 s off
+    ASSERT_NE(l.step(0.01), ServoStatus::ForceMismatch) << k;
+  }
+  // A stale wrench (older than stale_timeout) is not used.
+  Loop stale(p);
+  stale.in.features = l.in.features;
+  stale.in.have_wrench = true;
+  stale.in.wrench.w[2] = -46.0;
+  stale.step(0.01);
+  for (int k = 0; k < 200; ++k) {
+    stale.in.time_s = stale.in.features.time_s = stale.t;
+    stale.in.wrench.time_s = stale.t - 1.0;
+    ASSERT_NE(stale.s.step(stale.in, 0.01, stale.out), ServoStatus::ForceMismatch);
+    stale.t += 0.01;
+  }
+}
+
+TEST(ServoWatchdogs, ProgramKeysAndRangesNamed) {
+  ServoParams p = freeMotion();
+  p.source = "prog.yaml";
+  TactileServo s;
+  ServoParams q = p;
+  q.watchdogs.stall_min_fraction = 0.0;
+  EXPECT_NE(s.configure(q).message().find("prog.yaml: watchdogs.arm_stall.min_fraction"), std::string::npos);
+  q = p;
+  q.watchdogs.mismatch_tolerance_n = -1.0;
+  EXPECT_NE(s.configure(q).message().find("watchdogs.force_mismatch.tolerance_n"), std::string::npos);
+  q = p;
+  q.phases[0].max_duration_s = -1.0;
+  EXPECT_NE(s.configure(q).message().find("phases.move.max_duration_s"), std::string::npos);
+  // The shipped programs' defaults.
+  const ServoParams e = loadShipped("edge_exploration.yaml");
+  EXPECT_DOUBLE_EQ(e.watchdogs.stall_window_s, 1.0);
+  EXPECT_DOUBLE_EQ(e.watchdogs.mismatch_window_s, 0.5);
+}
+
+TEST(ServoWatchdogs, NoAllocationPerCycle) {
+  ServoParams p = freeMotion();
+  p.phases[0].max_duration_s = 3.0;
+  Loop l(p);
+  l.arm_follows = false;
+  l.in.have_wrench = true;
+  l.step(0.01);
+  tactile::test::AllocationScope scope;
+  int fired = 0;
+  for (int k = 0; k < 2000; ++k) {
+    l.in.features = makeFeatures(l.t, 0, 0, 0.002, 0, 0, 0, k % 7 ? ContactType::Edge : ContactType::None);
+    l.in.wrench.w[2] = k % 300 < 150 ? -3.6 : -40.0;
+    const ServoStatus st = l.step(0.01);
+    if (watchdogStatus(st)) {
+      ++fired;
+      l.s.requestPhase(0);
+    }
+  }
+  EXPECT_EQ(scope.count(), 0u);
+  EXPECT_GT(fired, 0);
+}
