@@ -169,6 +169,20 @@ TEST(Experiments, BentBarLiBaselineFollowsTheBarToo) {
   double housing = 0;
   for (const auto& row : b.rows) housing = std::max(housing, row.housing_force);
   EXPECT_LT(housing, 1.0);
+  // At the end of the bar the edge ends under the pad (a partial edge, CoC_x
+  // moves off the centre): the baseline rolls towards the bar's end to centre
+  // the CoP (by ~33 deg in the last 2.5 s), the proposed controller keeps the
+  // line load level and its pitch within 1.5 deg.
+  const RunResult p = runScene("bent_bar.yaml", ControllerMode::Proposed);
+  auto pitchAt = [](const RunResult& r, double t) {
+    for (const auto& row : r.rows)
+      if (row.t >= t) return row.act_rpy[1] * 180.0 / M_PI;
+    return std::nan("");
+  };
+  const double t_end = b.rows.back().t;
+  ASSERT_NEAR(p.rows.back().t, t_end, 1e-9);
+  EXPECT_LT(std::fabs(pitchAt(p, t_end) - pitchAt(p, t_end - 2.5)), 1.5);
+  EXPECT_GT(std::fabs(pitchAt(b, t_end) - pitchAt(b, t_end - 2.5)), 15.0);
 }
 
 // Where the DZMP rows matter (Sec. 2, case 2: a partial edge). The bar ends
