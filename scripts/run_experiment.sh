@@ -19,7 +19,7 @@ sim="$root/build/bin/tactile_sim"
 out="$root/out"
 mkdir -p "$out"
 
-run() {  # run SCENE DIR [args]: a non-zero exit is reported, not fatal (the baseline is expected to fail)
+run() {  # run SCENE DIR [args]: a non-zero exit is reported, not fatal (the no_rotation ablation is expected to fail)
   local scene="$1" dir="$2"; shift 2
   local rc=0
   "$sim" run "$root/sim/scenes/$scene.yaml" --out "$out/$dir" "$@" || rc=$?
