@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Plots of one tactile_sim run directory (written by `tactile_sim run`).
 
-usage: plot_run.py RUN_DIR [--compare OTHER_RUN_DIR]
+usage: plot_run.py RUN_DIR [--compare OTHER_RUN_DIR [OTHER_RUN_DIR ...]]
 
 Reads RUN_DIR/timeseries.csv, summary.json, snapshots.csv and contacts.csv and
 writes PNGs into RUN_DIR:
@@ -10,8 +10,9 @@ writes PNGs into RUN_DIR:
   fig14.png         co-manipulation, mirroring Fig. 14
   snapshots.png     tactile images at the phase switches
   contacts.png      reconstructed contact-point cloud (Fig. 9f / 11b)
-With --compare, also RUN_DIR/fig12.png: the true normal force of both runs
-overlaid (Fig. 12: proposed vs the Li et al. baseline).
+With --compare, also RUN_DIR/fig12.png: the true normal force of the runs
+overlaid (Fig. 12: proposed vs the Li et al. baseline and the no_rotation
+ablation).
 Only Debian's python3-numpy and python3-matplotlib are used.
 """
 import csv
@@ -267,12 +268,15 @@ def contacts_png(run):
     plt.close(fig)
 
 
-def fig12(run, other):
-    a_ts, b_ts = load_csv(os.path.join(run, "timeseries.csv")), load_csv(os.path.join(other, "timeseries.csv"))
-    a_s = json.load(open(os.path.join(run, "summary.json")))
-    b_s = json.load(open(os.path.join(other, "summary.json")))
+def fig12(run, others):
+    a_ts = load_csv(os.path.join(run, "timeseries.csv"))
+    runs = [(a_ts, json.load(open(os.path.join(run, "summary.json"))))]
+    for other in others:
+        runs.append((load_csv(os.path.join(other, "timeseries.csv")), json.load(open(os.path.join(other, "summary.json")))))
+    colors = {"proposed": "r", "baseline": "b", "no_rotation": "0.5"}
     fig, ax = plt.subplots(figsize=(9, 4))
-    for ts, s, c in ((a_ts, a_s, "r"), (b_ts, b_s, "b")):
+    for ts, s in runs:
+        c = colors.get(s["controller"], "g")
         if np.any(np.isfinite(ts["force_true"])):
             ax.plot(ts["time"], ts["force_true"], c, label=f"{s['controller']}: true normal force")
         else:  # a deployment's run (scripts/deployment_to_run.py): only what the taxels measure
@@ -280,7 +284,8 @@ def fig12(run, other):
     ax.plot(a_ts["time"], a_ts["sd_force"], "k--", lw=0.8, label="desired")
     ax.set_xlabel("time (s)")
     ax.set_ylabel("force (N)")
-    ax.set_title("Bent bar (cf. Fig. 12): proposed (DZMP) vs baseline (Li et al.)")
+    ax.set_title("Bent bar (cf. Fig. 12): " + " vs ".join(s["controller"] for _, s in runs)
+                 + " (baseline = Li et al. 2013)")
     ax.grid(alpha=0.3)
     ax.legend()
     fig.tight_layout()
@@ -304,7 +309,7 @@ def main():
     snapshots_png(run, snaps)
     contacts_png(run)
     if len(sys.argv) >= 4 and sys.argv[2] == "--compare":
-        fig12(run, sys.argv[3])
+        fig12(run, sys.argv[3:])
 
 
 if __name__ == "__main__":

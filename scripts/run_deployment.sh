@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # Runs one experiment as Orocos components under the OCL deployer, on the
 # simulated LWR 4+ and WTS0614, headless, and writes what `tactile_sim run`
-# writes for it: out/deploy/<experiment>[_baseline]/timeseries.csv,
+# writes for it: out/deploy/<experiment>[_baseline|_no_rotation]/timeseries.csv,
 # summary.json and the PNG plots of scripts/plot_run.py.
 #
-#   scripts/run_deployment.sh EXPERIMENT [--controller proposed|baseline]
+#   scripts/run_deployment.sh EXPERIMENT [--controller proposed|baseline|no_rotation]
 #     EXPERIMENT: edge_exploration | bent_bar | co_manipulation | sphere_table
-#     --controller baseline: the Li et al. baseline (bent bar only; the servo's
-#       .cpf servo_bent_bar_baseline.cpf, the same program)
+#     --controller baseline: the Li et al. (RSS 2013) baseline, no_rotation: the
+#       ablation (bent bar only; the servo's .cpf servo_bent_bar_<controller>.cpf,
+#       the same program)
 #
 # It runs deployments/<experiment>_sim_run.ops with `deployer-gnulinux
 # --check -s` from deployments/ (the deployer exits after the script: 0, or
@@ -27,7 +28,7 @@ build="${BUILD:-$root/build}"
 orocos="${OROCOS:-/opt/orocos}"
 py=/usr/bin/python3
 
-usage() { echo "usage: $0 edge_exploration|bent_bar|co_manipulation|sphere_table [--controller proposed|baseline]" >&2; exit 2; }
+usage() { echo "usage: $0 edge_exploration|bent_bar|co_manipulation|sphere_table [--controller proposed|baseline|no_rotation]" >&2; exit 2; }
 [ $# -ge 1 ] || usage
 exp="$1"; shift
 controller=proposed
@@ -46,9 +47,9 @@ case "$exp" in
 esac
 case "$controller" in
   proposed) run="$exp" ;;
-  baseline)
-    [ "$exp" = bent_bar ] || { echo "$0: --controller baseline: only the bent bar has a baseline deployment" >&2; exit 2; }
-    run=bent_bar_baseline; servo_cpf=servo_bent_bar_baseline.cpf ;;
+  baseline|no_rotation)
+    [ "$exp" = bent_bar ] || { echo "$0: --controller $controller: only the bent bar has a $controller deployment" >&2; exit 2; }
+    run=bent_bar_$controller; servo_cpf=servo_bent_bar_$controller.cpf ;;
   *) usage ;;
 esac
 
@@ -86,7 +87,7 @@ src=0
   --status "$status" --exit-code "$exit_code" "${extra[@]}" --no-plots || src=$?
 [ "$src" -le 8 ] || { echo "run_deployment: tactile_sim summarize failed ($src)" >&2; exit 1; }
 "$py" "$root/scripts/plot_run.py" "$out"
-if [ "$run" = bent_bar_baseline ] && [ -f "$root/out/deploy/bent_bar/summary.json" ]; then
+if [ "$run" != bent_bar ] && [ "$exp" = bent_bar ] && [ -f "$root/out/deploy/bent_bar/summary.json" ]; then
   "$py" "$root/scripts/plot_run.py" "$root/out/deploy/bent_bar" --compare "$out"
 fi
 echo "run_deployment: deployer exit $rc, run status $status; $out/{timeseries.csv,summary.json,*.png}"

@@ -2,8 +2,10 @@
 # The main job: installs what is missing, builds, and runs the paper's
 # experiments headless against the simulated LWR 4+ and WTS0614:
 #   edge exploration (Sec. 5.2, Fig. 9/10), the bent bar with the proposed
-#   controller and the Li et al. baseline (Sec. 5.2.1, Fig. 12), tray
-#   co-manipulation (Sec. 5.3, Fig. 14), and a sphere (point contact).
+#   controller, the Li et al. (RSS 2013) baseline and the no_rotation ablation
+#   (Sec. 5.2.1, Fig. 12), tray co-manipulation (Sec. 5.3, Fig. 14), and a
+#   sphere (point contact). Then the three controllers on every scene
+#   (scripts/compare_controllers.py -> out/compare/compare.md, ~10 s).
 # Results and PNG plots go to out/<scene>/. Then every experiment again as
 # Orocos components under the OCL deployer (scripts/run_deployment.sh: the
 # simulated deployment on tactile::SimClock, the experiment's state machine,
@@ -17,7 +19,7 @@ sim="$root/build/bin/tactile_sim"
 out="$root/out"
 mkdir -p "$out"
 
-run() {  # run SCENE DIR [args]: a non-zero exit is reported, not fatal (the baseline is expected to fail)
+run() {  # run SCENE DIR [args]: a non-zero exit is reported, not fatal (the no_rotation ablation is expected to fail)
   local scene="$1" dir="$2"; shift 2
   local rc=0
   "$sim" run "$root/sim/scenes/$scene.yaml" --out "$out/$dir" "$@" || rc=$?
@@ -27,10 +29,12 @@ run() {  # run SCENE DIR [args]: a non-zero exit is reported, not fatal (the bas
 run edge_exploration edge_exploration
 run bent_bar bent_bar --controller proposed
 run bent_bar bent_bar_baseline --controller baseline
+run bent_bar bent_bar_no_rotation --controller no_rotation
 run co_manipulation co_manipulation
 run sphere_table sphere_table
-/usr/bin/python3 "$root/scripts/plot_run.py" "$out/bent_bar" --compare "$out/bent_bar_baseline"
+/usr/bin/python3 "$root/scripts/plot_run.py" "$out/bent_bar" --compare "$out/bent_bar_baseline" "$out/bent_bar_no_rotation"
 /usr/bin/python3 "$root/scripts/experiment_report.py" "$out"
+/usr/bin/python3 "$root/scripts/compare_controllers.py" --sim "$sim" --out "$out/compare" || echo "  (compare_controllers.py failed)"
 
 # The same experiments as deployed (the loop that runs on the robot, with the
 # simulated arm and sensor swapped in).
@@ -43,6 +47,7 @@ deploy() {  # deploy EXPERIMENT [--controller C]: a non-zero exit is reported, n
 deploy edge_exploration
 deploy bent_bar
 deploy bent_bar --controller baseline
+deploy bent_bar --controller no_rotation
 deploy co_manipulation
 deploy sphere_table
 /usr/bin/python3 "$root/scripts/experiment_report.py" "$out/deploy"

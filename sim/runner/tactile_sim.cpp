@@ -1,8 +1,8 @@
 // tactile_sim: the headless experiment runner.
 //
-//   tactile_sim summarize SCENE REPORT --out DIR [--controller proposed|baseline]
+//   tactile_sim summarize SCENE REPORT --out DIR [--controller proposed|baseline|no_rotation]
 //                         [--status S --exit-code N --sim-time T] [--no-plots]
-//   tactile_sim run SCENE [--controller proposed|baseline] [--out DIR] [--seed N]
+//   tactile_sim run SCENE [--controller proposed|baseline|no_rotation] [--out DIR] [--seed N]
 //                         [--duration S] [--servo-rate HZ] [--sim-rate HZ]
 //                         [--wts-rate HZ] [--features-rate HZ] [--subsamples K]
 //                         [--fidelity quasi_static|dynamics] [--through-fri] [--no-plots]
@@ -49,9 +49,9 @@ using namespace tactile::sim;
 namespace {
 
 void usage() {
-  std::cerr << "usage: tactile_sim summarize SCENE REPORT --out DIR [--controller proposed|baseline]\n"
+  std::cerr << "usage: tactile_sim summarize SCENE REPORT --out DIR [--controller proposed|baseline|no_rotation]\n"
                "                         [--status S --exit-code N --sim-time T] [--no-plots]\n"
-               "       tactile_sim run SCENE [--controller proposed|baseline] [--out DIR] [--seed N]\n"
+               "       tactile_sim run SCENE [--controller proposed|baseline|no_rotation] [--out DIR] [--seed N]\n"
                "                         [--duration S] [--servo-rate HZ] [--sim-rate HZ] [--wts-rate HZ]\n"
                "                         [--features-rate HZ] [--subsamples K] [--fidelity quasi_static|dynamics]\n"
                "                         [--through-fri] [--no-plots] [--set KEY.PATH=VALUE ...]\n";
@@ -64,11 +64,8 @@ bool number(const char* s, double& v) {
 }
 
 bool parseController(const std::string& m, ControllerMode& mode) {
-  if (m == "proposed" || m == "baseline") {
-    mode = m == "baseline" ? ControllerMode::Baseline : ControllerMode::Proposed;
-    return true;
-  }
-  std::cerr << "tactile_sim: --controller must be proposed | baseline\n";
+  if (parseControllerMode(m, mode)) return true;
+  std::cerr << "tactile_sim: --controller '" << m << "' must be " << kControllerModeNames << "\n";
   return false;
 }
 
@@ -160,7 +157,7 @@ int summarize(int argc, char** argv) {
   }
   Summary& s = result.summary;
   s.scene = scene.name;
-  s.controller = scene.controller == ControllerMode::Baseline ? "baseline" : "proposed";
+  s.controller = toString(scene.controller);
   s.seed = scene.seed;
   s.fidelity = toString(scene.world.fidelity);
   s.status = status;
@@ -247,7 +244,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  if (!out_given && scene.controller == ControllerMode::Baseline) out_dir += "_baseline";
+  if (!out_given && scene.controller != ControllerMode::Proposed) out_dir += std::string("_") + toString(scene.controller);
   if (!(scene.duration > 0)) {
     std::cerr << "tactile_sim: --duration must be > 0 (s)\n";
     return 2;

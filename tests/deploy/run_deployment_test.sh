@@ -6,7 +6,7 @@
 #   run_deployment_test.sh SOURCE_DIR BUILD_DIR EXPERIMENT CONTROLLER
 set -uo pipefail
 src="$1"; build="$2"; exp="$3"; controller="$4"
-run="$exp"; [ "$controller" = baseline ] && run="${exp}_baseline"
+run="$exp"; [ "$controller" = proposed ] || run="${exp}_${controller}"
 headless="$build/deploy_test/$run"
 rm -rf "$headless"; mkdir -p "$headless"
 BUILD="$build" bash "$src/scripts/run_deployment.sh" "$exp" --controller "$controller"

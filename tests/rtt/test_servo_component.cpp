@@ -215,7 +215,8 @@ TEST(ServoComponent, PhaseIndexOperations) {
 }
 
 // controller_mode overrides the program's controller.mode (the deployments'
-// servo_bent_bar_baseline.cpf selects the Li et al. baseline this way).
+// servo_bent_bar_baseline.cpf selects the Li et al. baseline this way,
+// servo_bent_bar_no_rotation.cpf the ablation).
 TEST(ServoComponent, ControllerModeProperty) {
   auto mode = [](const std::string& m) {
     Rig rig(kProgram);
@@ -226,10 +227,13 @@ TEST(ServoComponent, ControllerModeProperty) {
   EXPECT_EQ(mode(""), "proposed");  // the program's controller.mode
   EXPECT_EQ(mode("proposed"), "proposed");
   EXPECT_EQ(mode("baseline"), "baseline");
+  EXPECT_EQ(mode("no_rotation"), "no_rotation");
   const std::string bad = mode("Baseline");
   EXPECT_NE(bad.find("refused: "), std::string::npos) << bad;
   EXPECT_NE(bad.find("controller_mode = 'Baseline'"), std::string::npos) << bad;
-  EXPECT_NE(bad.find("'proposed' or 'baseline'"), std::string::npos) << bad;
+  EXPECT_NE(bad.find("proposed, baseline or no_rotation"), std::string::npos) << bad;
+  const std::string bad2 = mode("li");
+  EXPECT_NE(bad2.find("controller_mode = 'li'"), std::string::npos) << bad2;
 }
 
 TEST(ServoComponent, NoFlangePoseNoCommand) {

@@ -206,13 +206,13 @@ TEST_P(SimLoop, DeploymentIsTheRunnersLoop) {
   // The servo component reads the mode from its program file: the scene's
   // program with the controller overridden (as --controller does).
   std::string program_file = sc.program_file;
-  if (c.mode == ControllerMode::Baseline) {
+  if (c.mode != ControllerMode::Proposed) {
     std::ifstream in(sc.program_file);
     std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     const std::size_t at = text.find("  mode: proposed");
     ASSERT_NE(at, std::string::npos) << sc.program_file;
-    text.replace(at, 16, "  mode: baseline");
-    program_file = test::writeTempFile(std::string("baseline_") + c.scene, text);
+    text.replace(at, 16, std::string("  mode: ") + toString(c.mode));
+    program_file = test::writeTempFile(std::string(toString(c.mode)) + "_" + c.scene, text);
   }
   sim::Runner runner;
   ASSERT_TRUE(runner.configure(sc).ok());
@@ -238,7 +238,7 @@ TEST_P(SimLoop, DeploymentIsTheRunnersLoop) {
     ASSERT_EQ(rec.phases[k].index, w.phase) << "servo cycle " << k;
   }
   std::printf("%s (%s): %zu servo cycles, largest pose command difference %.3g (m, rad), %d ticks\n", c.scene,
-              c.mode == ControllerMode::Baseline ? "baseline" : "proposed", want.rows.size(), worst, rec.ticks);
+              toString(c.mode), want.rows.size(), worst, rec.ticks);
 
   // The same summary from the deployment's rows, and the same end.
   sim::RunResult got;
@@ -254,6 +254,8 @@ TEST_P(SimLoop, DeploymentIsTheRunnersLoop) {
                             {"force_true_max_n", g.force_true_max_n, w.force_true_max_n},
                             {"force_true_rms_error_n", g.force_true_rms_error_n, w.force_true_rms_error_n},
                             {"force_true_in_band_fraction", g.force_true_in_band_fraction, w.force_true_in_band_fraction},
+                            {"force_scored_s", g.force_scored_s, w.force_scored_s},
+                            {"force_true_in_band_s", g.force_true_in_band_s, w.force_true_in_band_s},
                             {"alignment_time_s", g.alignment_time_s, w.alignment_time_s},
                             {"path_length_m", g.path_length_m, w.path_length_m},
                             {"slide_speed_mps", g.slide_speed_mps, w.slide_speed_mps},
@@ -273,12 +275,14 @@ INSTANTIATE_TEST_SUITE_P(Scenes, SimLoop,
                          ::testing::Values(Case{"edge_exploration.yaml", ControllerMode::Proposed},
                                            Case{"bent_bar.yaml", ControllerMode::Proposed},
                                            Case{"bent_bar.yaml", ControllerMode::Baseline},
+                                           Case{"bent_bar.yaml", ControllerMode::NoRotation},
                                            Case{"co_manipulation.yaml", ControllerMode::Proposed},
-                                           Case{"sphere_table.yaml", ControllerMode::Proposed}),
+                                           Case{"sphere_table.yaml", ControllerMode::Proposed},
+                                           Case{"partial_edge.yaml", ControllerMode::Baseline}),
                          [](const ::testing::TestParamInfo<Case>& i) {
                            std::string n = i.param.scene;
                            n = n.substr(0, n.find('.'));
-                           return n + (i.param.mode == ControllerMode::Baseline ? "_baseline" : "_proposed");
+                           return n + "_" + toString(i.param.mode);
                          });
 
 // The whole deployed loop per tick allocates nothing: the clock (on a

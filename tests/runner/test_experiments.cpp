@@ -120,11 +120,14 @@ TEST(Experiments, EdgeExplorationThroughFri) {
 }
 
 // (b) Bent bar (Sec. 5.2.1, Fig. 12): with DZMP control the true force stays
-// near 5 N while sliding at >= 10 mm/s; the Li et al. baseline drifts far.
-TEST(Experiments, BentBarProposedHoldsTheForceBaselineDrifts) {
+// near 5 N while sliding at >= 10 mm/s; without any rotation about x_s/y_s
+// (the no_rotation ablation, the paper's Fig. 12 "baseline" curve) it drifts
+// far. The Li et al. baseline with its CoP -> rotation rows follows the bar as
+// well as the proposed controller here (README, controller comparison).
+TEST(Experiments, BentBarProposedHoldsTheForceNoRotationDrifts) {
   const RunResult p = runScene("bent_bar.yaml", ControllerMode::Proposed);
-  // The baseline's drift, watched to the end: its force-mismatch watchdog off.
-  const RunResult b = runScene("bent_bar.yaml", ControllerMode::Baseline, nullptr, false);
+  // The ablation's drift, watched to the end: its force-mismatch watchdog off.
+  const RunResult b = runScene("bent_bar.yaml", ControllerMode::NoRotation, nullptr, false);
   EXPECT_EQ(p.summary.status, "ok");
   EXPECT_GE(p.summary.slide_speed_mps, 0.010);
   EXPECT_GE(p.summary.path_length_m, 0.2);
@@ -146,20 +149,147 @@ TEST(Experiments, BentBarProposedHoldsTheForceBaselineDrifts) {
   EXPECT_LE(p.summary.force_true_max_n, 6.0);
   EXPECT_GE(p.summary.force_true_in_band_fraction, 0.99);
   EXPECT_LT(p.summary.force_true_rms_error_n, 1.0);
-  // Baseline: far from 5 N (the paper reports up to 50 N), much of it on the
-  // rigid housing, which the taxels do not see.
+  // No rotation: far from 5 N (the paper reports up to 50 N for its
+  // baseline), much of it on the rigid housing, which the taxels do not see.
   EXPECT_GT(b.summary.force_true_max_n, 30.0);
   EXPECT_GT(b.summary.force_true_rms_error_n, 5.0 * p.summary.force_true_rms_error_n);
   double housing = 0;
   for (const auto& row : b.rows) housing = std::max(housing, row.housing_force);
   EXPECT_GT(housing, 10.0);
-  // With the watchdog on (the shipped program), the baseline run does not end
+  // With the watchdog on (the shipped program), the ablation's run does not end
   // `ok`: the arm's estimated wrench contradicts the tactile force (the rigid
   // housing carries load the taxels do not see) and the servo stops it.
-  const RunResult w = runScene("bent_bar.yaml", ControllerMode::Baseline);
+  const RunResult w = runScene("bent_bar.yaml", ControllerMode::NoRotation);
   EXPECT_EQ(w.summary.status, "servo_force_mismatch");
   EXPECT_EQ(w.summary.exit_code, 7);
   EXPECT_LT(w.summary.force_true_max_n, b.summary.force_true_max_n);
+}
+
+// (b') The Li et al. (RSS 2013) baseline on the bent bar: its CoP -> rotation
+// rows roll the pad onto the rising bar (the edge spans the pad, so CoC_x ~ 0
+// and CoP_x ~ DZMP_y): the true force stays in the 5 +- 1 N band like the
+// proposed controller's, no ceiling, and it slides the bar.
+TEST(Experiments, BentBarLiBaselineFollowsTheBarToo) {
+  const RunResult b = runScene("bent_bar.yaml", ControllerMode::Baseline);
+  EXPECT_EQ(b.summary.controller, "baseline");
+  EXPECT_EQ(b.summary.status, "ok");
+  EXPECT_NEAR(b.summary.force_true_mean_n, 5.0, 1.0);
+  EXPECT_LT(b.summary.force_true_max_n, 6.5);
+  EXPECT_GE(b.summary.force_true_in_band_fraction, 0.95);
+  EXPECT_LT(b.summary.force_true_rms_error_n, 1.0);
+  EXPECT_GE(b.summary.path_length_m, 0.2);
+  double housing = 0;
+  for (const auto& row : b.rows) housing = std::max(housing, row.housing_force);
+  EXPECT_LT(housing, 1.0);
+  // At the end of the bar the edge ends under the pad (a partial edge, CoC_x
+  // moves off the centre): the baseline rolls towards the bar's end to centre
+  // the CoP (by ~33 deg in the last 2.5 s), the proposed controller keeps the
+  // line load level and its pitch within 1.5 deg.
+  const RunResult p = runScene("bent_bar.yaml", ControllerMode::Proposed);
+  auto pitchAt = [](const RunResult& r, double t) {
+    for (const auto& row : r.rows)
+      if (row.t >= t) return row.act_rpy[1] * 180.0 / M_PI;
+    return std::nan("");
+  };
+  const double t_end = b.rows.back().t;
+  ASSERT_NEAR(p.rows.back().t, t_end, 1e-9);
+  EXPECT_LT(std::fabs(pitchAt(p, t_end) - pitchAt(p, t_end - 2.5)), 1.5);
+  EXPECT_GT(std::fabs(pitchAt(b, t_end) - pitchAt(b, t_end - 2.5)), 15.0);
+}
+
+// Where the DZMP rows matter (Sec. 2, case 2: a partial edge). The bar ends
+// under the pad and rises 5 deg towards its end (partial_edge.yaml, held
+// without sliding by hold_edge.yaml). The proposed controller levels the line
+// load (DZMP_y = 0): the pad lies on the bar at its 5 deg and the true force
+// sits close to the set point. The Li et al. baseline rolls until the CoP is
+// at the sensor centre, which on a partial edge is not where the contact's
+// centre is: the pad stays tilted against the bar and the load piles up at
+// the bar's end (more of it below the taxels' firing threshold): its true
+// force error is several times the proposed one's; no_rotation never tilts.
+TEST(Experiments, PartialEdgeDzmpBeatsCopRolling) {
+  Scene sc;
+  const RunResult p = runScene("partial_edge.yaml", ControllerMode::Proposed, &sc);
+  const RunResult b = runScene("partial_edge.yaml", ControllerMode::Baseline);
+  const RunResult n = runScene("partial_edge.yaml", ControllerMode::NoRotation);
+  for (const RunResult* r : {&p, &b, &n}) {
+    EXPECT_EQ(r->summary.status, "ok") << r->summary.controller;
+    EXPECT_GT(r->summary.force_scored_s, 10.0) << r->summary.controller;
+  }
+  // The pitch of the sensor at the end against the bar's 5 deg.
+  auto pitchDeg = [](const RunResult& r) { return r.rows.back().act_rpy[1] * 180.0 / M_PI; };
+  EXPECT_NEAR(std::fabs(pitchDeg(p)), 5.0, 0.3);
+  EXPECT_GT(std::fabs(std::fabs(pitchDeg(b)) - 5.0), 0.5);
+  EXPECT_LT(std::fabs(pitchDeg(n)), 0.5);
+  // On the partial edge the contact's centre is off the sensor centre, and
+  // the proposed controller's CoP follows it (DZMP_y ~ 0); the baseline's CoP
+  // is at the centre instead.
+  const LogRow& lp = p.rows.back();
+  const LogRow& lb = b.rows.back();
+  EXPECT_GT(std::fabs(lp.f.coc_x), 0.003);
+  EXPECT_LT(std::fabs(lp.f.dzmp_y), 0.0005);
+  EXPECT_LT(std::fabs(lb.f.cop_x), 0.001);
+  EXPECT_GT(std::fabs(lb.f.dzmp_y), 0.001);
+  // True force: the proposed controller's RMS error is below 40 % of either
+  // constant Jacobian's (measured 0.11 N against 0.62 N and 0.68 N).
+  EXPECT_NEAR(p.summary.force_true_mean_n, 5.0, 0.3);
+  EXPECT_LT(p.summary.force_true_rms_error_n, 0.4 * b.summary.force_true_rms_error_n);
+  EXPECT_LT(p.summary.force_true_rms_error_n, 0.4 * n.summary.force_true_rms_error_n);
+  EXPECT_LT(p.summary.force_true_max_n, b.summary.force_true_max_n);
+  EXPECT_LT(p.summary.force_true_max_n, n.summary.force_true_max_n);
+}
+
+// A bar shorter than the pad (short_bar.yaml): the same ordering, smaller
+// margin (measured RMS error 0.25 N proposed, 0.52 N Li et al., 0.55 N
+// no_rotation; max 5.35 / 6.24 / 6.04 N).
+TEST(Experiments, ShortBarDzmpBeatsCopRolling) {
+  const RunResult p = runScene("short_bar.yaml", ControllerMode::Proposed);
+  const RunResult b = runScene("short_bar.yaml", ControllerMode::Baseline);
+  const RunResult n = runScene("short_bar.yaml", ControllerMode::NoRotation);
+  for (const RunResult* r : {&p, &b, &n}) EXPECT_EQ(r->summary.status, "ok") << r->summary.controller;
+  EXPECT_LT(p.summary.force_true_rms_error_n, 0.7 * b.summary.force_true_rms_error_n);
+  EXPECT_LT(p.summary.force_true_rms_error_n, 0.7 * n.summary.force_true_rms_error_n);
+  EXPECT_LT(p.summary.force_true_max_n + 0.3, b.summary.force_true_max_n);
+  EXPECT_GE(p.summary.force_true_in_band_fraction, 0.99);
+}
+
+// Off-centre load (off_centre_load.yaml): a bar across the whole pad, tilted
+// and to the side. With the edge spanning the pad CoC_x ~ 0, so CoP_x ~ DZMP_y
+// and the Li et al. baseline levels it as the proposed controller does (their
+// true-force means within 0.2 N); without rotation the tilted pad ends on its
+// rigid housing.
+TEST(Experiments, OffCentreLoadNeedsRotationNotDzmp) {
+  const RunResult p = runScene("off_centre_load.yaml", ControllerMode::Proposed);
+  const RunResult b = runScene("off_centre_load.yaml", ControllerMode::Baseline);
+  const RunResult n = runScene("off_centre_load.yaml", ControllerMode::NoRotation);
+  EXPECT_EQ(p.summary.status, "ok");
+  EXPECT_EQ(b.summary.status, "ok");
+  EXPECT_NEAR(p.summary.force_true_mean_n, b.summary.force_true_mean_n, 0.2);
+  EXPECT_NEAR(p.summary.force_true_mean_n, 5.0, 1.2);
+  EXPECT_GT(n.summary.force_true_mean_n, 15.0);
+  double housing = 0;
+  for (const auto& row : n.rows) housing = std::max(housing, row.housing_force);
+  EXPECT_GT(housing, 5.0);
+}
+
+// Edge exploration with the Li et al. baseline: it reaches the edge and holds
+// it, but its wy row regulates CoP_x (wandering by several mm as taxels at the
+// ends of the line cross the firing threshold) where the proposed one
+// regulates DZMP_y, so the program's `aligned` condition (that row within
+// 0.5 mm for 20 cycles) never holds and the exploration never starts within
+// the scene's 60 s; the proposed controller aligns in < 10 s.
+TEST(Experiments, EdgeExplorationLiBaselineNeverAligns) {
+  const RunResult p = runScene("edge_exploration.yaml", ControllerMode::Proposed);
+  const RunResult b = runScene("edge_exploration.yaml", ControllerMode::Baseline);
+  EXPECT_LT(p.summary.alignment_time_s, 10.0);
+  EXPECT_TRUE(std::isfinite(tEnter(b, "edge_control")));
+  EXPECT_FALSE(std::isfinite(tEnter(b, "explore")));
+  double edge_rows = 0, n = 0;
+  for (const auto& row : b.rows)
+    if (row.t > 10.0) {
+      edge_rows += row.contact == ContactType::Edge ? 1.0 : 0.0;
+      ++n;
+    }
+  EXPECT_GT(edge_rows / n, 0.95) << "the baseline holds the edge, it only never passes the aligned test";
 }
 
 // (c) Co-manipulation (Sec. 5.3, Fig. 14): after the weight moves, the arm
@@ -259,6 +389,7 @@ TEST(SceneErrors, NameTheFileAndTheField) {
        "ball"},
       {"bad_fidelity.yaml", "name: x\nfidelity: magic\n", "fidelity: 'magic' must be quasi_static | dynamics"},
       {"no_name.yaml", "duration: 3\n", "name: required"},
+      {"bad_controller.yaml", "name: x\ncontroller: li\n", "controller: 'li' must be proposed, baseline or no_rotation"},
   };
   for (const auto& c : cases) {
     const std::string path = writeScene(c.file, c.body);
@@ -269,6 +400,10 @@ TEST(SceneErrors, NameTheFileAndTheField) {
     EXPECT_NE(r.message().find(c.expect), std::string::npos) << c.file << ": " << r.message();
   }
   Scene sc;
+  for (const char* m : {"proposed", "baseline", "no_rotation"}) {  // every controller name is accepted
+    ASSERT_TRUE(loadScene(writeScene("controller.yaml", std::string("name: x\ncontroller: ") + m + "\n"), sc).ok()) << m;
+    EXPECT_STREQ(toString(sc.controller), m);
+  }
   const ConfigResult missing = loadScene("/nonexistent/scene.yaml", sc);
   ASSERT_FALSE(missing.ok());
   EXPECT_NE(missing.message().find("/nonexistent/scene.yaml: cannot open file"), std::string::npos);

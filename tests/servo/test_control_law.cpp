@@ -32,12 +32,18 @@ TEST(ControlLaw, Eq7Eq8FeatureErrorTouchDependent) {
   EXPECT_EQ(beta, 0);
   EXPECT_LT((e - expect).cwiseAbs().maxCoeff(), 1e-15);
   EXPECT_EQ(law.featureError(7, makeFeatures(0, 1, 1, 1, 1, 1, 1), beta), Vec6::Zero());  // no such phase
-  // Baseline mode: the constant J^-1 whatever the contact.
+  // Baseline (Li et al.) and no_rotation modes: their constant J^-1 whatever
+  // the contact, β = 0.
   ServoParams b = singlePhase(ph);
   b.mode = ControllerMode::Baseline;
   ServoControlLaw base = configured(b);
-  EXPECT_EQ(base.jacobian(0, ContactType::Edge, beta), baselineJinv());
-  EXPECT_EQ(base.jacobian(0, ContactType::Point, beta), baselineJinv());
+  EXPECT_EQ(base.jacobian(0, ContactType::Edge, beta), liJinv());
+  EXPECT_EQ(beta, 0);
+  EXPECT_EQ(base.jacobian(0, ContactType::Point, beta), liJinv());
+  b.mode = ControllerMode::NoRotation;
+  ServoControlLaw norot = configured(b);
+  EXPECT_EQ(norot.jacobian(0, ContactType::Edge, beta), noRotationJinv());
+  EXPECT_EQ(norot.jacobian(0, ContactType::Point, beta), noRotationJinv());
 }
 
 TEST(ControlLaw, Eq9ProjectionAndEq13PiHandComputed) {

@@ -76,7 +76,42 @@ TEST(ServoEquations, Eq8JacobianMatchesHandWrittenForm) {
   EXPECT_EQ(paperJinv(1.0), kJ17);
   const Mat6 base = mat({1, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0,  //
                          0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1});
-  EXPECT_EQ(baselineJinv(), base);
+  EXPECT_EQ(noRotationJinv(), base);
+  // Li et al. (RSS 2013): CoP_x, CoP_y, d_z, alpha_z; wx from CoP_y, wy from
+  // CoP_x (rolling), no CoC column (no DZMP, Eq. 3).
+  const Mat6 li = mat({1, 0, 0, 0, 0, 0,  //
+                       0, 1, 0, 0, 0, 0,  //
+                       0, 0, 1, 0, 0, 0,  //
+                       0, 1, 0, 0, 0, 0,  //
+                       1, 0, 0, 0, 0, 0,  //
+                       0, 0, 0, 0, 0, 1});
+  EXPECT_EQ(liJinv(), li);
+  // It is Eq. 8 for a point (β = 0) plus the alpha_z row, and it differs from
+  // the edge form (β = 1) exactly in the CoC columns and nowhere else.
+  Mat6 d16 = liJinv() - paperJinv(0.0);
+  EXPECT_EQ(d16(5, 5), 1.0);
+  d16(5, 5) = 0.0;
+  EXPECT_TRUE(d16.isZero());
+  const Mat6 d17 = liJinv() - paperJinv(1.0);
+  EXPECT_TRUE(d17.leftCols(3).isZero());
+  EXPECT_TRUE(d17.rightCols(1).isZero());
+  EXPECT_EQ(d17(3, 4), 1.0);
+  EXPECT_EQ(d17(4, 3), 1.0);
+}
+
+TEST(ServoEquations, ControllerModeNames) {
+  for (ControllerMode m : {ControllerMode::Proposed, ControllerMode::Baseline, ControllerMode::NoRotation}) {
+    ControllerMode back = m == ControllerMode::Proposed ? ControllerMode::NoRotation : ControllerMode::Proposed;
+    EXPECT_TRUE(parseControllerMode(toString(m), back)) << toString(m);
+    EXPECT_EQ(back, m);
+  }
+  EXPECT_STREQ(toString(ControllerMode::Baseline), "baseline");
+  EXPECT_STREQ(toString(ControllerMode::NoRotation), "no_rotation");
+  for (const char* bad : {"", "Baseline", "li", "no-rotation", "proposed "}) {
+    ControllerMode m = ControllerMode::NoRotation;
+    EXPECT_FALSE(parseControllerMode(bad, m)) << bad;
+    EXPECT_EQ(m, ControllerMode::NoRotation) << bad;
+  }
 }
 
 TEST(ServoEquations, Eq7FeatureErrorHandComputed) {
@@ -252,12 +287,19 @@ TEST(ServoEquations, PaperMatricesReproducedFromShippedPrograms) {
   ASSERT_TRUE(s.configure(loadShipped("bent_bar.yaml")).ok());
   EXPECT_EQ(effectiveJinv(s, 0, ContactType::Edge), kJ17);
   EXPECT_EQ(s.phase(0).P, kP18);
-  // Baseline (Li et al.): constant J^-1 in every phase, P unchanged.
+  // Baseline (Li et al.) and the no-rotation ablation: their constant J^-1
+  // in every phase, whatever the contact, P unchanged.
   ServoParams b = loadShipped("bent_bar.yaml");
   b.mode = ControllerMode::Baseline;
   ASSERT_TRUE(s.configure(b).ok());
-  EXPECT_EQ(effectiveJinv(s, 0, ContactType::Edge), baselineJinv());
-  EXPECT_EQ(effectiveJinv(s, 0, ContactType::Point), baselineJinv());
+  EXPECT_EQ(effectiveJinv(s, 0, ContactType::Edge), liJinv());
+  EXPECT_EQ(effectiveJinv(s, 0, ContactType::Point), liJinv());
+  EXPECT_EQ(s.phase(0).P, kP18);
+  b.mode = ControllerMode::NoRotation;
+  ASSERT_TRUE(s.configure(b).ok());
+  EXPECT_EQ(effectiveJinv(s, 0, ContactType::Edge), noRotationJinv());
+  EXPECT_EQ(effectiveJinv(s, 0, ContactType::Point), noRotationJinv());
+  EXPECT_EQ(s.phase(0).P, kP18);
 }
 
 // App. C, Table C.3: for a point contact the natural constraint μ_z = w_z = 0
@@ -303,9 +345,9 @@ TEST(ServoReciprocity, TableC3PointAndEdge) {
   }
 }
 
-TEST(ServoReciprocity, BaselineNeverCommandsRotationsAboutXY) {
+TEST(ServoReciprocity, NoRotationNeverCommandsRotationsAboutXY) {
   ServoParams p = singlePhase(identityPhase("p", 0.1, 1.0));
-  p.mode = ControllerMode::Baseline;
+  p.mode = ControllerMode::NoRotation;
   TactileServo s;
   ASSERT_TRUE(s.configure(p).ok());
   ServoInput in;
@@ -318,4 +360,46 @@ TEST(ServoReciprocity, BaselineNeverCommandsRotationsAboutXY) {
   EXPECT_EQ(out.u_s(kWY), 0.0);
   EXPECT_NE(out.u_s(kWZ), 0.0);
   EXPECT_NE(out.u_s(kX), 0.0);
+}
+
+// Li et al.'s rows (liJinv): on an edge, the rotation about y_s follows CoP_x
+// (rolling to centre the contact), not DZMP_y = CoP_x - CoC_x as Eq. 8 does:
+// moving CoC_x alone changes the proposed controller's w_y and not the
+// baseline's; moving CoP_x changes both. Same for w_x with CoP_y / CoC_y.
+TEST(ServoReciprocity, BaselineRollsOnCoPNotOnDzmp) {
+  auto command = [](ControllerMode mode, const ContactFeatures& f) {
+    ServoParams p = singlePhase(identityPhase("p", 0.1, 1.0));
+    p.mode = mode;
+    TactileServo s;
+    EXPECT_TRUE(s.configure(p).ok());
+    ServoInput in;
+    in.flange_measured = Pose();
+    in.features = f;
+    ServoOutput out;
+    EXPECT_EQ(s.step(in, 0.01, out), ServoStatus::Starting);
+    s.step(in, 0.01, out);
+    return Vec6(out.u_s);
+  };
+  const ContactFeatures f = makeFeatures(0, 0.004, -0.003, 0.002, 0.001, 0.002, 0.2, ContactType::Edge);
+  const ContactFeatures coc = makeFeatures(0, 0.004, -0.003, 0.002, -0.006, -0.004, 0.2, ContactType::Edge);
+  const ContactFeatures cop = makeFeatures(0, -0.005, 0.004, 0.002, 0.001, 0.002, 0.2, ContactType::Edge);
+  const Vec6 b = command(ControllerMode::Baseline, f), bc = command(ControllerMode::Baseline, coc),
+             bp = command(ControllerMode::Baseline, cop);
+  const Vec6 p = command(ControllerMode::Proposed, f), pc = command(ControllerMode::Proposed, coc);
+  EXPECT_NE(b(kWY), 0.0);
+  EXPECT_NE(b(kWX), 0.0);
+  EXPECT_EQ(bc(kWY), b(kWY));
+  EXPECT_EQ(bc(kWX), b(kWX));
+  EXPECT_NE(bp(kWY), b(kWY));
+  EXPECT_NE(bp(kWX), b(kWX));
+  EXPECT_NE(pc(kWY), p(kWY));
+  EXPECT_NE(pc(kWX), p(kWX));
+  // For a point contact the two agree on w_x, w_y (Eq. 8 with β = 0), and the
+  // baseline also servoes alpha_z (no touch dependence).
+  const ContactFeatures pt = makeFeatures(0, 0.004, -0.003, 0.002, 0.004, -0.003, 0.2, ContactType::Point);
+  const Vec6 bpt = command(ControllerMode::Baseline, pt), ppt = command(ControllerMode::Proposed, pt);
+  EXPECT_EQ(bpt(kWY), ppt(kWY));
+  EXPECT_EQ(bpt(kWX), ppt(kWX));
+  EXPECT_EQ(ppt(kWZ), 0.0);
+  EXPECT_NE(bpt(kWZ), 0.0);
 }

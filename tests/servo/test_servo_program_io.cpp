@@ -125,6 +125,18 @@ TEST(ServoProgramIo, BadProgramsNameFilePhaseField) {
   expectRejected("bad_loss", "safety: {contact_loss: {mode: pray}}\n" + program(""), {"contact_loss.mode", "pray"});
   expectRejected("not_a_number", program("", "    kp_per_s: {y: fast}\n"), {"phases.hold", "kp_per_s.y", "fast"});
   expectRejected("no_phases", "controller: {mode: proposed}\n", {"phases", "non-empty"});
+  {
+    const std::string body = program("").substr(program("").find('\n') + 1);  // without its controller: line
+    expectRejected("bad_mode", "controller: {mode: li}\n" + body,
+                   {"controller.mode", "'li'", "proposed, baseline or no_rotation"});
+    expectRejected("bad_mode_case", "controller: {mode: No_Rotation}\n" + body, {"controller.mode", "No_Rotation"});
+    for (const char* m : {"proposed", "baseline", "no_rotation"}) {
+      ServoParams p;
+      const ConfigResult r = loadServoProgram(writeTemp(std::string("mode_") + m, std::string("controller: {mode: ") + m + "}\n" + body), p);
+      ASSERT_TRUE(r.ok()) << m << ": " << r.message();
+      EXPECT_STREQ(toString(p.mode), m);
+    }
+  }
   expectRejected("yaml_syntax", "phases: [ {name: a\n", {"YAML error"});
 }
 

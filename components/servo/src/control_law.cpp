@@ -37,11 +37,49 @@ Mat6 paperJinv(double beta) {
   return j;
 }
 
-// Li et al. (RSS 2013) as compared in Sec. 5.2.1: constant, no DZMP rows.
-Mat6 baselineJinv() {
+// Li et al. (RSS 2013), ref. [7] of the paper: constant inverse tactile
+// Jacobian on CoP_x, CoP_y, force and alpha_z. Rows 4/5 (wx, wy) keep the
+// CoP -> rotation coupling of their framework (roll the sensor to centre the
+// contact); unlike Eq. 8 the CoC columns are zero (no DZMP, Eq. 3) and no
+// entry depends on the contact type (Eq. 5): for β = 0 it equals Eq. 8 except
+// the alpha_z row, which Li et al. keep on for a point too. Sec. 5.2.1 and 6:
+// the DZMP rows are what the proposed controller adds.
+Mat6 liJinv() {
+  Mat6 j = Mat6::Zero();
+  j(0, 0) = 1.0;  // CoP_x  -> x
+  j(1, 1) = 1.0;  // CoP_y  -> y
+  j(2, 2) = 1.0;  // d_z    -> z (force, Eq. 2)
+  j(3, 1) = 1.0;  // CoP_y  -> wx (rolling)
+  j(4, 0) = 1.0;  // CoP_x  -> wy (rolling)
+  j(5, 5) = 1.0;  // alpha_z -> wz
+  return j;
+}
+
+// Ablation: Li et al.'s features without the rotation rows.
+Mat6 noRotationJinv() {
   Vec6 d;
   d << 1, 1, 1, 0, 0, 1;
   return d.asDiagonal();
+}
+
+const char* const kControllerModeNames = "proposed, baseline or no_rotation";
+
+const char* toString(ControllerMode m) {
+  switch (m) {
+    case ControllerMode::Proposed: return "proposed";
+    case ControllerMode::Baseline: return "baseline";
+    case ControllerMode::NoRotation: return "no_rotation";
+  }
+  return "?";
+}
+
+bool parseControllerMode(const std::string& name, ControllerMode& mode) {
+  for (ControllerMode m : {ControllerMode::Proposed, ControllerMode::Baseline, ControllerMode::NoRotation})
+    if (name == toString(m)) {
+      mode = m;
+      return true;
+    }
+  return false;
 }
 
 // Eq. 10.
@@ -100,7 +138,8 @@ ConfigResult ServoControlLaw::configure(const ServoParams& p) {
     q.ff = ph.feedforward;
     phases_.push_back(q);
   }
-  baseline_mode_ = p.mode == ControllerMode::Baseline;
+  mode_ = p.mode;
+  constant_ = p.mode == ControllerMode::NoRotation ? noRotationJinv() : liJinv();
   motion_sign_ = p.motion_sign;
   T_es_ = p.sensor_mount;
   T_se_ = p.sensor_mount.Inverse();
@@ -112,9 +151,9 @@ ConfigResult ServoControlLaw::configure(const ServoParams& p) {
 
 // Touch dependence (Eq. 8 with Eq. 5): edge -> β = 1, point/none -> β = 0.
 const Mat6& ServoControlLaw::jacobian(int phase, ContactType c, uint8_t& beta) const {
-  if (baseline_mode_) {
+  if (mode_ != ControllerMode::Proposed) {  // Li et al. or the ablation: constant, no β
     beta = 0;
-    return baseline_;
+    return constant_;
   }
   const Phase& ph = phases_[static_cast<std::size_t>(phase)];
   const bool edge = ph.touch ? (c == ContactType::Edge) : ph.fixed_edge;

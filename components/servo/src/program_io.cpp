@@ -275,9 +275,8 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
     std::string s;
     if (c["mode"]) {
       if (!(r = read(c, "mode", s, w))) return r;
-      if (s == "proposed") p.mode = ControllerMode::Proposed;
-      else if (s == "baseline") p.mode = ControllerMode::Baseline;
-      else return fail(w.child("mode"), "'" + s + "': must be proposed or baseline");
+      if (!parseControllerMode(s, p.mode))
+        return fail(w.child("mode"), "'" + s + "': must be " + kControllerModeNames);
     }
     if (c["pose_update"]) {
       if (!(r = read(c, "pose_update", s, w))) return r;

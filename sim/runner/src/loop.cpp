@@ -212,8 +212,9 @@ void computeSummary(const Scene& sc, RunResult& out) {
 
   // Force metrics over the servoing phases, after each phase's transient.
   double sum_f = 0, sum_e2 = 0, max_f = 0, path = 0, t_scored = 0;
-  double n = 0, in_band = 0;
+  double n = 0, in_band = 0, t_force = 0, t_band = 0;
   const LogRow* prev = nullptr;
+  const LogRow* last = nullptr;  // the previous row, scored or not: a scored row stands for the time since it
   double phase_t0 = 0;
   int phase_cur = -1;
   for (const auto& r : rows) {
@@ -221,6 +222,8 @@ void computeSummary(const Scene& sc, RunResult& out) {
       phase_cur = r.phase;
       phase_t0 = r.t;
     }
+    const double dt_row = last ? r.t - last->t : 0.0;
+    last = &r;
     const PhaseParams& pp = sc.servo.phases[static_cast<std::size_t>(r.phase)];
     const bool scored = sc.metrics.force_phases.empty() ? (pp.requires_contact && !pp.terminal)
                                                         : phaseIn(sc.metrics.force_phases, pp.name);
@@ -231,7 +234,10 @@ void computeSummary(const Scene& sc, RunResult& out) {
     sum_f += r.force_true;
     sum_e2 += (r.force_true - r.sd_force) * (r.force_true - r.sd_force);
     max_f = std::max(max_f, r.force_true);
-    in_band += std::fabs(r.force_true - r.sd_force) <= sc.metrics.force_band_n ? 1.0 : 0.0;
+    const bool band = std::fabs(r.force_true - r.sd_force) <= sc.metrics.force_band_n;
+    in_band += band ? 1.0 : 0.0;
+    t_force += dt_row;
+    t_band += band ? dt_row : 0.0;
     ++n;
     if (prev && prev->true_in_contact && r.true_in_contact) {
       double d2 = 0;
@@ -245,6 +251,8 @@ void computeSummary(const Scene& sc, RunResult& out) {
   s.force_true_max_n = n ? max_f : kNaN;
   s.force_true_rms_error_n = n ? std::sqrt(sum_e2 / n) : kNaN;
   s.force_true_in_band_fraction = n ? in_band / n : kNaN;
+  s.force_scored_s = t_force;
+  s.force_true_in_band_s = t_band;
   s.path_length_m = path;
   s.slide_speed_mps = t_scored > 0 ? path / t_scored : kNaN;
 

@@ -66,6 +66,8 @@ std::string summaryJson(const Scene& sc, const RunResult& r) {
   o << "  \"force_true_max_n\": " << num(s.force_true_max_n) << ",\n";
   o << "  \"force_true_rms_error_n\": " << num(s.force_true_rms_error_n) << ",\n";
   o << "  \"force_true_in_band_fraction\": " << num(s.force_true_in_band_fraction) << ",\n";
+  o << "  \"force_scored_s\": " << num(s.force_scored_s) << ",\n";
+  o << "  \"force_true_in_band_s\": " << num(s.force_true_in_band_s) << ",\n";
   o << "  \"alignment_time_s\": " << num(s.alignment_time_s) << ",\n";
   o << "  \"path_length_m\": " << num(s.path_length_m) << ",\n";
   o << "  \"slide_speed_mps\": " << num(s.slide_speed_mps) << ",\n";

@@ -87,7 +87,7 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
   EndReason end = EndReason::None;
   Summary& sum = out.summary;
   sum.scene = sc.name;
-  sum.controller = sc.controller == ControllerMode::Baseline ? "baseline" : "proposed";
+  sum.controller = toString(sc.controller);
   sum.seed = sc.seed;
   sum.fidelity = toString(sc.world.fidelity);
   const long progress_every = std::max(1L, sched.ticks() / 100);

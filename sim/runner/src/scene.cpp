@@ -189,12 +189,8 @@ ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std:
   if (!(r = loadServoProgram(s.program_file, s.servo))) return ConfigResult::failure(file + ": program: " + r.message());
   std::string mode = "proposed";
   if (!(r = read(root, "controller", mode, w))) return r;
-  if (mode == "proposed")
-    s.controller = ControllerMode::Proposed;
-  else if (mode == "baseline")
-    s.controller = ControllerMode::Baseline;
-  else
-    return fail(w.child("controller"), "'" + mode + "' must be proposed | baseline");
+  if (!parseControllerMode(mode, s.controller))
+    return fail(w.child("controller"), "'" + mode + "' must be " + kControllerModeNames);
 
   std::string features_file;
   if (!(r = read(root, "features_file", features_file, w))) return r;

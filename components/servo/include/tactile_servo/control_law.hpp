@@ -26,8 +26,9 @@ class ServoControlLaw {
   bool configured() const { return configured_; }
   int phaseCount() const { return static_cast<int>(phases_.size()); }
 
-  /// J^-1 (Eq. 8) of `phase` for contact type `c` (baseline mode: the constant
-  /// one); `beta` = 1 when the edge Jacobian is used. `phase` must be valid.
+  /// J^-1 (Eq. 8) of `phase` for contact type `c` (modes baseline and
+  /// no_rotation: their constant one, liJinv / noRotationJinv); `beta` = 1 when
+  /// the edge Jacobian is used. `phase` must be valid.
   const Mat6& jacobian(int phase, ContactType c, uint8_t& beta) const;
   /// Δs (Eq. 7) for `phase`; zero for an invalid phase.
   Vec6 featureError(int phase, const ContactFeatures& f, uint8_t& beta) const;
@@ -58,13 +59,13 @@ class ServoControlLaw {
     Vec6 kp, ki, i_lim, u_max, ff;
   };
   bool configured_ = false;
-  bool baseline_mode_ = false;
+  ControllerMode mode_ = ControllerMode::Proposed;
   std::vector<Phase> phases_;
   Vec6 motion_sign_ = defaultMotionSign();
   KDL::Frame T_es_, T_se_;
   double c_z_ = 1.0 / 1800.0;
   Vec6 integral_ = Vec6::Zero();
-  Mat6 baseline_ = baselineJinv();
+  Mat6 constant_ = liJinv();  ///< J^-1 of the constant modes
 };
 
 }  // namespace tactile

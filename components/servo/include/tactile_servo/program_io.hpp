@@ -9,7 +9,7 @@
 // Format (all keys optional unless marked; see programs/*.yaml for examples):
 //
 //   controller:
-//     mode: proposed | baseline          # baseline = Li et al. (RSS 2013), Sec. 5.2.1
+//     mode: proposed | baseline | no_rotation   # Eq. 8 | Li et al. (RSS 2013, liJinv) | ablation (noRotationJinv)
 //     pose_update: integrated | measured # Eq. 15 | Eq. 12
 //     c_z: 0.000555556                   # m/N (Eq. 2), converts `force` targets to d_z
 //     motion_sign: {x: -1, y: -1, z: 1, wx: 1, wy: -1, wz: -1}   # or a list of 6

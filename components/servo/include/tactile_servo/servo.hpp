@@ -175,7 +175,7 @@ class TactileServo {
   /// Δs for the given phase and features (Eq. 7), without any state change.
   Vec6 featureError(int phase, const ContactFeatures& f, uint8_t* beta_out = nullptr) const;
 
-  /// The J^-1 (Eq. 8) used in `phase` for contact type `c` (baseline mode
+  /// The J^-1 (Eq. 8) used in `phase` for contact type `c` (baseline and no_rotation modes
   /// included), e.g. for reporting on a port. `phase` must be valid.
   const Mat6& jacobian(int phase, ContactType c, uint8_t* beta_out = nullptr) const;
 

@@ -31,9 +31,17 @@ Vec6 featureVector(const ContactFeatures& f);
 /// Inverse tactile Jacobian J^-1(β) (Eq. 8, 6x6 form, see the header comment).
 Mat6 paperJinv(double beta);
 
-/// Li et al. (RSS 2013) constant Jacobian as compared in Sec. 5.2.1: CoP_x,
-/// CoP_y, d_z (force), alpha_z; no DZMP rows.
-Mat6 baselineJinv();
+/// The baseline: Li et al. (RSS 2013), the paper's ref. [7] (Sec. 2, Table 1,
+/// Sec. 5.2.1). Constant J^-1 on their four features CoP_x, CoP_y, force (d_z)
+/// and alpha_z, with the CoP -> rotation rows kept (a point contact is
+/// centred by rolling: wx from CoP_y, wy from CoP_x) and alpha_z always on.
+/// What it lacks against Eq. 8: no CoC columns (no DZMP_x/DZMP_y, Eq. 3) and
+/// no touch dependence (β of Eq. 5): the same rows for a point and an edge.
+Mat6 liJinv();
+
+/// Ablation "no_rotation": constant diag(1,1,1,0,0,1): Li et al.'s features
+/// without the rotation rows; never rotates about x_s or y_s.
+Mat6 noRotationJinv();
 
 /// Projection matrix of Eq. 10.
 Mat6 projection(double gx, double gy, double gz, double gwx, double gwy, double gwz, double gcom = 0.0);
@@ -93,7 +101,16 @@ struct PhaseParams {
 };
 
 enum class PoseUpdate : uint8_t { Measured = 0, Integrated = 1 };  ///< Eq. 12 / Eq. 15
-enum class ControllerMode : uint8_t { Proposed = 0, Baseline = 1 };
+/// Proposed: Eq. 8 (touch-dependent, DZMP rows). Baseline: Li et al. (liJinv).
+/// NoRotation: the ablation noRotationJinv. P, s_d, gains, feed-forward and
+/// safety come from the program in every mode.
+enum class ControllerMode : uint8_t { Proposed = 0, Baseline = 1, NoRotation = 2 };
+/// "proposed" | "baseline" | "no_rotation".
+const char* toString(ControllerMode m);
+/// Parses a name of toString(); false (mode unchanged) for any other string.
+bool parseControllerMode(const std::string& name, ControllerMode& mode);
+/// For messages: "proposed, baseline or no_rotation".
+extern const char* const kControllerModeNames;
 enum class ContactLossMode : uint8_t { Hold = 0, Backoff = 1, Search = 2 };
 
 struct SafetyParams {

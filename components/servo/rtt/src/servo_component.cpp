@@ -19,8 +19,9 @@ ServoComponent::ServoComponent(const std::string& name)
       .doc("YAML phase program (controller, safety, phases; see tactile_servo/program_io.hpp). Read by configure().");
   addProperty("controller_mode", controller_mode_)
       .doc("Overrides the program's controller.mode at configure(): '' = the program's, 'proposed' (Eq. 8: the "
-           "touch-dependent J^-1 with the DZMP rows) or 'baseline' (Li et al., Sec. 5.2.1: constant J^-1), as the "
-           "headless runner's scene key `controller`. Set by the deployments' servo_*.cpf.");
+           "touch-dependent J^-1 with the DZMP rows), 'baseline' (Li et al., RSS 2013: constant J^-1 with the CoP -> "
+           "rotation rows, no DZMP) or 'no_rotation' (ablation: constant diag(1,1,1,0,0,1)), as the headless "
+           "runner's scene key `controller`. Set by the deployments' servo_*.cpf.");
   addProperty("period", period_)
       .doc("Servo period (s): dt of the first cycle after start (later cycles use the TimeService). "
            "0 = the activity's period (1 ms without one). In [0, 10].");
@@ -43,7 +44,7 @@ ServoComponent::ServoComponent(const std::string& name)
       .doc("Index of the named phase in the configured program, -1 for an unknown name (or before configure()).")
       .arg("name", "Phase name as in the program file.");
   addOperation("controllerMode", &ServoComponent::controllerMode, this, RTT::ClientThread)
-      .doc("The controller in use after configure(): 'proposed' or 'baseline' ('' before).");
+      .doc("The controller in use after configure(): 'proposed', 'baseline' or 'no_rotation' ('' before).");
   addOperation("lastError", &ServoComponent::lastError, this, RTT::ClientThread)
       .doc("Message of the last failed configure().");
 }
@@ -54,13 +55,9 @@ bool ServoComponent::configureHook() {
                        ? ConfigResult::failure("program_file is empty: set it to a YAML phase program")
                        : loadServoProgram(program_file_, p);
   if (r) {
-    if (controller_mode_ == "proposed")
-      p.mode = ControllerMode::Proposed;
-    else if (controller_mode_ == "baseline")
-      p.mode = ControllerMode::Baseline;
-    else if (!controller_mode_.empty())
+    if (!controller_mode_.empty() && !parseControllerMode(controller_mode_, p.mode))
       r = ConfigResult::failure(getName() + ".controller_mode = '" + controller_mode_ +
-                                "': must be '' (the program's controller.mode), 'proposed' or 'baseline'");
+                                "': must be '' (the program's controller.mode), " + kControllerModeNames);
   }
   // dt of the first cycle: `period`, else the activity period (1 ms without one).
   if (r && !(period_ >= 0.0 && period_ <= 10.0)) r = rangeError("period", period_, "must be in [0, 10] s (0: the activity's)");
@@ -71,7 +68,7 @@ bool ServoComponent::configureHook() {
     return false;
   }
   last_error_.clear();
-  mode_in_use_ = p.mode == ControllerMode::Baseline ? "baseline" : "proposed";
+  mode_in_use_ = toString(p.mode);
   features_ = ContactFeatures();
   out_ = ServoOutput();
   command_out_.setDataSample(out_.command);

@@ -61,6 +61,7 @@ struct Summary {
   double sim_time_s = 0, wall_time_s = 0, real_time_factor = 0;
   int contact_lost_count = 0;  ///< contact held >= 5 servo cycles, then absent >= 5, in a contact phase
   double force_true_mean_n = 0, force_true_max_n = 0, force_true_rms_error_n = 0, force_true_in_band_fraction = 0;
+  double force_scored_s = 0, force_true_in_band_s = 0;  ///< scored time, of which |f_true - f_d| <= band (s)
   double alignment_time_s = 0, path_length_m = 0, slide_speed_mps = 0;
   double dzmp_final_m = 0, tray_angle_max_deg = 0, dzmp_recovery_time_s = 0, translation_x_m = 0;
   // Through FRI (scene through_fri): bridge replies and the largest step

@@ -7,7 +7,7 @@
 //   description: "..."
 //   figure: fig10                     # which paper figure the plots mirror (fig10 | fig12 | fig14 | none)
 //   program: ../../components/servo/programs/edge_exploration.yaml   # required: the phase program
-//   controller: proposed              # proposed | baseline (Li et al.); --controller overrides
+//   controller: proposed              # proposed | baseline (Li et al.) | no_rotation (ablation); --controller overrides
 //   features_file: ../../components/features/params/wts0614.yaml     # `features:` and `calibration:` maps (same
 //                                     # file as on the robot): the features, the reader's calibration and,
 //                                     # inverted, the simulated sensor's response (no response keys here)

@@ -6,7 +6,7 @@
 // Interface (documented with .doc() in the constructor):
 //   property program_file (string)  YAML phase program (components/servo/programs/*.yaml)
 //   property controller_mode (string) '' = the program's controller.mode, or
-//            proposed | baseline (Li et al., Sec. 5.2.1): the deployment picks
+//            proposed | baseline (Li et al., RSS 2013) | no_rotation (ablation): the deployment picks
 //            the controller by its .cpf, as the runner's scene key `controller`
 //   property period (double)        servo period (s), dt of the first cycle; 0 = the activity's
 //   in   features     (/tactile/ContactFeatures)  from tactile::FeatureComponent
@@ -20,7 +20,7 @@
 //   op   string phaseName()             name of the current phase
 //   op   int phaseIndex()               index of the current phase (no string built)
 //   op   int phaseIndexOf(string name)  index of a phase of the program (-1: unknown)
-//   op   string controllerMode()        controller in use (proposed | baseline)
+//   op   string controllerMode()        controller in use (proposed | baseline | no_rotation)
 //   op   string lastError()             message of the last failed configure()
 //   attr last_status (int)              ServoStatus of the last cycle
 //
