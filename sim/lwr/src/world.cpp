@@ -249,10 +249,12 @@ SimStatus World::step(const tactile::Pose& cmd, double dt, SimState& out) {
   const KDL::Frame& T_use = cmd_path_ ? setPoint() : T_cmd_;
   s = worst(s, params_.fidelity == Fidelity::QuasiStatic ? stepQuasiStatic(T_use, dt) : stepDynamics(T_use, dt));
   ++state_.step;
-  if (held_ && was_held)
-    fillStatus(s);  // nothing moved since the previous step: only time and status change
-  else
+  if (held_ && was_held) {  // nothing moved since the previous step: only time and status change
+    fillStatus(s);
+    if (cmd_path_) state_.command_g = toPose(T_cmd_);  // a new command may be on its way to the KRC
+  } else {
     fillState(s);
+  }
   out = state_;
   return state_.status;
 }
