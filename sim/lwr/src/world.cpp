@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include <Eigen/Cholesky>
@@ -68,9 +69,11 @@ ConfigResult World::configure(const WorldParams& p) {
   if (!(p.qs_tolerance > 0.0) || !std::isfinite(p.qs_tolerance)) return rangeError("qs_tolerance", p.qs_tolerance, "must be > 0 (N)");
   if (!(p.qs_max_step > 0.0) || p.qs_max_step > 0.1) return rangeError("qs_max_step", p.qs_max_step, "must be in (0, 0.1] m");
   if (!(p.max_step_s > 0.0) || p.max_step_s > 0.1) return rangeError("max_step_s", p.max_step_s, "must be in (0, 0.1] s");
-  if (!(p.physics_step_s > 0.0) || p.physics_step_s > p.max_step_s)
-    return rangeError("physics_step_s (1 / rates.sim)", p.physics_step_s,
-                      "must be in (0, max_step_s = " + std::to_string(p.max_step_s) + "] s");
+  char buf[128];
+  if (!(p.physics_step_s > 0.0) || p.physics_step_s > p.max_step_s) {
+    std::snprintf(buf, sizeof buf, "must be in (0, max_step_s = %g] s", p.max_step_s);
+    return rangeError("physics_step_s (1 / rates.sim)", p.physics_step_s, buf);
+  }
   if (!(p.friction_mu >= 0.0) || p.friction_mu > 2.0) return rangeError("effects.friction_mu", p.friction_mu, "must be in [0, 2]");
   if (!(p.friction_stiffness > 0.0) || p.friction_stiffness > 1e7)
     return rangeError("effects.friction_stiffness", p.friction_stiffness, "must be in (0, 1e7] N/m");
@@ -79,9 +82,11 @@ ConfigResult World::configure(const WorldParams& p) {
     if (!(v >= 0.0) || v > 1.0) return rangeError(name, v, "must be in [0, 1] s");
     const double k = v / p.physics_step_s;
     n = std::lround(k);
-    if (std::fabs(k - static_cast<double>(n)) > 1e-6)
-      return rangeError(name, v, "must be a whole number of physics steps (1 / rates.sim = " +
-                                     std::to_string(p.physics_step_s) + " s)");
+    if (std::fabs(k - static_cast<double>(n)) > 1e-6) {
+      char b[128];
+      std::snprintf(b, sizeof b, "must be a whole number of physics steps (1 / rates.sim = %g s)", p.physics_step_s);
+      return rangeError(name, v, b);
+    }
     return ConfigResult::success();
   };
   long delay_steps = 0, krc_steps = 0;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "tactile_config/yaml_params.hpp"
 #include "tactile_features/params_io.hpp"
@@ -336,10 +337,12 @@ ConfigResult validateScene(const Scene& s) {
     if (!rr) return rr;
   // The physics step 1 / rates.sim must be one the world takes (a larger one
   // would be refused on every cycle, the arm never moving).
-  if (1.0 / s.rates.sim > s.world.max_step_s + 1e-12)
-    return rangeError(w.child("rates.sim").str(), s.rates.sim,
-                      "must be >= " + std::to_string(1.0 / s.world.max_step_s) +
-                          " Hz (physics step 1 / rates.sim <= " + std::to_string(s.world.max_step_s) + " s)");
+  if (1.0 / s.rates.sim > s.world.max_step_s + 1e-12) {
+    char req[128];
+    std::snprintf(req, sizeof req, "must be >= %g Hz (physics step 1 / rates.sim <= %g s)", 1.0 / s.world.max_step_s,
+                  s.world.max_step_s);
+    return rangeError(w.child("rates.sim").str(), s.rates.sim, req);
+  }
   for (auto [name, v] : {std::pair<const char*, double>{"servo", s.rates.servo}, {"wts", s.rates.wts},
                          {"features", s.rates.features}})
     if (v > s.rates.sim + 1e-9)
