@@ -26,8 +26,9 @@
 // PNG plots (scripts/plot_run.py, Debian's /usr/bin/python3). A progress bar is
 // drawn on a terminal, nothing otherwise. Exit code: 0 ok, 2 bad scene or
 // arguments, 3 the simulation went unstable (NaN, joint limit, singularity,
-// force limit), 4 the servo's force ceiling tripped, 5/6/7 a servo watchdog
-// (phase_timeout, arm_stalled, force_mismatch); the status is in summary.json.
+// force limit) or refused its steps or commands (sim_step_rejected,
+// sim_invalid_command), 4 the servo's force ceiling tripped, 5/6/7 a servo
+// watchdog (phase_timeout, arm_stalled, force_mismatch); the status is in summary.json.
 #include <sys/stat.h>
 #include <unistd.h>
 

@@ -194,14 +194,30 @@ bool rowsFromRecording(const sim::Scene& sc, const Recording& rec, sim::RunResul
 struct Case {
   const char* scene;
   ControllerMode mode;
+  bool effects = false;  ///< the physics and timing effects on (friction, FRI delay, KRC cycle)
 };
 
 class SimLoop : public ::testing::TestWithParam<Case> {};
 
 TEST_P(SimLoop, DeploymentIsTheRunnersLoop) {
   const Case c = GetParam();
+  // With effects: a copy of the scene with the `effects:` map (paths made
+  // absolute), so that the deployment loads the same file as the runner.
+  std::string scene_file = kScenes + c.scene;
+  if (c.effects) {
+    std::ifstream in(scene_file);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    for (std::size_t at = text.find("../../"); at != std::string::npos; at = text.find("../../", at + kScenes.size() + 6))
+      text.insert(at, kScenes);
+    text += "\neffects: {friction_mu: 0.5, fri_delay_s: 0.002, krc_cycle_s: 0.002}\n";
+    scene_file = test::writeTempFile(std::string("effects_") + c.scene, text);
+  }
   sim::Scene sc;
-  ASSERT_TRUE(sim::loadScene(kScenes + c.scene, sc).ok());
+  const ConfigResult lr = sim::loadScene(scene_file, sc);
+  ASSERT_TRUE(lr.ok()) << lr.message();
+  if (c.effects) {
+    ASSERT_EQ(sc.world.friction_mu, 0.5);
+  }
   sc.controller = c.mode;
   // The servo component reads the mode from its program file: the scene's
   // program with the controller overridden (as --controller does).
@@ -219,7 +235,7 @@ TEST_P(SimLoop, DeploymentIsTheRunnersLoop) {
   sim::RunResult want;
   runner.run(want);
 
-  const Recording rec = runDeployment(kScenes + c.scene, program_file, 1.0 / sc.rates.servo);
+  const Recording rec = runDeployment(scene_file, program_file, 1.0 / sc.rates.servo);
 
   // Every servo cycle's pose command, to 1e-12.
   ASSERT_EQ(rec.phases.size(), want.rows.size()) << "servo cycles";
@@ -278,11 +294,13 @@ INSTANTIATE_TEST_SUITE_P(Scenes, SimLoop,
                                            Case{"bent_bar.yaml", ControllerMode::NoRotation},
                                            Case{"co_manipulation.yaml", ControllerMode::Proposed},
                                            Case{"sphere_table.yaml", ControllerMode::Proposed},
-                                           Case{"partial_edge.yaml", ControllerMode::Baseline}),
+                                           Case{"partial_edge.yaml", ControllerMode::Baseline},
+                                           Case{"edge_exploration.yaml", ControllerMode::Proposed, true},
+                                           Case{"co_manipulation.yaml", ControllerMode::Proposed, true}),
                          [](const ::testing::TestParamInfo<Case>& i) {
                            std::string n = i.param.scene;
                            n = n.substr(0, n.find('.'));
-                           return n + "_" + toString(i.param.mode);
+                           return n + "_" + toString(i.param.mode) + (i.param.effects ? "_effects" : "");
                          });
 
 // The whole deployed loop per tick allocates nothing: the clock (on a

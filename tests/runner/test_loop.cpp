@@ -114,3 +114,79 @@ TEST(TaxelResponse, InvertsTheCalibrationFile) {
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.message().find("calibration.coeffs[1]"), std::string::npos) << r.message();
 }
+
+// A world that refuses its steps ends the run with a named status and a
+// non-zero exit code (never "ok" with the arm standing still): a refused
+// step at once (its time would never advance), refused commands after 0.1 s
+// of them without a valid one.
+TEST(EndRule, RefusedStepsAndCommandsEndTheRunWithANamedStatus) {
+  EndRule e;
+  e.configure(Rates{});  // 1 kHz physics
+  EXPECT_EQ(e.afterPhysics(SimStatus::StepRejected), EndReason::SimRejected);
+  e.reset();
+  for (int k = 0; k < 99; ++k) EXPECT_EQ(e.afterPhysics(SimStatus::InvalidCommand), EndReason::None) << k;
+  EXPECT_EQ(e.afterPhysics(SimStatus::Ok), EndReason::None);  // a valid command: the count restarts
+  for (int k = 0; k < 99; ++k) EXPECT_EQ(e.afterPhysics(SimStatus::InvalidCommand), EndReason::None) << k;
+  EXPECT_EQ(e.afterPhysics(SimStatus::InvalidCommand), EndReason::SimRejected);
+  EXPECT_EQ(e.afterPhysics(SimStatus::NotConverged), EndReason::None);
+  Summary s;
+  applyEnd(EndReason::SimRejected, SimStatus::StepRejected, s);
+  EXPECT_EQ(s.status, "sim_step_rejected");
+  EXPECT_EQ(s.exit_code, 3);
+  applyEnd(EndReason::SimRejected, SimStatus::InvalidCommand, s);
+  EXPECT_EQ(s.status, "sim_invalid_command");
+  EXPECT_EQ(s.exit_code, 3);
+  // The world does refuse such a step (the 2 s physics step).
+  Scene sc;
+  ASSERT_TRUE(loadScene(TACTILE_SOURCE_DIR "/sim/scenes/sphere_table.yaml", sc).ok());
+  World w;
+  ASSERT_TRUE(w.configure(worldParams(sc)).ok());
+  SimState st;
+  const double t0 = w.time();
+  EXPECT_EQ(w.step(w.state().command_g, 2.0, st), SimStatus::StepRejected);
+  EXPECT_EQ(w.time(), t0);
+  e.reset();
+  EXPECT_EQ(e.afterPhysics(st.status), EndReason::SimRejected);
+}
+
+// Rates that make no sense are a configuration error naming the file, the
+// key and the valid range: a 2 s physics step would be refused on every cycle.
+TEST(SceneEffects, RatesAndEffectsAreValidatedWithFileKeyAndRange) {
+  const std::string file = TACTILE_SOURCE_DIR "/sim/scenes/edge_exploration.yaml";
+  Scene sc;
+  ConfigResult r = loadScene(file, sc, {"rates.sim=0.5"});
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find(file), std::string::npos) << r.message();
+  EXPECT_NE(r.message().find("rates.sim"), std::string::npos) << r.message();
+  EXPECT_NE(r.message().find(">= 100"), std::string::npos) << r.message();
+  ASSERT_TRUE(loadScene(file, sc).ok());
+  sc.rates.sim = 50.0;  // a command-line override after loading (tactile_sim --sim-rate)
+  sc.rates.servo = sc.rates.wts = sc.rates.features = 50.0;
+  EXPECT_FALSE(validateScene(sc).ok());
+  for (const char* bad : {"effects.friction_mu=3", "effects.friction_mu=-0.1", "effects.fri_delay_s=2",
+                          "effects.krc_cycle_s=-1", "effects.friction_stiffness=0"}) {
+    r = loadScene(file, sc, {bad});
+    ASSERT_FALSE(r.ok()) << bad;
+    const std::string key = std::string(bad).substr(0, std::string(bad).find('='));
+    EXPECT_NE(r.message().find(file), std::string::npos) << r.message();
+    EXPECT_NE(r.message().find(key), std::string::npos) << r.message();
+    EXPECT_NE(r.message().find("must be in"), std::string::npos) << r.message();
+  }
+  r = loadScene(file, sc, {"effects.fri_delay_s=0.0015"});  // 1.5 physics steps at 1 kHz
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("effects.fri_delay_s"), std::string::npos) << r.message();
+  EXPECT_NE(r.message().find("whole number of physics steps"), std::string::npos) << r.message();
+  r = loadScene(file, sc, {"effects.unknown=1"});
+  EXPECT_FALSE(r.ok());
+  // Off by default; set, they reach the world's parameters (runner and RTT arm alike).
+  ASSERT_TRUE(loadScene(file, sc).ok());
+  EXPECT_EQ(sc.world.friction_mu, 0.0);
+  EXPECT_EQ(sc.world.fri_delay_s, 0.0);
+  EXPECT_EQ(sc.world.krc_cycle_s, 0.0);
+  ASSERT_TRUE(loadScene(file, sc, {"effects={friction_mu: 0.7, fri_delay_s: 0.002, krc_cycle_s: 0.002}"}).ok());
+  const WorldParams wp = worldParams(sc);
+  EXPECT_EQ(wp.friction_mu, 0.7);
+  EXPECT_EQ(wp.fri_delay_s, 0.002);
+  EXPECT_EQ(wp.krc_cycle_s, 0.002);
+  EXPECT_EQ(wp.physics_step_s, 1.0 / sc.rates.sim);
+}

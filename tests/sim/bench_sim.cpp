@@ -114,6 +114,53 @@ BENCHMARK(BM_Sim)
     ->Args({1, 1000, 2, 8, 0})
     ->Unit(benchmark::kMillisecond);
 
+// The physics and timing effects (WorldParams), on vs off in the same run:
+// effect 0 off, 1 friction mu 0.5, 2 FRI delay 2 ms, 3 KRC cycle 2 ms,
+// 4 all three. The ratio rtf(on) / rtf(off) is the effect's cost.
+void BM_Effects(benchmark::State& state) {
+  const Fidelity f = state.range(0) == 0 ? Fidelity::QuasiStatic : Fidelity::Dynamics;
+  const int e = static_cast<int>(state.range(1));
+  WorldParams p = barScene(f, 2, 4);
+  if (e == 1 || e == 4) p.friction_mu = 0.5;
+  if (e == 2 || e == 4) p.fri_delay_s = 0.002;
+  if (e == 3 || e == 4) p.krc_cycle_s = 0.002;
+  World w;
+  if (!w.configure(p).ok()) {
+    state.SkipWithError("configure failed");
+    return;
+  }
+  SimState s;
+  RawTactileFrame raw;
+  SensorTruth truth;
+  double t = 0.0, next_acq = 0.0;
+  runSecond(w, 1000.0, t, s, raw, truth, next_acq);
+  double sim_s = 0.0;
+  for (auto _ : state) {
+    runSecond(w, 1000.0, t, s, raw, truth, next_acq);
+    sim_s += 1.0;
+    double f_now = s.normal_force;
+    benchmark::DoNotOptimize(f_now);
+  }
+  state.counters["rtf"] = benchmark::Counter(sim_s, benchmark::Counter::kIsRate);
+  char label[96];
+  std::snprintf(label, sizeof label, "%s F=%.2fN fx=%.2fN status=%s", toString(f), s.normal_force, s.wrench_s[0],
+                toString(s.status));
+  state.SetLabel(label);
+}
+BENCHMARK(BM_Effects)
+    ->ArgNames({"dyn", "effect"})
+    ->Args({0, 0})
+    ->Args({0, 1})
+    ->Args({0, 2})
+    ->Args({0, 3})
+    ->Args({0, 4})
+    ->Args({1, 0})
+    ->Args({1, 1})
+    ->Args({1, 2})
+    ->Args({1, 3})
+    ->Args({1, 4})
+    ->Unit(benchmark::kMillisecond);
+
 // Single calls, for the cost breakdown.
 void BM_Step(benchmark::State& state) {
   const Fidelity f = state.range(0) == 0 ? Fidelity::QuasiStatic : Fidelity::Dynamics;

@@ -366,9 +366,13 @@ TEST(LwrBadInput, NanCommandAndBadDtKeepStateFinite) {
     bad.q = {0, 0, 0, 0};
     EXPECT_EQ(w.step(bad, 0.001, s), SimStatus::InvalidCommand);
     const double t = s.time_s;
-    EXPECT_EQ(w.step(good, 0.0, s), SimStatus::InvalidCommand);
-    EXPECT_EQ(w.step(good, -1.0, s), SimStatus::InvalidCommand);
-    EXPECT_EQ(w.step(good, std::numeric_limits<double>::infinity(), s), SimStatus::InvalidCommand);
+    EXPECT_EQ(w.step(good, 0.0, s), SimStatus::StepRejected);
+    EXPECT_EQ(w.step(good, -1.0, s), SimStatus::StepRejected);
+    EXPECT_EQ(w.step(good, std::numeric_limits<double>::infinity(), s), SimStatus::StepRejected);
+    // A step beyond max_step_s (0.01 s by default; the 2 s) is refused too.
+    EXPECT_EQ(w.step(good, 2.0, s), SimStatus::StepRejected);
+    EXPECT_EQ(w.step(good, 0.0101, s), SimStatus::StepRejected);
+    EXPECT_FALSE(fatal(SimStatus::StepRejected));  // the state is intact: the caller decides (EndRule)
     EXPECT_EQ(s.time_s, t);  // time did not advance
     EXPECT_EQ(w.step(good, 0.001, s), SimStatus::Ok);
     EXPECT_NEAR(s.flange_g.p[0], good.p[0], 1e-6);

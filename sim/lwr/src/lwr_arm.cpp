@@ -20,6 +20,7 @@ const char* toString(SimStatus s) {
     case SimStatus::Ok: return "ok";
     case SimStatus::InvalidCommand: return "invalid_command";
     case SimStatus::NotConverged: return "not_converged";
+    case SimStatus::StepRejected: return "step_rejected";
     case SimStatus::JointLimit: return "joint_limit";
     case SimStatus::Singularity: return "singularity";
     case SimStatus::ForceCeiling: return "force_ceiling";

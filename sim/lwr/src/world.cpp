@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include <Eigen/Cholesky>
@@ -67,6 +68,33 @@ ConfigResult World::configure(const WorldParams& p) {
     return rangeError("qs_max_iterations", p.qs_max_iterations, "must be in [1, 200]");
   if (!(p.qs_tolerance > 0.0) || !std::isfinite(p.qs_tolerance)) return rangeError("qs_tolerance", p.qs_tolerance, "must be > 0 (N)");
   if (!(p.qs_max_step > 0.0) || p.qs_max_step > 0.1) return rangeError("qs_max_step", p.qs_max_step, "must be in (0, 0.1] m");
+  if (!(p.max_step_s > 0.0) || p.max_step_s > 0.1) return rangeError("max_step_s", p.max_step_s, "must be in (0, 0.1] s");
+  char buf[128];
+  if (!(p.physics_step_s > 0.0) || p.physics_step_s > p.max_step_s) {
+    std::snprintf(buf, sizeof buf, "must be in (0, max_step_s = %g] s", p.max_step_s);
+    return rangeError("physics_step_s (1 / rates.sim)", p.physics_step_s, buf);
+  }
+  if (!(p.friction_mu >= 0.0) || p.friction_mu > 2.0) return rangeError("effects.friction_mu", p.friction_mu, "must be in [0, 2]");
+  if (!(p.friction_stiffness > 0.0) || p.friction_stiffness > 1e7)
+    return rangeError("effects.friction_stiffness", p.friction_stiffness, "must be in (0, 1e7] N/m");
+  // The delay and the KRC cycle in whole physics steps (the loop's time base).
+  auto steps = [&p](const char* name, double v, long& n) {
+    if (!(v >= 0.0) || v > 1.0) return rangeError(name, v, "must be in [0, 1] s");
+    const double k = v / p.physics_step_s;
+    n = std::lround(k);
+    if (std::fabs(k - static_cast<double>(n)) > 1e-6) {
+      char b[128];
+      std::snprintf(b, sizeof b, "must be a whole number of physics steps (1 / rates.sim = %g s)", p.physics_step_s);
+      return rangeError(name, v, b);
+    }
+    return ConfigResult::success();
+  };
+  long delay_steps = 0, krc_steps = 0;
+  {
+    ConfigResult rs = steps("effects.fri_delay_s", p.fri_delay_s, delay_steps);
+    if (!rs) return rs;
+    if (!(rs = steps("effects.krc_cycle_s", p.krc_cycle_s, krc_steps))) return rs;
+  }
   for (int i = 0; i < 6; ++i)
     if (!std::isfinite(p.external_wrench[static_cast<std::size_t>(i)]))
       return ConfigResult::failure("external_wrench[" + std::to_string(i) + "]: must be finite (N, N m)");
@@ -111,8 +139,25 @@ ConfigResult World::configure(const WorldParams& p) {
     tray_.pitch = objects_.tray().initial_pitch;
     tray_.roll = objects_.tray().initial_roll;
   }
+  if (p.tray_dynamics && !objects_.hasTray())
+    return ConfigResult::failure("objects[].fidelity: only a tray has a fidelity of its own (no tray in the scene)");
+  if (p.tray_dynamics && p.fidelity != Fidelity::QuasiStatic)
+    return ConfigResult::failure("objects[].fidelity: dynamics on a tray needs fidelity: quasi_static for the arm "
+                                 "(in dynamics the tray is integrated anyway)");
+  tray_dynamic_ = p.tray_dynamics;
   T_eq_ = arm_.state().T_ge;
   T_cmd_ = T_eq_;
+  T_set_ = T_eq_;
+  delay_steps_ = delay_steps;
+  krc_steps_ = krc_steps;
+  cmd_path_ = delay_steps > 0 || krc_steps > 1;
+  cmd_line_.assign(static_cast<std::size_t>(delay_steps + 1), T_eq_);  // the initial command, delay + 1 deep
+  friction_on_ = p.friction_mu > 0.0;
+  stuck_valid_ = false;
+  fric_.setZero();
+  fric_u_.setZero();
+  fric_mz_ = fric_n_ = 0.0;
+  slip_ = false;
   placeObjects(T_eq_, tray_);
 
   // An object that starts inside the sensor is a scene error.
@@ -134,9 +179,11 @@ ConfigResult World::configure(const WorldParams& p) {
   acq_valid_ = false;
   state_.time_s = 0.0;
   state_.step = 0;
-  if (p.fidelity == Fidelity::Dynamics && p.start_in_equilibrium) {
-    // The quasi-static solve of the initial command, then rest there.
+  if ((p.fidelity == Fidelity::Dynamics || tray_dynamic_) && p.start_in_equilibrium) {
+    // The quasi-static solve of the initial command (tray angles jointly), then rest there.
+    tray_dynamic_ = false;
     const SimStatus s = stepQuasiStatic(T_cmd_, 0.0);
+    tray_dynamic_ = p.tray_dynamics;
     if (fatal(s) || s == SimStatus::NotConverged)
       return ConfigResult::failure(std::string("start_in_equilibrium: no static equilibrium at the initial pose (") +
                                    toString(s) + "); move the objects or set start_in_equilibrium: false");
@@ -148,6 +195,7 @@ ConfigResult World::configure(const WorldParams& p) {
   configured_ = true;
   held_ = false;
   last_cmd_valid_ = false;
+  if (friction_on_) friction(state_.T_gs, tray_, true);  // stuck where it starts (no tangential load)
   fillState(SimStatus::Ok);
   return ConfigResult::success();
 }
@@ -185,8 +233,8 @@ SimStatus World::step(const tactile::Pose& cmd, double dt, SimState& out) {
     return out.status;
   }
   SimStatus s = SimStatus::Ok;
-  if (!(dt > 0.0) || !std::isfinite(dt) || dt > 1.0) {
-    state_.status = SimStatus::InvalidCommand;
+  if (!(dt > 0.0) || !std::isfinite(dt) || dt > params_.max_step_s) {
+    state_.status = SimStatus::StepRejected;
     out = state_;
     return state_.status;
   }
@@ -201,23 +249,140 @@ SimStatus World::step(const tactile::Pose& cmd, double dt, SimState& out) {
     s = SimStatus::InvalidCommand;
   }
   state_.time_s += dt;
-  ++state_.step;
   const bool was_held = held_;
   held_ = false;
-  s = worst(s, params_.fidelity == Fidelity::QuasiStatic ? stepQuasiStatic(T_cmd_, dt) : stepDynamics(T_cmd_, dt));
-  if (held_ && was_held)
-    fillStatus(s);  // nothing moved since the previous step: only time and status change
-  else
+  const KDL::Frame& T_use = cmd_path_ ? setPoint() : T_cmd_;
+  s = worst(s, params_.fidelity == Fidelity::QuasiStatic ? stepQuasiStatic(T_use, dt) : stepDynamics(T_use, dt));
+  ++state_.step;
+  if (held_ && was_held) {  // nothing moved since the previous step: only time and status change
+    fillStatus(s);
+    if (cmd_path_) state_.command_g = toPose(T_cmd_);  // a new command may be on its way to the KRC
+  } else {
     fillState(s);
+  }
   out = state_;
   return state_.status;
 }
 
-SimStatus World::stepQuasiStatic(const KDL::Frame& T_cmd, double dt) {
+const KDL::Frame& World::setPoint() {
+  // Step i (state_.step before it is counted) writes its command into slot
+  // i mod (D + 1); the slot after it holds the command of step i - D (the
+  // initial command while i < D): the FRI delay of D physics steps.
+  const std::size_t cap = cmd_line_.size();
+  const std::size_t i = static_cast<std::size_t>(state_.step % cap);
+  cmd_line_[i] = T_cmd_;
+  const KDL::Frame& delayed = cmd_line_[(i + 1) % cap];
+  // The KRC samples what has arrived at t = k * krc_cycle_s and holds it.
+  if (krc_steps_ <= 1 || state_.step % static_cast<uint64_t>(krc_steps_) == 0) T_set_ = delayed;
+  return T_set_;
+}
+
+void World::integrateTray(double dt) {
+  const TrayParams& tp = objects_.tray();
+  const KDL::Vector g(params_.arm.gravity[0], params_.arm.gravity[1], params_.arm.gravity[2]);
+  double gx, gy;
+  objects_.trayGravityTorque(tray_, state_.time_s, g, gx, gy);
+  // Linearised backward Euler for the bearing damping, the springs and the
+  // contact's angular stiffness (unconditionally stable for the tiny roll
+  // inertia): (I + dt C - dt^2 K) w' = I w + dt tau(theta, w = 0).
+  double tx = gx - tp.pitch_stiffness * tray_.pitch + contact_.tau_tray(0);
+  double ty = gy - tp.roll_stiffness * tray_.roll + contact_.tau_tray(1);
+  if (friction_on_ && stuck_valid_) {
+    const Eigen::Vector2d tf = frictionTrayTorque(state_.T_gs);
+    tx += tf(0);
+    ty += tf(1);
+  }
+  Eigen::Matrix2d K = contact_.dtau_dth;
+  K(0, 0) -= tp.pitch_stiffness;
+  K(1, 1) -= tp.roll_stiffness;
+  Eigen::Matrix2d Mi = Eigen::Matrix2d::Zero();
+  Mi(0, 0) = objects_.trayInertiaX() + dt * tp.bearing_damping;
+  Mi(1, 1) = objects_.trayInertiaY() + dt * tp.bearing_damping;
+  Mi -= dt * dt * K;
+  const Eigen::Vector2d rhs(objects_.trayInertiaX() * tray_rate_(0) + dt * tx,
+                            objects_.trayInertiaY() * tray_rate_(1) + dt * ty);
+  tray_rate_ = Mi.partialPivLu().solve(rhs);
+  tray_.pitch += dt * tray_rate_(0);
+  tray_.roll += dt * tray_rate_(1);
+  // The pivot cannot swing the tray through the floor: bound the angles.
+  const double lim = kTrayAngleLimit;
+  if (std::fabs(tray_.pitch) > lim) { tray_.pitch = std::copysign(lim, tray_.pitch); tray_rate_(0) = 0; }
+  if (std::fabs(tray_.roll) > lim) { tray_.roll = std::copysign(lim, tray_.roll); tray_rate_(1) = 0; }
+}
+
+namespace {
+KDL::Rotation trayRotation(const TrayPose& tp) { return KDL::Rotation::RotX(tp.pitch) * KDL::Rotation::RotY(tp.roll); }
+}  // namespace
+
+void World::friction(const KDL::Frame& T_gs, const TrayPose& tp, bool commit) {
+  // Elasto-plastic (spring-slider) Coulomb model: the layer shears by u (the
+  // sensor origin's tangential displacement from the stuck point) with the
+  // force -k_t u on the sensor until |k_t u| reaches mu N; beyond, the force
+  // is mu N against u (sliding) and the stuck point follows (return mapping).
+  const double N = contact_.layer_force + contact_.housing_force;
   const bool tray = objects_.hasTray();
+  if (!(N > 0.0)) {
+    fric_.setZero();
+    fric_u_.setZero();
+    fric_mz_ = fric_n_ = 0.0;
+    slip_ = false;
+    if (commit) stuck_valid_ = false;
+    return;
+  }
+  if (!stuck_valid_) {  // first touch: stuck here, no shear yet
+    fric_.setZero();
+    fric_u_.setZero();
+    fric_mz_ = 0.0;
+    fric_n_ = N;
+    slip_ = false;
+    if (commit) {
+      anchor_ = tray ? trayRotation(tp).Inverse() * (T_gs.p - objects_.bearing()) : T_gs.p;
+      stuck_valid_ = true;
+    }
+    return;
+  }
+  const KDL::Vector a = tray ? objects_.bearing() + trayRotation(tp) * anchor_ : anchor_;
+  const KDL::Vector d = T_gs.p - a;
+  const KDL::Vector xs = T_gs.M.UnitX(), ys = T_gs.M.UnitY();
+  const Eigen::Vector2d u(KDL::dot(xs, d), KDL::dot(ys, d));
+  const double kt = params_.friction_stiffness, lim = params_.friction_mu * N;
+  Eigen::Vector2d f = -kt * u;
+  const double fn = f.norm();
+  slip_ = fn > lim;
+  if (slip_) f *= lim / fn;
+  fric_ = f;
+  fric_u_ = u;
+  fric_n_ = N;
+  // At the pressure centre on the surface (x_c, y_c, 0): W_s(3) = -y_c N, W_s(4) = x_c N.
+  const double xc = contact_.W_s(4) / N, yc = -contact_.W_s(3) / N;
+  fric_mz_ = xc * f(1) - yc * f(0);
+  if (commit && slip_) {
+    // The stuck point moves so that the shear is the limit's: u' = -f / k_t.
+    const KDL::Vector an = T_gs.p + (f(0) / kt) * xs + (f(1) / kt) * ys;
+    anchor_ = tray ? trayRotation(tp).Inverse() * (an - objects_.bearing()) : an;
+  }
+}
+
+Eigen::Vector2d World::frictionTrayTorque(const KDL::Frame& T_gs) const {
+  // The reaction -F on the tray's bar at the pressure centre, about the bearing (x_g, y_g).
+  const double N = fric_n_;
+  if (!(N > 0.0)) return Eigen::Vector2d::Zero();
+  const double xc = contact_.W_s(4) / N, yc = -contact_.W_s(3) / N;
+  const KDL::Vector pc = T_gs * KDL::Vector(xc, yc, 0.0);
+  const KDL::Vector F = -(fric_(0) * T_gs.M.UnitX() + fric_(1) * T_gs.M.UnitY());
+  const KDL::Vector t = (pc - objects_.bearing()) * F;
+  return Eigen::Vector2d(t.x(), t.y());
+}
+
+SimStatus World::stepQuasiStatic(const KDL::Frame& T_cmd, double dt) {
+  const bool has_tray = objects_.hasTray();
+  // Per-body fidelity: a dynamic tray takes one time step with the contact
+  // as it is, then the arm balances with the tray angles fixed.
+  const bool tray = has_tray && !tray_dynamic_;
+  if (tray_dynamic_ && dt > 0.0) integrateTray(dt);
   // Unchanged command and a static world: the previous (converged) equilibrium holds.
-  bool moving = false;
-  if (tray) {
+  bool moving = tray_dynamic_;
+  if (has_tray && !moving) {
     const TrayParams& tp = objects_.tray();
     moving = state_.time_s - dt <= tp.move_start_s + tp.move_duration_s && state_.time_s >= tp.move_start_s;
   }
@@ -256,12 +421,31 @@ SimStatus World::stepQuasiStatic(const KDL::Frame& T_cmd, double dt) {
     // The contact wrench and stiffness live in the (z, wx, wy) rows of {s}
     // (PadSensor::evaluate): only those rows of A enter.
     const Eigen::Matrix<double, 3, 6> Ar = A.middleRows<3>(2);
-    const Vec6 re = arm_.impedanceWrench(T_cmd, T, Vec6::Zero()) + W_ext_ + Ar.transpose() * contact_.W_s.segment<3>(2);
+    Vec6 re = arm_.impedanceWrench(T_cmd, T, Vec6::Zero()) + W_ext_ + Ar.transpose() * contact_.W_s.segment<3>(2);
+    // Friction (x, y and the moment about z_s at the sensor origin; A^T
+    // carries its moment about the flange, the sensor mount's lever arm).
+    Eigen::Matrix2d G = Eigen::Matrix2d::Zero();  // d f / d u
+    Eigen::Vector2d gN = Eigen::Vector2d::Zero(); // d f / d N (sliding)
+    if (friction_on_) {
+      friction(state_.T_gs, th, false);
+      re += A.row(0).transpose() * fric_(0) + A.row(1).transpose() * fric_(1) + A.row(5).transpose() * fric_mz_;
+      if (stuck_valid_ && fric_n_ > 0.0) {
+        if (slip_) {
+          const double un = fric_u_.norm();
+          const Eigen::Vector2d uh = fric_u_ / un;
+          G = -(params_.friction_mu * fric_n_ / un) * (Eigen::Matrix2d::Identity() - uh * uh.transpose());
+          gN = -params_.friction_mu * uh;
+        } else {
+          G = -params_.friction_stiffness * Eigen::Matrix2d::Identity();
+        }
+      }
+    }
     Eigen::Vector2d rt = Eigen::Vector2d::Zero();
     if (tray) {
       double gx, gy;
       objects_.trayGravityTorque(th, state_.time_s, g, gx, gy);
       rt << gx - kx * th.pitch + contact_.tau_tray(0), gy - ky * th.roll + contact_.tau_tray(1);
+      if (friction_on_) rt += frictionTrayTorque(state_.T_gs);
       // On a stop, the stop's reaction takes whatever pushes into it.
       if ((th.pitch <= -kTrayAngleLimit && rt(0) < 0) || (th.pitch >= kTrayAngleLimit && rt(0) > 0)) rt(0) = 0;
       if ((th.roll <= -kTrayAngleLimit && rt(1) < 0) || (th.roll >= kTrayAngleLimit && rt(1) > 0)) rt(1) = 0;
@@ -273,6 +457,12 @@ SimStatus World::stepQuasiStatic(const KDL::Frame& T_cmd, double dt) {
     Mat6 Jee = -Ar.transpose() * (contact_.K_s.middleRows<3>(2) * A);
     Jee.diagonal().head<3>().array() -= kt;
     Jee.diagonal().tail<3>().array() -= kr;
+    if (friction_on_) {
+      // d f = G du + gN dN, du = (sensor velocity x, y in {s}) = A.topRows<2> de, dN = K_s(2, :) A de.
+      const Eigen::Matrix<double, 2, 6> A2 = A.topRows<2>();
+      const Eigen::Matrix<double, 2, 6> dF = G * A2 + gN * (contact_.K_s.row(2) * A);
+      Jee += A2.transpose() * dF;
+    }
     Vec6 de;
     Eigen::Vector2d dth = Eigen::Vector2d::Zero();
     if (tray) {
@@ -328,6 +518,7 @@ SimStatus World::stepQuasiStatic(const KDL::Frame& T_cmd, double dt) {
   if (!evaluated || e.head<3>().norm() > 1e-7 || e.tail<3>().norm() > 1e-6) {
     evaluateContact(Ta, tray_);
   }
+  if (friction_on_) friction(state_.T_gs, tray_, true);  // the stuck point follows a slip
   if (!converged) s = worst(s, SimStatus::NotConverged);
   qs_valid_ = converged && !fatal(s);
   qs_cmd_ = T_cmd;
@@ -337,38 +528,20 @@ SimStatus World::stepQuasiStatic(const KDL::Frame& T_cmd, double dt) {
 
 SimStatus World::stepDynamics(const KDL::Frame& T_cmd, double dt) {
   // contact_ holds the contact at the current state (evaluated at the end of
-  // the previous step, or in configure()).
+  // the previous step, or in configure()); so does the friction (fric_).
   const Mat6 A = twistMap(arm_.state().T_ge, state_.T_gs);
-  const Vec6 W = A.transpose() * contact_.W_s + W_ext_;
-  if (objects_.hasTray()) {
-    const TrayParams& tp = objects_.tray();
-    const KDL::Vector g(params_.arm.gravity[0], params_.arm.gravity[1], params_.arm.gravity[2]);
-    double gx, gy;
-    objects_.trayGravityTorque(tray_, state_.time_s, g, gx, gy);
-    // Linearised backward Euler for the bearing damping, the springs and the
-    // contact's angular stiffness (unconditionally stable for the tiny roll
-    // inertia): (I + dt C - dt^2 K) w' = I w + dt tau(theta, w = 0).
-    const double tx = gx - tp.pitch_stiffness * tray_.pitch + contact_.tau_tray(0);
-    const double ty = gy - tp.roll_stiffness * tray_.roll + contact_.tau_tray(1);
-    Eigen::Matrix2d K = contact_.dtau_dth;
-    K(0, 0) -= tp.pitch_stiffness;
-    K(1, 1) -= tp.roll_stiffness;
-    Eigen::Matrix2d Mi = Eigen::Matrix2d::Zero();
-    Mi(0, 0) = objects_.trayInertiaX() + dt * tp.bearing_damping;
-    Mi(1, 1) = objects_.trayInertiaY() + dt * tp.bearing_damping;
-    Mi -= dt * dt * K;
-    const Eigen::Vector2d rhs(objects_.trayInertiaX() * tray_rate_(0) + dt * tx,
-                              objects_.trayInertiaY() * tray_rate_(1) + dt * ty);
-    tray_rate_ = Mi.partialPivLu().solve(rhs);
-    tray_.pitch += dt * tray_rate_(0);
-    tray_.roll += dt * tray_rate_(1);
-    // The pivot cannot swing the tray through the floor: bound the angles.
-    const double lim = kTrayAngleLimit;
-    if (std::fabs(tray_.pitch) > lim) { tray_.pitch = std::copysign(lim, tray_.pitch); tray_rate_(0) = 0; }
-    if (std::fabs(tray_.roll) > lim) { tray_.roll = std::copysign(lim, tray_.roll); tray_rate_(1) = 0; }
+  Vec6 Ws = contact_.W_s;
+  if (friction_on_) {
+    Ws(0) += fric_(0);
+    Ws(1) += fric_(1);
+    Ws(5) += fric_mz_;
   }
+  const Vec6 W = A.transpose() * Ws + W_ext_;
+  if (objects_.hasTray()) integrateTray(dt);
   const SimStatus s = arm_.stepDynamics(T_cmd, W, dt);
   evaluateContact(arm_.state().T_ge, tray_);
+  // The shear at the new state; a slip moves the stuck point.
+  if (friction_on_) friction(state_.T_gs, tray_, true);
   last_iterations_ = 0;
   return s;
 }
@@ -382,7 +555,14 @@ void World::fillState(SimStatus s) {
   state_.flange_g = toPose(state_.T_ge);
   state_.sensor_g = toPose(state_.T_gs);
   state_.command_g = toPose(T_cmd_);
+  state_.setpoint_g = cmd_path_ ? toPose(T_set_) : state_.command_g;
   for (int i = 0; i < 6; ++i) state_.wrench_s[static_cast<std::size_t>(i)] = contact_.W_s[i];
+  if (friction_on_) {
+    state_.wrench_s[0] += fric_(0);
+    state_.wrench_s[1] += fric_(1);
+    state_.wrench_s[5] += fric_mz_;
+  }
+  state_.slipping = friction_on_ && slip_;
   state_.normal_force = contact_.layer_force;
   state_.housing_force = contact_.housing_force;
   state_.tray_pitch = tray_.pitch;
@@ -397,6 +577,12 @@ void World::fillStatus(SimStatus s) {
   state_.status = s;
 }
 
+void World::addFriction(SensorTruth& truth) const {
+  truth.wrench_s[0] += fric_(0);
+  truth.wrench_s[1] += fric_(1);
+  truth.wrench_s[5] += fric_mz_;
+}
+
 void World::acquireForces(tactile::TactileFrame& forces, SensorTruth& truth) {
   if (!configured_) return;
   const KDL::Frame T_gs = state_.T_ge * pad_.mount();
@@ -409,6 +595,7 @@ void World::acquireForces(tactile::TactileFrame& forces, SensorTruth& truth) {
     acq_T_gs_ = state_.T_gs;
     acq_tray_ = tray_;
   }
+  if (friction_on_) addFriction(truth);
   forces = pad_.trueTaxelForces();
   forces.seq = acq_seq_++;
 }
@@ -425,6 +612,7 @@ void World::acquire(tactile::RawTactileFrame& raw, SensorTruth& truth) {
     acq_T_gs_ = state_.T_gs;
     acq_tray_ = tray_;
   }
+  if (friction_on_) addFriction(truth);
   raw.seq = acq_seq_++;
   raw.device_time_ms = static_cast<uint32_t>(std::llround(state_.time_s * 1000.0));
 }

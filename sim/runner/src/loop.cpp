@@ -78,6 +78,16 @@ EndReason EndRule::afterServo(ServoStatus st) {
   return EndReason::None;
 }
 
+EndReason EndRule::afterPhysics(SimStatus st) {
+  if (fatal(st)) return EndReason::SimFatal;
+  if (st == SimStatus::StepRejected) return EndReason::SimRejected;  // time stands still: it never recovers
+  if (st != SimStatus::InvalidCommand) {
+    invalid_cycles_ = 0;
+    return EndReason::None;
+  }
+  return ++invalid_cycles_ >= invalid_limit_ ? EndReason::SimRejected : EndReason::None;
+}
+
 void applyEnd(EndReason reason, SimStatus sim_status, Summary& s) {
   switch (reason) {
     case EndReason::ServoForceCeiling:
@@ -97,6 +107,7 @@ void applyEnd(EndReason reason, SimStatus sim_status, Summary& s) {
       s.exit_code = 7;
       break;
     case EndReason::SimFatal:
+    case EndReason::SimRejected:
       s.status = std::string("sim_") + toString(sim_status);
       s.exit_code = 3;
       break;

@@ -18,9 +18,7 @@ ConfigResult Runner::configure(const Scene& scene) {
   ConfigResult r = validateScene(scene);
   if (!r) return r;
   scene_ = scene;
-  WorldParams wp = scene.world;
-  wp.seed = scene.seed;
-  if (!(r = world_.configure(wp))) return ConfigResult::failure(scene.file + ": " + r.message());
+  if (!(r = world_.configure(worldParams(scene)))) return ConfigResult::failure(scene.file + ": " + r.message());
   // The sensor's electronics and its reader from the one calibration file.
   TaxelResponseParams rp;
   rp.calibration = scene.calibration;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstdio>
 
 #include "tactile_config/yaml_params.hpp"
 #include "tactile_features/params_io.hpp"
@@ -81,7 +82,7 @@ ConfigResult readObject(const YAML::Node& n, const Where& w, ObjectParams& o) {
       if (!(r = checkKeys(n, w, {"name", "type", "bearing", "bar_from", "bar_to", "bar_radius", "tray_mass", "tray_com",
                                  "mass", "mass_from", "mass_to", "move_start_s", "move_duration_s", "pitch_stiffness",
                                  "roll_stiffness", "bearing_damping", "inertia_x", "inertia_y", "initial_pitch",
-                                 "initial_roll"})))
+                                 "initial_roll", "fidelity"})))
         return r;
       TrayParams& t = o.tray;
       for (auto rr : {readVec3(n, "bearing", t.bearing, w), readVec3(n, "bar_from", t.bar_from, w),
@@ -171,7 +172,7 @@ ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std:
   if (!(r = checkKeys(root, w,
                       {"name", "description", "figure", "program", "controller", "features_file", "duration", "seed",
                        "fidelity", "start_in_equilibrium", "rates", "sensor", "arm", "initial_flange", "objects",
-                       "metrics", "through_fri", "fri_file"})))
+                       "metrics", "through_fri", "fri_file", "effects"})))
     return r;
   s = Scene{};
   s.file = file;
@@ -289,10 +290,40 @@ ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std:
     if (!n.IsSequence()) return fail(w.child("objects"), "must be a list");
     for (std::size_t i = 0; i < n.size(); ++i) {
       ObjectParams o;
-      if (!(r = readObject(n[i], w.child("objects[" + std::to_string(i) + "]"), o))) return r;
+      const Where wo = w.child("objects[" + std::to_string(i) + "]");
+      if (!(r = readObject(n[i], wo, o))) return r;
+      // Per-body fidelity (only the tray moves): dynamics on a quasi-static arm.
+      if (o.type == ObjectType::Tray && n[i]["fidelity"]) {
+        std::string f;
+        Fidelity fo = Fidelity::QuasiStatic;
+        if (!(r = read(n[i], "fidelity", f, wo))) return r;
+        if (!parseFidelity(f, fo)) return fail(wo.child("fidelity"), "'" + f + "' must be quasi_static | dynamics");
+        if (fo != s.world.fidelity && s.world.fidelity == Fidelity::Dynamics)
+          return fail(wo.child("fidelity"), "quasi_static tray on a dynamics arm is not modelled: must be dynamics "
+                                            "(or set fidelity: quasi_static for the arm)");
+        s.world.tray_dynamics = fo == Fidelity::Dynamics && s.world.fidelity == Fidelity::QuasiStatic;
+      }
       if (o.name.empty()) o.name = "objects[" + std::to_string(i) + "]";
       s.world.objects.push_back(o);
     }
+  }
+
+  // Effects (each off by default). Physics and timing: World's.
+  if (const YAML::Node n = root["effects"]) {
+    const Where we = w.child("effects");
+    if (!(r = checkKeys(n, we, {"friction_mu", "friction_stiffness", "fri_delay_s", "krc_cycle_s"}))) return r;
+    WorldParams& wp = s.world;
+    for (auto rr : {read(n, "friction_mu", wp.friction_mu, we), read(n, "friction_stiffness", wp.friction_stiffness, we),
+                    read(n, "fri_delay_s", wp.fri_delay_s, we), read(n, "krc_cycle_s", wp.krc_cycle_s, we)})
+      if (!rr) return rr;
+    if (!(wp.friction_mu >= 0.0) || wp.friction_mu > 2.0)
+      return rangeError(we.child("friction_mu").str(), wp.friction_mu, "must be in [0, 2] (rubber on metal ~0.5-1)");
+    if (!(wp.friction_stiffness > 0.0) || wp.friction_stiffness > 1e7)
+      return rangeError(we.child("friction_stiffness").str(), wp.friction_stiffness, "must be in (0, 1e7] N/m");
+    if (!(wp.fri_delay_s >= 0.0) || wp.fri_delay_s > 1.0)
+      return rangeError(we.child("fri_delay_s").str(), wp.fri_delay_s, "must be in [0, 1] s");
+    if (!(wp.krc_cycle_s >= 0.0) || wp.krc_cycle_s > 1.0)
+      return rangeError(we.child("krc_cycle_s").str(), wp.krc_cycle_s, "must be in [0, 1] s (0 = every physics step)");
   }
 
   if (!(r = read(root, "through_fri", s.through_fri, w))) return r;
@@ -343,6 +374,14 @@ ConfigResult validateScene(const Scene& s) {
   for (auto rr : {rate("sim", s.rates.sim), rate("servo", s.rates.servo), rate("wts", s.rates.wts),
                   rate("features", s.rates.features)})
     if (!rr) return rr;
+  // The physics step 1 / rates.sim must be one the world takes (a larger one
+  // would be refused on every cycle, the arm never moving).
+  if (1.0 / s.rates.sim > s.world.max_step_s + 1e-12) {
+    char req[128];
+    std::snprintf(req, sizeof req, "must be >= %g Hz (physics step 1 / rates.sim <= %g s)", 1.0 / s.world.max_step_s,
+                  s.world.max_step_s);
+    return rangeError(w.child("rates.sim").str(), s.rates.sim, req);
+  }
   for (auto [name, v] : {std::pair<const char*, double>{"servo", s.rates.servo}, {"wts", s.rates.wts},
                          {"features", s.rates.features}})
     if (v > s.rates.sim + 1e-9)
@@ -361,11 +400,16 @@ ConfigResult validateScene(const Scene& s) {
     if (!ph.empty() && !known(ph)) return fail(w.child("metrics.alignment"), "unknown phase '" + ph + "' in " + s.program_file);
   // The world validates objects (inside the sensor, unknown geometry...) on configure.
   World probe;
-  WorldParams wp = s.world;
-  wp.seed = s.seed;
-  const ConfigResult r = probe.configure(wp);
+  const ConfigResult r = probe.configure(worldParams(s));
   if (!r) return ConfigResult::failure(s.file + ": " + r.message());
   return ConfigResult::success();
+}
+
+WorldParams worldParams(const Scene& s) {
+  WorldParams wp = s.world;
+  wp.seed = s.seed;
+  wp.physics_step_s = 1.0 / s.rates.sim;
+  return wp;
 }
 
 }  // namespace sim

@@ -58,8 +58,9 @@ using Jac67 = Eigen::Matrix<double, 6, kLwrJoints>;
 /// Values >= kSimStatusFatal mean "stop the run" (the state stays finite).
 enum class SimStatus : uint8_t {
   Ok = 0,
-  InvalidCommand = 1,   ///< NaN/Inf/non-unit command or dt <= 0: last valid command held
+  InvalidCommand = 1,   ///< NaN/Inf/non-unit command: last valid command held
   NotConverged = 2,     ///< quasi-static solve hit its iteration cap (state usable)
+  StepRejected = 3,     ///< dt not in (0, max_step_s]: the step is refused, state and time unchanged
   JointLimit = 10,      ///< a joint reached its limit: clamped there, velocity zeroed
   Singularity = 11,     ///< manipulability below arm.min_manipulability
   ForceCeiling = 12,    ///< contact force above world.force_ceiling

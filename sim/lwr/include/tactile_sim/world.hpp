@@ -65,6 +65,40 @@ struct WorldParams {
   /// sensor (the tray) then starts without a drop transient; with nothing in
   /// contact the equilibrium is the initial posture itself.
   bool start_in_equilibrium = true;
+  /// The physics step the world is stepped with (s; the runner and the RTT
+  /// arm set 1 / rates.sim): the unit of the KRC cycle and the FRI delay
+  /// below, which must be whole multiples of it. In (0, max_step_s].
+  double physics_step_s = 0.001;
+  /// Largest dt step() accepts (s): a larger (or non-positive) step is
+  /// refused with SimStatus::StepRejected, the state and time unchanged.
+  /// In (0, 0.1]; the default 0.01 s is the coarsest step the quasi-static
+  /// solve is tested at (dynamics is run at 1 ms).
+  double max_step_s = 0.01;
+
+  // ---- Physics and timing effects (each off by default: no work when off) --
+  /// Coulomb friction coefficient between the pad and the objects (0 = the
+  /// frictionless layer of Sec. 3.2). Elasto-plastic (spring-slider) model:
+  /// the tangential force on the sensor is -friction_stiffness * u (u: the
+  /// shear of the layer, the sensor's tangential displacement from the
+  /// point where the contact stuck), capped at mu N (then the stuck point
+  /// slides: Coulomb drag of magnitude mu N opposing the slip). It acts at
+  /// the pressure centre on the surface, so its moment about the flange
+  /// (lever = the sensor mount) tilts the sensor in the impedance. In [0, 2].
+  double friction_mu = 0.0;
+  /// Tangential (shear) stiffness of the layer before it slides (N/m), (0, 1e7].
+  double friction_stiffness = 5000.0;
+  /// FRI transport delay (s): the impedance controller uses the command
+  /// given this long before. A whole number of physics steps, in [0, 1].
+  double fri_delay_s = 0.0;
+  /// KRC set-point sample-and-hold period (s): the (delayed) command is
+  /// sampled at t = k * krc_cycle_s and held in between; 0 = every physics
+  /// step. A whole number of physics steps, in [0, 1].
+  double krc_cycle_s = 0.0;
+  /// Per-body fidelity: the tray's two angles are integrated in time (its
+  /// inertia, springs and bearing damping; the dynamics' backward Euler)
+  /// while the arm stays quasi-static (fidelity QuasiStatic only; in
+  /// Dynamics the tray is always integrated).
+  bool tray_dynamics = false;
 };
 
 struct SimState {
@@ -74,7 +108,10 @@ struct SimState {
   tactile::Pose flange_g;            ///< {g}T{e}
   tactile::Pose sensor_g;            ///< {g}T{s}
   KDL::Frame T_ge, T_gs;
-  tactile::Pose command_g;           ///< the flange command used this step (last valid)
+  tactile::Pose command_g;           ///< the flange command as given (last valid)
+  /// The set point the impedance controller used this step: command_g after
+  /// the FRI delay and the KRC's sample-and-hold (= command_g when both are off).
+  tactile::Pose setpoint_g;
   /// True contact wrench on the sensor from all contacts, {s} about its origin,
   /// [fx fy fz mx my mz] (what an ATI Nano17 under the sensor would read, sign
   /// as a wrench acting on the sensor: pressing gives fz < 0).
@@ -84,6 +121,7 @@ struct SimState {
   double tray_pitch = 0.0, tray_roll = 0.0;  ///< rad (roll = the tray angle, about the equilibrium axis)
   double manipulability = 0.0;
   int solver_iterations = 0;         ///< quasi-static Newton iterations used
+  bool slipping = false;             ///< friction on: the contact slides (|friction| = mu N)
   SimStatus status = SimStatus::NotConfigured;
 };
 
@@ -129,6 +167,20 @@ class World {
   /// placeObjects() + PadSensor::evaluate() into contact_, remembering where.
   void evaluateContact(const KDL::Frame& T_ge, const TrayPose& tp);
   void fillState(SimStatus s);
+  /// The KRC side of the command: FRI delay line, then sample-and-hold.
+  const KDL::Frame& setPoint();
+  /// Tray angles, one backward-Euler step with the current contact (dynamics
+  /// and the dynamic tray on a quasi-static arm).
+  void integrateTray(double dt);
+  /// Friction at the current contact_ and sensor pose T_gs (the stuck point
+  /// anchor_ held): fric_ (force on the sensor in {s}, x and y), fric_mz_,
+  /// slip_. With `commit`, the stuck point follows a slip (return mapping)
+  /// or is set/reset at the start/end of contact.
+  void friction(const KDL::Frame& T_gs, const TrayPose& tp, bool commit);
+  /// The friction wrench's torque on the tray about its bearing (x_g, y_g).
+  Eigen::Vector2d frictionTrayTorque(const KDL::Frame& T_gs) const;
+  /// The friction force and moment added to an acquisition's true wrench.
+  void addFriction(SensorTruth& truth) const;
   void fillStatus(SimStatus s);  ///< status and iteration count only
 
   bool configured_ = false;
@@ -160,6 +212,21 @@ class World {
   TrayPose acq_tray_;
   KDL::Frame qs_cmd_;
   SimStatus qs_status_ = SimStatus::Ok;
+  // KRC cycle and FRI delay (WorldParams::krc_cycle_s, fri_delay_s).
+  bool cmd_path_ = false;           ///< either is on
+  std::vector<KDL::Frame> cmd_line_;  ///< ring of delay + 1 commands (allocated in configure)
+  long delay_steps_ = 0, krc_steps_ = 0;
+  KDL::Frame T_set_;                ///< the set point in use
+  // Friction (WorldParams::friction_mu).
+  bool friction_on_ = false;
+  bool stuck_valid_ = false;        ///< a stuck point exists (in contact)
+  KDL::Vector anchor_;              ///< stuck point: {g}, or the tray's frame relative to its bearing
+  Eigen::Vector2d fric_ = Eigen::Vector2d::Zero();  ///< friction force on the sensor, {s} x, y (N)
+  double fric_mz_ = 0.0;            ///< its moment about z_s at the sensor origin (N m)
+  double fric_n_ = 0.0;             ///< normal force it was computed with (N)
+  Eigen::Vector2d fric_u_ = Eigen::Vector2d::Zero();  ///< the shear u ({s} x, y) it was computed with
+  bool slip_ = false;
+  bool tray_dynamic_ = false;       ///< quasi-static arm, dynamic tray
 };
 
 }  // namespace sim

@@ -43,8 +43,7 @@ bool LwrSimComponent::configureHook() {
   ConfigResult r = scene_file_.empty() ? ConfigResult::failure("scene_file is empty: set it to a scene YAML (sim/scenes/*.yaml)")
                                        : sim::loadScene(scene_file_, scene);
   if (r) {
-    world_params_ = scene.world;
-    world_params_.seed = scene.seed;
+    world_params_ = sim::worldParams(scene);  // seed and physics step (the KRC cycle's and FRI delay's unit)
     sim_period_ = 1.0 / scene.rates.sim;
     r = world_.configure(world_params_);
     if (r) r = schedule_.configure(scene.rates, scene.duration);

@@ -16,13 +16,18 @@
 //  * EndRule: a run ends at the servo's force ceiling (after that cycle,
 //    before the physics step), one second (rates.servo cycles) after the
 //    servo reports Done, at a fatal simulator status (after the physics
-//    step), or at the scene's duration.
+//    step), at a step the world refuses (SimStatus::StepRejected: its time
+//    stands still, the arm would never move) or at commands it has refused
+//    for 0.1 s running (InvalidCommand), or at the scene's duration. The
+//    last three end with status "sim_<status>" and exit code 3, never "ok".
 //  * Rows and the summary: makeRow() builds one servo-rate log row from what
 //    the ports carry (features, pose command, phase, the simulator's
 //    ground truth); computeSummary() computes summary.json's metrics from
 //    the rows alone.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -77,6 +82,7 @@ enum class EndReason : uint8_t {
   ServoForceCeiling,
   DoneHeld,
   SimFatal,
+  SimRejected,         ///< the world refused its steps or commands
   ServoPhaseTimeout,   ///< the servo's watchdogs (tactile::watchdogStatus): never `ok`
   ServoArmStalled,
   ServoForceMismatch
@@ -84,18 +90,25 @@ enum class EndReason : uint8_t {
 
 class EndRule {
  public:
-  void configure(const Rates& rates) { done_limit_ = static_cast<int>(rates.servo); }
-  void reset() { done_cycles_ = 0; }
+  void configure(const Rates& rates) {
+    done_limit_ = static_cast<int>(rates.servo);
+    invalid_limit_ = std::max(1, static_cast<int>(std::lround(0.1 * rates.sim)));
+  }
+  void reset() { done_cycles_ = invalid_cycles_ = 0; }
   /// After a servo cycle: ForceCeiling and the watchdog statuses
   /// (PhaseTimeout, ArmStalled, ForceMismatch) end the run at once; Done
   /// ends it after one more second (rates.servo cycles) of holding.
   EndReason afterServo(ServoStatus st);
-  /// After a physics step: a fatal simulator status ends the run.
-  EndReason afterPhysics(SimStatus st) const { return fatal(st) ? EndReason::SimFatal : EndReason::None; }
+  /// After a physics step: a fatal simulator status ends the run (SimFatal);
+  /// so does a refused step (SimRejected: the world's time did not advance)
+  /// and an invalid command refused on every step for 0.1 s (SimRejected).
+  EndReason afterPhysics(SimStatus st);
 
  private:
   int done_limit_ = 100;
   int done_cycles_ = 0;
+  int invalid_limit_ = 100;  ///< physics steps: 0.1 s
+  int invalid_cycles_ = 0;
 };
 
 /// summary.json's status and exit code for an end reason (sim_status: the

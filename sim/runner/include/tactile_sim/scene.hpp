@@ -28,7 +28,18 @@
 //     - {name: bent, type: bent_bar, radius: 0.003, vertices: [[..], [..], ...]}
 //     - {name: tray, type: tray, bearing: [..], bar_from: [..], bar_to: [..], bar_radius: .., tray_mass: ..,
 //        tray_com: [..], mass: 0.2, mass_from: [..], mass_to: [..], move_start_s: .., move_duration_s: ..,
-//        pitch_stiffness: .., roll_stiffness: .., bearing_damping: .., initial_pitch: .., initial_roll: ..}
+//        pitch_stiffness: .., roll_stiffness: .., bearing_damping: .., initial_pitch: .., initial_roll: ..,
+//        fidelity: dynamics}          # per-body fidelity: a dynamic tray (its inertia, springs, bearing
+//                                     # damping integrated in time) on a quasi-static arm; default: the scene's
+//   effects:                          # physics and timing effects, each off by default (no cost when off)
+//     friction_mu: 0                  # Coulomb friction at the pad, [0, 2] (rubber on metal ~0.5-1):
+//                                     # spring-slider, drag mu N while sliding, stuck below; acts at the
+//                                     # pressure centre, its moment about the flange tilts the sensor
+//     friction_stiffness: 5000        # N/m, (0, 1e7]: shear stiffness of the layer before it slides
+//     fri_delay_s: 0                  # FRI transport delay of the flange command, [0, 1] s, whole physics steps
+//     krc_cycle_s: 0                  # KRC set-point sample-and-hold, [0, 1] s, whole physics steps (0 = every step)
+//   rates.sim must give a physics step 1 / rates.sim <= 0.01 s (>= 100 Hz): a
+//   coarser step would be refused by the world on every cycle.
 //   through_fri: false                # route every physics-rate command through the FRI
 //                                     # protocol and tactile::fri::FriBridge (bytes on the wire)
 //   fri_file: ../../components/fri_bridge/params/fri.yaml             # bridge parameters (rate limiter...)
@@ -106,6 +117,10 @@ ConfigResult loadScene(const std::string& file, Scene& out, const std::vector<st
 
 /// Cross-checks after command-line overrides (rates, sub-samples...).
 ConfigResult validateScene(const Scene& s);
+
+/// The world's parameters for a scene: scene.world with the scene's seed and
+/// physics step (1 / rates.sim), as the runner and the RTT arm configure it.
+WorldParams worldParams(const Scene& s);
 
 }  // namespace sim
 }  // namespace tactile
