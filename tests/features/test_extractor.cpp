@@ -122,6 +122,7 @@ TEST(Calibration, PolynomialTareBorderAndSaturation) {
   p.coeffs = {0.0, 0.002, 1e-6, 0.0};
   p.use_border = true;
   p.border_coeffs = {0.0, 0.001, 0.0, 0.0};
+  p.max_tare = 4095;  // this test tares a loaded frame on purpose (max_tare: test ExtremeTares)
   Calibration cal;
   ASSERT_TRUE(cal.configure(p).ok());
   RawTactileFrame raw;
@@ -233,6 +234,8 @@ TEST(FeatureExtremes, TinyAndHugeForcesGiveTheSameGeometry) {
     FeatureParams p;
     p.threshold = 0.2 * scale;
     p.contact_threshold = 0.2 * scale;
+    p.region_min_force = 0.5 * scale;
+    p.max_taxel_force = 1000.0 * scale;
     FeatureExtractor ex = makeExtractor(p), ref = makeExtractor();
     ContactFeatures a, b;
     ASSERT_EQ(ex.step(f, a), FeatureStatus::Ok) << scale;
