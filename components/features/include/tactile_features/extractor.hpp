@@ -35,8 +35,8 @@
 //      sigma_alpha^2 = sum_i sigma_i^2 ((u_i - g) . n)^2 / (4 M00^2 |g|^2),
 //    n the unit normal of g. alpha_z is *defined* (out.alpha_defined) when
 //    sigma_alpha <= alpha_max_sigma, i.e. when lambda1 - lambda2 stands out
-//    of its own noise; sigma_i = taxel_noise for a firing taxel (the silent
-//    ones read exactly 0 below the device's threshold). taxel_noise is the
+//    of its own noise; sigma_i = taxel_noise for every taxel of the image
+//    (the silent ones read exactly 0 below the device's threshold). taxel_noise is the
 //    count noise times the calibration's slope dF/dn at the firing threshold
 //    (SensorStage::configure); at higher loads the slope of the WTS0614
 //    polynomial grows (x3.5 at full scale), where |g| M00 grows faster.
@@ -47,27 +47,35 @@
 //  * Separate contacts. The firing taxels (> contact_threshold) are grouped
 //    into regions (connected when at most region_gap silent taxels apart,
 //    Chebyshev distance; a silent taxel that fired recently -- firing rate
-//    >= kMinRate, see below -- counts as firing). Two or more regions carrying >= region_min_force
-//    each give ContactType::Multiple: their joint moments would make one long
+//    >= kMinRate, see "Taxels the noise switches off" -- counts as firing).
+//    Two or more regions carrying >= region_min_force each give
+//    ContactType::Multiple: their joint moments would make one long
 //    "edge" between them. All moments stay those of the whole image (f is the
 //    total force); alpha_z is undefined; the servo uses no edge Jacobian.
-//  * Sub-threshold force (censoring by the device's firing threshold t =
-//    contact_threshold). A taxel whose load is just below t reads 0; with
-//    count noise sigma it fires with probability p = Phi((f - t) / sigma).
-//    A silent taxel next to (8-neighbour of) a firing one that fired
-//    recently carries the maximum-likelihood load of that censored model,
-//    f_hat = t + sigma Phi^-1(p), clamped to [0, t], with p the taxel's
-//    firing rate (exponential average, time constant censor_tau, in
-//    seconds of frame time; taxels with p < kMinRate are not estimated).
-//    The image the features are computed from is the readings plus these
-//    estimates, an estimated taxel counting as "in contact" for the CoC:
-//    f = M00 (Eq. 2, B.1), CoP, CoC and the PCA all see the whole contact.
-//    Without it a line load of about t per taxel is measured low by the
-//    taxels the noise switches off -- the more noise, the more -- and the
-//    servo, which holds the measured force, presses the true force up
-//    (and the geometry is taken from a sparse, flickering image). Delay:
-//    only the estimates lag (time constant censor_tau); readings count at
-//    once, and without a firing taxel nothing is estimated.
+//  * Taxels the noise switches off (censoring by the device's firing
+//    threshold t = contact_threshold). A taxel with load f reads 0 below t;
+//    with count noise sigma (taxel_noise) it fires with probability
+//    p = Phi((f - t) / sigma), and its reading is 0 in a fraction 1 - p of
+//    the frames. For a line load near t per taxel (a 5 N edge over two rows
+//    of 14 taxels is ~0.2 N per taxel) the measured force then drops with
+//    the noise, and the servo, which holds the measured force, presses the
+//    true force up (5x noise: 6.2 N true for 5 N measured, out of 5 +- 1).
+//    Each taxel keeps its firing rate p (exponential average of "fired",
+//    time constant censor_tau in seconds of frame time, so independent of
+//    the frame rate). While some taxel fires, a silent taxel with
+//    p >= 1/2 -- its maximum-likelihood load t + sigma Phi^-1(p) is at or
+//    above t: a noise-free sensor would report it -- is given that load,
+//    clamped to [t, t + 3 sigma], and counts as "in contact" for the CoC.
+//    The image the features are taken from is the readings plus these
+//    estimates: f = M00 (Eq. 2, B.1), CoP, CoC and the PCA see what the
+//    noise-free sensor would, and the noise no longer biases f down.
+//    Taxels below t on average stay 0 while silent, as without noise (when
+//    the noise makes one fire, its reading counts: a small bias up): the
+//    truncation bias of the firing threshold itself (README, "Known bias")
+//    is not undone.
+//    Delay: only the estimates lag; a taxel that stops firing is estimated
+//    for censor_tau ln 2 (69 ms at 0.1 s) at most, readings count at once.
+//    A silent taxel with p >= kMinRate also joins contact regions (above).
 //  * Bad values: NaN/Inf -> InvalidInput; a finite value beyond
 //    +-max_taxel_force -> OutOfRange (nothing propagated, history kept);
 //    values below kForceFloor (1e-200 N) -- denormals included -- and
