@@ -200,7 +200,7 @@ FeatureStatus FeatureExtractor::step(const TactileFrame& frame, ContactFeatures&
     raw += f[i];
     const double mag = std::fabs(f[i]);
     absmax = mag > absmax ? mag : absmax;
-    fmax = f[i] > fmax ? f[i] : fmax;
+    fmax = f[i] > fmax && f[i] > kForceFloor ? f[i] : fmax;
   }
   if (!std::isfinite(raw) || !std::isfinite(absmax)) return fail(FeatureStatus::InvalidInput);  // NaN/Inf input
   if (absmax > params_.max_taxel_force) return fail(FeatureStatus::OutOfRange);  // huge but finite
