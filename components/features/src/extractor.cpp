@@ -7,6 +7,27 @@
 
 namespace tactile {
 
+namespace {
+// Standard normal quantile Phi^-1(p) for p in (0, 1): Newton on
+// Phi(z) = erfc(-z / sqrt 2) / 2 from z = 0, bounded to [-8, 8]. No allocation.
+double probit(double p) {
+  if (!(p > 0.0)) return -8.0;
+  if (!(p < 1.0)) return 8.0;
+  double z = 0.0;
+  for (int it = 0; it < 40; ++it) {
+    const double cdf = 0.5 * std::erfc(-z / std::sqrt(2.0));
+    const double pdf = std::exp(-0.5 * z * z) / std::sqrt(2.0 * kPi);
+    if (!(pdf > 1e-300)) break;
+    double step = (cdf - p) / pdf;
+    if (step > 1.0) step = 1.0;
+    if (step < -1.0) step = -1.0;
+    z -= step;
+    if (std::fabs(step) < 1e-10) break;
+  }
+  return std::max(-8.0, std::min(8.0, z));
+}
+}  // namespace
+
 ConfigResult FeatureExtractor::configure(const FeatureParams& p) {
   configured_ = false;
   if (p.rows < 1 || p.rows > kMaxRows)
@@ -38,6 +59,8 @@ ConfigResult FeatureExtractor::configure(const FeatureParams& p) {
     return rangeError("features.alpha_max_sigma", p.alpha_max_sigma, "must be finite and > 0 (rad)");
   if (!(p.censor_tau >= 0.0) || !std::isfinite(p.censor_tau))
     return rangeError("features.censor_tau", p.censor_tau, "must be finite and >= 0 (s)");
+  if (!(p.censor_min_rate >= 0.01) || !(p.censor_min_rate <= 0.99))
+    return rangeError("features.censor_min_rate", p.censor_min_rate, "must be in [0.01, 0.99]");
   if (p.region_gap < 0 || p.region_gap > 4)
     return rangeError("features.region_gap", p.region_gap, "must be in [0, 4] (taxels)");
   if (!(p.region_min_force > 0.0) || !std::isfinite(p.region_min_force))
@@ -46,6 +69,7 @@ ConfigResult FeatureExtractor::configure(const FeatureParams& p) {
     return rangeError("features.max_taxel_force", p.max_taxel_force, "must be finite and > 0 (N)");
 
   params_ = p;
+  est_min_ = std::max(0.0, p.contact_threshold + p.taxel_noise * probit(p.censor_min_rate));
   const SensorGeometry g = p.geometry();
   for (int c = 0; c < p.cols; ++c) xs_[static_cast<std::size_t>(c)] = g.x(c);
   for (int r = 0; r < p.rows; ++r) ys_[static_cast<std::size_t>(r)] = g.y(r);
@@ -67,26 +91,6 @@ void FeatureExtractor::reset() {
   have_time_ = false;
 }
 
-namespace {
-// Standard normal quantile Phi^-1(p) for p in (0, 1): Newton on
-// Phi(z) = erfc(-z / sqrt 2) / 2 from z = 0, bounded to [-8, 8]. No allocation.
-double probit(double p) {
-  if (!(p > 0.0)) return -8.0;
-  if (!(p < 1.0)) return 8.0;
-  double z = 0.0;
-  for (int it = 0; it < 40; ++it) {
-    const double cdf = 0.5 * std::erfc(-z / std::sqrt(2.0));
-    const double pdf = std::exp(-0.5 * z * z) / std::sqrt(2.0 * kPi);
-    if (!(pdf > 1e-300)) break;
-    double step = (cdf - p) / pdf;
-    if (step > 1.0) step = 1.0;
-    if (step < -1.0) step = -1.0;
-    z -= step;
-    if (std::fabs(step) < 1e-10) break;
-  }
-  return std::max(-8.0, std::min(8.0, z));
-}
-}  // namespace
 
 // Firing taxels (> contact_threshold) grouped into regions: two firing taxels
 // are connected when their Chebyshev distance is <= region_gap + 1. Returns
@@ -128,18 +132,19 @@ int FeatureExtractor::countRegions(const double* f, int rows, int cols) {
   return regions;
 }
 
-// The silent taxels that fire more often than not (rate p >= 1/2): their
-// maximum-likelihood load under the censored-Gaussian model (see header),
-// t + sigma Phi^-1(p) in [t, t + 3 sigma], written into img (flagged in
+// The silent taxels that fire at a rate p >= censor_min_rate (default 1/2:
+// more often than not): their maximum-likelihood load under the
+// censored-Gaussian model (see header), t + sigma Phi^-1(p) clamped to
+// [t + sigma Phi^-1(censor_min_rate), t + 3 sigma], written into img (flagged in
 // `estimated`); returns their sum. Called only while some taxel fires.
 double FeatureExtractor::subthresholdForce(const double* f, int n, double t, double* img, uint8_t* estimated) {
   const double sigma = params_.taxel_noise;
   double sum = 0.0;
   for (int i = 0; i < n; ++i) {
     const double p = fire_rate_[static_cast<std::size_t>(i)];
-    if (f[i] > 0.0 || !(p >= 0.5)) continue;
+    if (f[i] > 0.0 || !(p >= params_.censor_min_rate)) continue;
     double est = t + sigma * probit(p);
-    est = est < t ? t : (est > t + 3.0 * sigma ? t + 3.0 * sigma : est);
+    est = est < est_min_ ? est_min_ : (est > t + 3.0 * sigma ? t + 3.0 * sigma : est);
     img[i] = est;
     estimated[i] = 1;
     sum += est;

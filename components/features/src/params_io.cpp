@@ -11,7 +11,7 @@ ConfigResult loadFeatureParams(const YAML::Node& node, const Where& where, Featu
   ConfigResult r = checkKeys(node, where,
                              {"rows", "cols", "pitch", "c_z", "threshold", "contact_threshold", "edge_ratio",
                               "edge_ratio_exit", "edge_min_length", "alpha_hysteresis_deg", "isotropy_tol",
-                              "alpha_max_sigma", "censor_tau", "region_gap", "region_min_force",
+                              "alpha_max_sigma", "censor_tau", "censor_min_rate", "region_gap", "region_min_force",
                               "max_taxel_force"});
   if (!r) return r;
   for (auto rr : {read(node, "rows", p.rows, where), read(node, "cols", p.cols, where),
@@ -21,7 +21,8 @@ ConfigResult loadFeatureParams(const YAML::Node& node, const Where& where, Featu
                   read(node, "edge_min_length", p.edge_min_length, where),
                   read(node, "isotropy_tol", p.isotropy_tol, where),
                   read(node, "alpha_max_sigma", p.alpha_max_sigma, where),
-                  read(node, "censor_tau", p.censor_tau, where), read(node, "region_gap", p.region_gap, where),
+                  read(node, "censor_tau", p.censor_tau, where), read(node, "censor_min_rate", p.censor_min_rate, where),
+                  read(node, "region_gap", p.region_gap, where),
                   read(node, "region_min_force", p.region_min_force, where),
                   read(node, "max_taxel_force", p.max_taxel_force, where)})
     if (!rr) return rr;

@@ -127,6 +127,10 @@ struct FeatureParams {
   /// Time constant (s) of each taxel's firing-rate estimate behind the
   /// sub-threshold force estimate, >= 0; 0 switches that estimate off.
   double censor_tau = 0.1;
+  /// A silent taxel is given its maximum-likelihood load when its firing
+  /// rate is at least this, in [0.01, 0.99]. 1/2 = "a noise-free sensor
+  /// would report it" (the estimate is then >= the firing threshold).
+  double censor_min_rate = 0.5;
   /// Contact regions: firing taxels separated by at most `region_gap` silent
   /// taxels belong to one region (a noise dropout does not split a contact);
   /// in [0, 4].
@@ -201,6 +205,7 @@ class FeatureExtractor {
   int last_regions_ = 0;
   double last_subthreshold_ = 0.0;
   double last_alpha_sigma_ = 0.0;
+  double est_min_ = 0.0;  ///< lowest sub-threshold estimate: t + sigma Phi^-1(censor_min_rate)
   // Sub-threshold estimate: per-taxel firing rate and the last frame time.
   std::array<double, kMaxTaxels> fire_rate_{};
   double last_time_ = 0.0;
