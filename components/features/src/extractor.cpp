@@ -198,16 +198,16 @@ FeatureStatus FeatureExtractor::step(const TactileFrame& frame, ContactFeatures&
   const int n = rows * cols;
   const double* f = frame.force.data();
 
-  // Validation pass: NaN/Inf (the raw sum of the unclamped inputs catches
-  // them) and finite values beyond the sensor's range.
-  double raw = 0.0, absmax = 0.0, fmax = 0.0;
+  // Validation pass: NaN/Inf, and finite values beyond the sensor's range.
+  bool finite = true;
+  double absmax = 0.0, fmax = 0.0;
   for (int i = 0; i < n; ++i) {
-    raw += f[i];
+    finite = finite && std::isfinite(f[i]);
     const double mag = std::fabs(f[i]);
     absmax = mag > absmax ? mag : absmax;
     fmax = f[i] > fmax && f[i] > kForceFloor ? f[i] : fmax;
   }
-  if (!std::isfinite(raw) || !std::isfinite(absmax)) return fail(FeatureStatus::InvalidInput);  // NaN/Inf input
+  if (!finite) return fail(FeatureStatus::InvalidInput);  // NaN/Inf input
   if (absmax > params_.max_taxel_force) return fail(FeatureStatus::OutOfRange);  // huge but finite
   const bool firing = fmax > params_.contact_threshold;
 
@@ -233,8 +233,8 @@ FeatureStatus FeatureExtractor::step(const TactileFrame& frame, ContactFeatures&
 
   // The image the moments are taken of: the readings (negative values and
   // values below kForceFloor, denormals included, are 0) plus, while a taxel
-  // fires, the censored-model estimate of the silent taxels next to the
-  // contact (header: "Sub-threshold force").
+  // fires, the censored-model load of the silent taxels that fire at a rate
+  // >= censor_min_rate (header: "Taxels the noise switches off").
   std::array<double, kMaxTaxels> img;
   std::array<uint8_t, kMaxTaxels> estimated;
   for (int i = 0; i < n; ++i) {
