@@ -234,6 +234,7 @@ TEST(FeatureExtremeValues, HugeFiniteValuesAreOutOfRangeAndKeepTheHistory) {
   for (double huge : {1e200, std::numeric_limits<double>::max(), 1.0e3 + 1.0, -1e300}) {
     TactileFrame f = edge;
     f.at(4, 4) = huge;
+    f.at(5, 5) = huge;  // two of them: their sum overflows, still out of range (not NaN/Inf input)
     EXPECT_EQ(ex.step(f, out), FeatureStatus::OutOfRange) << huge;
     EXPECT_FALSE(usable(out.status));
     expectFiniteAndZero(out);
