@@ -269,10 +269,12 @@ TEST(FeatureExtremes, NaNAndInfAreRejectedAndNeverPropagated) {
     EXPECT_EQ(out.force, 0.0);
     EXPECT_EQ(out.contact, ContactType::None);
   }
-  // Overflow of finite inputs is also caught.
+  // Finite inputs whose sums overflow are caught too: beyond max_taxel_force
+  // they are out of range (test_feature_robustness.cpp).
   TactileFrame f = good;
   for (int i = 0; i < 84; ++i) f.force[static_cast<std::size_t>(i)] = 1e308;
-  EXPECT_EQ(ex.step(f, out), FeatureStatus::InvalidInput);
+  EXPECT_EQ(ex.step(f, out), FeatureStatus::OutOfRange);
+  expectAllFinite(out);
   // History untouched: the next good frame continues where we were.
   ASSERT_EQ(ex.step(good, out), FeatureStatus::Ok);
   EXPECT_EQ(out.contact, ContactType::Edge);

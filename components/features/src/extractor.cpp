@@ -212,14 +212,15 @@ FeatureStatus FeatureExtractor::step(const TactileFrame& frame, ContactFeatures&
   const bool firing = fmax > params_.contact_threshold;
 
   // Firing rates of the sub-threshold estimate (time constant censor_tau in
-  // frame time; the first frame after reset starts the average at the
-  // current firing state; a repeated or older time stamp leaves it as is).
+  // frame time). The first frame after reset, and a frame whose time stamp
+  // does not advance (no time base: nothing to average over), restart the
+  // average at the current firing state: no estimate rests on them.
   const bool censor = params_.censor_tau > 0.0 && params_.taxel_noise > 0.0;
   if (censor) {
     double a = 1.0;
     if (have_time_) {
       const double dt = frame.time_s - last_time_;
-      a = (dt > 0.0 && std::isfinite(dt)) ? 1.0 - std::exp(-dt / params_.censor_tau) : 0.0;
+      a = (dt > 0.0 && std::isfinite(dt)) ? 1.0 - std::exp(-dt / params_.censor_tau) : 1.0;
     }
     if (std::isfinite(frame.time_s) && (!have_time_ || frame.time_s > last_time_)) {
       last_time_ = frame.time_s;
