@@ -50,7 +50,7 @@ COLUMNS = ("time,phase,phase_name,servo_status,contact,feature_status,cmd_x,cmd_
            "lambda1,lambda2,area,sd_cop_x,sd_cop_y,sd_d_z,sd_dzmp_x,sd_dzmp_y,sd_alpha_z,sd_force,force_true,"
            "force_layer,housing_force,moment_x_true,moment_y_true,tray_angle_deg,true_cx,true_cy,true_cz,u_x,u_y,"
            "u_z,u_wx,u_wy,u_wz,beta,feature_age").split(",")
-CONTACT = {"none": 0, "point": 1, "edge": 2}
+CONTACT = {"none": 0, "point": 1, "edge": 2, "multiple": 3}
 SD_KEYS = ("cop_x", "cop_y", "d_z", "dzmp_x", "dzmp_y", "alpha_z")
 
 

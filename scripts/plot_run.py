@@ -78,7 +78,7 @@ def overview(run, ts, summary):
     ax[3].plot(t, np.degrees(ts["alpha_z"]), "b", label="alpha_z")
     if "tray_angle_deg" in ts and np.any(ts["tray_angle_deg"] != 0):
         ax[3].plot(t, ts["tray_angle_deg"], "k", label="tray angle")
-    ax[3].plot(t, ts["contact"] * 10, "0.5", lw=0.8, label="contact type x10 (1 point, 2 edge)")
+    ax[3].plot(t, ts["contact"] * 10, "0.5", lw=0.8, label="contact type x10 (1 point, 2 edge, 3 multiple)")
     ax[3].set_ylabel("deg")
     ax[3].set_xlabel("time (s)")
     ax[3].legend(fontsize=7)

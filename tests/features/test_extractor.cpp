@@ -122,6 +122,7 @@ TEST(Calibration, PolynomialTareBorderAndSaturation) {
   p.coeffs = {0.0, 0.002, 1e-6, 0.0};
   p.use_border = true;
   p.border_coeffs = {0.0, 0.001, 0.0, 0.0};
+  p.max_tare = 4095;  // this test tares a loaded frame on purpose (max_tare: test ExtremeTares)
   Calibration cal;
   ASSERT_TRUE(cal.configure(p).ok());
   RawTactileFrame raw;
@@ -233,6 +234,8 @@ TEST(FeatureExtremes, TinyAndHugeForcesGiveTheSameGeometry) {
     FeatureParams p;
     p.threshold = 0.2 * scale;
     p.contact_threshold = 0.2 * scale;
+    p.region_min_force = 0.5 * scale;
+    p.max_taxel_force = 1000.0 * scale;
     FeatureExtractor ex = makeExtractor(p), ref = makeExtractor();
     ContactFeatures a, b;
     ASSERT_EQ(ex.step(f, a), FeatureStatus::Ok) << scale;
@@ -266,10 +269,12 @@ TEST(FeatureExtremes, NaNAndInfAreRejectedAndNeverPropagated) {
     EXPECT_EQ(out.force, 0.0);
     EXPECT_EQ(out.contact, ContactType::None);
   }
-  // Overflow of finite inputs is also caught.
+  // Finite inputs whose sums overflow are caught too: beyond max_taxel_force
+  // they are out of range (test_feature_robustness.cpp).
   TactileFrame f = good;
   for (int i = 0; i < 84; ++i) f.force[static_cast<std::size_t>(i)] = 1e308;
-  EXPECT_EQ(ex.step(f, out), FeatureStatus::InvalidInput);
+  EXPECT_EQ(ex.step(f, out), FeatureStatus::OutOfRange);
+  expectAllFinite(out);
   // History untouched: the next good frame continues where we were.
   ASSERT_EQ(ex.step(good, out), FeatureStatus::Ok);
   EXPECT_EQ(out.contact, ContactType::Edge);

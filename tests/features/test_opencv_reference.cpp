@@ -67,7 +67,12 @@ void expectRel(double ours, double ref, double floor, const char* what, int fram
 
 TEST(OpenCvReference, FixedThresholdAgreesOnThousandsOfRandomFrames) {
   FeatureExtractor ex;
-  ASSERT_TRUE(ex.configure({}).ok());
+  // One region whatever the frame: the reference is the whole-image PCA (a
+  // random frame often has separate blobs, which the extractor reports as a
+  // multiple contact with alpha_z held; test_feature_robustness.cpp).
+  FeatureParams one_region;
+  one_region.region_min_force = 1e9;
+  ASSERT_TRUE(ex.configure(one_region).ok());
   std::mt19937_64 rng(1234);
   const double pitch = kDefaultPitch;
   int compared = 0, anglesCompared = 0;
@@ -90,13 +95,14 @@ TEST(OpenCvReference, FixedThresholdAgreesOnThousandsOfRandomFrames) {
     expectRel(o.lambda1, r.lambda1, r.lambda1, "lambda1", k);
     expectRel(o.lambda2, r.lambda2, r.lambda1, "lambda2", k);
     EXPECT_EQ(o.area, r.area) << k;
-    if (r.lambda1 - r.lambda2 > 1e-6 * (r.lambda1 + r.lambda2)) {
+    // Without contact (no taxel above contact_threshold) alpha_z is held, not measured.
+    if (o.contact != ContactType::None && r.lambda1 - r.lambda2 > 1e-6 * (r.lambda1 + r.lambda2)) {
       ++anglesCompared;
       EXPECT_LE(std::fabs(axisDiff(o.alpha_z, r.alpha_z)), 1e-9) << "alpha_z frame " << k;
     }
   }
   EXPECT_GT(compared, 4900);
-  EXPECT_GT(anglesCompared, 4800);  // the angle is undefined on only a handful
+  EXPECT_GT(anglesCompared, 4000) << anglesCompared;  // undefined on a handful, held without contact
 }
 
 TEST(OpenCvReference, OtsuAgreesWithOpenCvOn8BitFrames) {

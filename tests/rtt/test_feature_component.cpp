@@ -68,7 +68,7 @@ RawTactileFrame pressed(double cx, double cy, double length, double angle, doubl
   RawTactileFrame raw;
   tactile::test::rawFromForces(fileCalibration(), f, raw);
   raw.seq = seq;
-  raw.time_s = 0.001 * seq;
+  raw.time_s = seq / 140.0;  // the WTS frame rate (the features average firing rates over 0.1 s)
   return raw;
 }
 
@@ -130,6 +130,7 @@ struct Cores {
     const tactile::ConfigResult r = tactile::loadSensorParamFile(kParamFile, fp, cp);
     EXPECT_TRUE(r.ok()) << r.message();
     EXPECT_TRUE(cal.configure(cp).ok());
+    fp.taxel_noise = cal.noiseForce(fp.contact_threshold);  // as SensorStage::configure
     EXPECT_TRUE(ex.configure(fp).ok());
   }
 };
@@ -236,17 +237,30 @@ TEST(FeatureComponent, MalformedFramesGiveAStatusNotACrash) {
   EXPECT_TRUE(std::isfinite(got.cop_x) && std::isfinite(got.force) && std::isfinite(got.alpha_z));
 }
 
-TEST(FeatureComponent, TareZeroesTheNextFrame) {
+TEST(FeatureComponent, TareZeroesTheNextFrameAndALoadedTareIsRejected) {
   Rig rig(kParamFile);
   EXPECT_FALSE(rig.comp.tare());  // not configured yet
   ASSERT_TRUE(rig.comp.configure());
   ASSERT_TRUE(rig.comp.start());
-  const RawTactileFrame offset = pressed(0.0, 0.0, 0.02, 0.3, 0.003, 1);
-  rig.raw_out.write(offset);
-  ASSERT_TRUE(rig.comp.update());
   ContactFeatures got;
+  // A tare under load (offsets beyond calibration.max_tare) is rejected: the
+  // load stays measured and the status says so.
+  const RawTactileFrame loaded = pressed(0.0, 0.0, 0.02, 0.3, 0.003, 1);
+  rig.raw_out.write(loaded);
+  ASSERT_TRUE(rig.comp.update());
   ASSERT_EQ(rig.features_in.read(got), RTT::NewData);
   EXPECT_NE(got.status, FeatureStatus::NoContact);
+  const double loaded_force = got.force;
+  EXPECT_TRUE(rig.comp.tare());
+  rig.raw_out.write(loaded);
+  ASSERT_TRUE(rig.comp.update());
+  ASSERT_EQ(rig.features_in.read(got), RTT::NewData);
+  EXPECT_EQ(got.status, FeatureStatus::TareRejected);
+  EXPECT_EQ(got.force, loaded_force);
+  // A no-load offset (300 counts everywhere, below max_tare) is taken: the
+  // same frame then reads zero.
+  RawTactileFrame offset = loaded;
+  for (int i = 0; i < offset.rows * offset.cols; ++i) offset.counts[static_cast<std::size_t>(i)] = 300;
   EXPECT_TRUE(rig.comp.tare());
   rig.raw_out.write(offset);
   ASSERT_TRUE(rig.comp.update());

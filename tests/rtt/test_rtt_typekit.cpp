@@ -75,7 +75,8 @@ TEST(RttTypekit, MemberNamesAreTheFieldNames) {
   const std::vector<std::string> f = type("/tactile/ContactFeatures")->getMemberNames();
   const std::vector<std::string> expected = {"time_s", "seq",     "cop_x",   "cop_y",     "coc_x", "coc_y",
                                              "dzmp_x", "dzmp_y",  "alpha_z", "force",     "d_z",   "lambda1",
-                                             "lambda2", "max_taxel", "area", "contact",   "status"};
+                                             "lambda2", "max_taxel", "area", "contact",   "status",
+                                             "alpha_defined"};
   EXPECT_EQ(f, expected);
   EXPECT_EQ(type("/tactile/Pose")->getMemberNames(), (std::vector<std::string>{"p", "q"}));
   EXPECT_EQ(type("/tactile/PhaseState")->getMemberNames(),
@@ -187,10 +188,14 @@ TEST(RttTypekit, DecompositionRoundTripsFieldValues) {
   in.area = 12;
   in.contact = tactile::ContactType::Edge;
   in.status = tactile::FeatureStatus::Saturated;
+  in.alpha_defined = true;
   RTT::Property<tactile::ContactFeatures> prop("f", "", in);
   RTT::PropertyBag bag;
   ASSERT_TRUE(RTT::types::propertyDecomposition(&prop, bag));
-  ASSERT_EQ(bag.size(), 17u);
+  ASSERT_EQ(bag.size(), 18u);
+  RTT::Property<bool> alpha_defined = bag.getProperty("alpha_defined");
+  ASSERT_TRUE(alpha_defined.ready());
+  EXPECT_TRUE(alpha_defined.value());
   auto dbl = [&](const char* n) {
     RTT::Property<double> p = bag.getProperty(n);
     EXPECT_TRUE(p.ready()) << n;

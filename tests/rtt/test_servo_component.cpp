@@ -73,6 +73,7 @@ ContactFeatures edge(double t, double cop_x, double alpha) {
   f.cop_x = cop_x;
   f.coc_x = cop_x;
   f.alpha_z = alpha;
+  f.alpha_defined = true;
   f.force = 4.0;
   f.d_z = 4.0 / 1800.0;
   f.lambda1 = 1e-4;

@@ -67,6 +67,7 @@ inline ContactFeatures makeFeatures(double t, double cop_x, double cop_y, double
   f.force = d_z / c_z;
   f.contact = c;
   f.status = c == ContactType::None ? FeatureStatus::NoContact : FeatureStatus::Ok;
+  f.alpha_defined = c == ContactType::Point || c == ContactType::Edge;  // as the extractor reports a clean contact
   return f;
 }
 
@@ -151,6 +152,7 @@ struct Plant {
     const bool contact = f.d_z > 0.0 && std::fabs(d.vel.x()) < bar_end;
     f.contact = contact ? (point ? ContactType::Point : ContactType::Edge) : ContactType::None;
     f.status = contact ? FeatureStatus::Ok : FeatureStatus::NoContact;
+    f.alpha_defined = contact;
     if (!contact) {
       const double tt = f.time_s;
       f = ContactFeatures();

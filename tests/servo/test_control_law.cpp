@@ -145,3 +145,22 @@ TEST(ControlLaw, NoAllocationPerCycle) {
   EXPECT_EQ(scope.count(), 0u);
   EXPECT_TRUE(std::isfinite(sink));
 }
+
+TEST(ControlLaw, UndefinedAlphaAndMultipleContactsDriveNoRotationAboutZ) {
+  // alpha_z within the noise (features: alpha_defined = false) must not
+  // drive the alpha_z row; a multiple contact gets no edge Jacobian (Eq. 8, beta = 0).
+  PhaseParams ph = identityPhase("p", 0.1, 1.0);
+  ServoControlLaw law = configured(singlePhase(ph));
+  uint8_t beta = 9;
+  ContactFeatures f = makeFeatures(0, 0.01, -0.004, 0.002, 0.006, -0.001, 0.3, ContactType::Edge);
+  ASSERT_TRUE(f.alpha_defined);
+  EXPECT_NEAR(law.featureError(0, f, beta)(5), -0.3, 1e-15);
+  EXPECT_EQ(beta, 1);
+  f.alpha_defined = false;
+  EXPECT_EQ(law.featureError(0, f, beta)(5), 0.0);
+  f.contact = ContactType::Multiple;
+  const Vec6 e = law.featureError(0, f, beta);
+  EXPECT_EQ(beta, 0);
+  EXPECT_EQ(e(5), 0.0);
+  EXPECT_NEAR(e(3), -f.cop_y, 1e-15);  // point rows: CoP, no DZMP
+}

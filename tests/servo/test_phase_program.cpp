@@ -195,3 +195,27 @@ TEST(PhaseProgram, NoAllocationPerCycle) {
   EXPECT_EQ(scope.count(), 0u);
   EXPECT_GT(changes, 0);
 }
+
+TEST(PhaseProgram, UndefinedAlphaIsNotAlignedAndMultipleIsNeitherEdgeNorPoint) {
+  ServoParams p;
+  p.phases.push_back(phaseOn("c", TransitionEvent::Aligned, "d"));
+  p.phases[0].transitions[0].tolerance[kTolAlphaZ] = 0.01;
+  p.phases.push_back(phaseOn("d", TransitionEvent::Edge, "e"));
+  TransitionParams t;
+  t.on = TransitionEvent::Point;
+  t.to = "e";
+  p.phases[1].transitions.push_back(t);
+  p.phases.push_back(identityPhase("e", 0, 0));
+  PhaseProgram prog;
+  ASSERT_TRUE(prog.configure(p).ok());
+  prog.enter(prog.current(), 0.0);
+  ContactFeatures f = makeFeatures(0, 0, 0, 0.0002, 0, 0, 0.0, ContactType::Point);
+  f.alpha_defined = false;  // the row's error is 0 then: it must not read as "aligned"
+  for (int k = 1; k <= 10; ++k) EXPECT_EQ(stepOnce(prog, f, Vec6::Zero(), 0.01 * k), prog.indexOf("c"));
+  f.alpha_defined = true;
+  EXPECT_EQ(stepOnce(prog, f, Vec6::Zero(), 0.2), prog.indexOf("d"));
+  f.contact = ContactType::Multiple;
+  f.alpha_defined = false;
+  for (int k = 1; k <= 10; ++k) EXPECT_EQ(stepOnce(prog, f, Vec6::Zero(), 0.2 + 0.01 * k), prog.indexOf("d"));
+  EXPECT_TRUE(PhaseProgram::hasContact(f)) << "two contacts are still contact";
+}

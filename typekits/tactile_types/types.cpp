@@ -7,6 +7,7 @@ const char* toString(ContactType t) {
     case ContactType::None: return "none";
     case ContactType::Point: return "point";
     case ContactType::Edge: return "edge";
+    case ContactType::Multiple: return "multiple";
   }
   return "unknown";
 }
@@ -16,9 +17,11 @@ const char* toString(FeatureStatus s) {
     case FeatureStatus::Ok: return "ok";
     case FeatureStatus::NoContact: return "no_contact";
     case FeatureStatus::Saturated: return "saturated";
+    case FeatureStatus::TareRejected: return "tare_rejected";
     case FeatureStatus::InvalidInput: return "invalid_input";
     case FeatureStatus::BadDimensions: return "bad_dimensions";
     case FeatureStatus::NotConfigured: return "not_configured";
+    case FeatureStatus::OutOfRange: return "out_of_range";
   }
   return "unknown";
 }

@@ -31,6 +31,11 @@ ConfigResult Calibration::configure(const CalibrationParams& p) {
   for (std::size_t i = 0; i < p.taxels.size(); ++i)
     if (!finiteCoeffs(p.taxels[i]))
       return ConfigResult::failure("calibration.taxels[" + std::to_string(i) + "]: must be finite");
+  if (p.max_tare > p.full_scale)
+    return rangeError("calibration.max_tare", p.max_tare,
+                      "must be in [0, full_scale = " + std::to_string(p.full_scale) + "] (counts)");
+  if (!(p.noise_counts >= 0.0) || !(p.noise_counts <= 1000.0))
+    return rangeError("calibration.noise_counts", p.noise_counts, "must be in [0, 1000] (counts, 1 sigma)");
 
   for (int r = 0; r < p.rows; ++r) {
     for (int c = 0; c < p.cols; ++c) {
@@ -76,8 +81,34 @@ CalibrationStatus Calibration::tare(const RawTactileFrame& raw) {
   if (!configured_) return CalibrationStatus::NotConfigured;
   if (raw.rows != params_.rows || raw.cols != params_.cols) return CalibrationStatus::BadDimensions;
   const int n = params_.rows * params_.cols;
+  for (int i = 0; i < n; ++i)
+    if (raw.counts[static_cast<std::size_t>(i)] > params_.max_tare) return CalibrationStatus::TareRejected;
   for (int i = 0; i < n; ++i) tare_[static_cast<std::size_t>(i)] = raw.counts[static_cast<std::size_t>(i)];
   return CalibrationStatus::Ok;
+}
+
+double Calibration::noiseForce(double force) const {
+  if (!configured_ || !(params_.noise_counts > 0.0)) return 0.0;
+  double worst = 0.0;
+  const int n = params_.rows * params_.cols;
+  for (int i = 0; i < n; ++i) {
+    const auto& k = coeffs_[static_cast<std::size_t>(i)];
+    // Count that reads `force`: bisection on [0, full_scale] (monotone or not,
+    // the first crossing is found well enough for a noise figure).
+    double lo = 0.0, hi = params_.full_scale;
+    auto poly = [&](double x) { return k[0] + x * (k[1] + x * (k[2] + x * k[3])); };
+    if (poly(hi) <= force) {
+      lo = hi;
+    } else {
+      for (int it = 0; it < 60; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        (poly(mid) < force ? lo : hi) = mid;
+      }
+    }
+    const double slope = std::fabs(k[1] + lo * (2.0 * k[2] + 3.0 * lo * k[3]));
+    if (slope > worst) worst = slope;
+  }
+  return params_.noise_counts * worst;
 }
 
 void Calibration::clearTare() { tare_.fill(0); }

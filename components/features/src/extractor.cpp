@@ -2,9 +2,31 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace tactile {
+
+namespace {
+// Standard normal quantile Phi^-1(p) for p in (0, 1): Newton on
+// Phi(z) = erfc(-z / sqrt 2) / 2 from z = 0, bounded to [-8, 8]. No allocation.
+double probit(double p) {
+  if (!(p > 0.0)) return -8.0;
+  if (!(p < 1.0)) return 8.0;
+  double z = 0.0;
+  for (int it = 0; it < 40; ++it) {
+    const double cdf = 0.5 * std::erfc(-z / std::sqrt(2.0));
+    const double pdf = std::exp(-0.5 * z * z) / std::sqrt(2.0 * kPi);
+    if (!(pdf > 1e-300)) break;
+    double step = (cdf - p) / pdf;
+    if (step > 1.0) step = 1.0;
+    if (step < -1.0) step = -1.0;
+    z -= step;
+    if (std::fabs(step) < 1e-10) break;
+  }
+  return std::max(-8.0, std::min(8.0, z));
+}
+}  // namespace
 
 ConfigResult FeatureExtractor::configure(const FeatureParams& p) {
   configured_ = false;
@@ -31,8 +53,23 @@ ConfigResult FeatureExtractor::configure(const FeatureParams& p) {
     return rangeError("features.alpha_hysteresis", p.alpha_hysteresis, "must be in [0, pi/4] (rad)");
   if (!(p.isotropy_tol >= 0.0) || !(p.isotropy_tol < 1.0))
     return rangeError("features.isotropy_tol", p.isotropy_tol, "must be in [0, 1)");
+  if (!(p.taxel_noise >= 0.0) || !std::isfinite(p.taxel_noise))
+    return rangeError("features.taxel_noise", p.taxel_noise, "must be finite and >= 0 (N, 1 sigma)");
+  if (!(p.alpha_max_sigma > 0.0) || !std::isfinite(p.alpha_max_sigma))
+    return rangeError("features.alpha_max_sigma", p.alpha_max_sigma, "must be finite and > 0 (rad)");
+  if (!(p.censor_tau >= 0.0) || !std::isfinite(p.censor_tau))
+    return rangeError("features.censor_tau", p.censor_tau, "must be finite and >= 0 (s)");
+  if (!(p.censor_min_rate >= 0.01) || !(p.censor_min_rate <= 0.99))
+    return rangeError("features.censor_min_rate", p.censor_min_rate, "must be in [0.01, 0.99]");
+  if (p.region_gap < 0 || p.region_gap > 4)
+    return rangeError("features.region_gap", p.region_gap, "must be in [0, 4] (taxels)");
+  if (!(p.region_min_force > 0.0) || !std::isfinite(p.region_min_force))
+    return rangeError("features.region_min_force", p.region_min_force, "must be finite and > 0 (N)");
+  if (!(p.max_taxel_force > 0.0) || !std::isfinite(p.max_taxel_force))
+    return rangeError("features.max_taxel_force", p.max_taxel_force, "must be finite and > 0 (N)");
 
   params_ = p;
+  est_min_ = std::max(0.0, p.contact_threshold + p.taxel_noise * probit(p.censor_min_rate));
   const SensorGeometry g = p.geometry();
   for (int c = 0; c < p.cols; ++c) xs_[static_cast<std::size_t>(c)] = g.x(c);
   for (int r = 0; r < p.rows; ++r) ys_[static_cast<std::size_t>(r)] = g.y(r);
@@ -46,6 +83,73 @@ void FeatureExtractor::reset() {
   type_prev_ = ContactType::None;
   moments_ = Moments{};
   last_threshold_ = params_.threshold;
+  last_regions_ = 0;
+  last_subthreshold_ = 0.0;
+  last_alpha_sigma_ = 0.0;
+  fire_rate_.fill(0.0);
+  last_time_ = 0.0;
+  have_time_ = false;
+}
+
+
+// Firing taxels (> contact_threshold) grouped into regions: two firing taxels
+// are connected when their Chebyshev distance is <= region_gap + 1. Returns
+// the number of regions carrying >= region_min_force. Fixed arrays, no heap.
+int FeatureExtractor::countRegions(const double* f, int rows, int cols) {
+  std::array<int8_t, kMaxTaxels> seen;
+  std::array<int16_t, kMaxTaxels> stack;
+  const int n = rows * cols;
+  const double t = params_.contact_threshold;
+  // A silent taxel that fired recently (the sub-threshold estimate's rate
+  // above kMinRate) is loaded near t: it joins regions like a firing one, so
+  // a line load whose taxels the noise switches off is not "multiple".
+  const bool rates = params_.censor_tau > 0.0 && params_.taxel_noise > 0.0;
+  auto on = [&](int j) { return f[j] > t || (rates && fire_rate_[static_cast<std::size_t>(j)] >= kMinRate); };
+  for (int i = 0; i < n; ++i) seen[static_cast<std::size_t>(i)] = 0;
+  const int reach = params_.region_gap + 1;
+  int regions = 0;
+  for (int i = 0; i < n; ++i) {
+    if (seen[static_cast<std::size_t>(i)] || !on(i)) continue;
+    double force = 0.0;
+    int top = 0;
+    stack[0] = static_cast<int16_t>(i);
+    seen[static_cast<std::size_t>(i)] = 1;
+    ++top;
+    while (top > 0) {
+      const int k = stack[static_cast<std::size_t>(--top)];
+      force += f[k] > 0.0 ? f[k] : 0.0;
+      const int r = k / cols, c = k % cols;
+      for (int rr = std::max(0, r - reach); rr <= std::min(rows - 1, r + reach); ++rr)
+        for (int cc = std::max(0, c - reach); cc <= std::min(cols - 1, c + reach); ++cc) {
+          const int j = rr * cols + cc;
+          if (seen[static_cast<std::size_t>(j)] || !on(j)) continue;
+          seen[static_cast<std::size_t>(j)] = 1;
+          stack[static_cast<std::size_t>(top++)] = static_cast<int16_t>(j);
+        }
+    }
+    if (force >= params_.region_min_force) ++regions;
+  }
+  return regions;
+}
+
+// The silent taxels that fire at a rate p >= censor_min_rate (default 1/2:
+// more often than not): their maximum-likelihood load under the
+// censored-Gaussian model (see header), t + sigma Phi^-1(p) clamped to
+// [t + sigma Phi^-1(censor_min_rate), t + 3 sigma], written into img (flagged in
+// `estimated`); returns their sum. Called only while some taxel fires.
+double FeatureExtractor::subthresholdForce(const double* f, int n, double t, double* img, uint8_t* estimated) {
+  const double sigma = params_.taxel_noise;
+  double sum = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double p = fire_rate_[static_cast<std::size_t>(i)];
+    if (f[i] > 0.0 || !(p >= params_.censor_min_rate)) continue;
+    double est = t + sigma * probit(p);
+    est = est < est_min_ ? est_min_ : (est > t + 3.0 * sigma ? t + 3.0 * sigma : est);
+    img[i] = est;
+    estimated[i] = 1;
+    sum += est;
+  }
+  return sum;
 }
 
 double FeatureExtractor::otsuThreshold(const double* values, int n) {
@@ -94,36 +198,78 @@ FeatureStatus FeatureExtractor::step(const TactileFrame& frame, ContactFeatures&
   const int n = rows * cols;
   const double* f = frame.force.data();
 
-  // Binarisation threshold (fixed or Otsu).
-  double thr = params_.threshold;
-  if (params_.threshold_mode == ThresholdMode::Otsu) {
-    std::array<double, kMaxTaxels> clamped;
-    for (int i = 0; i < n; ++i) clamped[static_cast<std::size_t>(i)] = f[i] > 0.0 ? f[i] : 0.0;
-    thr = otsuThreshold(clamped.data(), n);
+  // Validation pass: NaN/Inf, and finite values beyond the sensor's range.
+  bool finite = true;
+  double absmax = 0.0, fmax = 0.0;
+  for (int i = 0; i < n; ++i) {
+    finite = finite && std::isfinite(f[i]);
+    const double mag = std::fabs(f[i]);
+    absmax = mag > absmax ? mag : absmax;
+    fmax = f[i] > fmax && f[i] > kForceFloor ? f[i] : fmax;
+  }
+  if (!finite) return fail(FeatureStatus::InvalidInput);  // NaN/Inf input
+  if (absmax > params_.max_taxel_force) return fail(FeatureStatus::OutOfRange);  // huge but finite
+  const bool firing = fmax > params_.contact_threshold;
+
+  // Firing rates of the sub-threshold estimate (time constant censor_tau in
+  // frame time). The first frame after reset, and a frame whose time stamp
+  // does not advance (no time base: nothing to average over), restart the
+  // average at the current firing state: no estimate rests on them.
+  const bool censor = params_.censor_tau > 0.0 && params_.taxel_noise > 0.0;
+  if (censor) {
+    double a = 1.0;
+    if (have_time_) {
+      const double dt = frame.time_s - last_time_;
+      a = (dt > 0.0 && std::isfinite(dt)) ? 1.0 - std::exp(-dt / params_.censor_tau) : 1.0;
+    }
+    if (std::isfinite(frame.time_s) && (!have_time_ || frame.time_s > last_time_)) {
+      last_time_ = frame.time_s;
+      have_time_ = true;
+    }
+    for (int i = 0; i < n; ++i) {
+      double& pr = fire_rate_[static_cast<std::size_t>(i)];
+      pr += a * ((f[i] > kForceFloor ? 1.0 : 0.0) - pr);
+    }
   }
 
-  // One pass: raw moments up to second order (Eq. B.1), max taxel and the
-  // binarised image (CoC). Row sums keep the multiplications per taxel low.
-  // `raw` sums the unclamped inputs so that any NaN/Inf is caught at the end
-  // (the clamp below would otherwise turn NaN into 0).
-  double raw = 0.0;
-  double m00 = 0, m10 = 0, m01 = 0, m20 = 0, m11 = 0, m02 = 0, fmax = 0;
+  // The image the moments are taken of: the readings (negative values and
+  // values below kForceFloor, denormals included, are 0) plus, while a taxel
+  // fires, the censored-model load of the silent taxels that fire at a rate
+  // >= censor_min_rate (header: "Taxels the noise switches off").
+  std::array<double, kMaxTaxels> img;
+  std::array<uint8_t, kMaxTaxels> estimated;
+  for (int i = 0; i < n; ++i) {
+    img[static_cast<std::size_t>(i)] = f[i] > kForceFloor ? f[i] : 0.0;
+    estimated[static_cast<std::size_t>(i)] = 0;
+  }
+  last_subthreshold_ = 0.0;
+  if (censor && firing)
+    last_subthreshold_ = subthresholdForce(f, n, params_.contact_threshold, img.data(), estimated.data());
+  const double* g = img.data();
+
+  // Binarisation threshold (fixed or Otsu).
+  double thr = params_.threshold;
+  if (params_.threshold_mode == ThresholdMode::Otsu) thr = otsuThreshold(g, n);
+
+  // One pass: raw moments up to second order (Eq. B.1) and the binarised
+  // image (CoC; an estimated taxel is in contact). Row sums keep the
+  // multiplications per taxel low.
+  double m00 = 0, m10 = 0, m01 = 0, m20 = 0, m11 = 0, m02 = 0;
   double bx = 0, by = 0;
   int area = 0;
   for (int r = 0; r < rows; ++r) {
     const double y = ys_[static_cast<std::size_t>(r)];
-    const double* row = f + r * cols;
+    const double* row = g + r * cols;
+    const uint8_t* est = estimated.data() + r * cols;
     double s0 = 0, s1 = 0, s2 = 0, sb = 0;
     int cnt = 0;
     for (int c = 0; c < cols; ++c) {
       const double x = xs_[static_cast<std::size_t>(c)];
-      raw += row[c];
-      const double v = row[c] > 0.0 ? row[c] : 0.0;
+      const double v = row[c];
       s0 += v;
       s1 += x * v;
       s2 += x * x * v;
-      fmax = v > fmax ? v : fmax;
-      const bool on = v > thr;
+      const bool on = v > thr || est[c] != 0;
       cnt += on;
       sb += on ? x : 0.0;
     }
@@ -138,13 +284,14 @@ FeatureStatus FeatureExtractor::step(const TactileFrame& frame, ContactFeatures&
     area += cnt;
   }
   last_threshold_ = thr;
-  if (!std::isfinite(raw) || !std::isfinite(m00) || !std::isfinite(m20 + m02 + m11))
-    return fail(FeatureStatus::InvalidInput);  // NaN/Inf input, or overflow of finite inputs
+  if (!std::isfinite(m00) || !std::isfinite(m20 + m02 + m11))
+    return fail(FeatureStatus::OutOfRange);  // overflow of finite inputs (max_taxel_force too large)
+  const bool has_mass = m00 > kForceFloor;
 
   out = ContactFeatures{};
   out.time_s = frame.time_s;
   out.seq = frame.seq;
-  out.force = m00;                  // f = sum of taxel forces
+  out.force = m00;                  // f = sum of taxel forces (with the sub-threshold estimate)
   out.d_z = params_.c_z * m00;      // Eq. 2: dz = C_z * f_z
   out.max_taxel = fmax;
   out.area = static_cast<uint16_t>(area);
@@ -153,7 +300,10 @@ FeatureStatus FeatureExtractor::step(const TactileFrame& frame, ContactFeatures&
   mo.m00 = m00;
   mo.m10 = m10;
   mo.m01 = m01;
-  if (m00 > 0.0) {
+  bool alpha_ok = false;
+  double alpha_new = alpha_prev_;
+  last_alpha_sigma_ = std::numeric_limits<double>::infinity();
+  if (has_mass) {
     const double cx = m10 / m00, cy = m01 / m00;  // Eq. B.2, B.3
     // Second central moments normalised by M00 (pressure-weighted covariance).
     // Positions are O(1e-2 m), so the cancellation in m20/m00 - cx^2 costs
@@ -185,8 +335,29 @@ FeatureStatus FeatureExtractor::step(const TactileFrame& frame, ContactFeatures&
     out.lambda1 = l1;
     out.lambda2 = l2;
 
+    // Noise of alpha_z (header: "alpha_z within the noise").
+    const double gx = a - c, gy = 2.0 * b;
+    const double gn = std::sqrt(gx * gx + gy * gy);  // = lambda1 - lambda2
+    if (gn > 0.0) {
+      double s = 0.0;
+      if (params_.taxel_noise > 0.0) {
+        const double nx = -gy / gn, ny = gx / gn;
+        for (int r = 0; r < rows; ++r) {
+          const double dy = ys_[static_cast<std::size_t>(r)] - cy;
+          for (int cc = 0; cc < cols; ++cc) {
+            if (!(g[r * cols + cc] > 0.0)) continue;
+            const double dx = xs_[static_cast<std::size_t>(cc)] - cx;
+            const double un = (dx * dx - dy * dy) * nx + 2.0 * dx * dy * ny;
+            s += un * un;
+          }
+        }
+      }
+      last_alpha_sigma_ = params_.taxel_noise * std::sqrt(s) / (2.0 * m00 * gn);
+    }
     double alpha = alpha_prev_;
-    if (l1 > 0.0 && (l1 - l2) > params_.isotropy_tol * (l1 + l2)) {
+    if (l1 > 0.0 && (l1 - l2) > params_.isotropy_tol * (l1 + l2) &&
+        last_alpha_sigma_ <= params_.alpha_max_sigma) {
+      alpha_ok = true;
       // Principal axis angle from x_s; 0.5*atan2 lies in (-pi/2, pi/2].
       const double wrapped = 0.5 * std::atan2(2.0 * b, a - c);
       alpha = wrapped;
@@ -200,21 +371,31 @@ FeatureStatus FeatureExtractor::step(const TactileFrame& frame, ContactFeatures&
         if (std::fabs(best) <= 0.5 * kPi + h) alpha = best;
       }
     }
-    out.alpha_z = alpha;
+    alpha_new = alpha;
   }
   moments_ = mo;
 
   // Contact detection and type (Sec. 3.3, Eq. 5) with hysteresis.
   ContactType type = ContactType::None;
-  if (m00 > 0.0 && fmax > params_.contact_threshold) {
+  last_regions_ = 0;
+  if (has_mass && firing) {
+    last_regions_ = countRegions(f, rows, cols);
     const double l1 = out.lambda1, l2 = out.lambda2;
     const double ratio = type_prev_ == ContactType::Edge ? params_.edge_ratio_exit : params_.edge_ratio;
     const bool long_enough = 12.0 * l1 >= params_.edge_min_length * params_.edge_min_length;
-    type = (l1 > 0.0 && l1 >= ratio * l2 && long_enough) ? ContactType::Edge : ContactType::Point;
+    if (last_regions_ >= 2)
+      type = ContactType::Multiple;
+    else
+      type = (l1 > 0.0 && l1 >= ratio * l2 && long_enough) ? ContactType::Edge : ContactType::Point;
   }
   out.contact = type;
   type_prev_ = type;
-  if (type != ContactType::None) alpha_prev_ = out.alpha_z;
+  // alpha_z: a new value only when defined above the noise and the contact
+  // is one region; otherwise the last defined value, flagged undefined.
+  out.alpha_defined = alpha_ok && (type == ContactType::Point || type == ContactType::Edge);
+  out.alpha_z = out.alpha_defined ? alpha_new : alpha_prev_;
+  if (out.alpha_defined) alpha_prev_ = out.alpha_z;
+
 
   if (type == ContactType::None)
     out.status = FeatureStatus::NoContact;

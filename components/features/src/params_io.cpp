@@ -10,14 +10,21 @@ ConfigResult loadFeatureParams(const YAML::Node& node, const Where& where, Featu
   if (!node) return ConfigResult::success();
   ConfigResult r = checkKeys(node, where,
                              {"rows", "cols", "pitch", "c_z", "threshold", "contact_threshold", "edge_ratio",
-                              "edge_ratio_exit", "edge_min_length", "alpha_hysteresis_deg", "isotropy_tol"});
+                              "edge_ratio_exit", "edge_min_length", "alpha_hysteresis_deg", "isotropy_tol",
+                              "alpha_max_sigma", "censor_tau", "censor_min_rate", "region_gap", "region_min_force",
+                              "max_taxel_force"});
   if (!r) return r;
   for (auto rr : {read(node, "rows", p.rows, where), read(node, "cols", p.cols, where),
                   read(node, "pitch", p.pitch, where), read(node, "c_z", p.c_z, where),
                   read(node, "contact_threshold", p.contact_threshold, where),
                   read(node, "edge_ratio", p.edge_ratio, where), read(node, "edge_ratio_exit", p.edge_ratio_exit, where),
                   read(node, "edge_min_length", p.edge_min_length, where),
-                  read(node, "isotropy_tol", p.isotropy_tol, where)})
+                  read(node, "isotropy_tol", p.isotropy_tol, where),
+                  read(node, "alpha_max_sigma", p.alpha_max_sigma, where),
+                  read(node, "censor_tau", p.censor_tau, where), read(node, "censor_min_rate", p.censor_min_rate, where),
+                  read(node, "region_gap", p.region_gap, where),
+                  read(node, "region_min_force", p.region_min_force, where),
+                  read(node, "max_taxel_force", p.max_taxel_force, where)})
     if (!rr) return rr;
   if (node["alpha_hysteresis_deg"]) {
     double deg = 0;
@@ -43,12 +50,19 @@ ConfigResult loadCalibrationParams(const YAML::Node& node, const Where& where, i
   p.rows = rows;
   p.cols = cols;
   if (node) {
-    ConfigResult r = checkKeys(node, where, {"full_scale", "coeffs", "border_coeffs", "taxels"});
+    ConfigResult r =
+        checkKeys(node, where, {"full_scale", "coeffs", "border_coeffs", "taxels", "max_tare", "noise_counts"});
     if (!r) return r;
     int fs = p.full_scale;
     if (!(r = read(node, "full_scale", fs, where))) return r;
     if (fs < 1 || fs > 4095) return rangeError(where.child("full_scale").str(), fs, "must be in [1, 4095]");
     p.full_scale = static_cast<uint16_t>(fs);
+    int mt = p.max_tare;
+    if (!(r = read(node, "max_tare", mt, where))) return r;
+    if (mt < 0 || mt > fs)
+      return rangeError(where.child("max_tare").str(), mt, "must be in [0, full_scale = " + std::to_string(fs) + "] (counts)");
+    p.max_tare = static_cast<uint16_t>(mt);
+    if (!(r = read(node, "noise_counts", p.noise_counts, where))) return r;
     std::vector<double> v;
     if (node["coeffs"]) {
       if (!(r = read(node, "coeffs", v, where))) return r;

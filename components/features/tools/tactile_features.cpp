@@ -68,9 +68,9 @@ bool parseLine(const std::string& line, tactile::TactileFrame& frame, int expect
 void printJson(const tactile::ContactFeatures& f) {
   std::printf(
       "{\"cop_x\":%.9g,\"cop_y\":%.9g,\"coc_x\":%.9g,\"coc_y\":%.9g,\"dzmp_x\":%.9g,\"dzmp_y\":%.9g,"
-      "\"alpha_z\":%.9g,\"force\":%.9g,\"d_z\":%.9g,\"lambda1\":%.9g,\"lambda2\":%.9g,\"area\":%u,"
+      "\"alpha_z\":%.9g,\"alpha_defined\":%s,\"force\":%.9g,\"d_z\":%.9g,\"lambda1\":%.9g,\"lambda2\":%.9g,\"area\":%u,"
       "\"max_taxel\":%.9g,\"contact\":\"%s\",\"status\":\"%s\"}\n",
-      f.cop_x, f.cop_y, f.coc_x, f.coc_y, f.dzmp_x, f.dzmp_y, f.alpha_z, f.force, f.d_z, f.lambda1, f.lambda2,
+      f.cop_x, f.cop_y, f.coc_x, f.coc_y, f.dzmp_x, f.dzmp_y, f.alpha_z, f.alpha_defined ? "true" : "false", f.force, f.d_z, f.lambda1, f.lambda2,
       static_cast<unsigned>(f.area), f.max_taxel, tactile::toString(f.contact), tactile::toString(f.status));
 }
 

@@ -164,7 +164,11 @@ const Mat6& ServoControlLaw::jacobian(int phase, ContactType c, uint8_t& beta) c
 Vec6 ServoControlLaw::featureError(int phase, const ContactFeatures& f, uint8_t& beta) const {
   if (phase < 0 || phase >= phaseCount()) return Vec6::Zero();
   const Mat6& j = jacobian(phase, f.contact, beta);
-  return phases_[static_cast<std::size_t>(phase)].s_d - j * featureVector(f);  // Eq. 7
+  Vec6 e = phases_[static_cast<std::size_t>(phase)].s_d - j * featureVector(f);  // Eq. 7
+  // alpha_z not resolved above the noise (or a multiple contact): its row
+  // must not drive a rotation about z_s.
+  if (!f.alpha_defined) e(5) = 0.0;
+  return e;
 }
 
 Vec6 ServoControlLaw::project(int phase, const Vec6& error) const {

@@ -160,6 +160,8 @@ bool PhaseProgram::evaluate(const ContactFeatures& f, const Vec6& e, double now,
         q[kTolCocX] = std::fabs(f.coc_x);
         q[kTolCocY] = std::fabs(f.coc_y);
         cond = contact;
+        // An alpha_z not resolved above the noise is not "aligned" (its error row is 0).
+        if (t.tol[kTolAlphaZ] >= 0 && !f.alpha_defined) cond = false;
         for (int i = 0; i < kNumTol; ++i)
           if (t.tol[static_cast<std::size_t>(i)] >= 0 && !(q[i] <= t.tol[static_cast<std::size_t>(i)])) cond = false;
         break;

@@ -93,8 +93,8 @@ ConfigResult readReportTable(const std::string& path, const Scene& scene, RunRes
                       &f.force, &f.d_z,   &f.lambda1, &f.lambda2, &f.max_taxel};
     for (int k = 0; k < 12; ++k) *fd[k] = d(c_fd[k]);
     f.area = static_cast<uint16_t>(d(c_area));
-    if (!enumByName(v[c_contact], static_cast<int>(ContactType::Edge), f.contact) ||
-        !enumByName(v[c_fstatus], static_cast<int>(FeatureStatus::NotConfigured), f.status))
+    if (!enumByName(v[c_contact], static_cast<int>(kLastContactType), f.contact) ||
+        !enumByName(v[c_fstatus], static_cast<int>(kLastFeatureStatus), f.status))
       return ConfigResult::failure(path + ":" + std::to_string(lineno) + ": unknown contact type or feature status");
     Pose cmd;
     for (std::size_t k = 0; k < 3; ++k) cmd.p[k] = d(c_cmd_p + k);

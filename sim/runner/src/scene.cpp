@@ -256,6 +256,9 @@ ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std:
   pad.cols = s.features.cols;
   pad.pitch = s.features.pitch;
   s.calibration = PadSensor::calibrationOf(pad);  // the file's (features_file), else the pad's default response
+  // The reader is characterised for the sensor it reads: its noise figure
+  // (SensorStage: alpha_z test, sub-threshold estimate) is the pad's.
+  s.calibration.noise_counts = pad.noise_counts;
 
   if (const YAML::Node n = root["arm"]) {
     const Where wa = w.child("arm");

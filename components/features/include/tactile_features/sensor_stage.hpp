@@ -5,6 +5,13 @@
 // they only move data to and from it.
 //
 // RTT-free, allocation-free, exception-free per step; configuration allocates.
+//
+// configure() sets features.taxel_noise from the calibration: noise_counts
+// times the slope dF/dn at the firing threshold (features.contact_threshold),
+// the noise figure of the alpha_z test and of the sub-threshold estimate
+// (extractor.hpp). A rejected tare request (calibration.max_tare) keeps the
+// previous tare and is reported as FeatureStatus::TareRejected on every
+// frame with usable features until a tare succeeds or reset().
 #pragma once
 
 #include "tactile_features/calibration.hpp"
@@ -37,6 +44,7 @@ class SensorStage {
   Calibration calibration_;
   FeatureExtractor extractor_;
   bool tare_requested_ = false;
+  bool tare_rejected_ = false;
 };
 
 }  // namespace tactile

@@ -47,8 +47,11 @@ struct TactileFrame {
   int size() const { return static_cast<int>(rows) * static_cast<int>(cols); }
 };
 
-/// Contact type (Sec. 3.3, Eq. 5).
-enum class ContactType : uint8_t { None = 0, Point = 1, Edge = 2 };
+/// Contact type (Sec. 3.3, Eq. 5). Multiple: two or more separate contact
+/// regions (beyond the paper, which assumes one): their joint moments are not
+/// one edge, so no edge Jacobian and no alpha_z (see extractor.hpp).
+enum class ContactType : uint8_t { None = 0, Point = 1, Edge = 2, Multiple = 3 };
+constexpr ContactType kLastContactType = ContactType::Multiple;
 
 /// Status of one feature extraction. Values < kFeatureStatusInvalid carry
 /// usable features (possibly with a warning); the others carry none.
@@ -56,10 +59,14 @@ enum class FeatureStatus : uint8_t {
   Ok = 0,
   NoContact = 1,     ///< no taxel above the contact threshold; features zero
   Saturated = 2,     ///< features computed, but >= 1 taxel at full scale
+  TareRejected = 3,  ///< features computed; the last tare request was rejected
+                     ///< (an offset beyond calibration.max_tare): the previous tare is kept
   InvalidInput = 10, ///< NaN/Inf in the frame; nothing propagated
   BadDimensions = 11,///< frame size differs from the configured one
-  NotConfigured = 12 ///< step() before a successful configure()
+  NotConfigured = 12,///< step() before a successful configure()
+  OutOfRange = 13    ///< a finite taxel value beyond features.max_taxel_force; nothing propagated
 };
+constexpr FeatureStatus kLastFeatureStatus = FeatureStatus::OutOfRange;
 constexpr uint8_t kFeatureStatusInvalid = 10;
 inline bool usable(FeatureStatus s) { return static_cast<uint8_t>(s) < kFeatureStatusInvalid; }
 
@@ -70,7 +77,7 @@ struct ContactFeatures {
   double cop_x = 0.0, cop_y = 0.0;    ///< centre of pressure (m), Eq. B.2/B.3
   double coc_x = 0.0, coc_y = 0.0;    ///< centre of contact (m), binarised image
   double dzmp_x = 0.0, dzmp_y = 0.0;  ///< Eq. 3 (m)
-  double alpha_z = 0.0;               ///< edge angle (rad), Eq. B.5
+  double alpha_z = 0.0;               ///< edge angle (rad), Eq. B.5; held when !alpha_defined
   double force = 0.0;                 ///< total normal force f (N)
   double d_z = 0.0;                   ///< C_z * f (m), Eq. 2
   double lambda1 = 0.0, lambda2 = 0.0;///< PCA eigenvalues (m^2), lambda1 >= lambda2
@@ -78,6 +85,11 @@ struct ContactFeatures {
   uint16_t area = 0;                  ///< taxels above the binarisation threshold
   ContactType contact = ContactType::None;
   FeatureStatus status = FeatureStatus::NotConfigured;
+  /// False when the principal direction is not resolved above the noise
+  /// (lambda1 - lambda2 within the noise, see extractor.hpp), for a point or
+  /// multiple contact and without contact: alpha_z is then the last defined
+  /// angle (held), not a measurement, and must not drive a rotation.
+  bool alpha_defined = false;
 };
 
 /// A pose: position (m) and unit quaternion (x, y, z, w).

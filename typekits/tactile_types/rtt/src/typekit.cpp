@@ -210,18 +210,20 @@ bool TactileTypekit::loadTypes() {
   repo->addType(new CArrayTypeInfo<carray<uint16_t>>("/tactile/uint16_t[]"));
   repo->addType(new CArrayTypeInfo<carray<char>>("/tactile/char[]"));
 
-  static const ContactType contact_types[] = {ContactType::None, ContactType::Point, ContactType::Edge};
+  static const ContactType contact_types[] = {ContactType::None, ContactType::Point, ContactType::Edge,
+                                              ContactType::Multiple};
   static const FeatureStatus feature_status[] = {FeatureStatus::Ok,           FeatureStatus::NoContact,
-                                                 FeatureStatus::Saturated,    FeatureStatus::InvalidInput,
-                                                 FeatureStatus::BadDimensions, FeatureStatus::NotConfigured};
+                                                 FeatureStatus::Saturated,    FeatureStatus::TareRejected,
+                                                 FeatureStatus::InvalidInput, FeatureStatus::BadDimensions,
+                                                 FeatureStatus::NotConfigured, FeatureStatus::OutOfRange};
   static const ServoStatus servo_status[] = {ServoStatus::Ok,           ServoStatus::FreeMotion, ServoStatus::Holding,
                                              ServoStatus::ContactLost,  ServoStatus::Limited,    ServoStatus::Done,
                                              ServoStatus::WaitingForPose, ServoStatus::Starting,
                                              ServoStatus::ForceCeiling, ServoStatus::InvalidInput,
                                              ServoStatus::NotConfigured, ServoStatus::PhaseTimeout,
                                              ServoStatus::ArmStalled,   ServoStatus::ForceMismatch};
-  repo->addType(new NamedEnumTypeInfo<ContactType, 3>(kContactType, contact_types));
-  repo->addType(new NamedEnumTypeInfo<FeatureStatus, 6>(kFeatureStatus, feature_status));
+  repo->addType(new NamedEnumTypeInfo<ContactType, 4>(kContactType, contact_types));
+  repo->addType(new NamedEnumTypeInfo<FeatureStatus, 8>(kFeatureStatus, feature_status));
   repo->addType(new NamedEnumTypeInfo<ServoStatus, 14>(kServoStatus, servo_status));
 
   repo->addType(new StructTypeInfo<RawTactileFrame>(kRawTactileFrame));

@@ -72,6 +72,7 @@ void serialize(Archive& a, tactile::ContactFeatures& f, const unsigned int) {
   a& make_nvp("area", f.area);
   a& make_nvp("contact", f.contact);
   a& make_nvp("status", f.status);
+  a& make_nvp("alpha_defined", f.alpha_defined);
 }
 
 template <class Archive>
