@@ -81,7 +81,8 @@ ServoStatus TactileServo::applyIncrement(const KDL::Frame& base, Vec6 u_s, doubl
   // box): the measured pose must follow.
   if (st != ServoStatus::ForceCeiling && !clipped) {
     motion_cycle_ = true;
-    if (watchdogs_.armStalled(meas_ * law_.sensorMount(), u_s, now)) return finish(ServoStatus::ArmStalled, now, out);
+    if (watchdogs_.armStalled(meas_ * law_.sensorMount(), u_s, in_contact_, now))
+      return finish(ServoStatus::ArmStalled, now, out);
   }
   if (!frameFinite(T_ge_new)) return finish(ServoStatus::InvalidInput, now, out);
   cmd_ = T_ge_new;
@@ -103,6 +104,7 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   }
   ++seq_;
   motion_cycle_ = false;
+  in_contact_ = false;
   const double now = in.time_s;
   const bool time_ok = std::isfinite(now);
   KDL::Frame meas;
@@ -166,6 +168,7 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   out.beta = beta;
   if (program_.terminal(ph)) return finish(ServoStatus::Done, now, out);
 
+  in_contact_ = PhaseProgram::hasContact(f);
   // Contact loss.
   if (program_.requiresContact(ph) && !PhaseProgram::hasContact(f)) {
     const double dz = safety_.contactLoss(dt);

@@ -44,7 +44,7 @@ bool ServoWatchdogs::phaseTimeout(double in_phase_s, double max_s) {
   return false;
 }
 
-bool ServoWatchdogs::armStalled(const KDL::Frame& T_gs, const Vec6& u_s, double now) {
+bool ServoWatchdogs::armStalled(const KDL::Frame& T_gs, const Vec6& u_s, bool in_contact, double now) {
   if (!(p_.stall_window_s > 0.0)) return false;
   if (!stall_active_) {
     stall_active_ = true;
@@ -54,8 +54,9 @@ bool ServoWatchdogs::armStalled(const KDL::Frame& T_gs, const Vec6& u_s, double 
     stall_cmd_r_ = KDL::Vector::Zero();
   }
   // The commanded increment (Eq. 13, in {s}) summed in {g}.
-  stall_cmd_t_ += T_gs.M * KDL::Vector(u_s(0), u_s(1), u_s(2));
-  stall_cmd_r_ += T_gs.M * KDL::Vector(u_s(3), u_s(4), u_s(5));
+  const double c = in_contact ? 0.0 : 1.0;  // the contact-constrained directions
+  stall_cmd_t_ += T_gs.M * KDL::Vector(u_s(0), u_s(1), c * u_s(2));
+  stall_cmd_r_ += T_gs.M * KDL::Vector(c * u_s(3), c * u_s(4), u_s(5));
   if (now - stall_t0_ < p_.stall_window_s - 1e-6) return false;
   const double cmd_t = stall_cmd_t_.Norm(), cmd_r = stall_cmd_r_.Norm();
   const double moved_t = (T_gs.p - stall_pose0_.p).Norm();

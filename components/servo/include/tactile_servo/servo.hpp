@@ -199,6 +199,7 @@ class TactileServo {
   KDL::Frame cmd_;
   KDL::Frame meas_;            ///< this cycle's measured flange pose
   bool motion_cycle_ = false;  ///< this cycle commanded motion (the stall watchdog's window)
+  bool in_contact_ = false;    ///< this cycle's features report contact (the stall watchdog's axes)
   bool has_cmd_ = false;
   uint32_t seq_ = 0;
 };

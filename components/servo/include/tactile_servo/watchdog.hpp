@@ -44,8 +44,14 @@ class ServoWatchdogs {
   bool phaseTimeout(double in_phase_s, double max_s);
 
   /// Arm stall, on a cycle that commanded the increment `u_s` ({s}, Eq. 13)
-  /// from the measured sensor pose `T_gs_meas` at time `now`.
-  bool armStalled(const KDL::Frame& T_gs_meas, const Vec6& u_s, double now);
+  /// from the measured sensor pose `T_gs_meas` at time `now`. In contact
+  /// (`in_contact`), the directions the contact constrains (App. C's natural
+  /// constraints: z_s translation, rotations about x_s and y_s) are left out:
+  /// pressing into an object or tilting against it is force control through
+  /// the impedance, where the pose lags the command by design (5 N at
+  /// 1000 N/m is 5 mm), and so is a tangential command held by pad friction
+  /// up to mu N / k; only x_s, y_s translation and z_s rotation are checked.
+  bool armStalled(const KDL::Frame& T_gs_meas, const Vec6& u_s, bool in_contact, double now);
   /// A cycle without commanded motion: the stall window starts over.
   void restartStall() { stall_active_ = false; }
 
