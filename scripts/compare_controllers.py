@@ -151,6 +151,8 @@ def main():
             fh.write(f"| {r['scene']} | {r['controller']} | {r['status']} | {fmt(r['force_true_mean_n'])} / "
                      f"{fmt(r['force_true_max_n'])} | {fmt(r['force_true_rms_error_n'])} | {band} | "
                      f"{r['contact_lost_count']} | {extra} |\n")
+        fh.write("\n'-': not measured (the run never reached a scored phase, or no such event, e.g. DZMP_y never "
+                 "back within 0.5 mm). Scored: the scene's metrics.force_phases after metrics.transient_s.\n")
     print(f"compare_controllers: {len(rows)} runs in {time.time() - t0:.1f} s -> {a.out}/compare.md, compare.csv, "
           f"compare_<scene>.png")
     return 1 if failed else 0
