@@ -32,18 +32,18 @@ import simsweep  # noqa: E402
 # Scene-specific arguments: "{tray}" is replaced by the tray's index (the row is
 # skipped on scenes without a tray).
 EFFECTS = {
-    "wts_delay": (["--set", "effects.wts_transfer_delay_s=0.0085"],
-                  "WTS serial transfer of one frame (components/wts_reader protocol, 115200 Bd)"),
+    "wts_delay": (["--set", "effects.wts_transfer_delay_s=0.0157"],
+                  "a 181-byte WTS frame at 115200 Bd 8N1 (components/wts_reader protocol)"),
     "krc_fri": (["--set", "effects.krc_cycle_s=0.002", "--set", "effects.fri_delay_s=0.002"],
                 "FRI at 500 Hz, one cycle of transport delay"),
-    "friction": (["--set", "effects.friction_mu=0.6"], "rubber on metal"),
-    "creep": (["--set", "effects.creep={fraction: 0.1, tau_s: 2.0}"], "App. A"),
-    "hysteresis": (["--set", "effects.hysteresis=0.05"], "App. A"),
+    "friction": (["--set", "effects.friction_mu=0.5"], "rubber on metal, low end of the usual 0.5-1"),
+    "creep": (["--set", "effects.creep={fraction: 0.1, tau_s: 2.0}"], "assumed (App. A shows creep, no numbers)"),
+    "hysteresis": (["--set", "effects.hysteresis=0.05"], "assumed (App. A shows hysteresis, no numbers)"),
     "gain_spread": (["--set", "effects.gain_spread=0.1"], "per-taxel sensitivity spread"),
     "dead_taxels": (["--set", "effects.dead_taxels=2"], "two dead taxels"),
     "calibration_error": (["--set", "effects.calibration_error=0.05"], "5 % per taxel"),
     "crosstalk": (["--set", "effects.crosstalk=0.05"], "5 % to each neighbour"),
-    "device_noise": (["--set", "effects.device_noise=true"], "the WTS's noise level"),
+    "device_noise": (["--set", "effects.device_noise=true"], "63.8 counts: the bound the 0.2 N threshold implies"),
     "tray_dynamic": (["--set", "objects.{tray}.fidelity=dynamics"], "tray integrated in time, arm quasi-static"),
     "arm_dynamic": (["--fidelity", "dynamics"], "arm (and every body) in dynamics"),
 }
