@@ -74,6 +74,7 @@ class SimClock : public RTT::TaskContext {
   sim::EndRule end_;
   RTT::TaskContext* robot_ = nullptr;
   RTT::TaskContext* sensor_ = nullptr;
+  bool sensor_every_tick_ = false;  ///< the scene's WTS transfer delay > 0
   RTT::TaskContext* features_ = nullptr;
   RTT::TaskContext* servo_ = nullptr;
   RTT::TaskContext* reporter_ = nullptr;
