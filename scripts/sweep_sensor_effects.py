@@ -2,6 +2,7 @@
 """The simulated sensor's effects on every shipped experiment.
 
 usage: sweep_sensor_effects.py [--sim build/bin/tactile_sim] [--out out/sensor_effects] [--jobs N]
+                               [--seeds 1,2,3,4,5,6]
 
 Runs each scene with all effects off, each sensor effect alone at its realistic
 level (sim/lwr/README.md, "Sensor effects") and all of them together
@@ -12,6 +13,9 @@ measured by bench_sim's BM_SensorEffects / BM_SimSensor), and the scene's
 criteria (metrics.criteria: summary.json criteria_passed / criteria_failed).
 scripts/sweep_effects.py runs the sensor's and the world's effects together;
 this one adds the sensor's effects together (`all`) and a seed spread.
+With --seeds, the seeded effects (gain spread, calibration error, and off and
+crosstalk for reference) are also run on those seeds: the range of the true
+force mean and RMS error per scene (the per-taxel draws depend on the seed).
 Writes sensor_effects.md and sensor_effects.json into the output folder.
 """
 import argparse
@@ -74,6 +78,7 @@ def main():
     ap.add_argument("--sim", default=simsweep.SIM)
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "sensor_effects"))
     ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--seeds", default="", help="comma-separated seeds for the seed spread of the seeded effects")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     scenes = {sc: simsweep.key_metrics(sc) for sc in simsweep.shipped_scenes()}
@@ -105,6 +110,22 @@ def main():
             failed = criteria(s)
             md.append(f"| {lb} | " + " | ".join(cells) + f" | {ratio:.2f} | {s.get('status')} | " +
                       ("pass" if not failed else "FAIL: " + ", ".join(failed)) + " |")
+        md.append("")
+    if a.seeds:
+        seeds = [int(x) for x in a.seeds.split(",")]
+        seeded = ["off", "gain_spread=0.1", "calibration_error=0.05", "crosstalk=0.05"]
+        md.append("### seed spread (seeds " + a.seeds + ")\n")
+        md.append("| scene | effect | force_true_mean_n min..max (mean) | force_true_rms_error_n min..max | "
+                  "criteria failed on |")
+        md.append("| --- | --- | --- | --- | --- |")
+        for sc in scenes:
+            for lb in seeded:
+                runs = [run(a.sim, sc, f"{lb}_seed{k}", EFFECTS[lb] + [f"seed={k}"], a.out) for k in seeds]
+                m = [r.get("force_true_mean_n") for r in runs]
+                e = [r.get("force_true_rms_error_n") for r in runs]
+                bad = [str(k) for k, r in zip(seeds, runs) if criteria(r)]
+                md.append(f"| {sc} | {lb} | {min(m):.2f}..{max(m):.2f} ({sum(m) / len(m):.2f}) | "
+                          f"{min(e):.2f}..{max(e):.2f} | {', '.join(bad) or '-'} |")
         md.append("")
     text = "\n".join(md) + "\n"
     open(os.path.join(a.out, "sensor_effects.md"), "w").write(text)
