@@ -158,12 +158,24 @@ bool rowsFromRecording(const sim::Scene& sc, const Recording& rec, sim::RunResul
   if (!sched.configure(sc.rates, sc.duration)) return false;
   std::size_t fi = 0, ci = 0, pi = 0;
   bool new_raw = false;
+  // With a WTS transfer delay a frame reaches the features on the first tick
+  // at or after its acquisition + delay (TaxelResponse::deliver).
+  const double delay = sc.sensor_effects.wts_transfer_delay_s;
+  std::vector<double> in_flight;
   ContactFeatures feats;  // NotConfigured until the first extraction
   Pose cmd;
   bool have_cmd = false;
   for (long i = 0; pi < rec.phases.size(); ++i, sched.advance()) {
     const sim::StageFires f = sched.fires();
-    if (f.wts) new_raw = true;
+    if (delay > 0.0) {
+      if (f.wts) in_flight.push_back(sched.timeOf(i));
+      while (!in_flight.empty() && in_flight.front() + delay <= sched.timeOf(i) + 1e-9) {
+        in_flight.erase(in_flight.begin());
+        new_raw = true;
+      }
+    } else if (f.wts) {
+      new_raw = true;
+    }
     if (f.features && new_raw) {
       if (fi >= rec.features.size()) {
         why = "fewer features samples than features ticks";
@@ -194,30 +206,32 @@ bool rowsFromRecording(const sim::Scene& sc, const Recording& rec, sim::RunResul
 struct Case {
   const char* scene;
   ControllerMode mode;
-  bool effects = false;  ///< the physics and timing effects on (friction, FRI delay, KRC cycle)
+  const char* effects = nullptr;  ///< an `effects:` map appended to the scene (YAML flow map)
+  const char* name = "";          ///< test name suffix
 };
+
+/// The scene with an `effects:` map appended, as a temporary file (its
+/// relative paths made absolute); the scene itself without.
+// With effects: a copy of the scene with the `effects:` map (paths made
+// absolute), so that the deployment loads the same file as the runner.
+std::string sceneWithEffects(const Case& c) {
+  if (!c.effects) return kScenes + c.scene;
+  std::ifstream in(kScenes + c.scene);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (std::size_t at = text.find("../../"); at != std::string::npos; at = text.find("../../", at))
+    text.replace(at, 6, TACTILE_SOURCE_DIR "/");
+  text += std::string("\neffects: ") + c.effects + "\n";
+  return test::writeTempFile(std::string("effects") + c.name + "_" + c.scene, text);
+}
 
 class SimLoop : public ::testing::TestWithParam<Case> {};
 
 TEST_P(SimLoop, DeploymentIsTheRunnersLoop) {
   const Case c = GetParam();
-  // With effects: a copy of the scene with the `effects:` map (paths made
-  // absolute), so that the deployment loads the same file as the runner.
-  std::string scene_file = kScenes + c.scene;
-  if (c.effects) {
-    std::ifstream in(scene_file);
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    for (std::size_t at = text.find("../../"); at != std::string::npos; at = text.find("../../", at + kScenes.size() + 6))
-      text.insert(at, kScenes);
-    text += "\neffects: {friction_mu: 0.5, fri_delay_s: 0.002, krc_cycle_s: 0.002}\n";
-    scene_file = test::writeTempFile(std::string("effects_") + c.scene, text);
-  }
   sim::Scene sc;
-  const ConfigResult lr = sim::loadScene(scene_file, sc);
-  ASSERT_TRUE(lr.ok()) << lr.message();
-  if (c.effects) {
-    ASSERT_EQ(sc.world.friction_mu, 0.5);
-  }
+  const std::string scene_file = sceneWithEffects(c);
+  const ConfigResult loaded = sim::loadScene(scene_file, sc);
+  ASSERT_TRUE(loaded.ok()) << loaded.message();
   sc.controller = c.mode;
   // The servo component reads the mode from its program file: the scene's
   // program with the controller overridden (as --controller does).
@@ -295,12 +309,30 @@ INSTANTIATE_TEST_SUITE_P(Scenes, SimLoop,
                                            Case{"co_manipulation.yaml", ControllerMode::Proposed},
                                            Case{"sphere_table.yaml", ControllerMode::Proposed},
                                            Case{"partial_edge.yaml", ControllerMode::Baseline},
-                                           Case{"edge_exploration.yaml", ControllerMode::Proposed, true},
-                                           Case{"co_manipulation.yaml", ControllerMode::Proposed, true}),
+                                           // The physics and timing effects (friction, FRI delay, KRC cycle).
+                                           Case{"edge_exploration.yaml", ControllerMode::Proposed,
+                                                "{friction_mu: 0.5, fri_delay_s: 0.002, krc_cycle_s: 0.002}",
+                                                "_physics_effects"},
+                                           Case{"co_manipulation.yaml", ControllerMode::Proposed,
+                                                "{friction_mu: 0.5, fri_delay_s: 0.002, krc_cycle_s: 0.002}",
+                                                "_physics_effects"},
+                                           // The sensor's effects, all on (the transfer delay makes the
+                                           // clock update the sensor every tick).
+                                           Case{"edge_exploration.yaml", ControllerMode::Proposed,
+                                                "{wts_transfer_delay_s: 0.0157, gain_spread: 0.1, dead_taxels: 2, "
+                                                "calibration_error: 0.05, crosstalk: 0.05, "
+                                                "creep: {fraction: 0.1, tau_s: 2.0}, hysteresis: 0.05, "
+                                                "device_noise: true}",
+                                                "_sensor_effects"},
+                                           Case{"co_manipulation.yaml", ControllerMode::Proposed,
+                                                "{wts_transfer_delay_s: 0.0157, gain_spread: 0.1, dead_taxels: 2, "
+                                                "calibration_error: 0.05, crosstalk: 0.05, "
+                                                "creep: {fraction: 0.1, tau_s: 2.0}, hysteresis: 0.05}",
+                                                "_sensor_effects"}),
                          [](const ::testing::TestParamInfo<Case>& i) {
                            std::string n = i.param.scene;
                            n = n.substr(0, n.find('.'));
-                           return n + "_" + toString(i.param.mode) + (i.param.effects ? "_effects" : "");
+                           return n + "_" + toString(i.param.mode) + i.param.name;
                          });
 
 // The whole deployed loop per tick allocates nothing: the clock (on a

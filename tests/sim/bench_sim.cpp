@@ -5,12 +5,19 @@
 // edge, pressed with ~5 N (the edge-exploration workload), WTS acquisition
 // at 140 Hz.
 //
+// BM_SensorEffects: frames per CPU second of the simulated WTS electronics
+// (TaxelResponse::acquire + deliver) on the bar's contact image, each sensor
+// effect alone at its realistic level and all together, against all off in
+// the same run; BM_SimSensor: the same effects in the arm + sensor loop
+// (World::acquireForces + TaxelResponse, as the runner), rtf.
+//
 //   bench_sim --benchmark_counters_tabular=true
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 #include <cstdio>
 
+#include "tactile_sim/taxel_response.hpp"
 #include "tactile_sim/world.hpp"
 
 using namespace tactile;
@@ -230,6 +237,105 @@ void BM_Acquire(benchmark::State& state) {
   state.SetLabel(label);
 }
 BENCHMARK(BM_Acquire)->ArgNames({"Kimg", "repeat"})->Args({1, 0})->Args({4, 0})->Args({8, 0})->Args({4, 1})->Unit(benchmark::kMicrosecond);
+
+// The sensor effects at the levels of sim/lwr/README.md ("Sensor effects").
+const char* const kEffectNames[] = {"off", "delay", "gain", "dead", "calib", "crosstalk", "creep", "hysteresis",
+                                    "device_noise", "all"};
+SensorEffects effectsFor(int which) {
+  SensorEffects e;
+  const bool all = which == 9;
+  if (which == 1 || all) e.wts_transfer_delay_s = 0.0157;
+  if (which == 2 || all) e.gain_spread = 0.1;
+  if (which == 3 || all) e.dead_taxels = 2;
+  if (which == 4 || all) e.calibration_error = 0.05;
+  if (which == 5 || all) e.crosstalk = 0.05;
+  if (which == 6 || all) e.creep_fraction = 0.1, e.creep_tau_s = 2.0;
+  if (which == 7 || all) e.hysteresis = 0.05;
+  if (which == 8 || all) e.device_noise = true;
+  e.max_frame_rate_hz = 140.0;
+  return e;
+}
+
+bool configureResponse(const World& w, int which, TaxelResponse& r) {
+  TaxelResponseParams rp;
+  rp.calibration = w.calibration();
+  rp.noise_counts = 6.0;
+  rp.effects = effectsFor(which);
+  return r.configure(rp).ok();
+}
+
+// One iteration = one frame: acquire at 140 Hz and deliver (the reader's poll).
+void BM_SensorEffects(benchmark::State& state) {
+  const int which = static_cast<int>(state.range(0));
+  World w;
+  if (!w.configure(barScene(Fidelity::QuasiStatic, 2, 4)).ok()) {
+    state.SkipWithError("configure failed");
+    return;
+  }
+  SimState s;
+  for (int i = 0; i < 10; ++i) w.step(downPose(0.58, 0.0, kBarTop + 0.02 - 0.005), 0.01, s);
+  TactileFrame forces;
+  SensorTruth truth;
+  w.acquireForces(forces, truth);
+  TaxelResponse r;
+  if (!configureResponse(w, which, r)) {
+    state.SkipWithError("response configure failed");
+    return;
+  }
+  RawTactileFrame raw;
+  double t = 0.0;
+  long delivered = 0;
+  for (auto _ : state) {
+    t += 1.0 / 140.0;
+    if (r.acquire(forces, t, raw)) ++delivered;
+    if (r.deliver(t, raw)) ++delivered;
+    benchmark::DoNotOptimize(raw.counts[40]);
+  }
+  state.SetItemsProcessed(state.iterations());  // frames per CPU second
+  state.SetLabel(kEffectNames[which]);
+  benchmark::DoNotOptimize(delivered);
+}
+BENCHMARK(BM_SensorEffects)->ArgName("effect")->DenseRange(0, 9)->Unit(benchmark::kNanosecond);
+
+// The arm + sensor loop of the runner at 1 kHz, quasi-static, K 2/4: rtf with each effect.
+void BM_SimSensor(benchmark::State& state) {
+  const int which = static_cast<int>(state.range(0));
+  World w;
+  if (!w.configure(barScene(Fidelity::QuasiStatic, 2, 4)).ok()) {
+    state.SkipWithError("configure failed");
+    return;
+  }
+  TaxelResponse r;
+  if (!configureResponse(w, which, r)) {
+    state.SkipWithError("response configure failed");
+    return;
+  }
+  SimState s;
+  TactileFrame forces;
+  SensorTruth truth;
+  RawTactileFrame raw;
+  double t = 0.0, next_acq = 0.0;
+  const double dt = 1e-3;
+  for (auto _ : state) {
+    for (int i = 0; i < 1000; ++i) {
+      t += dt;
+      const double ts = std::floor(t * 100.0 + 1e-9) / 100.0;
+      const double ph = std::fmod(ts, 20.0);
+      const double x = 0.58 + 0.01 * (ph < 10.0 ? ph : 20.0 - ph);
+      w.step(downPose(x, 0.0, kBarTop + 0.02 - 0.005), dt, s);
+      if (t >= next_acq) {
+        w.acquireForces(forces, truth);
+        r.acquire(forces, t, raw);
+        next_acq += 1.0 / 140.0;
+      }
+      if (r.delayed()) r.deliver(t, raw);
+    }
+    benchmark::DoNotOptimize(raw.counts[40]);
+  }
+  state.counters["rtf"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.SetLabel(kEffectNames[which]);
+}
+BENCHMARK(BM_SimSensor)->ArgName("effect")->Arg(0)->Arg(9)->Arg(5)->Arg(8)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

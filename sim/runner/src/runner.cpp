@@ -20,12 +20,7 @@ ConfigResult Runner::configure(const Scene& scene) {
   scene_ = scene;
   if (!(r = world_.configure(worldParams(scene)))) return ConfigResult::failure(scene.file + ": " + r.message());
   // The sensor's electronics and its reader from the one calibration file.
-  TaxelResponseParams rp;
-  rp.calibration = scene.calibration;
-  rp.noise_counts = scene.world.pad.noise_counts;
-  rp.threshold = scene.world.pad.threshold;
-  rp.seed = scene.seed;
-  if (!(r = response_.configure(rp))) return ConfigResult::failure(scene.file + ": sensor: " + r.message());
+  if (!(r = response_.configure(responseParams(scene)))) return ConfigResult::failure(scene.file + ": sensor: " + r.message());
   if (!(r = sensor_.configure(scene.features, scene.calibration))) return ConfigResult::failure(scene.file + ": " + r.message());
   ServoParams sp = scene.servo;
   sp.mode = scene.controller;
@@ -56,6 +51,7 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
   end_.reset();
   sensor_.reset();
   servo_.reset();
+  response_.reseed(sc.seed);  // noise, creep, hysteresis and transfer ring as after configure
   const double dt = sched.dt();
   out.rows.reserve(static_cast<std::size_t>(sc.duration * sc.rates.servo) + 16);
   out.contacts.reserve(out.rows.capacity());
@@ -93,10 +89,11 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
   while (!sched.finished()) {
     const double t = sched.time();
     const StageFires fi = sched.fires();
-    if (fi.wts) {  // WTS acquisition (Table 2: 140 Hz): the sensor's electronics
-      response_.respond(forces, t, raw);
+    // WTS acquisition (Table 2: 140 Hz): the sensor's electronics; the frame
+    // reaches the reader at once or, with a transfer delay, when it has arrived.
+    if ((fi.wts && response_.acquire(forces, t, raw)) || (response_.delayed() && response_.deliver(t, raw))) {
       raw.seq = raw_seq++;
-      raw.device_time_ms = static_cast<uint32_t>(std::llround(t * 1000.0));
+      raw.device_time_ms = static_cast<uint32_t>(std::llround(raw.time_s * 1000.0));
       new_raw = true;
     }
     if (fi.features && new_raw) {  // calibration + features on the latest frame (200 Hz)

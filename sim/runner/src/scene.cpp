@@ -103,6 +103,36 @@ ConfigResult readObject(const YAML::Node& n, const Where& w, ObjectParams& o) {
   return ConfigResult::success();
 }
 
+// The sensor's keys of the `effects:` map (ranges: TaxelResponse::configure,
+// through validateScene).
+ConfigResult readSensorEffects(const YAML::Node& n, const Where& w, SensorEffects& e) {
+  ConfigResult r;
+  for (auto rr : {read(n, "wts_transfer_delay_s", e.wts_transfer_delay_s, w), read(n, "gain_spread", e.gain_spread, w),
+                  read(n, "calibration_error", e.calibration_error, w), read(n, "crosstalk", e.crosstalk, w),
+                  read(n, "hysteresis", e.hysteresis, w), read(n, "device_noise", e.device_noise, w)})
+    if (!rr) return rr;
+  if (const YAML::Node d = n["dead_taxels"]) {
+    if (d.IsSequence()) {
+      std::vector<std::vector<int>> list;
+      if (!(r = read(n, "dead_taxels", list, w))) return r;
+      for (std::size_t i = 0; i < list.size(); ++i) {
+        if (list[i].size() != 2) return fail(w.child("dead_taxels[" + std::to_string(i) + "]"), "must be [row, col]");
+        e.dead_list.push_back({list[i][0], list[i][1]});
+      }
+    } else if (!(r = read(n, "dead_taxels", e.dead_taxels, w))) {
+      return fail(w.child("dead_taxels"), "must be a count or a list of [row, col]");
+    }
+  }
+  if (const YAML::Node c = n["creep"]) {
+    const Where wc = w.child("creep");
+    if (!c.IsMap()) return fail(wc, "must be a map {fraction: [0, 1], tau_s: (0, 1000] s}");
+    if (!(r = checkKeys(c, wc, {"fraction", "tau_s"})) || !(r = read(c, "fraction", e.creep_fraction, wc)) ||
+        !(r = read(c, "tau_s", e.creep_tau_s, wc)))
+      return r;
+  }
+  return ConfigResult::success();
+}
+
 // "a.b.c=VALUE": walk (creating) maps a and b, set c to VALUE parsed as YAML.
 ConfigResult applyOverride(YAML::Node& root, const std::string& o, const std::string& file) {
   const std::size_t eq = o.find('=');
@@ -311,10 +341,16 @@ ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std:
     }
   }
 
-  // Effects (each off by default). Physics and timing: World's.
+  // Effects (each off by default): physics and timing are World's, the
+  // sensor's are TaxelResponse's (readSensorEffects).
   if (const YAML::Node n = root["effects"]) {
     const Where we = w.child("effects");
-    if (!(r = checkKeys(n, we, {"friction_mu", "friction_stiffness", "fri_delay_s", "krc_cycle_s"}))) return r;
+    if (!(r = checkKeys(n, we,
+                        {"friction_mu", "friction_stiffness", "fri_delay_s", "krc_cycle_s", "wts_transfer_delay_s",
+                         "gain_spread", "dead_taxels", "calibration_error", "crosstalk", "creep", "hysteresis",
+                         "device_noise"})))
+      return r;
+    if (!(r = readSensorEffects(n, we, s.sensor_effects))) return r;
     WorldParams& wp = s.world;
     for (auto rr : {read(n, "friction_mu", wp.friction_mu, we), read(n, "friction_stiffness", wp.friction_stiffness, we),
                     read(n, "fri_delay_s", wp.fri_delay_s, we), read(n, "krc_cycle_s", wp.krc_cycle_s, we)})
@@ -368,6 +404,17 @@ ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std:
   return validateScene(s);
 }
 
+TaxelResponseParams responseParams(const Scene& s) {
+  TaxelResponseParams rp;
+  rp.calibration = s.calibration;
+  rp.noise_counts = s.world.pad.noise_counts;
+  rp.threshold = s.world.pad.threshold;
+  rp.seed = s.seed;
+  rp.effects = s.sensor_effects;
+  rp.effects.max_frame_rate_hz = s.rates.wts;  // sizes the transfer ring
+  return rp;
+}
+
 ConfigResult validateScene(const Scene& s) {
   const Where w{s.file, ""};
   auto rate = [&](const char* name, double v) {
@@ -401,6 +448,11 @@ ConfigResult validateScene(const Scene& s) {
     if (!known(ph)) return fail(w.child("metrics.force_phases"), "unknown phase '" + ph + "' in " + s.program_file);
   for (const auto& ph : {s.metrics.align_from, s.metrics.align_to})
     if (!ph.empty() && !known(ph)) return fail(w.child("metrics.alignment"), "unknown phase '" + ph + "' in " + s.program_file);
+  {  // The sensor's response and effects (ranges: TaxelResponse::configure).
+    TaxelResponse probe;
+    const ConfigResult r = probe.configure(responseParams(s));
+    if (!r) return ConfigResult::failure(s.file + ": " + r.message());
+  }
   // The world validates objects (inside the sensor, unknown geometry...) on configure.
   World probe;
   const ConfigResult r = probe.configure(worldParams(s));

@@ -87,6 +87,9 @@ bool SimClock::configureHook() {
     return false;
   }
   end_.configure(scene.rates);
+  // With a WTS transfer delay the sensor delivers frames between acquisitions:
+  // it runs every tick (it acquires only on new taxel forces).
+  sensor_every_tick_ = scene.sensor_effects.wts_transfer_delay_s > 0.0;
   last_error_.clear();
   return true;
 }
@@ -129,7 +132,7 @@ bool SimClock::tick() {
   setTime(static_cast<int64_t>(schedule_.tick()) * schedule_.periodNs());
   sim_time_ = t;
   const sim::StageFires f = schedule_.fires();
-  if (f.wts) sensor_->update();
+  if (f.wts || sensor_every_tick_) sensor_->update();
   if (f.features) features_->update();
   if (f.servo) {
     servo_->update();

@@ -43,6 +43,19 @@
 //   through_fri: false                # route every physics-rate command through the FRI
 //                                     # protocol and tactile::fri::FriBridge (bytes on the wire)
 //   fri_file: ../../components/fri_bridge/params/fri.yaml             # bridge parameters (rate limiter...)
+//   effects:                          # each off by default; off costs nothing per frame
+//     wts_transfer_delay_s: 0         # s, [0, 1]: the frame sampled at t reaches the reader at t + d
+//                                     # (serial transfer; WTS0614 plain periodic frame 181 B at 115200
+//                                     # baud 8N1 = 15.7 ms, sim/lwr/README.md "Sensor effects")
+//     gain_spread: 0                  # [0, 0.5]: 1-sigma relative per-taxel sensitivity spread (seeded)
+//     dead_taxels: 0                  # [0, rows*cols] dead taxels at seeded positions, or a list [[row, col], ...]
+//     calibration_error: 0            # [0, 0.5]: 1-sigma relative error of the reader's calibration per
+//                                     # taxel (seeded): the sensor's true response is (1 + e) x the file's
+//     crosstalk: 0                    # [0, 0.25]: fraction of a taxel's load spread to each 4-neighbour
+//     creep: {fraction: 0, tau_s: 1.0}   # [0, 1], (0, 1000] s: under a constant load the signal tends to
+//                                     # (1 + fraction) x its instantaneous value with time constant tau_s
+//     hysteresis: 0                   # [0, 0.5]: loading reads (1 - h) x load, unloading (1 + h) x load
+//     device_noise: false             # true: sensor noise at the WTS's level (TaxelResponse::deviceNoiseCounts)
 //   metrics:
 //     transient_s: 2.0                # ignored at the start of each force-servoing phase
 //     force_phases: [explore]         # phases whose force error is scored (default: all contact phases)
@@ -59,6 +72,7 @@
 
 #include "tactile_features/extractor.hpp"
 #include "tactile_servo/servo.hpp"
+#include "tactile_sim/taxel_response.hpp"
 #include "tactile_sim/world.hpp"
 #include "tactile_types/config_result.hpp"
 
@@ -103,7 +117,13 @@ struct Scene {
   SceneMetrics metrics;
   bool through_fri = false;  ///< commands go through FRI packets and the bridge
   std::string fri_file;      ///< bridge parameters (empty: defaults)
+  SensorEffects sensor_effects;  ///< `effects:` keys of the sensor (TaxelResponse)
 };
+
+/// The simulated sensor's parameters (TaxelResponse) of a scene: its
+/// calibration file, sensor.noise_counts / threshold, seed and sensor effects.
+/// The runner and tactile::WtsSimComponent both use it.
+TaxelResponseParams responseParams(const Scene& s);
 
 /// Load and validate a scene (and the program and feature files it names).
 /// Errors name the file and the field.

@@ -4,7 +4,8 @@
 // order at the scene's rates, with the headless runner's schedule and end
 // rule (tactile::sim::Schedule, tactile::sim::EndRule): on physics tick i
 //   RTT's TimeService := t_i (simulated time; the system clock is disabled)
-//   Sensor.update()    if the WTS acquisition fires
+//   Sensor.update()    if the WTS acquisition fires (every tick with the scene's
+//                      effects.wts_transfer_delay_s > 0: frames arrive between acquisitions)
 //   Features.update()  if feature extraction fires
 //   Servo.update()     if the servo fires; end at its force ceiling / 1 s after Done
 //   Robot.update()     every tick (physics); end at a fatal simulator status
@@ -74,6 +75,7 @@ class SimClock : public RTT::TaskContext {
   sim::EndRule end_;
   RTT::TaskContext* robot_ = nullptr;
   RTT::TaskContext* sensor_ = nullptr;
+  bool sensor_every_tick_ = false;  ///< the scene's WTS transfer delay > 0
   RTT::TaskContext* features_ = nullptr;
   RTT::TaskContext* servo_ = nullptr;
   RTT::TaskContext* reporter_ = nullptr;

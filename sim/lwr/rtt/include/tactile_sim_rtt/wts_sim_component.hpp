@@ -8,14 +8,17 @@
 //
 // Interface (documented with .doc() in the constructor):
 //   property scene_file (string)   scene YAML: features_file (calibration), sensor.noise_counts,
-//                                  sensor.threshold, seed
+//                                  sensor.threshold, seed, effects (the sensor's keys)
 //   in   taxel_forces (/tactile/TactileFrame)  SIM ONLY, from tactile::LwrSimComponent (event port)
 //   out  raw_frame (/tactile/RawTactileFrame)  counts, stamped with RTT's TimeService (s)
 //   attr frames (int)   frames written since start
 //   op   string lastError()
 //
-// Each update with a new force image: respond -> raw_frame (seq counts from
-// 0 at start). start() reseeds the noise. No heap allocation per cycle.
+// Each update with a new force image: acquire -> raw_frame (seq counts from
+// 0 at start); with the scene's effects.wts_transfer_delay_s the frame is
+// written when its transfer ends (tactile::SimClock then updates the sensor
+// every tick). start() reseeds the noise and clears the sensor's state. No
+// heap allocation per cycle.
 #pragma once
 
 #include <rtt/InputPort.hpp>
