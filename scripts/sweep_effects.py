@@ -2,7 +2,7 @@
 """What each simulated effect costs and what it changes, on every shipped scene.
 
 usage: sweep_effects.py [--sim build/bin/tactile_sim] [--out out/effects] [--reps 3]
-                        [--scenes a,b] [--effects a,b]
+                        [--scenes a,b] [--effects a,b] [--seed N]
 
 For each scene of sim/scenes/ it runs
   * `none`: the scene with every effect off (`--set effects={}`),
@@ -91,6 +91,7 @@ def main():
     ap.add_argument("--reps", type=int, default=3)
     ap.add_argument("--scenes", default="", help="comma-separated (default: every shipped scene)")
     ap.add_argument("--effects", default="", help="comma-separated (default: every effect)")
+    ap.add_argument("--seed", type=int, default=None, help="the runs' seed (default: each scene's)")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     scenes = a.scenes.split(",") if a.scenes else simsweep.shipped_scenes()
@@ -108,6 +109,8 @@ def main():
             args = [] if names is None else effect_args(scene, names)
             if args is None:
                 continue
+            if a.seed is not None:
+                args = args + ["--seed", str(a.seed)]
             d = run_best(scene, os.path.join(a.out, "runs", f"{scene}_{name}"), args, a.reps, a.sim)
             if name == "none":
                 ref = d

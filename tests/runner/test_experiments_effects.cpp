@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "scene_run.hpp"
 #include "tactile_sim/runner.hpp"
 
 using namespace tactile;
@@ -16,23 +17,15 @@ using namespace tactile::sim;
 
 namespace {
 
-const std::string kScenes = std::string(TACTILE_SOURCE_DIR) + "/sim/scenes/";
 const std::vector<std::string> kEffects = {"effects={friction_mu: 0.5, fri_delay_s: 0.002, krc_cycle_s: 0.002}"};
 
 Summary runScene(const std::string& name, const std::vector<std::string>& overrides) {
-  Scene sc;
-  const ConfigResult r = loadScene(kScenes + name, sc, overrides);
-  EXPECT_TRUE(r.ok()) << r.message();
+  const Scene sc = test::loadShipped(name, overrides);
   if (!overrides.empty()) {
     EXPECT_EQ(sc.world.friction_mu, 0.5);
     EXPECT_EQ(sc.world.fri_delay_s, 0.002);
   }
-  Runner runner;
-  const ConfigResult c = runner.configure(sc);
-  EXPECT_TRUE(c.ok()) << c.message();
-  RunResult res;
-  runner.run(res);
-  return res.summary;
+  return test::run(sc);
 }
 
 }  // namespace

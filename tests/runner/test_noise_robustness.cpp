@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "scene_run.hpp"
 #include "tactile_sim/runner.hpp"
 
 using namespace tactile;
@@ -17,22 +18,13 @@ using namespace tactile::sim;
 
 namespace {
 
-const std::string kScenes = std::string(TACTILE_SOURCE_DIR) + "/sim/scenes/";
 
 Summary runNoisy(const std::string& scene, double noise_counts, bool estimate) {
-  Scene sc;
-  const ConfigResult r =
-      loadScene(kScenes + scene, sc, std::vector<std::string>{"sensor.noise_counts=" + std::to_string(noise_counts)});
-  EXPECT_TRUE(r.ok()) << r.message();
+  Scene sc = test::loadShipped(scene, {"sensor.noise_counts=" + std::to_string(noise_counts)});
   EXPECT_EQ(sc.world.pad.noise_counts, noise_counts);
   EXPECT_EQ(sc.calibration.noise_counts, noise_counts) << "the reader's noise figure follows the sensor's";
   if (!estimate) sc.features.censor_tau = 0.0;
-  Runner runner;
-  const ConfigResult c = runner.configure(sc);
-  EXPECT_TRUE(c.ok()) << c.message();
-  RunResult res;
-  runner.run(res);
-  return res.summary;
+  return test::run(sc);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "scene_run.hpp"
 #include "tactile_sim/runner.hpp"
 
 using namespace tactile;
@@ -16,20 +17,12 @@ using namespace tactile::sim;
 
 namespace {
 
-const std::string kScenes = std::string(TACTILE_SOURCE_DIR) + "/sim/scenes/";
 
 Summary runAt(const std::string& scene, double servo_hz) {
-  Scene sc;
-  const ConfigResult r = loadScene(kScenes + scene, sc);
-  EXPECT_TRUE(r.ok()) << r.message();
+  Scene sc = test::loadShipped(scene);
   sc.rates.servo = servo_hz;
   EXPECT_TRUE(validateScene(sc).ok());
-  Runner runner;
-  const ConfigResult c = runner.configure(sc);
-  EXPECT_TRUE(c.ok()) << c.message();
-  RunResult res;
-  runner.run(res);
-  return res.summary;
+  return test::run(sc);
 }
 
 struct Metric {

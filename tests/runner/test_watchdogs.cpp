@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "scene_run.hpp"
 #include "tactile_sim/runner.hpp"
 
 using namespace tactile;
@@ -13,23 +14,12 @@ using namespace tactile::sim;
 
 namespace {
 
-const std::string kScenes = std::string(TACTILE_SOURCE_DIR) + "/sim/scenes/";
 
 Scene load(const std::string& name, const std::vector<std::string>& overrides = {}) {
-  Scene sc;
-  const ConfigResult r = loadScene(kScenes + name, sc, overrides);
-  EXPECT_TRUE(r.ok()) << r.message();
-  return sc;
+  return test::loadShipped(name, overrides);
 }
 
-Summary run(const Scene& sc) {
-  Runner runner;
-  const ConfigResult c = runner.configure(sc);
-  EXPECT_TRUE(c.ok()) << c.message();
-  RunResult res;
-  runner.run(res);
-  return res.summary;
-}
+Summary run(const Scene& sc) { return test::run(sc); }
 
 }  // namespace
 

@@ -1,0 +1,39 @@
+// Shared by the runner tests: load a shipped scene (sim/scenes/) with
+// `--set`-style overrides and run it through tactile::sim::Runner, failing the
+// calling test (EXPECT) on a load or configure error.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "tactile_sim/runner.hpp"
+
+namespace tactile {
+namespace sim {
+namespace test {
+
+inline const std::string kScenes = std::string(TACTILE_SOURCE_DIR) + "/sim/scenes/";
+
+inline Scene loadShipped(const std::string& name, const std::vector<std::string>& overrides = {}) {
+  Scene sc;
+  const ConfigResult r = loadScene(kScenes + name, sc, overrides);
+  EXPECT_TRUE(r.ok()) << r.message();
+  return sc;
+}
+
+inline RunResult runFull(const Scene& sc) {
+  Runner runner;
+  const ConfigResult c = runner.configure(sc);
+  EXPECT_TRUE(c.ok()) << c.message();
+  RunResult res;
+  runner.run(res);
+  return res;
+}
+
+inline Summary run(const Scene& sc) { return runFull(sc).summary; }
+
+}  // namespace test
+}  // namespace sim
+}  // namespace tactile
