@@ -416,7 +416,8 @@ TEST(SceneErrors, NameTheFileAndTheField) {
 // Every shipped scene declares its pass criteria (metrics.criteria), and the
 // proposed controller meets them; the bent bar's no-DZMP baseline does not.
 TEST(SceneCriteria, ShippedScenesPassTheirCriteria) {
-  for (const char* f : {"edge_exploration.yaml", "bent_bar.yaml", "co_manipulation.yaml", "sphere_table.yaml"}) {
+  for (const char* f : {"edge_exploration.yaml", "bent_bar.yaml", "co_manipulation.yaml", "sphere_table.yaml",
+                        "partial_edge.yaml", "short_bar.yaml", "off_centre_load.yaml"}) {
     Scene sc;
     ASSERT_TRUE(loadScene(kScenes + f, sc).ok()) << f;
     EXPECT_GE(sc.metrics.criteria.size(), 1u) << f;

@@ -325,6 +325,8 @@ bool summaryMetric(const Summary& s, const std::string& name, double& v) {
                          {"force_true_max_n", s.force_true_max_n},
                          {"force_true_rms_error_n", s.force_true_rms_error_n},
                          {"force_true_in_band_fraction", s.force_true_in_band_fraction},
+                         {"force_scored_s", s.force_scored_s},
+                         {"force_true_in_band_s", s.force_true_in_band_s},
                          {"alignment_time_s", s.alignment_time_s},
                          {"path_length_m", s.path_length_m},
                          {"slide_speed_mps", s.slide_speed_mps},
