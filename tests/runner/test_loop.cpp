@@ -178,8 +178,9 @@ TEST(SceneEffects, RatesAndEffectsAreValidatedWithFileKeyAndRange) {
   EXPECT_NE(r.message().find("whole number of physics steps"), std::string::npos) << r.message();
   r = loadScene(file, sc, {"effects.unknown=1"});
   EXPECT_FALSE(r.ok());
-  // Off by default; set, they reach the world's parameters (runner and RTT arm alike).
-  ASSERT_TRUE(loadScene(file, sc).ok());
+  // Off by default (a scene without an effects: map); set, they reach the
+  // world's parameters (runner and RTT arm alike).
+  ASSERT_TRUE(loadScene(TACTILE_SOURCE_DIR "/sim/scenes/sphere_table.yaml", sc).ok());
   EXPECT_EQ(sc.world.friction_mu, 0.0);
   EXPECT_EQ(sc.world.fri_delay_s, 0.0);
   EXPECT_EQ(sc.world.krc_cycle_s, 0.0);
