@@ -19,18 +19,13 @@
 
 #include "tactile_sim/taxel_response.hpp"
 #include "tactile_sim/world.hpp"
+#include "sim_scenes.hpp"
 
 using namespace tactile;
 using namespace tactile::sim;
 
 namespace {
-Pose downPose(double x, double y, double z) {
-  Pose p;
-  p.p = {x, y, z};
-  p.q = {0.0, 1.0, 0.0, 0.0};
-  return p;
-}
-
+using simtest::downPose;
 constexpr double kBarTop = 0.043;
 
 WorldParams barScene(Fidelity f, int k_phys, int k_img, bool dyn_every_step = false) {

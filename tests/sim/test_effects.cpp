@@ -13,19 +13,13 @@
 
 #include "alloc_counter.hpp"
 #include "tactile_sim/world.hpp"
+#include "sim_scenes.hpp"
 
 using namespace tactile;
 using namespace tactile::sim;
 
 namespace {
-
-// Flange pointing down (x_e = -x_g, z_e = -z_g): x_s = -x_g, y_s = y_g, z_s = -z_g.
-Pose downPose(double x, double y, double z) {
-  Pose p;
-  p.p = {x, y, z};
-  p.q = {0.0, 1.0, 0.0, 0.0};
-  return p;
-}
+using simtest::downPose;
 
 constexpr double kX0 = 0.58;   // start of the slide (m)
 constexpr double kPress = 0.005;  // flange command below first contact (m): ~5 N on the table
@@ -34,11 +28,7 @@ constexpr double kPress = 0.005;  // flange command below first contact (m): ~5 
 WorldParams tableScene(Fidelity f, double mu) {
   WorldParams p;
   p.fidelity = f;
-  ObjectParams table;
-  table.name = "table";
-  table.type = ObjectType::Plane;
-  table.point = {0, 0, 0};
-  table.normal = {0, 0, 1};
+  const ObjectParams table = simtest::tablePlane();
   p.objects = {table};
   p.use_initial_flange_pose = true;
   p.initial_flange_pose = downPose(kX0, 0.0, 0.02 + 0.001);  // 1 mm above the table

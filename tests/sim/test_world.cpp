@@ -8,29 +8,19 @@
 
 #include "alloc_counter.hpp"
 #include "tactile_sim/world.hpp"
+#include "sim_scenes.hpp"
 
 using namespace tactile;
 using namespace tactile::sim;
 
 namespace {
+using simtest::downPose;
 constexpr double kR = 0.02;  // sphere radius (m)
-
-// Flange pointing down (x_e = -x_g, z_e = -z_g), as the default q_init.
-Pose downPose(double x, double y, double z) {
-  Pose p;
-  p.p = {x, y, z};
-  p.q = {0.0, 1.0, 0.0, 0.0};  // RotY(pi)
-  return p;
-}
 
 WorldParams sphereScene(Fidelity f, double gap) {
   WorldParams p;
   p.fidelity = f;
-  ObjectParams table;
-  table.name = "table";
-  table.type = ObjectType::Plane;
-  table.point = {0, 0, 0};
-  table.normal = {0, 0, 1};
+  const ObjectParams table = simtest::tablePlane();
   ObjectParams ball;
   ball.name = "ball";
   ball.type = ObjectType::Sphere;
