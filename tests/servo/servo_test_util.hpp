@@ -163,4 +163,18 @@ struct Plant {
   }
 };
 
+/// The increment u_s of the servo's second cycle (the first one only takes
+/// the measured pose, Eq. 15) on the features `f`, from the identity pose.
+inline Vec6 secondCycleIncrement(const ServoParams& p, const ContactFeatures& f) {
+  TactileServo s;
+  EXPECT_TRUE(s.configure(p).ok());
+  ServoInput in;
+  in.flange_measured = Pose();
+  in.features = f;
+  ServoOutput out;
+  EXPECT_EQ(s.step(in, 0.01, out), ServoStatus::Starting);
+  s.step(in, 0.01, out);
+  return Vec6(out.u_s);
+}
+
 }  // namespace servo_test

@@ -310,17 +310,7 @@ TEST(ServoReciprocity, TableC3PointAndEdge) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-0.01, 0.01);
   ServoParams p = singlePhase(identityPhase("p", 0.1, 1.0));
-  auto command = [&](const ContactFeatures& f) {
-    TactileServo s;
-    EXPECT_TRUE(s.configure(p).ok());
-    ServoInput in;
-    in.flange_measured = Pose();
-    in.features = f;
-    ServoOutput out;
-    EXPECT_EQ(s.step(in, 0.01, out), ServoStatus::Starting);
-    s.step(in, 0.01, out);
-    return Vec6(out.u_s);
-  };
+  auto command = [&](const ContactFeatures& f) { return servo_test::secondCycleIncrement(p, f); };
   for (int trial = 0; trial < 200; ++trial) {
     const double cx = u(rng), cy = u(rng), dz = 0.001 + std::fabs(u(rng)), ox = u(rng), oy = u(rng), a = 20 * u(rng);
     // Point contact: no w_z.
@@ -370,15 +360,7 @@ TEST(ServoReciprocity, BaselineRollsOnCoPNotOnDzmp) {
   auto command = [](ControllerMode mode, const ContactFeatures& f) {
     ServoParams p = singlePhase(identityPhase("p", 0.1, 1.0));
     p.mode = mode;
-    TactileServo s;
-    EXPECT_TRUE(s.configure(p).ok());
-    ServoInput in;
-    in.flange_measured = Pose();
-    in.features = f;
-    ServoOutput out;
-    EXPECT_EQ(s.step(in, 0.01, out), ServoStatus::Starting);
-    s.step(in, 0.01, out);
-    return Vec6(out.u_s);
+    return servo_test::secondCycleIncrement(p, f);
   };
   const ContactFeatures f = makeFeatures(0, 0.004, -0.003, 0.002, 0.001, 0.002, 0.2, ContactType::Edge);
   const ContactFeatures coc = makeFeatures(0, 0.004, -0.003, 0.002, -0.006, -0.004, 0.2, ContactType::Edge);
