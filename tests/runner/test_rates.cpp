@@ -54,11 +54,12 @@ void expectRateIndependent(const std::string& scene, const std::vector<Metric>& 
 
 // Alignment time is NOT within 10 % today (README, "Servo rate
 // independence"): the `aligned` transition needs the measured force within
-// 1 N of 5 N for 0.2 s, and after the edge appears the force PI's integral
-// (wound up while pressing in) carries the measured force to 5.6-6.1 N, so
-// the moment it first holds for 0.2 s is a threshold crossing that moves with
-// the sampling: 1.83 s at 100 Hz, 2.74 s at 50 Hz (+50 %), 1.88 s at 1 kHz.
-// The bound below (60 %) is today's measured state, not the target.
+// 1 N of 5 N for 0.2 s, and after the edge appears the measured force
+// overshoots to 5.6-6.1 N (cause not established; not the force integral's
+// limit), so the moment it first holds for 0.2 s is a threshold crossing
+// that moves with the sampling: without friction 1.83 s at 100 Hz, 2.74 s at
+// 50 Hz (+50 %); as shipped (friction on) 3.92 s at 100 Hz, 3.51 s at 1 kHz
+// (-10.5 %). The bound below (60 %) is today's measured state, not the target.
 TEST(ServoRate, EdgeExplorationKeyMetricsWithin10PercentAt50HzAnd1kHz) {
   expectRateIndependent("edge_exploration.yaml", {{"alignment_time_s", &Summary::alignment_time_s, 0.60},
                                                   {"path_length_m", &Summary::path_length_m},
