@@ -18,9 +18,10 @@ using namespace tactile::sim;
 namespace {
 
 
-Summary runAt(const std::string& scene, double servo_hz) {
+Summary runAt(const std::string& scene, double servo_hz, int seed) {
   Scene sc = test::loadShipped(scene);
   sc.rates.servo = servo_hz;
+  sc.seed = static_cast<uint64_t>(seed);
   EXPECT_TRUE(validateScene(sc).ok());
   return test::run(sc);
 }
@@ -31,39 +32,49 @@ struct Metric {
   double tolerance = 0.10;  ///< relative to the 100 Hz value
 };
 
-void expectRateIndependent(const std::string& scene, const std::vector<Metric>& keys) {
-  const Summary ref = runAt(scene, 100.0);
-  ASSERT_EQ(ref.status, "ok") << scene;
+/// Each key metric, averaged over `seeds` runs (seeds 1..n: the noise
+/// realisation), at 50 Hz and 1 kHz against 100 Hz.
+void expectRateIndependent(const std::string& scene, const std::vector<Metric>& keys, int seeds = 1) {
+  auto meanAt = [&](double hz, std::vector<double>& means) {
+    means.assign(keys.size(), 0.0);
+    for (int seed = 1; seed <= seeds; ++seed) {
+      const Summary s = runAt(scene, hz, seed);
+      EXPECT_EQ(s.status, "ok") << scene << " at " << hz << " Hz, seed " << seed;
+      EXPECT_EQ(s.exit_code, 0) << scene << " at " << hz << " Hz, seed " << seed;
+      for (std::size_t i = 0; i < keys.size(); ++i) {
+        const double v = s.*(keys[i].field);
+        EXPECT_TRUE(std::isfinite(v)) << scene << " " << keys[i].name << " at " << hz << " Hz, seed " << seed;
+        means[i] += v / seeds;
+      }
+    }
+  };
+  std::vector<double> ref, at;
+  meanAt(100.0, ref);
   for (double hz : {50.0, 1000.0}) {
-    const Summary s = runAt(scene, hz);
-    EXPECT_EQ(s.status, "ok") << scene << " at " << hz << " Hz";
-    EXPECT_EQ(s.exit_code, 0) << scene << " at " << hz << " Hz";
-    for (const Metric& m : keys) {
-      const double v = s.*(m.field), v0 = ref.*(m.field);
-      ASSERT_TRUE(std::isfinite(v0)) << scene << " " << m.name << " at 100 Hz";
-      ASSERT_TRUE(std::isfinite(v)) << scene << " " << m.name << " at " << hz << " Hz";
+    meanAt(hz, at);
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+      const Metric& m = keys[i];
+      const double v = at[i], v0 = ref[i];
       EXPECT_LE(std::fabs(v - v0), m.tolerance * std::fabs(v0))
           << scene << " " << m.name << ": " << v << " at " << hz << " Hz, " << v0 << " at 100 Hz";
-      std::printf("[ rates    ] %s %s: %.5g at %g Hz, %.5g at 100 Hz (%+.1f %%)\n", scene.c_str(), m.name, v, hz, v0,
-                  100.0 * (v - v0) / v0);
+      std::printf("[ rates    ] %s %s (mean of %d seeds): %.5g at %g Hz, %.5g at 100 Hz (%+.1f %%)\n", scene.c_str(),
+                  m.name, seeds, v, hz, v0, 100.0 * (v - v0) / v0);
     }
   }
 }
 
 }  // namespace
 
-// Alignment time is NOT within 10 % today (README, "Servo rate
-// independence"): the `aligned` transition needs the measured force within
-// 1 N of 5 N for 0.2 s, and after the edge appears the measured force
-// overshoots to 5.6-6.1 N (cause not established; not the force integral's
-// limit), so the moment it first holds for 0.2 s is a threshold crossing
-// that moves with the sampling: without friction 1.83 s at 100 Hz, 2.74 s at
-// 50 Hz (+50 %); as shipped (friction on) 3.92 s at 100 Hz, 3.51 s at 1 kHz
-// (-10.5 %). The bound below (60 %) is today's measured state, not the target.
+// Alignment time: the `aligned` transition tests its errors low-passed
+// (filter_s 0.1 s, exact for held inputs: rate-independent); with pad friction
+// on (as shipped) the stick-slip makes one run's time depend on the noise
+// realisation (2.29-2.75 s over seeds 1-5 at 100 Hz), so the metric is the mean
+// over five seeds, the others too.
 TEST(ServoRate, EdgeExplorationKeyMetricsWithin10PercentAt50HzAnd1kHz) {
-  expectRateIndependent("edge_exploration.yaml", {{"alignment_time_s", &Summary::alignment_time_s, 0.60},
+  expectRateIndependent("edge_exploration.yaml", {{"alignment_time_s", &Summary::alignment_time_s},
                                                   {"path_length_m", &Summary::path_length_m},
-                                                  {"force_true_mean_n", &Summary::force_true_mean_n}});
+                                                  {"force_true_mean_n", &Summary::force_true_mean_n}},
+                        5);
 }
 
 TEST(ServoRate, BentBarKeyMetricsWithin10PercentAt50HzAnd1kHz) {

@@ -219,3 +219,53 @@ TEST(PhaseProgram, UndefinedAlphaIsNotAlignedAndMultipleIsNeitherEdgeNorPoint) {
   for (int k = 1; k <= 10; ++k) EXPECT_EQ(stepOnce(prog, f, Vec6::Zero(), 0.2 + 0.01 * k), prog.indexOf("d"));
   EXPECT_TRUE(PhaseProgram::hasContact(f)) << "two contacts are still contact";
 }
+
+// `filter_s` on an `aligned` transition: the tolerances test a first-order
+// low-pass of the signed errors. A flicker of ±0.03 rad about a true 0 (taxels
+// crossing the firing threshold; tolerance 0.02 rad) never holds raw and holds
+// filtered; a steady offset above the tolerance holds neither way; and the
+// filter is exact for held inputs, so the moment it fires does not depend on
+// the servo rate.
+TEST(PhaseProgram, FilteredAlignedIgnoresFlickerNotOffsetsAtEveryRate) {
+  auto firesAt = [](double filter_s, double dt, double offset, double flicker) {
+    ServoParams p;
+    p.phases.push_back(phaseOn("c", TransitionEvent::Aligned, "d"));
+    TransitionParams& t = p.phases[0].transitions[0];
+    t.tolerance[kTolAlphaZ] = 0.02;
+    t.for_s = 0.2;
+    t.filter_s = filter_s;
+    p.phases.push_back(identityPhase("d", 0, 0));
+    PhaseProgram prog;
+    EXPECT_TRUE(prog.configure(p).ok());
+    prog.enter(0, 0.0);
+    const ContactFeatures edge = makeFeatures(0, 0, 0, 0.002, 0, 0, 0.005, ContactType::Edge);
+    const int n = static_cast<int>(std::lround(5.0 / dt));
+    for (int k = 1; k <= n; ++k) {
+      const double now = k * dt;
+      Vec6 e = Vec6::Zero();
+      // A square wave of period 0.1 s at every rate (the same signal, sampled).
+      e(kWZ) = offset + (std::fmod(now, 0.1) < 0.05 ? flicker : -flicker);
+      if (stepOnce(prog, edge, e, now, dt) == 1) return now;
+    }
+    return -1.0;
+  };
+  EXPECT_LT(firesAt(0.0, 0.01, 0.0, 0.03), 0.0) << "raw: the flicker breaks every streak";
+  const double t100 = firesAt(0.1, 0.01, 0.0, 0.03);
+  EXPECT_GT(t100, 0.2);
+  EXPECT_LT(t100, 1.0);
+  EXPECT_LT(firesAt(0.1, 0.01, 0.025, 0.0), 0.0) << "a steady 0.025 rad is not aligned, filtered or not";
+  for (double dt : {0.02, 0.005, 0.001}) {
+    const double t = firesAt(0.1, dt, 0.0, 0.03);
+    EXPECT_NEAR(t, t100, 0.021) << "dt " << dt << ": within one 50 Hz sample of the 100 Hz time";
+  }
+}
+
+TEST(PhaseProgram, FilterIsOnlyForAlignedAndInRange) {
+  ServoParams p = chain();
+  p.phases[2].transitions[0].filter_s = -0.1;
+  PhaseProgram prog;
+  const ConfigResult r = prog.configure(p);
+  EXPECT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("filter_s"), std::string::npos) << r.message();
+  EXPECT_NE(r.message().find("[0, 60]"), std::string::npos) << r.message();
+}

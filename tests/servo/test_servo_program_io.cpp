@@ -121,6 +121,8 @@ TEST(ServoProgramIo, BadProgramsNameFilePhaseField) {
   expectRejected("bad_safety", "safety: {max_trans_speed: -1}\n" + program(""), {"safety.max_trans_speed", "(0, 1] m/s"});
   expectRejected("bad_for_s", program("", "    transitions: [{on: contact_lost, to: approach, for_s: -0.1}]\n"),
                  {"phases.hold", "transitions[0].for_s", "[0, 3600] s"});
+  expectRejected("bad_filter_s", program("", "    transitions: [{on: contact_lost, to: approach, filter_s: 0.1}]\n"),
+                 {"transitions[0].filter_s", "only for 'aligned'"});
   expectRejected("bad_max_duration", program("", "    max_duration_s: -1\n"), {"phases.hold", "max_duration_s", ">= 0"});
   expectRejected("bad_loss", "safety: {contact_loss: {mode: pray}}\n" + program(""), {"contact_loss.mode", "pray"});
   expectRejected("not_a_number", program("", "    kp_per_s: {y: fast}\n"), {"phases.hold", "kp_per_s.y", "fast"});

@@ -48,6 +48,8 @@ ConfigResult PhaseProgram::configure(const ServoParams& p) {
       if (indexOfName(tr.to) < 0) return err(p, nm, f + ".to", "'" + tr.to + "'", "unknown phase");
       if (!(std::isfinite(tr.for_s) && tr.for_s >= 0 && tr.for_s <= 3600))
         return err(p, nm, f + ".for_s", tr.for_s, "must be in [0, 3600] s");
+      if (!(std::isfinite(tr.filter_s) && tr.filter_s >= 0 && tr.filter_s <= 60))
+        return err(p, nm, f + ".filter_s", tr.filter_s, "must be in [0, 60] s (0 = no filter)");
       if (tr.on == TransitionEvent::Aligned) {
         bool any = false;
         for (int k = 0; k < kNumTol; ++k) {
@@ -99,7 +101,8 @@ ConfigResult PhaseProgram::configure(const ServoParams& p) {
     q.first_transition = static_cast<int>(transitions_.size());
     q.num_transitions = static_cast<int>(ph.transitions.size());
     for (const TransitionParams& tr : ph.transitions)
-      transitions_.push_back({tr.on, indexOfName(tr.to), tr.for_s, tr.tolerance, tr.timeout_s, tr.force_n, 0.0, false});
+      transitions_.push_back({tr.on, indexOfName(tr.to), tr.for_s, tr.filter_s, tr.tolerance, tr.timeout_s, tr.force_n,
+                              0.0, false, {}, false});
     phases_.push_back(q);
   }
   initial_ = init;
@@ -112,7 +115,7 @@ void PhaseProgram::reset() {
   current_ = initial_;
   pending_ = -1;
   entered_ = false;
-  for (Transition& t : transitions_) t.held_s = 0.0, t.holding = false;
+  for (Transition& t : transitions_) t.held_s = 0.0, t.holding = false, t.filtered_valid = false;
 }
 
 int PhaseProgram::indexOf(const char* name) const {
@@ -137,6 +140,7 @@ void PhaseProgram::enter(int index, double now) {
     Transition& t = transitions_[static_cast<std::size_t>(ph.first_transition + k)];
     t.held_s = 0.0;
     t.holding = false;
+    t.filtered_valid = false;
   }
 }
 
@@ -154,16 +158,31 @@ bool PhaseProgram::evaluate(const ContactFeatures& f, const Vec6& e, double now,
       case TransitionEvent::ForceAbove: cond = f.force > t.force_n; break;
       case TransitionEvent::Timeout: cond = now - t_enter_ >= t.timeout_s; break;
       case TransitionEvent::Aligned: {
+        // Signed errors: the rows of Δs, Δforce = Δd_z / c_z, CoC.
         double q[kNumTol];
-        for (int i = 0; i < 6; ++i) q[i] = std::fabs(e(i));
-        q[kTolForce] = std::fabs(e(kZ)) / c_z;
-        q[kTolCocX] = std::fabs(f.coc_x);
-        q[kTolCocY] = std::fabs(f.coc_y);
-        cond = contact;
+        for (int i = 0; i < 6; ++i) q[i] = e(i);
+        q[kTolForce] = e(kZ) / c_z;
+        q[kTolCocX] = f.coc_x;
+        q[kTolCocY] = f.coc_y;
         // An alpha_z not resolved above the noise is not "aligned" (its error row is 0).
-        if (t.tol[kTolAlphaZ] >= 0 && !f.alpha_defined) cond = false;
+        const bool alpha_ok = !(t.tol[kTolAlphaZ] >= 0) || f.alpha_defined;
+        if (t.filter_s > 0.0 && contact && alpha_ok) {
+          // First-order low-pass, exact for an input held over dt: the same
+          // time constant at every servo rate. It starts at the first sample.
+          const double a = t.filtered_valid ? 1.0 - std::exp(-dt / t.filter_s) : 1.0;
+          for (int i = 0; i < kNumTol; ++i) {
+            double& y = t.filtered[static_cast<std::size_t>(i)];
+            y += a * (q[i] - y);
+            q[i] = y;
+          }
+          t.filtered_valid = true;
+        } else if (!contact) {
+          t.filtered_valid = false;
+        }
+        cond = contact && alpha_ok;
         for (int i = 0; i < kNumTol; ++i)
-          if (t.tol[static_cast<std::size_t>(i)] >= 0 && !(q[i] <= t.tol[static_cast<std::size_t>(i)])) cond = false;
+          if (t.tol[static_cast<std::size_t>(i)] >= 0 && !(std::fabs(q[i]) <= t.tol[static_cast<std::size_t>(i)]))
+            cond = false;
         break;
       }
     }

@@ -128,7 +128,7 @@ ConfigResult readTransition(const YAML::Node& n, const Where& w, TransitionParam
   const Renamed cyc[] = {{"cycles", "for_s", "s the condition must hold; = cycles / servo rate (cycles 20 at 100 Hz = for_s 0.2)"}};
   ConfigResult r = rejectRenamed(n, w, cyc, 1);
   if (!r) return r;
-  r = checkKeys(n, w, {"on", "to", "for_s", "tolerance", "timeout_s", "force_n"});
+  r = checkKeys(n, w, {"on", "to", "for_s", "filter_s", "tolerance", "timeout_s", "force_n"});
   if (!r) return r;
   std::string on;
   if (!(r = read(n, "on", on, w))) return r;
@@ -143,6 +143,8 @@ ConfigResult readTransition(const YAML::Node& n, const Where& w, TransitionParam
   if (!n["to"]) return fail(w.child("to"), "missing target phase");
   if (!(r = read(n, "to", t.to, w))) return r;
   if (!(r = read(n, "for_s", t.for_s, w))) return r;
+  if (!(r = read(n, "filter_s", t.filter_s, w))) return r;
+  if (n["filter_s"] && t.on != TransitionEvent::Aligned) return fail(w.child("filter_s"), "only for 'aligned'");
   if (!(r = read(n, "timeout_s", t.timeout_s, w))) return r;
   if (!(r = read(n, "force_n", t.force_n, w))) return r;
   if (t.on == TransitionEvent::Timeout && !n["timeout_s"]) return fail(w.child("timeout_s"), "required for 'timeout'");

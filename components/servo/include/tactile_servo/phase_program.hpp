@@ -6,7 +6,7 @@
 // held for `for_s` seconds of consecutive evaluations (each counting its dt,
 // the first included) fires. Events: contact, edge, point
 // (the extractor's contact type), aligned (chosen |Δs| rows, |Δforce| = |Δd_z| /
-// c_z, |CoC| below tolerances), contact_lost, force_above, timeout (time in
+// c_z, |CoC| below tolerances; optionally low-passed with `filter_s`), contact_lost, force_above, timeout (time in
 // the phase). A request (by index) is kept until the caller enters it.
 // Real-time: nothing here allocates, throws or logs after configure().
 #pragma once
@@ -66,10 +66,13 @@ class PhaseProgram {
     TransitionEvent on;
     int to;
     double for_s;
+    double filter_s;  ///< aligned: low-pass time constant of the tested errors (0 = raw)
     std::array<double, kNumTol> tol;
     double timeout_s, force_n;
     double held_s;  ///< s the condition has held so far
     bool holding;
+    std::array<double, kNumTol> filtered;  ///< aligned: the low-passed signed errors
+    bool filtered_valid;
   };
   struct Phase {
     std::array<char, kPhaseNameLen> name{};

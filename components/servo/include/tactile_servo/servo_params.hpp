@@ -67,6 +67,10 @@ struct TransitionParams {
   TransitionEvent on = TransitionEvent::Contact;
   std::string to;          ///< target phase name
   double for_s = 0.0;      ///< s the condition must hold (>= 0; 0 = the first cycle it holds)
+  /// aligned: time constant (s, >= 0) of a first-order low-pass on the signed
+  /// errors the tolerances test; 0 = the raw samples. Against the flicker of
+  /// taxels at the firing threshold, which moves the features of a still contact.
+  double filter_s = 0.0;
   std::array<double, kNumTol> tolerance;  ///< aligned: per quantity, < 0 = unused
   double timeout_s = 0.0;  ///< timeout: seconds in the phase (> 0)
   double force_n = 0.0;    ///< force_above: threshold (N, > 0)
