@@ -2,12 +2,17 @@
 """Servo rate independence of the experiments.
 
 usage: sweep_rates.py [--sim build/bin/tactile_sim] [--out out/rates] [--jobs N]
+                      [--seeds N] [--set KEY.PATH=VALUE ...]
 
 Runs every scene in sim/scenes/ at servo rates of 50, 100, 200, 500 and 1000 Hz
 (`tactile_sim run SCENE --servo-rate HZ --no-plots`) and compares each scene's
 key metrics (scripts/sweep_tradeoff.py SCENES; the others: force_true_mean_n)
 with the 100 Hz run (the paper's Table 2). The servo's gains, limits and
-delays are per second, so every metric should stay within 10 %.
+delays are per second, so every metric should stay within 10 %. Each value
+is the mean over --seeds runs (seeds 1..N: the noise realisation; with pad
+friction one run's alignment time moves by +-10 % with the seed alone), and
+the table gives the seeds' spread at 100 Hz beside it. --set passes scene
+overrides to every run (e.g. effects.wts_transfer_delay_s=0.0157).
 Writes rates.csv, rates.md and rates.png into the output folder; exits 1 when
 a key metric leaves the 10 % band or a run does not end `ok`.
 """
@@ -34,10 +39,12 @@ BAND = 0.10
 DEFAULT_KEYS = ["force_true_mean_n"]
 
 
-def run(sim, scene_file, hz, out):
+def run(sim, scene_file, hz, seed, sets, out):
     scene = os.path.splitext(os.path.basename(scene_file))[0]
-    d = os.path.join(out, "runs", f"{scene}_{hz}")
-    cmd = [sim, "run", scene_file, "--servo-rate", str(hz), "--no-plots", "--out", d]
+    d = os.path.join(out, "runs", f"{scene}_{hz}_{seed}")
+    cmd = [sim, "run", scene_file, "--servo-rate", str(hz), "--seed", str(seed), "--no-plots", "--out", d]
+    for kv in sets:
+        cmd += ["--set", kv]
     p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     try:
         s = json.load(open(os.path.join(d, "summary.json")))
@@ -58,17 +65,35 @@ def main():
     ap.add_argument("--sim", default=os.path.join(ROOT, "build", "bin", "tactile_sim"))
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "rates"))
     ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--seeds", type=int, default=5)
+    ap.add_argument("--set", action="append", default=[], dest="sets")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     scenes = sorted(glob.glob(os.path.join(ROOT, "sim", "scenes", "*.yaml")))
     names = [os.path.splitext(os.path.basename(f))[0] for f in scenes]
-    res = {}
+    seeds = list(range(1, a.seeds + 1))
+    one = {}
     with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
-        futs = {ex.submit(run, a.sim, f, hz, a.out): (n, hz) for f, n in zip(scenes, names) for hz in RATES}
+        futs = {ex.submit(run, a.sim, f, hz, sd, a.sets, a.out): (n, hz, sd)
+                for f, n in zip(scenes, names) for hz in RATES for sd in seeds}
         for i, f in enumerate(concurrent.futures.as_completed(futs)):
-            res[futs[f]] = f.result()
+            one[futs[f]] = f.result()
             sys.stderr.write(f"\r{i + 1}/{len(futs)} runs")
     sys.stderr.write("\n")
+    # Per (scene, rate): each metric's mean over the seeds (None when a seed
+    # lacks it), the worst status, the summed contact losses.
+    res, spread = {}, {}
+    for n in names:
+        for hz in RATES:
+            runs = [one[(n, hz, sd)] for sd in seeds]
+            agg = {"status": next((r.get("status") for r in runs if r.get("status") != "ok"), "ok"),
+                   "contact_lost_count": sum(r.get("contact_lost_count") or 0 for r in runs)}
+            for k in SCENES.get(n, DEFAULT_KEYS):
+                vals = [r.get(k) for r in runs]
+                agg[k] = None if any(v is None for v in vals) else sum(vals) / len(vals)
+                if hz == REF and agg[k] is not None:
+                    spread[(n, k)] = (min(vals), max(vals))
+            res[(n, hz)] = agg
 
     rows, bad = [], []
     for n in names:
@@ -87,8 +112,8 @@ def main():
         for n, k, hz, v, r, st, cl in rows:
             f.write(f"{n},{k},{hz},{'' if v is None else v},{'' if r is None else f'{r:.5f}'},{st},{cl}\n")
 
-    md = ["| scene | key metric | " + " | ".join(f"{hz} Hz" for hz in RATES) + " | max dev. |",
-          "| --- | --- | " + " | ".join("---" for _ in RATES) + " | --- |"]
+    md = ["| scene | key metric | " + " | ".join(f"{hz} Hz" for hz in RATES) + " | max dev. | seeds at 100 Hz |",
+          "| --- | --- | " + " | ".join("---" for _ in RATES) + " | --- | --- |"]
     for n in names:
         for k in SCENES.get(n, DEFAULT_KEYS):
             cells, dev = [], 0.0
@@ -102,11 +127,15 @@ def main():
                 dev = max(dev, abs(r) if r is not None else float("inf"))
                 mark = "" if s.get("status") == "ok" else f" ({s.get('status')})"
                 cells.append(f"{v:.4g}" + ("" if hz == REF else f" ({r * 100:+.1f} %)") + mark)
-            md.append(f"| {n} | {k} | " + " | ".join(cells) + f" | {dev * 100:.1f} % |")
+            lo, hi = spread.get((n, k), (None, None))
+            sp = "n/a" if lo is None else f"{lo:.4g} .. {hi:.4g}"
+            md.append(f"| {n} | {k} | " + " | ".join(cells) + f" | {dev * 100:.1f} % | {sp} |")
     md.append("")
+    md.append(f"Each value: the mean over seeds {seeds[0]}..{seeds[-1]}" +
+              (f", with {' '.join(a.sets)}" if a.sets else "") + ".")
     md.append(f"Servo rates {', '.join(map(str, RATES))} Hz, everything else as in the scene "
               f"(physics 1 kHz, WTS 140 Hz, features 200 Hz); deviation relative to {REF} Hz; band ±{BAND * 100:.0f} %.")
-    md.append("Contact losses per run: " + "; ".join(
+    md.append(f"Contact losses (summed over the {len(seeds)} seeds): " + "; ".join(
         f"{n}: " + "/".join(str(res[(n, hz)].get("contact_lost_count")) for hz in RATES) for n in names) +
         f" (at {'/'.join(map(str, RATES))} Hz).")
     if bad:
