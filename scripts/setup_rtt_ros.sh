@@ -63,7 +63,7 @@ want_stamp="rtt_ros_integration=$commit packages=${PKGS[*]}"
 DEB=(ros-core-dev rosbash python3-rospy python3-rosbag libtf2-ros-dev libtf2-msgs-dev
      python3-tf2-ros python3-sensor-msgs python3-geometry-msgs python3-std-msgs
      libstd-srvs-dev)
-if [ "${TACTILE_WITH_RVIZ:-OFF}" = "ON" ]; then DEB+=(rviz xvfb x11-apps); fi
+if [ "${TACTILE_WITH_RVIZ:-OFF}" = "ON" ]; then DEB+=(rviz xvfb x11-apps python3-visualization-msgs); fi
 missing=()
 for p in "${DEB[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
