@@ -31,7 +31,7 @@ cleanup() {
   kill -INT -- "-$core" 2>/dev/null
   for _ in $(seq 50); do kill -0 "$core" 2>/dev/null || break; sleep 0.1; done
   kill -KILL -- "-$core" 2>/dev/null
-  rm -f "$src/deployments/edge_exploration_sim_ros_test.dat"
+  rm -f "$src/deployments/edge_exploration_sim_ros_test.dat" "$src/deployments/edge_exploration_sim_ros_test_param.dat"
 }
 trap cleanup EXIT
 for _ in $(seq 100); do
@@ -41,7 +41,11 @@ done
 /usr/bin/python3 -c "import rosgraph,sys; sys.exit(0 if rosgraph.is_master_online() else 1)" \
   || { echo "run_ros_test: roscore did not come up"; cat "$tmp/roscore.log"; exit 1; }
 
-report="$src/deployments/edge_exploration_sim_ros_test.dat"
+# The report's path comes as a ROS parameter (deployments/ros_params.ops): the
+# checker reads this file, so a parameter that did not take effect fails.
+report_name="edge_exploration_sim_ros_test_param.dat"
+rosparam set /Guard/report_file "$report_name" || { echo "run_ros_test: rosparam set failed"; exit 1; }
+report="$src/deployments/$report_name"
 done_file="$tmp/deployer.done"
 rm -f "$report"
 /usr/bin/python3 "$src/tests/ros/check_topics.py" "$report" "$done_file" "$src/sim/scenes/edge_exploration.yaml" \
@@ -54,7 +58,7 @@ touch "$done_file"
 wait "$checker"
 crc=$?
 checker=""
-echo "---- deployer (exit $rc) ----"; grep -E "deployment step failed|ERROR|\[ERROR\]|after [0-9.]+ s" "$tmp/deployer.log" | head -40
+echo "---- deployer (exit $rc) ----"; grep -E "deployment step failed|ERROR|\[ERROR\]|after [0-9.]+ s|file paths" "$tmp/deployer.log" | head -40
 echo "---- check_topics (exit $crc) ----"; cat "$tmp/check.log"
 [ "$rc" -eq 0 ] || { echo "run_ros_test: deployer exit $rc"; tail -n 40 "$tmp/deployer.log"; exit 1; }
 [ "$crc" -eq 0 ] || exit 1
