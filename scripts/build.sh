@@ -13,6 +13,8 @@ jobs="${TACTILE_JOBS:-$(nproc)}"
 orocos="${OROCOS_PREFIX:-/opt/orocos}"
 with_rtt="${TACTILE_WITH_RTT:-ON}"
 args=(-DCMAKE_BUILD_TYPE=Release -DTACTILE_WITH_RTT="$with_rtt")
+# The ROS 1 face (ros/): AUTO builds it where scripts/setup_rtt_ros.sh installed rtt_ros_integration.
+args+=(-DTACTILE_WITH_ROS="${TACTILE_WITH_ROS:-AUTO}")
 if [ "$with_rtt" != "OFF" ]; then args+=(-DCMAKE_PREFIX_PATH="$orocos"); fi
 if [ -n "${TACTILE_CCACHE:-}" ] && command -v ccache >/dev/null; then
   args+=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)

@@ -19,5 +19,11 @@ if [ "${TACTILE_WITH_RTT:-ON}" != "OFF" ]; then
   fi
   echo "run_tests: $n_rtt RTT tests configured"
 fi
+n_ros=$(ctest -N -L ROS | sed -n 's/^Total Tests: //p')
+if [ "${n_ros:-0}" -eq 0 ]; then
+  echo "run_tests: ROS tests skipped: the ROS face is not built (TACTILE_WITH_ROS=${TACTILE_WITH_ROS:-AUTO}; scripts/setup_rtt_ros.sh)"
+else
+  echo "run_tests: $n_ros ROS tests configured"
+fi
 ctest --output-on-failure -j"${TACTILE_JOBS:-$(nproc)}" --timeout 900
 echo "run_tests: total $((SECONDS - t0)) s"

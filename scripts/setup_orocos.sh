@@ -13,6 +13,7 @@
 # Idempotent: $OROCOS_PREFIX/share/tactile_servo/orocos.stamp names the commits
 # and the target; a second run with the same stamp does nothing.
 # Opt out of the whole RTT layer with TACTILE_WITH_RTT=OFF.
+# Then runs scripts/setup_rtt_ros.sh (ROS 1 and rtt_ros_integration).
 #
 # Environment:
 #   OROCOS_PREFIX       install prefix (default /opt/orocos)
@@ -149,4 +150,8 @@ echo "setup_orocos: Orocos toolchain 2.10 installed in $prefix"
 rm -rf "$work/build"
 }
 
-main "$@"
+# In a subshell: main's early `exit 0` (already installed) must not skip the
+# ROS part, rtt_ros_integration against Debian's ROS 1 (its own stamp; off
+# with TACTILE_WITH_ROS=OFF).
+(main "$@")
+bash "$(dirname "${BASH_SOURCE[0]}")/setup_rtt_ros.sh"

@@ -1,0 +1,237 @@
+// tactile_ros::RosAdapter: the project's ports as ROS 1 messages, in its own
+// (non-real-time) thread. A thin component: it reads the deployment's ports
+// (buffered connections: every sample), converts them with the plain
+// functions of conversions.hpp, and
+//   - writes the project's messages (tactile_msgs) to output ports that a
+//     deployment streams to ROS topics with rtt_roscomm (deployments/ros_streams.ops;
+//     their typekit is rtt_tactile_msgs, generated the rtt_roscomm way);
+//   - publishes the standard messages (image, poses, wrench) and TF with
+//     roscpp from this thread (no typekit of sensor_msgs/geometry_msgs needed).
+// The real-time components only gain one more lock-free connection per port;
+// conversion, serialisation and publishing happen here and in ROS's threads.
+//
+//   in   calibrated_frame (/tactile/TactileFrame)    -> image_topic        sensor_msgs/Image 32FC1 (N)
+//   in   features         (/tactile/ContactFeatures) -> port features_msg  tactile_msgs/ContactFeatures
+//   in   flange_pose      (/tactile/Pose)            -> flange_pose_topic  geometry_msgs/PoseStamped ({g})
+//   in   pose_command     (/tactile/PoseCommand)     -> pose_command_topic geometry_msgs/PoseStamped ({g})
+//   in   estimated_wrench (/tactile/Wrench)          -> wrench_topic       geometry_msgs/WrenchStamped ({e})
+//   in   phase            (/tactile/PhaseState)      -> port phase_msg     tactile_msgs/Phase
+//   TF   {g} -> {e} (flange_pose), {e} -> {s} (sensor_mount), {s} -> {c} (features, while in contact)
+//   op   bool switchPhase(SwitchPhase::Request&, SwitchPhase::Response&)  for rtt_rosservice:
+//        calls switchPhase(name) of the peer named by the property `servo`
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <rtt/Component.hpp>
+#include <rtt/InputPort.hpp>
+#include <rtt/OperationCaller.hpp>
+#include <rtt/OutputPort.hpp>
+#include <rtt/TaskContext.hpp>
+
+#include <ros/ros.h>
+#include <tactile_msgs/SwitchPhase.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include "tactile_ros/conversions.hpp"
+
+namespace tactile_ros {
+
+class RosAdapter : public RTT::TaskContext {
+ public:
+  explicit RosAdapter(const std::string& name)
+      : RTT::TaskContext(name, PreOperational),
+        frame_in_("calibrated_frame"),
+        features_in_("features"),
+        flange_in_("flange_pose"),
+        command_in_("pose_command"),
+        wrench_in_("estimated_wrench"),
+        phase_in_("phase"),
+        features_out_("features_msg"),
+        phase_out_("phase_msg"),
+        servo_switch_("switchPhase") {
+    addProperty("base_frame", base_frame_).doc("TF name of {g}, the robot base.");
+    addProperty("flange_frame", flange_frame_).doc("TF name of {e}, the flange.");
+    addProperty("sensor_frame", sensor_frame_).doc("TF name of {s}, the sensing surface (frame_id of image and features).");
+    addProperty("contact_frame", contact_frame_).doc("TF name of {c}, the contact frame (published while in contact).");
+    addProperty("sensor_mount", sensor_mount_)
+        .doc("{e}T{s} as [x y z qx qy qz qw] (m, unit quaternion): the program's sensor_mount.");
+    addProperty("stamp_offset", stamp_offset_)
+        .doc("ROS stamp = sample time + stamp_offset (s). Ignored while auto_stamp_offset.");
+    addProperty("auto_stamp_offset", auto_offset_)
+        .doc("True: stamp_offset is set at the first sample to ROS time now - its time (simulated time -> ROS time).");
+    addProperty("servo", servo_name_).doc("Peer whose switchPhase(string) the operation switchPhase calls.");
+    addProperty("publish_tf", publish_tf_).doc("Broadcast {g}->{e}->{s}->{c} on /tf.");
+
+    addEventPort(frame_in_).doc("Calibrated frame (N per taxel, {s} layout) from the feature component.");
+    addEventPort(features_in_).doc("Contact features in {s} from the feature component.");
+    addPort(flange_in_).doc("Measured flange pose {g}T{e} (simulated arm or FRI bridge); buffered: published with the wrench written after it.");
+    addEventPort(command_in_).doc("Commanded flange pose {g}T{e} from the servo.");
+    addEventPort(wrench_in_).doc("The arm's estimated wrench [F T] ({g} axes, flange origin).");
+    addEventPort(phase_in_).doc("Phase program state from the servo.");
+    addPort(features_out_).doc("The features as tactile_msgs/ContactFeatures (frame_id sensor_frame), to stream.");
+    addPort(phase_out_).doc("Phase as tactile_msgs/Phase, to stream.");
+    addProperty("image_topic", image_topic_).doc("Topic of the calibrated frame, sensor_msgs/Image (rows x cols, 32FC1, N).");
+    addProperty("flange_pose_topic", flange_topic_).doc("Topic of the measured flange pose, geometry_msgs/PoseStamped ({g}).");
+    addProperty("pose_command_topic", command_topic_).doc("Topic of the commanded flange pose, geometry_msgs/PoseStamped ({g}).");
+    addProperty("wrench_topic", wrench_topic_).doc("Topic of the estimated wrench, geometry_msgs/WrenchStamped (in {e}).");
+    addProperty("queue_size", queue_size_).doc("roscpp publisher queue of those topics (messages).");
+    addOperation("switchPhase", &RosAdapter::switchPhase, this, RTT::ClientThread)
+        .doc("ROS service body (tactile_msgs/SwitchPhase): the servo's switchPhase(request.phase).");
+  }
+
+  bool configureHook() override {
+    if (!poseFromVector(sensor_mount_, mount_)) {
+      RTT::log(RTT::Error) << getName() << ": property sensor_mount must be [x y z qx qy qz qw] with a unit quaternion"
+                           << RTT::endlog();
+      return false;
+    }
+    servo_switch_ = RTT::OperationCaller<bool(const std::string&)>();
+    if (!servo_name_.empty()) {
+      RTT::TaskContext* servo = getPeer(servo_name_);
+      if (!servo || !servo->provides()->hasOperation("switchPhase")) {
+        RTT::log(RTT::Error) << getName() << ": property servo = '" << servo_name_
+                             << "' is not a peer with an operation switchPhase (addPeer first)" << RTT::endlog();
+        return false;
+      }
+      servo_switch_ = servo->getOperation("switchPhase");
+    }
+    if (!ros::isStarted()) {
+      RTT::log(RTT::Error) << getName() << ": no ROS node (ros.import(\"rtt_rosnode\") with a roscore running)"
+                           << RTT::endlog();
+      return false;
+    }
+    if (queue_size_ < 1) {
+      RTT::log(RTT::Error) << getName() << ": property queue_size must be >= 1" << RTT::endlog();
+      return false;
+    }
+    ros::NodeHandle nh;
+    const auto q = static_cast<uint32_t>(queue_size_);
+    image_pub_ = nh.advertise<sensor_msgs::Image>(image_topic_, q);
+    flange_pub_ = nh.advertise<geometry_msgs::PoseStamped>(flange_topic_, q);
+    command_pub_ = nh.advertise<geometry_msgs::PoseStamped>(command_topic_, q);
+    wrench_pub_ = nh.advertise<geometry_msgs::WrenchStamped>(wrench_topic_, q);
+    if (publish_tf_) tf_ = std::make_unique<tf2_ros::TransformBroadcaster>();
+    return true;
+  }
+
+  bool startHook() override {
+    offset_set_ = !auto_offset_;
+    return true;
+  }
+
+  void updateHook() override {
+    while (frame_in_.read(frame_, false) == RTT::NewData) {
+      if (!stamp(frame_.time_s)) continue;
+      if (toImage(frame_, stamp_, sensor_frame_, image_)) image_pub_.publish(image_);
+    }
+    while (features_in_.read(features_, false) == RTT::NewData) {
+      if (!stamp(features_.time_s)) continue;
+      toFeatures(features_, stamp_, sensor_frame_, features_msg_);
+      features_out_.write(features_msg_);
+      if (tf_ && inContact(features_)) {
+        toTransform(contactPose(features_), stamp_, sensor_frame_, contact_frame_, tf_sc_);
+        tf_->sendTransform(tf_sc_);
+      }
+    }
+    while (command_in_.read(command_, false) == RTT::NewData) {
+      if (!stamp(command_.time_s)) continue;
+      toPose(command_.pose, stamp_, base_frame_, command_msg_);
+      command_pub_.publish(command_msg_);
+    }
+    // A pose carries no time: the arm writes flange_pose, then estimated_wrench,
+    // every step, so the pose that precedes a wrench in its (FIFO) buffer is
+    // published with the wrench's stamp.
+    while (wrench_in_.read(wrench_, false) == RTT::NewData) {
+      if (!stamp(wrench_.time_s)) continue;
+      if (flange_in_.read(flange_, false) == RTT::NewData) {
+        toPose(flange_, stamp_, base_frame_, flange_msg_);
+        flange_pub_.publish(flange_msg_);
+        if (tf_ && tactile::validPose(flange_)) {
+          toTransform(flange_, stamp_, base_frame_, flange_frame_, tf_ge_);
+          toTransform(mount_, stamp_, flange_frame_, sensor_frame_, tf_es_);
+          tf_pair_[0] = tf_ge_;
+          tf_pair_[1] = tf_es_;
+          tf_->sendTransform(tf_pair_);
+        }
+      }
+      toWrench(wrench_, flange_, stamp_, base_frame_, flange_frame_, wrench_msg_);
+      wrench_pub_.publish(wrench_msg_);
+    }
+    while (phase_in_.read(phase_, false) == RTT::NewData) {
+      if (!stamp(phase_.time_s)) continue;
+      toPhase(phase_, stamp_, phase_msg_);
+      phase_out_.write(phase_msg_);
+    }
+  }
+
+  bool switchPhase(tactile_msgs::SwitchPhase::Request& req, tactile_msgs::SwitchPhase::Response& res) {
+    if (!servo_switch_.ready()) {
+      res.ok = false;
+      res.message = "no servo peer (property servo)";
+      return true;
+    }
+    res.ok = servo_switch_(req.phase);
+    res.message = res.ok ? "switching to '" + req.phase + "' at the next servo cycle"
+                         : "no phase '" + req.phase + "' in the servo's program";
+    return true;
+  }
+
+ private:
+  // The ROS stamp of a sample; the first sample sets the offset when automatic.
+  bool stamp(double time_s) {
+    if (!offset_set_) {
+      stamp_offset_ = ros::Time::now().toSec() - time_s;
+      offset_set_ = true;
+    }
+    return toStamp(time_s, stamp_offset_, stamp_);
+  }
+
+  RTT::InputPort<tactile::TactileFrame> frame_in_;
+  RTT::InputPort<tactile::ContactFeatures> features_in_;
+  RTT::InputPort<tactile::Pose> flange_in_;
+  RTT::InputPort<tactile::PoseCommand> command_in_;
+  RTT::InputPort<tactile::Wrench> wrench_in_;
+  RTT::InputPort<tactile::PhaseState> phase_in_;
+  RTT::OutputPort<tactile_msgs::ContactFeatures> features_out_;
+  RTT::OutputPort<tactile_msgs::Phase> phase_out_;
+  ros::Publisher image_pub_, flange_pub_, command_pub_, wrench_pub_;
+  RTT::OperationCaller<bool(const std::string&)> servo_switch_;
+
+  std::string base_frame_ = "lwr_base";
+  std::string flange_frame_ = "lwr_flange";
+  std::string sensor_frame_ = "wts0614";
+  std::string contact_frame_ = "contact";
+  std::vector<double> sensor_mount_{0.0, 0.0, 0.03, 0.0, 0.0, 0.0, 1.0};
+  double stamp_offset_ = 0.0;
+  bool auto_offset_ = true;
+  bool offset_set_ = false;
+  std::string servo_name_;
+  bool publish_tf_ = true;
+  std::string image_topic_ = "/tactile/image";
+  std::string flange_topic_ = "/tactile/flange_pose";
+  std::string command_topic_ = "/tactile/pose_command";
+  std::string wrench_topic_ = "/tactile/wrench";
+  int queue_size_ = 1000;
+
+  tactile::Pose mount_;
+  tactile::TactileFrame frame_;
+  tactile::ContactFeatures features_;
+  tactile::Pose flange_ = tactile::kNoPose;
+  tactile::PoseCommand command_;
+  tactile::Wrench wrench_;
+  tactile::PhaseState phase_;
+  ros::Time stamp_;
+  sensor_msgs::Image image_;
+  tactile_msgs::ContactFeatures features_msg_;
+  geometry_msgs::PoseStamped flange_msg_, command_msg_;
+  geometry_msgs::WrenchStamped wrench_msg_;
+  tactile_msgs::Phase phase_msg_;
+  geometry_msgs::TransformStamped tf_ge_, tf_es_, tf_sc_;
+  std::vector<geometry_msgs::TransformStamped> tf_pair_{2};
+  std::unique_ptr<tf2_ros::TransformBroadcaster> tf_;
+};
+
+}  // namespace tactile_ros
+
+ORO_CREATE_COMPONENT(tactile_ros::RosAdapter)

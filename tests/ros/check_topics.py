@@ -1,0 +1,196 @@
+#!/usr/bin/python3
+"""ctest ros_sim_streams, the ROS side: subscribes to the topics of
+deployments/ros_streams.ops while the simulated edge exploration runs
+(tests/ros/ops/edge_exploration_ros.ops), calls the phase service, looks up
+TF, and, once the deployer has ended (DONE_FILE exists), compares the topics
+with the deployment's own ports as its reporter logged them (REPORT: OCL
+FileReporting of Servo.phase, Servo.pose_command, Robot.flange_pose,
+Features.features).
+
+usage: check_topics.py REPORT DONE_FILE SCENE_YAML PROGRAM_YAML
+
+Checks (each printed; exit 1 when one fails):
+  - every topic arrives, at its configured rate within 10 % (the scene's
+    rates: image and features at wts, phase and pose_command at servo,
+    flange_pose and wrench at sim), counted over the messages' stamps;
+  - the image is 6 x 14 32FC1 in the sensor frame;
+  - features: force, CoP and contact of every reported sample (matched by seq)
+    equal the message's (the report's 6 significant digits);
+  - phase: every reported (index, entry time) has a message, with the
+    program's name of that index;
+  - TF resolves lwr_base -> contact while the features report a contact;
+  - /tactile/switch_phase refuses an unknown phase and switches to `done`
+    (the phase topic then says so).
+"""
+import math
+import os
+import sys
+import threading
+import time
+
+import rospy
+import tf2_ros
+import yaml
+from geometry_msgs.msg import PoseStamped, WrenchStamped
+from sensor_msgs.msg import Image
+from tactile_msgs.msg import ContactFeatures, Phase
+from tactile_msgs.srv import SwitchPhase
+
+failures = []
+
+
+def check(ok, what):
+    print(("ok    " if ok else "FAIL  ") + what, flush=True)
+    if not ok:
+        failures.append(what)
+
+
+def read_report(path):
+    with open(path) as f:
+        lines = [l.split() for l in f if l.strip()]
+    head = lines[0]
+    if head and head[0] == "#":
+        head = head[1:]
+    return head, [r for r in lines[1:] if len(r) == len(head)]
+
+
+def close(a, b):
+    return abs(a - b) <= 2e-5 * max(abs(a), abs(b)) + 1e-9
+
+
+def main():
+    report, done_file, scene_file, program_file = sys.argv[1:5]
+    rates = yaml.safe_load(open(scene_file))["rates"]
+    program = yaml.safe_load(open(program_file))
+    names = [p["name"] for p in program["phases"]]
+    expected = {"image": rates["wts"], "features": rates["wts"], "phase": rates["servo"],
+                "pose_command": rates["servo"], "flange_pose": rates["sim"], "wrench": rates["sim"]}
+
+    rospy.init_node("tactile_check_topics", anonymous=True, disable_signals=True)
+    lock = threading.Lock()
+    got = {k: [] for k in expected}
+
+    def keep(key):
+        def cb(msg):
+            with lock:
+                got[key].append((time.monotonic(), msg))
+        return cb
+
+    types = {"image": Image, "features": ContactFeatures, "phase": Phase, "pose_command": PoseStamped,
+             "flange_pose": PoseStamped, "wrench": WrenchStamped}
+    subs = [rospy.Subscriber("/tactile/" + k, types[k], keep(k), queue_size=5000) for k in expected]
+    tf_buffer = tf2_ros.Buffer(cache_time=rospy.Duration(60))
+    tf2_ros.TransformListener(tf_buffer)
+
+    # Wait for the deployment, then watch it; the phase service once the servo is in contact.
+    t_start = time.monotonic()
+    tf_ok = tf_tries = 0
+    switched = None
+    service_checked = False
+    while not os.path.exists(done_file) and time.monotonic() - t_start < 120:
+        time.sleep(0.1)
+        with lock:
+            feats = [m for _, m in got["features"][-1:]]
+            n_phase = len(got["phase"])
+        if feats and feats[0].contact != 0 and feats[0].status < 10:
+            tf_tries += 1
+            try:
+                tf_buffer.lookup_transform("lwr_base", "contact", rospy.Time(0), rospy.Duration(0.05))
+                tf_ok += 1
+            except (tf2_ros.LookupException, tf2_ros.ConnectivityException, tf2_ros.ExtrapolationException):
+                pass
+        if not service_checked and n_phase > 0 and tf_ok >= 5:
+            service_checked = True
+            rospy.wait_for_service("/tactile/switch_phase", timeout=5)
+            call = rospy.ServiceProxy("/tactile/switch_phase", SwitchPhase)
+            r = call("no_such_phase")
+            check(not r.ok, "switch_phase('no_such_phase') refused: ok=%s '%s'" % (r.ok, r.message))
+            r = call("done")
+            check(r.ok, "switch_phase('done') accepted: ok=%s '%s'" % (r.ok, r.message))
+            switched = time.monotonic()
+    check(os.path.exists(done_file), "the deployment ended within 120 s")
+    time.sleep(1.0)
+    for s in subs:
+        s.unregister()
+
+    # Rates over the stamps (the deployment's time base).
+    for k, rate in expected.items():
+        msgs = [m for _, m in got[k]]
+        n = len(msgs)
+        if n < 3:
+            check(False, "/tactile/%s: %d messages" % (k, n))
+            continue
+        span = (msgs[-1].header.stamp - msgs[0].header.stamp).to_sec()
+        wall = got[k][-1][0] - got[k][0][0]
+        r = (n - 1) / span if span > 0 else float("nan")
+        check(abs(r - rate) <= 0.1 * rate,
+              "/tactile/%s: %d messages, %.1f Hz over the stamps (configured %g Hz; %.1f Hz wall)" %
+              (k, n, r, rate, (n - 1) / wall if wall > 0 else float("nan")))
+
+    imgs = [m for _, m in got["image"]]
+    if imgs:
+        m = imgs[-1]
+        check(m.height == 6 and m.width == 14 and m.encoding == "32FC1" and m.step == 56 and len(m.data) == 336
+              and m.header.frame_id == "wts0614",
+              "image %dx%d %s step %d, %d bytes, frame %s" % (m.height, m.width, m.encoding, m.step, len(m.data),
+                                                               m.header.frame_id))
+
+    # Content against the report.
+    head, rows = read_report(report)
+    col = {h: i for i, h in enumerate(head)}
+    ft, ph = "Features.features.", "Servo.phase."
+    by_seq = {m.seq: m for _, m in got["features"]}
+    matched = mismatched = 0
+    seqs = set()
+    contact_names = {"none": 0, "point": 1, "edge": 2, "multiple": 3}  # the typekit's enum names
+    for r in rows:
+        if float(r[col[ft + "time_s"]]) <= 0:
+            continue
+        seq = int(float(r[col[ft + "seq"]]))
+        if seq in seqs:
+            continue
+        seqs.add(seq)
+        m = by_seq.get(seq)
+        if m is None:
+            continue
+        matched += 1
+        c = r[col[ft + "contact"]]
+        c = contact_names.get(c.lower(), int(c) if c.lstrip("-").isdigit() else -1)
+        if not (close(m.force, float(r[col[ft + "force"]])) and close(m.cop_x, float(r[col[ft + "cop_x"]]))
+                and close(m.cop_y, float(r[col[ft + "cop_y"]])) and m.contact == c):
+            mismatched += 1
+            if mismatched <= 3:
+                print("      seq %d: topic force %.9g cop (%.9g, %.9g) contact %d; report %s %s %s %s" %
+                      (seq, m.force, m.cop_x, m.cop_y, m.contact, r[col[ft + "force"]], r[col[ft + "cop_x"]],
+                       r[col[ft + "cop_y"]], r[col[ft + "contact"]]))
+    in_contact = sum(1 for _, m in got["features"] if m.contact != 0 and m.force > 0)
+    check(len(seqs) > 0 and matched >= 0.9 * len(seqs) and mismatched == 0 and in_contact > 0,
+          "features: %d of %d reported samples found by seq, %d differ in force/CoP/contact; %d messages in contact"
+          % (matched, len(seqs), mismatched, in_contact))
+
+    phase_msgs = [m for _, m in got["phase"]]
+    entries = {(m.index, m.t_enter) for m in phase_msgs}
+    reported = set()
+    for r in rows:
+        if float(r[col[ph + "time_s"]]) <= 0:
+            continue
+        reported.add((int(float(r[col[ph + "index"]])), float(r[col[ph + "t_enter_s"]])))
+    missing = [e for e in reported if not any(i == e[0] and close(t, e[1]) for i, t in entries)]
+    wrong_names = [m for m in phase_msgs if not (0 <= m.index < len(names) and names[m.index] == m.name)]
+    check(len(reported) >= 2 and not missing and not wrong_names,
+          "phase: %d reported (index, t_enter) pairs, %d without a message; %d messages with a name not the program's"
+          % (len(reported), len(missing), len(wrong_names)))
+    seen = []
+    for m in phase_msgs:
+        if not seen or seen[-1] != m.name:
+            seen.append(m.name)
+    print("      phases on /tactile/phase: " + " -> ".join(seen))
+    check(tf_ok > 0, "TF lwr_base -> contact resolved %d of %d times in contact" % (tf_ok, tf_tries))
+    check(switched is not None and seen and seen[-1] == "done",
+          "after the service call the phase topic says 'done' (last phase %s)" % (seen[-1] if seen else "none"))
+    print("check_topics: %d failed" % len(failures))
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

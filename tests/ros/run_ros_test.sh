@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# ctest ros_sim_streams: a roscore of its own on the loopback address (port
+# from this script's PID, the next free one), the simulated edge exploration
+# with ROS streams (tests/ros/ops/edge_exploration_ros.ops, run from
+# deployments/) and tests/ros/check_topics.py subscribing meanwhile; the
+# roscore is stopped at the end, whatever happened.
+#   run_ros_test.sh SOURCE_DIR BUILD_DIR OROCOS_PREFIX ROS_PREFIX
+set -o pipefail
+src="$1"; build="$2"; orocos="$3"; ros_prefix="$4"
+export PATH="/usr/bin:$PATH"   # Debian's python3 for roscore and rospy
+[ -f "$build/ros/devel/setup.bash" ] || { echo "no $build/ros/devel/setup.bash (the ROS workspace is not built)"; exit 1; }
+# shellcheck disable=SC1091
+source "$build/ros/devel/setup.bash"   # (its hooks read unset variables: no `set -u` here)
+export ROS_PACKAGE_PATH="$src/ros:$ROS_PACKAGE_PATH"
+export RTT_COMPONENT_PATH="$build/lib/orocos:$build/ros/devel/lib/orocos:$ros_prefix/lib/orocos:$orocos/lib/orocos"
+tmp="$(mktemp -d /tmp/tactile-ros-test.XXXXXX)"
+export ROS_HOME="$tmp" ROS_LOG_DIR="$tmp/log" ROS_IP=127.0.0.1
+unset ROS_HOSTNAME
+
+port=$(( 20000 + $$ % 20000 ))
+while /usr/bin/python3 -c "import socket,sys; s=socket.socket(); sys.exit(s.connect_ex(('127.0.0.1', $port)) != 0)"; do
+  port=$((port + 1))
+done
+export ROS_MASTER_URI="http://127.0.0.1:$port"
+echo "run_ros_test: roscore on $ROS_MASTER_URI (log $tmp)"
+setsid roscore -p "$port" > "$tmp/roscore.log" 2>&1 &
+core=$!
+checker=""
+cleanup() {
+  [ -n "$checker" ] && kill "$checker" 2>/dev/null
+  kill -INT -- "-$core" 2>/dev/null
+  for _ in $(seq 50); do kill -0 "$core" 2>/dev/null || break; sleep 0.1; done
+  kill -KILL -- "-$core" 2>/dev/null
+  rm -f "$src/deployments/edge_exploration_sim_ros_test.dat" "$src/deployments/edge_exploration_sim_ros_test_param.dat"
+}
+trap cleanup EXIT
+for _ in $(seq 100); do
+  /usr/bin/python3 -c "import rosgraph,sys; sys.exit(0 if rosgraph.is_master_online() else 1)" 2>/dev/null && break
+  sleep 0.2
+done
+/usr/bin/python3 -c "import rosgraph,sys; sys.exit(0 if rosgraph.is_master_online() else 1)" \
+  || { echo "run_ros_test: roscore did not come up"; cat "$tmp/roscore.log"; exit 1; }
+
+# The report's path comes as a ROS parameter (deployments/ros_params.ops): the
+# checker reads this file, so a parameter that did not take effect fails.
+report_name="edge_exploration_sim_ros_test_param.dat"
+rosparam set /Guard/report_file "$report_name" || { echo "run_ros_test: rosparam set failed"; exit 1; }
+report="$src/deployments/$report_name"
+done_file="$tmp/deployer.done"
+rm -f "$report"
+/usr/bin/python3 "$src/tests/ros/check_topics.py" "$report" "$done_file" "$src/sim/scenes/edge_exploration.yaml" \
+  "$src/components/servo/programs/edge_exploration.yaml" > "$tmp/check.log" 2>&1 &
+checker=$!
+(cd "$src/deployments" && "$orocos/bin/deployer-gnulinux" --check -lwarning -s "$src/tests/ros/ops/edge_exploration_ros.ops" \
+   < /dev/null > "$tmp/deployer.log" 2>&1)
+rc=$?
+touch "$done_file"
+wait "$checker"
+crc=$?
+checker=""
+echo "---- deployer (exit $rc) ----"; grep -E "deployment step failed|ERROR|\[ERROR\]|after [0-9.]+ s|file paths" "$tmp/deployer.log" | head -40
+echo "---- check_topics (exit $crc) ----"; cat "$tmp/check.log"
+[ "$rc" -eq 0 ] || { echo "run_ros_test: deployer exit $rc"; tail -n 40 "$tmp/deployer.log"; exit 1; }
+[ "$crc" -eq 0 ] || exit 1
+echo "run_ros_test: passed"
