@@ -60,7 +60,7 @@ Guard.servo_cpf = "servo_edge_exploration.cpf"
 Guard.timeout = $dur
 Guard.step(runScript("robot_loop.ops"), "robot_loop.ops")
 var int robot_side_started(Guard.verdict())
-if Guard.ok then Guard.step(Servo.start(), "start Servo")
+if Guard.ok then Guard.step(Servo.start() && Features.start(), "start Servo and Features")
 var double waited = 0.0
 while Guard.ok && waited < Guard.timeout { Guard.sleep(0.5); waited = waited + 0.5 }
 Guard.step(true, "rt_latency: Robot received " + Robot.received + " replies " + Robot.replies + " lost " + Robot.lost + " timeouts " + Robot.timeouts + "; Sensor frames " + Sensor.frames + "; Realtime " + Realtime.report + " memory_locked " + Realtime.memory_locked)
