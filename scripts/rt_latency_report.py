@@ -73,7 +73,7 @@ def hist_pct(hist, p):
 
 def main():
     out = sys.argv[1]
-    rows, data = [], {}
+    rows, data, missed_pct = [], {}, {}
     for cfg in CFGS:
         kp, hp = os.path.join(out, cfg + "_krc.txt"), os.path.join(out, cfg + "_cyclictest.hist")
         if not os.path.exists(kp):
@@ -83,6 +83,7 @@ def main():
         got = [v for v in vals if math.isfinite(v)]
         late = sum(1 for v in got if v > PERIOD_US)
         data[cfg] = (got, hist)
+        missed_pct[cfg] = 100.0 * missed / max(1, len(vals))
         rows.append((cfg, len(vals), pct(vals, 50), pct(vals, 99), pct(vals, 99.9), got[-1] if got else float("nan"),
                      late, missed, hist_pct(hist, 50), hist_pct(hist, 99), hmax))
 
@@ -119,7 +120,7 @@ def main():
                 continue
             vals, hist = data[cfg]
             ax.hist([max(v, 10.0) for v in vals], bins=bins, histtype="step", linestyle=style, linewidth=1.5,
-                    label="reply latency, " + cfg.split("_")[1])
+                    label="reply latency, %s (%.1f %% missed)" % (cfg.split("_")[1], missed_pct[cfg]))
             if hist:
                 ks = sorted(hist)
                 ax.hist([max(k, 10) for k in ks], bins=bins, weights=[hist[k] for k in ks], histtype="step",
