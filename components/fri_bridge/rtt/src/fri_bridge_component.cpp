@@ -109,6 +109,9 @@ bool FriBridgeComponent::startHook() {
     return false;
   }
   silence_since_s_ = nowS();
+  // A SlaveActivity's master decides the cycles: one datagram per update(); a
+  // periodic activity works off a backlog (bounded per cycle) to keep up with the KRC.
+  max_per_cycle_ = dynamic_cast<RTT::extras::SlaveActivity*>(getActivity()) != nullptr ? 1 : kMaxPerCycle;
   bridge_.reset();
   desired_ = PoseCommand();  // never set: the bridge holds (DesiredInvalid) until the servo writes one
   krc_silent_ = false;
@@ -172,7 +175,7 @@ void FriBridgeComponent::updateHook() {
 
 void FriBridgeComponent::pollCycle() {
   // Periodic activity or SlaveActivity: what is queued, never waiting.
-  for (int k = 0; k < kMaxPerCycle; ++k) {
+  for (int k = 0; k < max_per_cycle_; ++k) {
     std::size_t n = 0;
     const fri::UdpStatus us = socket_.receive(rx_.data(), rx_.size(), n, 0);
     if (us == fri::UdpStatus::Timeout) break;  // nothing (more) queued

@@ -31,8 +31,9 @@
 //    once): step the bridge, reply, write the outputs. On the activity's
 //    timeout it sets krc_silent and counts a timeout; it never blocks.
 //  * A periodic activity, or a SlaveActivity (tests, simulation): each cycle
-//    reads the datagrams already queued (at most kMaxPerCycle) without
-//    waiting; with none for receive_timeout s (RTT's TimeService) it sets
+//    reads what is already queued without waiting (a SlaveActivity: one
+//    datagram per update(), its master decides the cycles; a periodic
+//    activity: up to 8, to keep up with the KRC); with none for receive_timeout s (RTT's TimeService) it sets
 //    krc_silent and counts a timeout, once per receive_timeout.
 //  A non-periodic activity of any other kind is refused by start() (the hook
 //  never waits: it would spin or never read). Prefer the FileDescriptorActivity.
@@ -93,6 +94,7 @@ class FriBridgeComponent : public RTT::TaskContext {
   RTT::extras::FileDescriptorActivityInterface* fd_activity_ = nullptr;  // set by startHook while running
   int watched_fd_ = -1;
   double silence_since_s_ = 0.0;  // polled mode: last datagram or timeout (TimeService s)
+  int max_per_cycle_ = 1;         // polled mode: datagrams per cycle (SlaveActivity 1, periodic 8)
   int received_ = 0, replies_ = 0, lost_ = 0, timeouts_ = 0, socket_errors_ = 0;
 
   // ports
