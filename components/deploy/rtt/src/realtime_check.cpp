@@ -19,7 +19,7 @@
 //   property scheduler (string)      ORO_SCHED_RT or ORO_SCHED_OTHER: what every expected activity asked for
 //   property expected (string)       "Robot:90 Servo:80 ...": peers and the priorities they asked for
 //   property require_realtime (bool) a fallback fails check() (default false: warn and go on)
-//   attr memory_locked (bool), realtime (bool: every activity as asked), rt_permitted (bool: RTT's
+//   attr memory_locked (bool), memory_lock_skipped (bool: sanitizer build), realtime (bool: every activity as asked), rt_permitted (bool: RTT's
 //        own verdict on the scheduler for this process), fallbacks (int), report (string)
 //   op   bool check(), string actual(string name) ("SCHED_FIFO 90", "SCHED_OTHER 0", "none")
 //
@@ -63,6 +63,7 @@ class RealtimeCheck : public RTT::TaskContext {
         .doc("When true, an activity that runs below what it asked for fails check() (and start()); "
              "when false (default) it is a warning and the deployment goes on best effort.");
     addAttribute("memory_locked", memory_locked_);
+    addAttribute("memory_lock_skipped", memory_lock_skipped_);
     addAttribute("realtime", realtime_);
     addAttribute("rt_permitted", rt_permitted_);
     addAttribute("fallbacks", fallbacks_);
@@ -83,6 +84,7 @@ class RealtimeCheck : public RTT::TaskContext {
 #ifdef TACTILE_SANITIZED_BUILD
     // ASan/TSan reserve terabytes of shadow memory: locking it all would
     // exhaust RAM. Sanitizer builds test correctness, not timing.
+    memory_lock_skipped_ = true;
     RTT::log(RTT::Info) << getName() << ": memory not locked: sanitizer build (mlockall skipped)" << RTT::endlog();
 #else
     if (::mlockall(MCL_CURRENT | MCL_FUTURE) == 0) {
@@ -211,6 +213,7 @@ class RealtimeCheck : public RTT::TaskContext {
   std::string expected_;
   bool require_realtime_ = false;
   bool memory_locked_ = false;
+  bool memory_lock_skipped_ = false;  // sanitizer build: mlockall deliberately not called
   bool realtime_ = false;
   bool rt_permitted_ = false;
   int fallbacks_ = 0;
