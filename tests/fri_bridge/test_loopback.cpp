@@ -84,7 +84,7 @@ class BridgeLoop {
   PoseCommand desired_;
   std::atomic<bool> stop_{false};
   std::thread thread_;
-  std::array<uint64_t, 16> status_count_{};
+  std::array<uint64_t, static_cast<std::size_t>(BridgeStatus::NotConfigured) + 1> status_count_{};  // every status
 };
 
 SimKrcParams fastKrc(uint16_t port) {

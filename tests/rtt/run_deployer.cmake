@@ -11,6 +11,10 @@
 # CHECK_ONLY passes --check to a .xml/.cpf deployment: the deployer loads,
 # connects and configures it (no start) and exits 0, or 255 when a component
 # does not load, a property file fails or configure() returns false.
+# UNPRIVILEGED runs the deployer without real-time rights: RLIMIT_RTPRIO 0 and
+# RLIMIT_MEMLOCK 64 KiB (prlimit), as user nobody when ctest runs as root
+# (setpriv, no capabilities): RTT's rule then refuses SCHED_FIFO and falls
+# back to SCHED_OTHER, and mlockall fails.
 # The regexes are matched against stdout and stderr (where RTT logs) together.
 if(NOT DEFINED TIMEOUT_S)
   set(TIMEOUT_S 30)
@@ -22,7 +26,15 @@ set(extra_args)
 if(CHECK_ONLY OR SCRIPT MATCHES "\\.ops$")
   list(APPEND extra_args --check)
 endif()
-execute_process(COMMAND ${DEPLOYER} ${extra_args} -l${LOGLEVEL} -s ${SCRIPT}
+set(wrap)
+if(UNPRIVILEGED)
+  execute_process(COMMAND id -u OUTPUT_VARIABLE uid OUTPUT_STRIP_TRAILING_WHITESPACE)
+  if("${uid}" STREQUAL "0")
+    set(wrap setpriv --reuid=65534 --regid=65534 --clear-groups --inh-caps=-all --bounding-set=-all)
+  endif()
+  list(APPEND wrap prlimit --rtprio=0 --memlock=65536)
+endif()
+execute_process(COMMAND ${wrap} ${DEPLOYER} ${extra_args} -l${LOGLEVEL} -s ${SCRIPT}
                 INPUT_FILE /dev/null
                 OUTPUT_VARIABLE out ERROR_VARIABLE err
                 RESULT_VARIABLE rc

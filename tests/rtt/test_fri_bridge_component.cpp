@@ -1,7 +1,8 @@
 // tactile::FriBridgeComponent in-process on 127.0.0.1 with an ephemeral port:
 //  * against the simulated KRC (tactile::fri::SimKrc) with the component on a
 //    RTT::extras::FileDescriptorActivity watching its UDP socket (as deployed),
-//    and on the fallback non-periodic RTT::Activity (trigger() loop);
+//    and on a periodic RTT::Activity (queued datagrams read without waiting);
+//    a plain non-periodic activity is refused;
 //  * on a FileDescriptorActivity with the test acting as the KRC: one cycle and
 //    one reply (carrying the latest pose_command) per packet, zero allocations,
 //    the silent KRC reported after receive_timeout without spinning, no spin
@@ -223,11 +224,21 @@ TEST(FriBridgeComponent, FileDescriptorActivityFollowsTheSimulatedKrc) {
   EXPECT_EQ(rig.attr("received"), 1500);
 }
 
-// Fallback: a plain non-periodic Activity, bounded wait + trigger() loop.
-TEST(FriBridgeComponent, NonPeriodicActivityFallbackFollowsTheSimulatedKrc) {
-  Rig rig(new RTT::Activity(ORO_SCHED_OTHER, 0, 0.0), writeTemp("fri_ok.yaml", kParams));
+// A periodic Activity (1 kHz): each cycle reads what is queued, never waits.
+TEST(FriBridgeComponent, PeriodicActivityFollowsTheSimulatedKrc) {
+  Rig rig(new RTT::Activity(ORO_SCHED_OTHER, 0, 0.001), writeTemp("fri_ok.yaml", kParams));
   followSimKrc(rig);
   EXPECT_FALSE(rig.flag("fd_activity"));
+}
+
+// A plain non-periodic Activity (the TaskContext's default): the hook never
+// waits, so it would spin or never read: start() refuses it and says why.
+TEST(FriBridgeComponent, NonPeriodicPlainActivityIsRefused) {
+  Rig rig(new RTT::Activity(ORO_SCHED_OTHER, 0, 0.0), writeTemp("fri_ok.yaml", kParams));
+  ASSERT_TRUE(rig.comp.configure()) << rig.comp.lastError();
+  EXPECT_FALSE(rig.comp.start());
+  EXPECT_NE(rig.comp.lastError().find("FileDescriptorActivity"), std::string::npos) << rig.comp.lastError();
+  EXPECT_EQ(rig.comp.updates.load(), 0);
 }
 
 // The test is the KRC: one measurement, one update(), one reply.
@@ -321,15 +332,31 @@ TEST(FriBridgeComponent, OnePacketPerUpdateMalformedAndTimeoutsAndNoAllocation) 
   EXPECT_EQ(rig.attr("bridge_status"), static_cast<int>(fri::BridgeStatus::Malformed));
   EXPECT_FALSE(krc.reply(20000));
 
-  // No packet: update() returns after receive_timeout and counts a timeout.
-  rig.comp.properties()->getPropertyType<double>("receive_timeout")->set(0.02);
+  // No packet: update() returns at once (never waits) and the KRC is not yet
+  // silent; once receive_timeout has passed without a datagram (RTT's
+  // TimeService), the next update() counts one timeout and reports krc_silent.
+  rig.comp.properties()->getPropertyType<double>("receive_timeout")->set(0.3);
+  krc.send();
+  ASSERT_TRUE(rig.comp.update());  // a datagram: the silence clock restarts
+  ASSERT_TRUE(krc.reply());
   const int timeouts = rig.attr("timeouts");
   const auto t0 = std::chrono::steady_clock::now();
   ASSERT_TRUE(rig.comp.update());
   const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_LT(waited, 0.3);  // generous: a wait of receive_timeout would take 0.3 s
+  EXPECT_EQ(rig.attr("timeouts"), timeouts);
+  EXPECT_FALSE(rig.flag("krc_silent"));
+  std::this_thread::sleep_for(std::chrono::milliseconds(350));
+  ASSERT_TRUE(rig.comp.update());
   EXPECT_EQ(rig.attr("timeouts"), timeouts + 1);
-  EXPECT_GE(waited, 0.015);
-  EXPECT_LT(waited, 1.0);
+  EXPECT_TRUE(rig.flag("krc_silent"));
+  EXPECT_EQ(rig.comp.statusName(), "krc_silent");
+  ASSERT_TRUE(rig.comp.update());  // counted once per receive_timeout, not per cycle
+  EXPECT_EQ(rig.attr("timeouts"), timeouts + 1);
+  krc.send();  // the next datagram clears it
+  ASSERT_TRUE(rig.comp.update());
+  EXPECT_TRUE(krc.reply());
+  EXPECT_FALSE(rig.flag("krc_silent"));
 }
 
 // Polls `pred` every 1 ms for up to `limit_s`; returns the seconds it took, or -1.

@@ -9,11 +9,15 @@
 //                     e.g. 0:MON:PERFECT,200:CMD:PERFECT,800:CMD:BAD,900:MON:OK
 //   --loss p --dup p --reorder p --late p --wrong-size p --wrong-id p --cmd-loss p --seed S
 //   --fast            do not sleep; wait for each reply up to --reply-timeout-ms (default 100)
+//   --latency-out F   write one line per cycle to F: the reply latency in us
+//                     (measurement sent -> matched reply received), or nan
+//                     when no reply came (scripts/rt_latency.sh)
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include "tactile_fri/sim_krc.hpp"
 
@@ -23,7 +27,7 @@ namespace {
 int usage(const std::string& msg) {
   std::fprintf(stderr,
                "fri_sim_krc: %s\nusage: fri_sim_krc --port P [--cycles N] [--period-ms T] [--fast] "
-               "[--reply-timeout-ms T] [--schedule C:STATE:QUALITY[:POWER],...] [--loss p] [--dup p] [--reorder p] "
+               "[--reply-timeout-ms T] [--latency-out FILE] [--schedule C:STATE:QUALITY[:POWER],...] [--loss p] [--dup p] [--reorder p] "
                "[--late p] [--wrong-size p] [--wrong-id p] [--cmd-loss p] [--seed S]\n",
                msg.c_str());
   return 1;
@@ -49,6 +53,7 @@ int main(int argc, char** argv) {
   SimKrcParams p;
   long port = -1;
   unsigned long long cycles = 1000;
+  std::string latency_out;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool has = i + 1 < argc;
@@ -70,6 +75,8 @@ int main(int argc, char** argv) {
     } else if (a == "--reply-timeout-ms" && has) {
       if (!num(0, 1000, v)) return usage("--reply-timeout-ms must be in [0, 1000]");
       p.reply_timeout_s = v * 1e-3;
+    } else if (a == "--latency-out" && has) {
+      latency_out = argv[++i];
     } else if (a == "--fast") {
       p.real_time = false;
       p.reply_timeout_s = 0.1;
@@ -116,7 +123,22 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "fri_sim_krc: %s\n", r.message().c_str());
     return 1;
   }
+  std::vector<double> latencies;
+  if (!latency_out.empty()) {
+    if (cycles > 100000000ULL) return usage("--latency-out: at most 1e8 cycles");
+    latencies.reserve(cycles);
+    krc.setLatencyLog(&latencies);
+  }
   krc.run(cycles);
+  if (!latency_out.empty()) {
+    FILE* f = std::fopen(latency_out.c_str(), "w");
+    if (f == nullptr) {
+      std::fprintf(stderr, "fri_sim_krc: cannot write %s\n", latency_out.c_str());
+      return 1;
+    }
+    for (double l : latencies) std::fprintf(f, "%.2f\n", 1e6 * l);
+    std::fclose(f);
+  }
   const SimKrcStats& s = krc.stats();
   std::printf("fri_sim_krc: cycles %llu sent %llu replies %llu stale %llu malformed %llu missed %llu overruns %llu applied %llu "
               "remote_seq_errors %llu flag_errors %llu nonfinite %llu mon_echo_errors %llu max_step %.6f m %.6f rad "

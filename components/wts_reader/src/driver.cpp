@@ -110,9 +110,9 @@ CmdStatus WtsDriver::startAcquisition() {
   return s;
 }
 
-CmdStatus WtsDriver::sendPacket(std::size_t len) {
+CmdStatus WtsDriver::sendPacket(std::size_t len, int timeout_ms) {
   if (len == 0) return CmdStatus::BadReply;
-  last_io_ = port_.write(tx_.data(), len, p_.command_timeout_ms);
+  last_io_ = port_.write(tx_.data(), len, timeout_ms);
   if (last_io_ == IoStatus::Ok) return CmdStatus::Ok;
   if (last_io_ == IoStatus::Disconnected) {
     ++stats_.disconnects;
@@ -183,7 +183,7 @@ CmdStatus WtsDriver::transact(Command c, const uint8_t* payload, uint16_t n) {
   const std::size_t len = encodePacket(static_cast<uint8_t>(c), payload, n, tx_.data(), tx_.size());
   await_id_ = static_cast<uint8_t>(c);
   await_done_ = false;
-  CmdStatus s = sendPacket(len);
+  CmdStatus s = sendPacket(len, p_.command_timeout_ms);
   if (s != CmdStatus::Ok) {
     await_id_ = 0xFF;
     return s;
@@ -207,7 +207,7 @@ CmdStatus WtsDriver::transact(Command c, const uint8_t* payload, uint16_t n) {
 bool WtsDriver::kickPeriodic() {
   const std::size_t len =
       encodeStartPeriodic(p_.rle, static_cast<uint16_t>(p_.periodic_ms), tx_.data(), tx_.size());
-  return sendPacket(len) != CmdStatus::Disconnected;
+  return sendPacket(len, 0) != CmdStatus::Disconnected;  // per-cycle path: never waits
 }
 
 CmdStatus WtsDriver::tare(bool on) {
@@ -284,7 +284,7 @@ ReadStatus WtsDriver::poll(double now_s, int timeout_ms, RawTactileFrame& out) {
   if (p_.periodic_ms == 0 &&
       (!request_outstanding_ || now_s - request_time_s_ > 1e-3 * p_.command_timeout_ms)) {
     const std::size_t len = encodeReadSingleFrame(p_.rle, tx_.data(), tx_.size());
-    const CmdStatus s = sendPacket(len);
+    const CmdStatus s = sendPacket(len, 0);  // never waits; not sent -> sent again next poll
     if (s == CmdStatus::Disconnected) {
       last_attempt_s_ = now_s;
       return ReadStatus::Disconnected;

@@ -25,10 +25,9 @@
 #include <rtt/Component.hpp>
 #include <rtt/Logger.hpp>
 #include <rtt/TaskContext.hpp>
+#include <rtt/os/fosi.h>
 
-#include <chrono>
 #include <string>
-#include <thread>
 
 namespace tactile {
 
@@ -77,7 +76,9 @@ class DeployGuard : public RTT::TaskContext {
   bool fail(const std::string& what) { return step(false, what); }
   int verdict() const { return ok_ ? 1 : -1; }
   void sleep(double s) const {
-    if (s > 0.0 && s <= 10.0) std::this_thread::sleep_for(std::chrono::duration<double>(s));
+    if (!(s > 0.0 && s <= 10.0)) return;
+    TIME_SPEC ts = ticks2timespec(nano2ticks(static_cast<long long>(s * 1e9)));  // RTT's OS layer
+    rtos_nanosleep(&ts, nullptr);
   }
 
  private:

@@ -2,6 +2,7 @@
 
 #include <rtt/Component.hpp>
 #include <rtt/Logger.hpp>
+#include <rtt/extras/SlaveActivity.hpp>
 #include <rtt/os/TimeService.hpp>
 
 #include <algorithm>
@@ -22,7 +23,7 @@ FriBridgeComponent::FriBridgeComponent(const std::string& name)
   addProperty("port", port_).doc("UDP port to bind: -1 = fri.udp.port of param_file, 0 = ephemeral (tests), else [1, 65535].");
   addProperty("receive_timeout", receive_timeout_)
       .doc("Longest KRC silence (s), (0, 1], before krc_silent: the FileDescriptorActivity's timeout "
-           "(set by configure()/start()), else the bounded wait per updateHook.");
+           "(set by configure()/start()); on a periodic or slave activity, measured with RTT's TimeService.");
   addAttribute("local_port", local_port_);
   addAttribute("bridge_status", bridge_status_);
   addAttribute("fri_state", fri_state_);
@@ -54,6 +55,10 @@ namespace {
 int64_t timeoutUs(double s) { return static_cast<int64_t>(std::min(1.0, std::max(0.0, s)) * 1e6); }
 // The FileDescriptorActivity's timeout: 0 would mean none, so at least 1 ms.
 int fdTimeoutUs(double s) { return static_cast<int>(std::max<int64_t>(1000, timeoutUs(s))); }
+// Polled mode: datagrams handled per cycle at most (a backlog is worked off
+// over a few cycles, each bounded).
+constexpr int kMaxPerCycle = 8;
+double nowS() { return RTT::os::TimeService::Instance()->secondsSince(0); }  // the servo's clock
 }  // namespace
 
 RTT::extras::FileDescriptorActivityInterface* FriBridgeComponent::fdActivity() {
@@ -96,6 +101,17 @@ bool FriBridgeComponent::configureHook() {
 
 bool FriBridgeComponent::startHook() {
   if (!socket_.isOpen()) return false;
+  if (!fdActivity() && getActivity() && !getActivity()->isPeriodic() &&
+      dynamic_cast<RTT::extras::SlaveActivity*>(getActivity()) == nullptr) {
+    last_error_ = "a non-periodic activity that is not a FileDescriptorActivity would spin or never read: "
+                  "use a FileDescriptorActivity (paced by the KRC), a periodic activity or a SlaveActivity";
+    RTT::log(RTT::Error) << getName() << ": " << last_error_ << RTT::endlog();
+    return false;
+  }
+  silence_since_s_ = nowS();
+  // A SlaveActivity's master decides the cycles: one datagram per update(); a
+  // periodic activity works off a backlog (bounded per cycle) to keep up with the KRC.
+  max_per_cycle_ = dynamic_cast<RTT::extras::SlaveActivity*>(getActivity()) != nullptr ? 1 : kMaxPerCycle;
   bridge_.reset();
   desired_ = PoseCommand();  // never set: the bridge holds (DesiredInvalid) until the servo writes one
   krc_silent_ = false;
@@ -154,25 +170,35 @@ void FriBridgeComponent::updateHook() {
       ++socket_errors_;
     return;
   }
-  // Fallback (SlaveActivity: one bounded wait per update(); other activities:
-  // bounded wait, then trigger() itself for the next packet).
-  const fri::UdpStatus us = socket_.receive(rx_.data(), rx_.size(), n, timeoutUs(receive_timeout_));
-  if (us == fri::UdpStatus::Ok || us == fri::UdpStatus::Truncated) {
+  pollCycle();
+}
+
+void FriBridgeComponent::pollCycle() {
+  // Periodic activity or SlaveActivity: what is queued, never waiting.
+  for (int k = 0; k < max_per_cycle_; ++k) {
+    std::size_t n = 0;
+    const fri::UdpStatus us = socket_.receive(rx_.data(), rx_.size(), n, 0);
+    if (us == fri::UdpStatus::Timeout) break;  // nothing (more) queued
+    if (us != fri::UdpStatus::Ok && us != fri::UdpStatus::Truncated) {
+      ++socket_errors_;  // Error / NotOpen: stop() + start() retries
+      return;
+    }
     handleDatagram(us, n);
-  } else if (us == fri::UdpStatus::Timeout) {
-    markSilent();
-  } else {
-    ++socket_errors_;  // Error / NotOpen: no busy loop on a broken socket; stop() + start() retries
-    return;
+    silence_since_s_ = nowS();
   }
-  this->trigger();  // a no-op under a SlaveActivity
+  // No datagram for receive_timeout s: silent, counted once per receive_timeout.
+  const double now = nowS();
+  if (now - silence_since_s_ >= receive_timeout_) {
+    markSilent();
+    silence_since_s_ = now;
+  }
 }
 
 void FriBridgeComponent::handleDatagram(fri::UdpStatus us, std::size_t n) {
   krc_silent_ = false;
   silent_shadow_.store(false);
   command_in_.read(desired_, false);  // keeps the last sample when nothing new
-  const double now = RTT::os::TimeService::Instance()->secondsSince(0);  // the servo's clock
+  const double now = nowS();
   // A truncated datagram is passed as longer than the buffer: the decoder rejects it (TooLong).
   const std::size_t size = us == fri::UdpStatus::Truncated ? rx_.size() + 1 : n;
   const fri::BridgeStatus st = bridge_.stepDatagram(rx_.data(), size, desired_, now, out_);

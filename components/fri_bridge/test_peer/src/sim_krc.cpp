@@ -107,6 +107,7 @@ void SimKrc::handleReply(const uint8_t* buf, std::size_t n, double t_sent, doubl
   syncStats();
   if (r != ReplyResult::Matched) return;
   const double lat = now - t_sent;
+  if (std::isnan(cycle_latency_s_)) cycle_latency_s_ = lat;
   stats_.sum_latency_s += lat;
   stats_.max_latency_s = std::max(stats_.max_latency_s, lat);
 }
@@ -115,6 +116,7 @@ void SimKrc::runCycle() {
   if (plant_ == nullptr) return;
   const double T = params_.period_s;
   if (stats_.cycles == 0) t0_ = nowSeconds();
+  cycle_latency_s_ = std::nan("");
   // 1. scheduled events
   while (next_event_ < params_.schedule.size() && params_.schedule[next_event_].cycle <= stats_.cycles) {
     const StateEvent& e = params_.schedule[next_event_++];
@@ -200,6 +202,7 @@ void SimKrc::runCycle() {
     if (nowSeconds() >= deadline) break;
   }
   if (!matched) ++stats_.missed;
+  if (latency_log_ != nullptr) latency_log_->push_back(matched ? cycle_latency_s_ : std::nan(""));
   answer_rate_ = 0.99 * answer_rate_ + 0.01 * (matched ? 1.0 : 0.0);
   if (late) sendMeasurement(out_.data(), n);
   ++stats_.cycles;

@@ -14,8 +14,9 @@
 // passed (time is the caller's now_s), re-opens the same path, flushes and
 // restarts acquisition; that poll() returns Reconnected. poll() never waits
 // for a reply: the restart commands are sent without waiting (their replies are
-// counted as other_packets), so one poll() is bounded by timeout_ms plus one
-// short write. Malformed bytes are
+// counted as other_packets) and its writes never wait for room in the output
+// buffer (a request that does not fit is sent again by a later poll()), so
+// poll(now_s, 0, out) returns without waiting. Malformed bytes are
 // counted and skipped; only CRC-checked, size-checked frames are returned.
 #pragma once
 
@@ -78,6 +79,10 @@ class WtsDriver {
   CmdStatus open(std::string* why = nullptr);
   void close();
   bool isOpen() const { return port_.isOpen(); }
+  /// The serial port's file descriptor, -1 while closed (unplugged): an event
+  /// loop waits on it and calls poll(now_s, 0, ...) when it is readable. It
+  /// changes when poll() closes the port or re-opens it.
+  int fd() const { return port_.fd(); }
 
   /// Per-cycle call: reads what the device sent (waiting up to timeout_ms for
   /// the first byte), decodes, reconnects when due. Allocation-free.
@@ -101,7 +106,8 @@ class WtsDriver {
  private:
   /// Sends one command and waits for the reply with the same id.
   CmdStatus transact(Command c, const uint8_t* payload, uint16_t n);
-  CmdStatus sendPacket(std::size_t len);
+  /// Writes tx_[0, len); waits at most timeout_ms for room (0 on the per-cycle path).
+  CmdStatus sendPacket(std::size_t len, int timeout_ms);
   /// Reads once and processes every complete packet. Returns the I/O status.
   IoStatus pump(int timeout_ms, bool& got_frame, bool& link_error);
   void handlePacket(const PacketView& pkt, bool& got_frame, bool& link_error);

@@ -39,6 +39,8 @@ class SerialPort {
   IoStatus reopen();
   void close();
   bool isOpen() const { return fd_ >= 0; }
+  /// The open file descriptor (-1 when closed), for an event loop to wait on.
+  int fd() const { return fd_; }
 
   /// Reads up to `cap` bytes; waits at most `timeout_ms` for the first byte
   /// (0 = just poll). `got` = bytes read. Ok if got > 0, Timeout if none.

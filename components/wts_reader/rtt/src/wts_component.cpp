@@ -2,11 +2,10 @@
 
 #include <rtt/Component.hpp>
 #include <rtt/Logger.hpp>
+#include <rtt/extras/SlaveActivity.hpp>
 #include <rtt/os/TimeService.hpp>
 
 #include <algorithm>
-#include <chrono>
-#include <thread>
 
 #include "tactile_config/yaml_params.hpp"
 #include "tactile_wts/params_io.hpp"
@@ -17,9 +16,13 @@ WtsComponent::WtsComponent(const std::string& name) : RTT::TaskContext(name, Pre
   addProperty("param_file", param_file_)
       .doc("Optional YAML file with a `wts:` map (device, rows, cols, transpose, periodic_ms, ...); empty = defaults.");
   addProperty("device", device_).doc("Serial device path; overrides the file's wts.device when not empty.");
-  addProperty("poll_timeout", poll_timeout_).doc("Longest wait for bytes per updateHook (s), (0, 1].");
+  addProperty("poll_timeout", poll_timeout_)
+      .doc("FileDescriptorActivity timeout (s), (0, 1]: with no byte for this long the hook runs anyway "
+           "(NoData; reconnection checks while unplugged). The hook itself never waits.");
   addAttribute("read_status", read_status_);
   addAttribute("frames", frames_);
+  addAttribute("timeouts", timeouts_);
+  addAttribute("fd_activity", fd_activity_attr_);
   addPort(raw_out_).doc("Raw WTS frame (12-bit counts, {s} layout), stamped with RTT's TimeService (s).");
   addOperation("lastError", &WtsComponent::lastError, this, RTT::ClientThread)
       .doc("Message of the last failed configure() or start().");
@@ -48,10 +51,34 @@ bool WtsComponent::configureHook() {
   raw_.rows = static_cast<uint16_t>(p.cells.rows);
   raw_.cols = static_cast<uint16_t>(p.cells.cols);
   raw_out_.setDataSample(raw_);
+  auto* fda = fdActivity();
+  fd_activity_attr_ = fda != nullptr;
+  if (fda) fda->setTimeout_us(static_cast<int>(poll_timeout_ * 1e6));
   return true;
 }
 
+RTT::extras::FileDescriptorActivityInterface* WtsComponent::fdActivity() {
+  return dynamic_cast<RTT::extras::FileDescriptorActivityInterface*>(getActivity());
+}
+
+void WtsComponent::syncWatch() {
+  const int fd = driver_.fd();
+  if (fd == watched_fd_) return;
+  if (watched_fd_ >= 0) fd_activity_->unwatch(watched_fd_);
+  watched_fd_ = fd;
+  if (fd >= 0) fd_activity_->watch(fd);
+}
+
 bool WtsComponent::startHook() {
+  fd_activity_ = fdActivity();  // the activity cannot change while running
+  fd_activity_attr_ = fd_activity_ != nullptr;
+  if (!fd_activity_ && getActivity() && !getActivity()->isPeriodic() &&
+      dynamic_cast<RTT::extras::SlaveActivity*>(getActivity()) == nullptr) {
+    last_error_ = "a non-periodic activity that is not a FileDescriptorActivity would spin or never read: "
+                  "use a FileDescriptorActivity (paced by the device), a periodic activity or a SlaveActivity";
+    RTT::log(RTT::Error) << getName() << ": " << last_error_ << RTT::endlog();
+    return false;
+  }
   std::string why;
   const wts::CmdStatus st = driver_.open(&why);
   if (st != wts::CmdStatus::Ok) {
@@ -61,11 +88,21 @@ bool WtsComponent::startHook() {
     return false;
   }
   frames_ = 0;
+  timeouts_ = 0;
+  if (fd_activity_) {
+    // Clamped to [1 ms, 1 s] (the property may change after configure; 0 would mean no timeout).
+    fd_activity_->setTimeout_us(static_cast<int>(1e6 * std::min(1.0, std::max(0.001, poll_timeout_))));
+    watched_fd_ = -1;
+    syncWatch();
+  }
   return true;
 }
 
 void WtsComponent::stopHook() {
-  driver_.stopPeriodic();  // bounded by command_timeout_ms; ignored when unplugged
+  if (fd_activity_ && watched_fd_ >= 0) fd_activity_->unwatch(watched_fd_);  // before the port closes it
+  watched_fd_ = -1;
+  fd_activity_ = nullptr;
+  driver_.stopPeriodic();  // bounded by command_timeout_ms; ignored when unplugged (not real-time)
   driver_.close();
 }
 
@@ -75,10 +112,9 @@ std::string WtsComponent::statusName() const {
 
 void WtsComponent::updateHook() {
   const double now = RTT::os::TimeService::Instance()->secondsSince(0);  // the servo's clock
-  // periodic: never wait longer than a period; clamped to [0, 1] s (NaN -> 0)
-  const double wait_s = std::min(getPeriod() > 0.0 ? 0.0 : 1.0, std::max(0.0, poll_timeout_));
-  const int timeout_ms = static_cast<int>(1000.0 * wait_s);
-  const wts::ReadStatus st = driver_.poll(now, timeout_ms, raw_);
+  if (fd_activity_ && fd_activity_->hasTimeout()) ++timeouts_;  // no byte for poll_timeout s
+  // Never waits: what arrived is read, decoded; reconnection is due by `now`.
+  const wts::ReadStatus st = driver_.poll(now, 0, raw_);
   read_status_ = static_cast<int>(st);
   status_shadow_.store(read_status_);
   if (st == wts::ReadStatus::NewFrame) {
@@ -86,13 +122,9 @@ void WtsComponent::updateHook() {
     raw_out_.write(raw_);
     ++frames_;
   }
-  if (getPeriod() > 0.0) return;  // periodic activity: the period paces the polls
-  // Non-periodic: paced by the device (poll waits for bytes), loop. Unplugged,
-  // poll() returns at once: wait poll_timeout (bounded) so the loop does not spin
-  // while the driver retries every reconnect_period_s.
-  if (st == wts::ReadStatus::Disconnected || st == wts::ReadStatus::NotConfigured)
-    std::this_thread::sleep_for(std::chrono::milliseconds(timeout_ms));
-  this->trigger();  // a no-op under a SlaveActivity
+  // The driver closes the port on unplug and re-opens it later: watch the
+  // descriptor it has now (never a closed one: select() would fail on it).
+  if (fd_activity_) syncWatch();
 }
 
 }  // namespace tactile

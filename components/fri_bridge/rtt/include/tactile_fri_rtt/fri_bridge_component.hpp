@@ -30,12 +30,14 @@
 //    reads exactly one without waiting (another queued one wakes it again at
 //    once): step the bridge, reply, write the outputs. On the activity's
 //    timeout it sets krc_silent and counts a timeout; it never blocks.
-//  * SlaveActivity (tests): each update() waits (bounded by receive_timeout)
-//    for at most one datagram.
-//  * Fallback, any other activity (e.g. non-periodic RTT::Activity): the same
-//    bounded wait, then trigger() itself for the next packet; stop() returns
-//    within receive_timeout. Prefer the FileDescriptorActivity.
-// Per cycle: no heap allocation, no exceptions, no logging.
+//  * A periodic activity, or a SlaveActivity (tests, simulation): each cycle
+//    reads what is already queued without waiting (a SlaveActivity: one
+//    datagram per update(), its master decides the cycles; a periodic
+//    activity: up to 8, to keep up with the KRC); with none for receive_timeout s (RTT's TimeService) it sets
+//    krc_silent and counts a timeout, once per receive_timeout.
+//  A non-periodic activity of any other kind is refused by start() (the hook
+//  never waits: it would spin or never read). Prefer the FileDescriptorActivity.
+// Per cycle: no heap allocation, no exceptions, no logging, no waiting.
 #pragma once
 
 #include <rtt/InputPort.hpp>
@@ -74,6 +76,8 @@ class FriBridgeComponent : public RTT::TaskContext {
   /// One datagram through the bridge: step, reply, outputs, counters.
   void handleDatagram(fri::UdpStatus us, std::size_t n);
   void markSilent();
+  /// Periodic / SlaveActivity cycle: queued datagrams without waiting, silence by time.
+  void pollCycle();
 
   // properties / attributes
   std::string param_file_;
@@ -89,6 +93,8 @@ class FriBridgeComponent : public RTT::TaskContext {
   std::atomic<bool> silent_shadow_{false};
   RTT::extras::FileDescriptorActivityInterface* fd_activity_ = nullptr;  // set by startHook while running
   int watched_fd_ = -1;
+  double silence_since_s_ = 0.0;  // polled mode: last datagram or timeout (TimeService s)
+  int max_per_cycle_ = 1;         // polled mode: datagrams per cycle (SlaveActivity 1, periodic 8)
   int received_ = 0, replies_ = 0, lost_ = 0, timeouts_ = 0, socket_errors_ = 0;
 
   // ports

@@ -119,6 +119,11 @@ class SimKrc {
   /// `cycles` cycles, or until *stop becomes true.
   void run(uint64_t cycles, const std::atomic<bool>* stop = nullptr);
 
+  /// Optional per-cycle record (benchmarks): after each cycle, the latency
+  /// (s) from the measurement's departure to its matched reply, or NaN when
+  /// none came. Not owned; reserve it beforehand (push_back per cycle).
+  void setLatencyLog(std::vector<double>* log) { latency_log_ = log; }
+
   const SimKrcStats& stats() const { return stats_; }
   const PlantState& plantState() const { return plant_state_; }
   State state() const { return model_.state(); }
@@ -149,6 +154,8 @@ class SimKrc {
   std::size_t held_size_ = 0;
   double t0_ = 0.0;
   double answer_rate_ = 1.0;
+  std::vector<double>* latency_log_ = nullptr;
+  double cycle_latency_s_ = 0.0;  // this cycle's first matched reply (NaN: none yet)
 };
 
 }  // namespace fri

@@ -5,23 +5,37 @@
 // Interface (documented with .doc() in the constructor):
 //   property param_file (string)   optional YAML with a `wts:` map (tactile_wts/params_io.hpp); empty = defaults
 //   property device (string)       optional override of the serial device path
-//   property poll_timeout (double) s, (0, 1]: longest wait for bytes per updateHook
+//   property poll_timeout (double) s, (0, 1]: the FileDescriptorActivity's timeout (longest
+//                                  time without a byte before the hook runs anyway)
 //   out  raw_frame (/tactile/RawTactileFrame)  each new frame, stamped with RTT's TimeService
 //   attr read_status (int)   wts::ReadStatus of the last poll (0 new frame, 1 no data, 5 disconnected...)
 //   attr frames (int)        frames written since start
+//   attr timeouts (int)      FileDescriptorActivity wake-ups by poll_timeout (no byte for poll_timeout s)
+//   attr fd_activity (bool)  the activity is a FileDescriptorActivity (set by configure/start)
 //   op   string lastError(), string statusName()
 //
-// Execution: preferably a NON-periodic activity; the device paces it (periodic
-// mode): each updateHook polls the driver once (bounded by poll_timeout), writes
-// a new frame, and trigger()s itself (while unplugged it waits poll_timeout
-// between reconnection checks instead of spinning). With a periodic activity
-// each period polls once without waiting. start() opens the port and starts the
-// acquisition (not real-time); stop() closes it. With a SlaveActivity (tests)
-// each update() polls once. Per cycle: no heap allocation, no exceptions, no logging.
+// Execution: no hook waits. Each updateHook polls the driver once with a zero
+// timeout (reads what is there, decodes, reconnects when due by the time it is
+// given: RTT's TimeService) and writes a new frame.
+//  * RTT::extras::FileDescriptorActivity (the deployments): paced by the
+//    device. start() watches the serial port's descriptor and sets the
+//    activity's timeout to poll_timeout; the hook runs when bytes are readable
+//    or after poll_timeout without any (read_status NoData, `timeouts` counted).
+//    Unplugged, the port is closed and unwatched: the timeout wakes the hook
+//    every poll_timeout, the driver re-opens the device every
+//    wts.reconnect_period_s (read_status Disconnected, then Reconnected) and
+//    the new descriptor is watched. stop() unwatches and closes it.
+//  * A periodic activity: each period polls once.
+//  * SlaveActivity (tests, simulation): each update() polls once.
+//  A non-periodic activity of any other kind is refused by start() (it would
+//  either spin or never read). start() opens the port and starts the
+//  acquisition (not real-time). Per cycle: no heap allocation, no exceptions,
+//  no logging, no waiting.
 #pragma once
 
 #include <rtt/OutputPort.hpp>
 #include <rtt/TaskContext.hpp>
+#include <rtt/extras/FileDescriptorActivityInterface.hpp>
 
 #include <atomic>
 #include <string>
@@ -44,6 +58,11 @@ class WtsComponent : public RTT::TaskContext {
   std::string statusName() const;
 
  private:
+  /// The activity as a FileDescriptorActivity, or nullptr (any other activity).
+  RTT::extras::FileDescriptorActivityInterface* fdActivity();
+  /// Watches the driver's current descriptor (it changes on unplug / re-open).
+  void syncWatch();
+
   std::string param_file_;
   std::string device_;
   double poll_timeout_ = 0.05;
@@ -51,6 +70,10 @@ class WtsComponent : public RTT::TaskContext {
   int read_status_ = static_cast<int>(wts::ReadStatus::NotConfigured);
   std::atomic<int> status_shadow_{static_cast<int>(wts::ReadStatus::NotConfigured)};
   int frames_ = 0;
+  int timeouts_ = 0;
+  bool fd_activity_attr_ = false;
+  RTT::extras::FileDescriptorActivityInterface* fd_activity_ = nullptr;  // set by startHook while running
+  int watched_fd_ = -1;
 
   RTT::OutputPort<RawTactileFrame> raw_out_;
 

@@ -1,0 +1,225 @@
+// tactile::RealtimeCheck: the real-time set-up of a deployment, checked and
+// reported before its loops start.
+//
+//  * configure(): locks the process's memory (mlockall(MCL_CURRENT |
+//    MCL_FUTURE)) when lock_memory is set, so no page fault delays a cycle
+//    later. Refused (no CAP_IPC_LOCK and a small `ulimit -l`): a warning
+//    naming the limit, memory_locked false; the deployment goes on.
+//  * check(), and start() (XML deployments: listed after the components, it
+//    starts once every activity is attached): for each "Name:priority" of
+//    `expected`, the scheduler and priority the peer's activity thread really
+//    runs with. RTT lowers a refused ORO_SCHED_RT to SCHED_OTHER priority 0
+//    (its log: "Lowering scheduler type to SCHED_OTHER for non-privileged
+//    users"); this check then logs, per activity, one warning saying so and
+//    how to grant the rights, and counts it in `fallbacks`. The deployment
+//    goes on (best effort) unless require_realtime is set.
+//
+// Interface (documented with .doc() in the constructor):
+//   property lock_memory (bool)      mlockall at configure (default true)
+//   property scheduler (string)      ORO_SCHED_RT or ORO_SCHED_OTHER: what every expected activity asked for
+//   property expected (string)       "Robot:90 Servo:80 ...": peers and the priorities they asked for
+//   property require_realtime (bool) a fallback fails check() (default false: warn and go on)
+//   attr memory_locked (bool), memory_lock_skipped (bool: sanitizer build), realtime (bool: every activity as asked), rt_permitted (bool: RTT's
+//        own verdict on the scheduler for this process), fallbacks (int), report (string)
+//   op   bool check(), string actual(string name) ("SCHED_FIFO 90", "SCHED_OTHER 0", "none")
+//
+// Not on any real-time path: the deployer's thread calls it while setting up.
+#include <rtt/Activity.hpp>
+#include <rtt/Component.hpp>
+#include <rtt/Logger.hpp>
+#include <rtt/TaskContext.hpp>
+#include <rtt/base/ActivityInterface.hpp>
+#include <rtt/os/ThreadInterface.hpp>
+#include <rtt/os/threads.hpp>
+
+#include <sys/mman.h>
+#include <sys/resource.h>
+
+#include <cerrno>
+#include <cstring>
+#include <sstream>
+#include <string>
+
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define TACTILE_SANITIZED_BUILD 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+#define TACTILE_SANITIZED_BUILD 1
+#endif
+#endif
+
+namespace tactile {
+
+class RealtimeCheck : public RTT::TaskContext {
+ public:
+  explicit RealtimeCheck(const std::string& name) : RTT::TaskContext(name) {
+    addProperty("lock_memory", lock_memory_)
+        .doc("Lock the process's memory (mlockall MCL_CURRENT | MCL_FUTURE) in configure(), before the loops start.");
+    addProperty("scheduler", scheduler_)
+        .doc("Scheduler every expected activity asked for: ORO_SCHED_RT (SCHED_FIFO) or ORO_SCHED_OTHER.");
+    addProperty("expected", expected_)
+        .doc("Space-separated Name:priority of the peers to check, e.g. \"Robot:90 Servo:80 Features:70 Sensor:60\".");
+    addProperty("require_realtime", require_realtime_)
+        .doc("When true, an activity that runs below what it asked for fails check() (and start()); "
+             "when false (default) it is a warning and the deployment goes on best effort.");
+    addAttribute("memory_locked", memory_locked_);
+    addAttribute("memory_lock_skipped", memory_lock_skipped_);
+    addAttribute("realtime", realtime_);
+    addAttribute("rt_permitted", rt_permitted_);
+    addAttribute("fallbacks", fallbacks_);
+    addAttribute("report", report_);
+    addOperation("check", &RealtimeCheck::check, this, RTT::ClientThread)
+        .doc("Checks each expected peer's activity (scheduler, priority, CPU affinity), logs one line each "
+             "(a warning for a fallback) and fills realtime, fallbacks, report. False when a peer or its "
+             "thread is missing, or on a fallback with require_realtime.");
+    addOperation("actual", &RealtimeCheck::actual, this, RTT::ClientThread)
+        .doc("Scheduler and priority the peer's activity thread runs with: \"SCHED_FIFO 90\", "
+             "\"SCHED_OTHER 0\", or \"none\" (no such peer, or no thread).")
+        .arg("name", "Peer name.");
+  }
+
+  bool configureHook() override {
+    memory_locked_ = false;
+    if (!lock_memory_) return true;
+#ifdef TACTILE_SANITIZED_BUILD
+    // ASan/TSan reserve terabytes of shadow memory: locking it all would
+    // exhaust RAM. Sanitizer builds test correctness, not timing.
+    memory_lock_skipped_ = true;
+    RTT::log(RTT::Info) << getName() << ": memory not locked: sanitizer build (mlockall skipped)" << RTT::endlog();
+#else
+    if (::mlockall(MCL_CURRENT | MCL_FUTURE) == 0) {
+      memory_locked_ = true;
+      RTT::log(RTT::Info) << getName() << ": memory locked (mlockall MCL_CURRENT | MCL_FUTURE)" << RTT::endlog();
+    } else {
+      const int err = errno;
+      rlimit r{};
+      ::getrlimit(RLIMIT_MEMLOCK, &r);
+      RTT::log(RTT::Warning) << getName() << ": memory NOT locked: mlockall failed: " << std::strerror(err)
+                             << " (RLIMIT_MEMLOCK " << static_cast<long long>(r.rlim_cur)
+                             << " bytes; grant CAP_IPC_LOCK or `ulimit -l unlimited`): page faults may delay cycles"
+                             << RTT::endlog();
+    }
+#endif
+    return true;
+  }
+
+  bool startHook() override { return check(); }
+
+  std::string actual(const std::string& name) {
+    RTT::os::ThreadInterface* t = threadOf(name);
+    if (!t) return "none";
+    return schedName(t->getScheduler()) + " " + std::to_string(t->getPriority());
+  }
+
+  bool check() {
+    int want = 0;
+    if (scheduler_ == "ORO_SCHED_RT") {
+      want = ORO_SCHED_RT;
+    } else if (scheduler_ == "ORO_SCHED_OTHER") {
+      want = ORO_SCHED_OTHER;
+    } else {
+      RTT::log(RTT::Error) << getName() << ": scheduler = '" << scheduler_
+                           << "': must be ORO_SCHED_RT or ORO_SCHED_OTHER" << RTT::endlog();
+      return false;
+    }
+    int probe = want;
+    rt_permitted_ = RTT::os::CheckScheduler(probe);  // RTT's own rule (root, CAP_SYS_NICE or rtprio limit)
+    fallbacks_ = 0;
+    realtime_ = true;
+    bool ok = true;
+    std::ostringstream rep;
+    std::istringstream in(expected_);
+    std::string item;
+    int n = 0;
+    while (in >> item) {
+      ++n;
+      const std::size_t colon = item.find(':');
+      const std::string name = item.substr(0, colon);
+      int prio = 0;
+      if (colon == std::string::npos || !parseInt(item.substr(colon + 1), prio)) {
+        RTT::log(RTT::Error) << getName() << ": expected entry '" << item << "': must be Name:priority"
+                             << RTT::endlog();
+        ok = false;
+        continue;
+      }
+      RTT::os::ThreadInterface* t = threadOf(name);
+      if (!t) {
+        RTT::log(RTT::Error) << getName() << ": " << name << ": no such peer, or its activity has no thread"
+                             << RTT::endlog();
+        rep << name << " none; ";
+        ok = false;
+        realtime_ = false;
+        continue;
+      }
+      const int sched = t->getScheduler();
+      const int got = t->getPriority();
+      const unsigned cpus = t->getCpuAffinity();
+      rep << name << " " << schedName(sched) << " " << got << "; ";
+      if (sched == want && (want == ORO_SCHED_OTHER || got == prio)) {
+        RTT::log(RTT::Info) << getName() << ": " << name << ": " << schedName(sched) << " priority " << got
+                            << " (asked " << scheduler_ << " " << prio << "), CPU mask 0x" << std::hex << cpus
+                            << std::dec << RTT::endlog();
+        continue;
+      }
+      realtime_ = false;
+      ++fallbacks_;
+      if (sched == want) {  // the scheduler as asked, another priority: set elsewhere (not RTT's fallback)
+        RTT::log(RTT::Warning) << getName() << ": " << name << ": expected priority " << prio << ", runs "
+                               << schedName(sched) << " priority " << got << ": the deployment sets another one"
+                               << RTT::endlog();
+        if (require_realtime_) ok = false;
+        continue;
+      }
+      RTT::log(RTT::Warning) << getName() << ": " << name << ": asked " << scheduler_ << " priority " << prio
+                             << ", runs " << schedName(sched) << " priority " << got
+                             << ": no real-time rights for this process (run as root, grant CAP_SYS_NICE, or "
+                                "an rtprio limit: `ulimit -r 99`, /etc/security/limits.conf); its cycles are "
+                                "best effort, not time-guaranteed"
+                             << RTT::endlog();
+      if (require_realtime_) ok = false;
+    }
+    if (n == 0) {
+      RTT::log(RTT::Error) << getName() << ": expected is empty: nothing to check" << RTT::endlog();
+      ok = false;
+    }
+    report_ = rep.str();
+    return ok;
+  }
+
+ private:
+  static bool parseInt(const std::string& s, int& v) {
+    if (s.empty() || s.size() > 3) return false;
+    v = 0;
+    for (char c : s) {
+      if (c < '0' || c > '9') return false;
+      v = 10 * v + (c - '0');
+    }
+    return true;
+  }
+  static std::string schedName(int s) {
+    if (s == SCHED_FIFO) return "SCHED_FIFO";
+    if (s == SCHED_RR) return "SCHED_RR";
+    if (s == SCHED_OTHER) return "SCHED_OTHER";
+    return "scheduler" + std::to_string(s);
+  }
+  RTT::os::ThreadInterface* threadOf(const std::string& name) {
+    RTT::TaskContext* peer = getPeer(name);
+    if (!peer || !peer->getActivity()) return nullptr;
+    return peer->getActivity()->thread();
+  }
+
+  bool lock_memory_ = true;
+  std::string scheduler_ = "ORO_SCHED_RT";
+  std::string expected_;
+  bool require_realtime_ = false;
+  bool memory_locked_ = false;
+  bool memory_lock_skipped_ = false;  // sanitizer build: mlockall deliberately not called
+  bool realtime_ = false;
+  bool rt_permitted_ = false;
+  int fallbacks_ = 0;
+  std::string report_;
+};
+
+}  // namespace tactile
+
+ORO_LIST_COMPONENT_TYPE(tactile::RealtimeCheck)
