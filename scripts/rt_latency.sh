@@ -28,15 +28,12 @@
 # (scripts/setup_deps.sh installs them).
 # Environment: BUILD (default <repo>/build), OROCOS (default /opt/orocos).
 set -euo pipefail
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-build="${BUILD:-$root/build}"
-orocos="${OROCOS:-/opt/orocos}"
+name=rt_latency
+# shellcheck source=scripts/rt_common.sh
+source "$(dirname "${BASH_SOURCE[0]}")/rt_common.sh"
 dur=${1:-30}
 out="$root/out/rt_latency"
-deployer="$orocos/bin/deployer-gnulinux"
-for t in "$deployer" "$build/bin/fri_sim_krc" "$build/bin/wts_sim"; do
-  [ -x "$t" ] || { echo "rt_latency: $t missing (build with -DTACTILE_WITH_RTT=ON)" >&2; exit 1; }
-done
+rt_check_tools
 for t in stress-ng cyclictest chrt setpriv prlimit; do
   command -v "$t" >/dev/null || { echo "rt_latency: $t missing (scripts/setup_deps.sh)" >&2; exit 1; }
 done
@@ -46,9 +43,7 @@ rm -rf "$out"
 mkdir -p "$out/deployments"
 chmod 755 "$out" "$out/deployments"
 # A copy of deployments/ with absolute paths and the simulated sensor's PTY.
-cp "$root"/deployments/*.ops "$root"/deployments/*.cpf "$root"/deployments/*.osd "$out/deployments/"
-sed -i "s#\.\./#$root/#g" "$out"/deployments/*.cpf
-sed -i "s#<value>/dev/ttyACM0</value>#<value>$out/wts0</value>#" "$out/deployments/wts_reader.cpf"
+rt_stage_deployments "$out"
 cat > "$out/deployments/rt_latency_bench.ops" <<EOF
 // scripts/rt_latency.sh: the robot deployment (robot_loop.ops), the servo
 // started, held for Guard.timeout s of wall clock, then the deployer exits.
@@ -68,14 +63,8 @@ var int bench_finished(Guard.verdict())
 EOF
 chmod 644 "$out"/deployments/*
 
-pids=()
-cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; }
-trap cleanup EXIT
 
-"$build/bin/wts_sim" --link "$out/wts0" --pattern blob >"$out/wts_sim.log" 2>&1 &
-pids+=($!)
-for _ in $(seq 50); do [ -e "$out/wts0" ] && break; sleep 0.1; done
-[ -e "$out/wts0" ] || { echo "rt_latency: wts_sim did not start" >&2; exit 1; }
+rt_start_wts_sim "$out"
 chmod 666 "$(readlink -f "$out/wts0")"  # the unprivileged runs open it too
 
 ncpu=$(nproc)

@@ -26,22 +26,17 @@
 #   * the deployment ran to the end (every step ok).
 # Environment: BUILD (default <repo>/build), OROCOS (default /opt/orocos).
 set -euo pipefail
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-build="${BUILD:-$root/build}"
-orocos="${OROCOS:-/opt/orocos}"
+name=rt_soak
+# shellcheck source=scripts/rt_common.sh
+source "$(dirname "${BASH_SOURCE[0]}")/rt_common.sh"
 minutes=${1:-60}
 out="$root/out/rt_soak"
-deployer="$orocos/bin/deployer-gnulinux"
-for t in "$deployer" "$build/bin/fri_sim_krc" "$build/bin/wts_sim"; do
-  [ -x "$t" ] || { echo "rt_soak: $t missing (build with -DTACTILE_WITH_RTT=ON)" >&2; exit 1; }
-done
+rt_check_tools
 [ "$minutes" -ge 1 ] 2>/dev/null && [ "$minutes" -le 1440 ] || { echo "usage: $0 [MINUTES >= 1]" >&2; exit 2; }
 
 rm -rf "$out"
 mkdir -p "$out/deployments"
-cp "$root"/deployments/*.ops "$root"/deployments/*.cpf "$root"/deployments/*.osd "$out/deployments/"
-sed -i "s#\.\./#$root/#g" "$out"/deployments/*.cpf
-sed -i "s#<value>/dev/ttyACM0</value>#<value>$out/wts0</value>#" "$out/deployments/wts_reader.cpf"
+rt_stage_deployments "$out"
 secs=$((minutes * 60))
 cat > "$out/deployments/rt_soak.ops" <<EOF
 // scripts/rt_soak.sh: the robot deployment for $minutes min of wall clock,
@@ -70,13 +65,7 @@ Guard.step(true, "soak end: " + Realtime.report + " memory_locked " + Realtime.m
 var int soak_finished(Guard.verdict())
 EOF
 
-pids=()
-cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; }
-trap cleanup EXIT
-"$build/bin/wts_sim" --link "$out/wts0" --pattern blob >"$out/wts_sim.log" 2>&1 &
-pids+=($!)
-for _ in $(seq 50); do [ -e "$out/wts0" ] && break; sleep 0.1; done
-[ -e "$out/wts0" ] || { echo "rt_soak: wts_sim did not start" >&2; exit 1; }
+rt_start_wts_sim "$out"
 
 echo "rt_soak: $minutes min"
 ( cd "$out/deployments" && RTT_COMPONENT_PATH="$build/lib/orocos:$orocos/lib/orocos" \

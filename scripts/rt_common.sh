@@ -1,0 +1,38 @@
+# Sourced by scripts/rt_latency.sh and scripts/rt_soak.sh: what both do before
+# their own runs. Needs `name` (the script's name for messages) set by the caller.
+# Sets root, build, orocos, deployer; defines rt_check_tools, rt_stage_deployments
+# and rt_start_wts_sim (with the cleanup trap of the background processes in pids).
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build="${BUILD:-$root/build}"
+orocos="${OROCOS:-/opt/orocos}"
+deployer="$orocos/bin/deployer-gnulinux"
+
+# The deployer and the two simulated peers must be built.
+rt_check_tools() {
+  local t
+  for t in "$deployer" "$build/bin/fri_sim_krc" "$build/bin/wts_sim"; do
+    [ -x "$t" ] || { echo "$name: $t missing (build with -DTACTILE_WITH_RTT=ON)" >&2; exit 1; }
+  done
+}
+
+# A copy of deployments/ in $1/deployments with absolute paths and the
+# simulated sensor's PTY ($1/wts0) in place of /dev/ttyACM0.
+rt_stage_deployments() {
+  local out="$1"
+  mkdir -p "$out/deployments"
+  cp "$root"/deployments/*.ops "$root"/deployments/*.cpf "$root"/deployments/*.osd "$out/deployments/"
+  sed -i "s#\.\./#$root/#g" "$out"/deployments/*.cpf
+  sed -i "s#<value>/dev/ttyACM0</value>#<value>$out/wts0</value>#" "$out/deployments/wts_reader.cpf"
+}
+
+# The simulated WTS0614 on the PTY $1/wts0 (a press circling the pad), killed on exit.
+pids=()
+rt_cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; }
+trap rt_cleanup EXIT
+rt_start_wts_sim() {
+  local out="$1"
+  "$build/bin/wts_sim" --link "$out/wts0" --pattern blob >"$out/wts_sim.log" 2>&1 &
+  pids+=($!)
+  for _ in $(seq 50); do [ -e "$out/wts0" ] && break; sleep 0.1; done
+  [ -e "$out/wts0" ] || { echo "$name: wts_sim did not start" >&2; exit 1; }
+}
