@@ -18,22 +18,11 @@
 #include <cmath>
 #include <string>
 
+#include "feature_bench_rig.hpp"
 #include "rtt_benchmark_main.hpp"
 #include "tactile_features_rtt/feature_component.hpp"
 
 namespace {
-
-const std::string kParamFile = TACTILE_DEPLOYMENTS_DIR "/../components/features/params/wts0614.yaml";
-
-tactile::RawTactileFrame edgeFrame() {
-  tactile::RawTactileFrame raw;
-  for (int r = 0; r < raw.rows; ++r)
-    for (int c = 0; c < raw.cols; ++c) {
-      const double d = std::fabs((c - 6.5) * 0.3 - (r - 2.5));
-      raw.counts[static_cast<std::size_t>(r * raw.cols + c)] = static_cast<uint16_t>(d < 1.5 ? 400 * (1.5 - d) : 0);
-    }
-  return raw;
-}
 
 // The adapter's place: drains its buffered event ports in its own thread.
 class Drain : public RTT::TaskContext {
@@ -56,37 +45,17 @@ class Drain : public RTT::TaskContext {
 
 void BM_FeatureCycleStreams(benchmark::State& state) {
   const bool streams = state.range(0) != 0;
-  tactile::FeatureComponent comp("features");
-  comp.setActivity(new RTT::extras::SlaveActivity());
-  comp.properties()->getPropertyType<std::string>("param_file")->set(kParamFile);
-  RTT::OutputPort<tactile::RawTactileFrame> raw_out("raw_out");
-  RTT::InputPort<tactile::ContactFeatures> features_in("features_in");
-  raw_out.connectTo(comp.ports()->getPort("raw_frame"));
-  comp.ports()->getPort("features")->connectTo(&features_in);
+  bench_rig::FeatureRig rig;
   Drain drain;
   drain.setActivity(new RTT::Activity(ORO_SCHED_OTHER, 0, 0.0));
   if (streams) {
     RTT::ConnPolicy cp = RTT::ConnPolicy::buffer(256);
     cp.lock_policy = RTT::ConnPolicy::LOCK_FREE;
-    comp.ports()->getPort("calibrated_frame")->connectTo(&drain.frame_in_, cp);
-    comp.ports()->getPort("features")->connectTo(&drain.features_in_, cp);
+    rig.comp.ports()->getPort("calibrated_frame")->connectTo(&drain.frame_in_, cp);
+    rig.comp.ports()->getPort("features")->connectTo(&drain.features_in_, cp);
     drain.start();
   }
-  if (!comp.configure() || !comp.start()) {
-    state.SkipWithError("configure/start");
-    return;
-  }
-  tactile::RawTactileFrame raw = edgeFrame();
-  raw_out.setDataSample(raw);
-  tactile::ContactFeatures out;
-  for (auto _ : state) {
-    ++raw.seq;
-    raw_out.write(raw);
-    comp.update();
-    features_in.read(out, false);
-    benchmark::DoNotOptimize(out);
-  }
-  comp.stop();
+  rig.run(state);
   drain.stop();
 }
 BENCHMARK(BM_FeatureCycleStreams)->Arg(0)->Arg(1);

@@ -13,22 +13,13 @@
 #include "tactile_features/calibration.hpp"
 #include "tactile_features/extractor.hpp"
 #include "tactile_features_rtt/feature_component.hpp"
+#include "feature_bench_rig.hpp"
 #include "rtt_benchmark_main.hpp"
 
 namespace {
 
-const std::string kParamFile = TACTILE_DEPLOYMENTS_DIR "/../components/features/params/wts0614.yaml";
-
-// An edge across the pad, as raw counts (up to 600 counts: 0.25 N with the file's calibration).
-tactile::RawTactileFrame edgeFrame() {
-  tactile::RawTactileFrame raw;
-  for (int r = 0; r < raw.rows; ++r)
-    for (int c = 0; c < raw.cols; ++c) {
-      const double d = std::fabs((c - 6.5) * 0.3 - (r - 2.5));  // distance (in taxels) from a line
-      raw.counts[static_cast<std::size_t>(r * raw.cols + c)] = static_cast<uint16_t>(d < 1.5 ? 400 * (1.5 - d) : 0);
-    }
-  return raw;
-}
+using bench_rig::edgeFrame;
+using bench_rig::kParamFile;
 
 void BM_CoresDirect(benchmark::State& state) {
   tactile::FeatureParams fp;
@@ -54,28 +45,8 @@ void BM_CoresDirect(benchmark::State& state) {
 BENCHMARK(BM_CoresDirect);
 
 void BM_FeatureComponentCycle(benchmark::State& state) {
-  tactile::FeatureComponent comp("features");
-  comp.setActivity(new RTT::extras::SlaveActivity());
-  comp.properties()->getPropertyType<std::string>("param_file")->set(kParamFile);
-  RTT::OutputPort<tactile::RawTactileFrame> raw_out("raw_out");
-  RTT::InputPort<tactile::ContactFeatures> features_in("features_in");
-  raw_out.connectTo(comp.ports()->getPort("raw_frame"));
-  comp.ports()->getPort("features")->connectTo(&features_in);
-  if (!comp.configure() || !comp.start()) {
-    state.SkipWithError("configure/start");
-    return;
-  }
-  tactile::RawTactileFrame raw = edgeFrame();
-  raw_out.setDataSample(raw);
-  tactile::ContactFeatures out;
-  for (auto _ : state) {
-    ++raw.seq;
-    raw_out.write(raw);
-    comp.update();
-    features_in.read(out, false);
-    benchmark::DoNotOptimize(out);
-  }
-  comp.stop();
+  bench_rig::FeatureRig rig;
+  rig.run(state);
 }
 BENCHMARK(BM_FeatureComponentCycle);
 
