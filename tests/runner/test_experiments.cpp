@@ -9,6 +9,7 @@
 #include <limits>
 #include <string>
 
+#include "scene_run.hpp"
 #include "tactile_sim/loop.hpp"
 #include "tactile_sim/runner.hpp"
 
@@ -17,20 +18,14 @@ using namespace tactile::sim;
 
 namespace {
 
-const std::string kScenes = std::string(TACTILE_SOURCE_DIR) + "/sim/scenes/";
+using test::kScenes;
 
 RunResult runScene(const std::string& name, ControllerMode mode = ControllerMode::Proposed, Scene* out = nullptr,
                    bool force_mismatch_watchdog = true) {
-  Scene sc;
-  const ConfigResult r = loadScene(kScenes + name, sc);
-  EXPECT_TRUE(r.ok()) << r.message();
+  Scene sc = test::loadShipped(name);
   sc.controller = mode;
   if (!force_mismatch_watchdog) sc.servo.watchdogs.mismatch_window_s = 0.0;
-  Runner runner;
-  const ConfigResult c = runner.configure(sc);
-  EXPECT_TRUE(c.ok()) << c.message();
-  RunResult res;
-  runner.run(res);
+  RunResult res = test::runFull(sc);
   if (out) *out = sc;
   return res;
 }
@@ -283,18 +278,12 @@ TEST(Experiments, OffCentreLoadNeedsRotationNotDzmp) {
 // before the filter), the baseline's flicker breaks every 0.2 s streak and it
 // never leaves edge_control within the scene's 60 s, although it holds the edge.
 RunResult runEdge(ControllerMode mode, double filter_s) {
-  Scene sc;
-  const ConfigResult r = loadScene(kScenes + std::string("edge_exploration.yaml"), sc);
-  EXPECT_TRUE(r.ok()) << r.message();
+  Scene sc = test::loadShipped("edge_exploration.yaml");
   sc.controller = mode;
   for (PhaseParams& ph : sc.servo.phases)
     for (TransitionParams& t : ph.transitions)
       if (t.on == TransitionEvent::Aligned) t.filter_s = filter_s;
-  Runner runner;
-  EXPECT_TRUE(runner.configure(sc).ok());
-  RunResult res;
-  runner.run(res);
-  return res;
+  return test::runFull(sc);
 }
 
 TEST(Experiments, EdgeExplorationLiBaselineAlignsOnlyWithTheFilteredTest) {
