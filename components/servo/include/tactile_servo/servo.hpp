@@ -98,7 +98,8 @@
 // transition fires once its condition held for `for_s` seconds of consecutive
 // valid cycles, each cycle counting its dt) and the new phase acts in the same cycle. Events: contact, edge,
 // point (the extractor's contact type), aligned (chosen |Δs| rows, |Δforce|,
-// |CoC| below tolerances), contact_lost, force_above, timeout (time in phase).
+// |CoC| below tolerances; with `filter_s` > 0 the signed errors low-passed
+// first, time constant filter_s), contact_lost, force_above, timeout (time in phase).
 // While holding (stale/invalid input) transitions are not evaluated.
 //
 // STRUCTURE. TactileServo composes three parts, each usable and tested alone:
