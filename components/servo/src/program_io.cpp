@@ -269,7 +269,7 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
   ServoParams p;
   p.source = file;
   const Where top{file, ""};
-  ConfigResult r = checkKeys(root, top, {"controller", "safety", "watchdogs", "phase_defaults", "phases"});
+  ConfigResult r = checkKeys(root, top, {"controller", "safety", "watchdogs", "force_estimate", "phase_defaults", "phases"});
   if (!r) return r;
   if (const YAML::Node c = root["controller"]) {
     const Where w = top.child("controller");
@@ -358,6 +358,24 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
                       read(fm, "no_contact_n", wp.mismatch_no_contact_n, wf)})
         if (!rr) return rr;
     }
+  }
+  if (const YAML::Node fe = root["force_estimate"]) {
+    const Where w = top.child("force_estimate");
+    ForceEstimateParams& fp = p.force_estimate;
+    if (!(r = checkKeys(fe, w, {"source", "tau_s", "max_correction_n", "tare_tau_s", "tare_gate_n", "tare_hold_s"}))) return r;
+    std::string src;
+    if (fe["source"]) {
+      if (!(r = read(fe, "source", src, w))) return r;
+      if (src == "tactile") fp.fused = false;
+      else if (src == "fused") fp.fused = true;
+      else return fail(w.child("source"), "'" + src + "': must be tactile (Eq. 2, the paper) or fused (with the arm's wrench)");
+    }
+    for (auto rr : {read(fe, "tau_s", fp.tau_s, w), read(fe, "max_correction_n", fp.max_correction_n, w),
+                    read(fe, "tare_tau_s", fp.tare_tau_s, w), read(fe, "tare_gate_n", fp.tare_gate_n, w),
+                    read(fe, "tare_hold_s", fp.tare_hold_s, w)})
+      if (!rr) return rr;
+    ForceEstimator probe;
+    if (!(r = probe.configure(fp, w.str().c_str()))) return r;
   }
   Defaults d;
   if (const YAML::Node pd = root["phase_defaults"]) {

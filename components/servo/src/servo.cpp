@@ -11,6 +11,7 @@ ConfigResult TactileServo::configure(const ServoParams& p) {
   if (r) r = safety_.configure(p);     // step limits, box, ceiling, stale, contact loss
   if (r) r = program_.configure(p);    // names, transitions, initial phase, reachability
   if (r) r = watchdogs_.configure(p);  // phase timeout, arm stall, force mismatch
+  if (r) r = force_est_.configure(p.force_estimate, (p.source + ": force_estimate").c_str());
   if (!r) return r;
   params_ = p;
   configured_ = true;
@@ -23,6 +24,7 @@ void TactileServo::reset() {
   law_.resetIntegrator();
   safety_.reset();
   watchdogs_.reset();
+  force_est_.reset();
   has_cmd_ = false;
 }
 
@@ -96,6 +98,7 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   out.error_task.setZero();
   out.u_s.setZero();
   out.beta = 0;
+  out.force = in.features.force;
   if (!configured_) {
     out.valid = false;
     out.command.status = ServoStatus::NotConfigured;
@@ -150,18 +153,33 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   if (!f_finite) return finish(ServoStatus::InvalidInput, now, out);
   // Stale-features watchdog.
   if (safety_.stale(f, now)) return finish(ServoStatus::Holding, now, out);
-  // The tactile force against the arm's estimated wrench along z_s.
-  if (watchdogs_.forceMismatch(f.force, PhaseProgram::hasContact(f), in.have_wrench, in.wrench,
-                               (meas * law_.sensorMount()).M.UnitZ(), now, dt, params_.safety.stale_timeout))
+  // The force the law and the transitions use: Eq. 2's f, or f corrected by
+  // the wrench at low frequency (force_estimator.hpp), which also keeps the
+  // wrench's zero (tare).
+  const KDL::Vector z_s = (meas * law_.sensorMount()).M.UnitZ();
+  const bool contact = PhaseProgram::hasContact(f);
+  const bool wrench_fresh = in.have_wrench && std::fabs(now - in.wrench.time_s) <= params_.safety.stale_timeout;
+  const KDL::Vector F(in.wrench.w[0], in.wrench.w[1], in.wrench.w[2]);
+  const double f_hat = force_est_.step(f.force, contact, wrench_fresh, F, z_s, dt);
+  // The force the law uses (the tactile force, or f_hat: the correction is
+  // bounded, so a wrench beyond it still shows) against the arm's estimated
+  // wrench (less its zero) along z_s.
+  Wrench w_tared = in.wrench;
+  for (int i = 0; i < 3; ++i) w_tared.w[static_cast<std::size_t>(i)] -= force_est_.tare()(i);
+  if (watchdogs_.forceMismatch(f_hat, contact, in.have_wrench, w_tared, z_s, now, dt, params_.safety.stale_timeout))
     return finish(ServoStatus::ForceMismatch, now, out);
+  ContactFeatures fc = in.features;
+  fc.d_z += law_.c_z() * (f_hat - f.force);  // Eq. 2: d_z = C_z f
+  fc.force = f_hat;
+  out.force = f_hat;
 
   // Eq. 7-8 and the phase program.
   uint8_t beta = 0;
-  Vec6 e = law_.featureError(program_.current(), f, beta);
+  Vec6 e = law_.featureError(program_.current(), fc, beta);
   int target = -1;
-  if (program_.evaluate(f, e, now, dt, law_.c_z(), target)) {
+  if (program_.evaluate(fc, e, now, dt, law_.c_z(), target)) {
     enterPhase(target, now);
-    e = law_.featureError(program_.current(), f, beta);
+    e = law_.featureError(program_.current(), fc, beta);
   }
   const int ph = program_.current();
   out.error = e;

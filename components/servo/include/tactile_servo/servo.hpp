@@ -80,6 +80,12 @@
 //    unusable status -> hold the last command (status Holding);
 //  * NaN/Inf in features, pose or dt, dt <= 0 -> hold (status InvalidInput);
 //    no output is ever NaN;
+//  * the force the law regulates is Eq. 2's tactile force, or (force_estimate:
+//    source: fused) that force corrected at low frequency by the arm's
+//    estimated wrench (force_estimator.hpp: the load below the taxels' firing
+//    threshold); the force ceiling reads the tactile force itself, the
+//    force-mismatch watchdog the force the law uses (the correction is
+//    bounded: a wrench beyond max_correction_n still shows);
 //  * watchdogs (watchdog.hpp), fatal and latched, the command held: a phase
 //    longer than its max_duration_s (PhaseTimeout), commanded motion the
 //    measured pose does not follow (ArmStalled), a tactile force the arm's
@@ -146,6 +152,7 @@ struct ServoOutput {
   Vec6 error_task = Vec6::Zero();  ///< Δs_task (Eq. 9)
   Vec6 u_s = Vec6::Zero();         ///< increment applied this cycle, in {s}
   uint8_t beta = 0;                ///< 1 when the edge Jacobian was used
+  double force = 0.0;              ///< N: the force the law and the transitions used (f_hat, force_estimator.hpp)
   bool valid = false;              ///< false until a valid measured pose was seen (validPose, types.hpp)
 };
 
@@ -185,6 +192,7 @@ class TactileServo {
   const PhaseProgram& program() const { return program_; }
   const SafetySupervisor& safety() const { return safety_; }
   const ServoWatchdogs& watchdogs() const { return watchdogs_; }
+  const ForceEstimator& forceEstimator() const { return force_est_; }
 
  private:
   void enterPhase(int idx, double now);
@@ -197,6 +205,7 @@ class TactileServo {
   PhaseProgram program_;
   SafetySupervisor safety_;
   ServoWatchdogs watchdogs_;
+  ForceEstimator force_est_;
   KDL::Frame cmd_;
   KDL::Frame meas_;            ///< this cycle's measured flange pose
   bool motion_cycle_ = false;  ///< this cycle commanded motion (the stall watchdog's window)

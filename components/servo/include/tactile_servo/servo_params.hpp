@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "tactile_servo/force_estimator.hpp"
 #include "tactile_types/config_result.hpp"
 #include "tactile_types/types.hpp"
 
@@ -163,6 +164,7 @@ struct ServoParams {
   double c_z = 1.0 / 1800.0;                          ///< m/N (Eq. 2), > 0
   SafetyParams safety;
   WatchdogParams watchdogs;
+  ForceEstimateParams force_estimate;                 ///< the force the law and the transitions use (force_estimator.hpp)
   std::vector<PhaseParams> phases;
   std::string initial_phase;                          ///< empty = first phase
   std::string source;                                 ///< file name, for messages

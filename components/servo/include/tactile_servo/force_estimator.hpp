@@ -1,0 +1,88 @@
+// Force estimate (beyond the paper): Eq. 2's tactile force f, corrected at
+// low frequency by the arm's estimated external wrench along z_s.
+//
+// Why: the WTS reports 0 for a taxel below its firing threshold (0.2 N), so
+// the part of a line load that falls on taxels loaded below the threshold
+// (the tails of the contact, a row that shares the load with its neighbour)
+// is missing from f, and a servo that regulates f presses the true force
+// above its set point (README, "Known bias"). Which part is missing cannot be
+// told from one image: the same image fits a sharp edge on one row and a
+// round edge whose tails fall below the threshold. The arm's estimated
+// wrench (the KRC's estExtTcpFT; it is noisy and biased, but its error
+// changes slowly) sees the whole load.
+//
+// The estimate, each servo cycle with a wrench sample no older than the stale
+// timeout (F its force, {g} axes; z_s the sensor normal in {g}):
+//   no tactile contact:  F_lp <- F_lp + a_T (F - F_lp),  a_T = max(1 - exp(-dt / tare_tau_s),
+//                        dt / (time of samples so far)): a running mean, then a
+//                        first-order low-pass. Every tare_hold_s of such
+//                        samples F_lp is snapshot, and the tare T takes the
+//                        previous snapshot (samples at least tare_hold_s old)
+//                        if F_lp moved along z_s by at most tare_gate_n since
+//                        it; else T is held. So T is the wrench's zero where
+//                        nothing touched the pad: the load that builds up while
+//                        the pad presses the object but no taxel fires yet
+//                        (below the firing threshold) moves F_lp along z_s and
+//                        holds T instead of being taken for the zero. T = 0
+//                        until the first tare (tared()).
+//   tactile contact:     f_w = |(F - T) . z_s|
+//                        c   <- c + a_c (f_w - f - c),  a_c = 1 - exp(-dt / tau_s),
+//                        |c| <= max_correction_n
+//   f_hat = f + c (source: fused, with contact), else f (source: tactile: the paper).
+// The image keeps the fast part of f_hat (its own bandwidth and noise), the
+// wrench only the part slower than tau_s: the wrench's noise is averaged over
+// tau_s, and a wrench error larger than max_correction_n cannot move the set
+// point by more than that. Without a fresh wrench, c and T are held. The
+// filters are exact for held samples: the same at every servo rate. The
+// force-mismatch watchdog reads F - T (tare()) against f_hat; with source
+// tactile nothing is tared (T = 0). The tare needs the pad free of load at the
+// start, as any force-sensor tare: a load present from the first sample
+// (e.g. on the housing) would be taken for the zero.
+// Real-time: step() does not allocate, throw, log or block.
+#pragma once
+
+#include <kdl/frames.hpp>
+
+#include "tactile_types/config_result.hpp"
+
+namespace tactile {
+
+struct ForceEstimateParams {
+  bool fused = false;              ///< source: tactile (false) | fused (true)
+  double tau_s = 1.0;              ///< s, (0, 100]: time constant of the correction c
+  double max_correction_n = 2.0;   ///< N, (0, 50]: |c| limit
+  double tare_tau_s = 0.5;         ///< s, (0, 100]: time constant of the wrench's zero without contact
+  double tare_gate_n = 0.3;        ///< N, (0, 50]: largest step of the tare along z_s (a load building up: held)
+  double tare_hold_s = 0.2;        ///< s, (0, 10]: age of the samples the tare is taken from
+};
+
+class ForceEstimator {
+ public:
+  /// Validate (ranges above); `where` prefixes the key in messages.
+  ConfigResult configure(const ForceEstimateParams& p, const char* where = "force_estimate");
+  void reset();
+
+  /// One cycle: f the tactile force (N, finite), `contact` tactile contact,
+  /// `fresh` a wrench sample no older than the stale timeout, F its force ({g},
+  /// N), z_s the sensor normal in {g}, dt > 0. Returns f_hat (N).
+  double step(double f, bool contact, bool fresh, const KDL::Vector& F, const KDL::Vector& z_s, double dt);
+
+  double correction() const { return c_; }  ///< c (N)
+  bool tared() const { return tared_; }
+  const KDL::Vector& tare() const { return tare_; }  ///< T ({g}, N; zero before the first sample)
+  const ForceEstimateParams& params() const { return p_; }
+
+ private:
+  ForceEstimateParams p_;
+  KDL::Vector lp_ = KDL::Vector::Zero();    // F_lp
+  KDL::Vector snap_ = KDL::Vector::Zero();  // F_lp at the last snapshot
+  KDL::Vector tare_ = KDL::Vector::Zero();  // T: the snapshot before it
+  bool have_lp_ = false;
+  double lp_t_ = 0.0;  // time of the samples in F_lp
+  int n_snap_ = 0;
+  bool tared_ = false;
+  double since_snap_ = 0.0;
+  double c_ = 0.0;
+};
+
+}  // namespace tactile

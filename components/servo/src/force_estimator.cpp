@@ -1,0 +1,71 @@
+#include "tactile_servo/force_estimator.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace tactile {
+
+namespace {
+bool inRange(double v, double hi) { return std::isfinite(v) && v > 0.0 && v <= hi; }
+}  // namespace
+
+ConfigResult ForceEstimator::configure(const ForceEstimateParams& p, const char* where) {
+  const std::string w = std::string(where) + ".";
+  if (!inRange(p.tau_s, 100.0)) return rangeError(w + "tau_s", p.tau_s, "must be in (0, 100] s");
+  if (!inRange(p.max_correction_n, 50.0))
+    return rangeError(w + "max_correction_n", p.max_correction_n, "must be in (0, 50] N");
+  if (!inRange(p.tare_tau_s, 100.0)) return rangeError(w + "tare_tau_s", p.tare_tau_s, "must be in (0, 100] s");
+  if (!inRange(p.tare_gate_n, 50.0)) return rangeError(w + "tare_gate_n", p.tare_gate_n, "must be in (0, 50] N");
+  if (!inRange(p.tare_hold_s, 10.0)) return rangeError(w + "tare_hold_s", p.tare_hold_s, "must be in (0, 10] s");
+  p_ = p;
+  reset();
+  return ConfigResult::success();
+}
+
+void ForceEstimator::reset() {
+  lp_ = snap_ = tare_ = KDL::Vector::Zero();
+  have_lp_ = false;
+  lp_t_ = 0.0;
+  n_snap_ = 0;
+  tared_ = false;
+  since_snap_ = 0.0;
+  c_ = 0.0;
+}
+
+double ForceEstimator::step(double f, bool contact, bool fresh, const KDL::Vector& F, const KDL::Vector& z_s,
+                            double dt) {
+  if (!p_.fused) return f;  // the paper: Eq. 2's force; no tare (the watchdog reads the raw wrench)
+  const bool usable = fresh && std::isfinite(F.x()) && std::isfinite(F.y()) && std::isfinite(F.z()) &&
+                      std::isfinite(dt) && dt > 0.0;
+  if (!contact) {
+    if (usable) {  // the wrench's zero: nothing the taxels see touches the pad
+      // A running mean until tare_tau_s of samples, then the first-order low-pass.
+      lp_t_ += dt;
+      lp_ = have_lp_ ? lp_ + (F - lp_) * std::max(1.0 - std::exp(-dt / p_.tare_tau_s), dt / lp_t_) : F;
+      have_lp_ = true;
+      since_snap_ += dt;
+      if (since_snap_ >= p_.tare_hold_s - 1e-9) {
+        // T takes the previous snapshot (samples at least tare_hold_s old)
+        // unless the wrench moved along z_s by more than tare_gate_n since
+        // then: a load building up.
+        if (n_snap_ > 0 && std::fabs(dot(lp_ - snap_, z_s)) <= p_.tare_gate_n) {
+          tare_ = snap_;
+          tared_ = true;
+        }
+        snap_ = lp_;
+        ++n_snap_;
+        since_snap_ = 0.0;
+      }
+    }
+    return f;
+  }
+  if (usable && std::isfinite(f)) {
+    const double f_w = std::fabs(dot(F - tare_, z_s));
+    const double a = 1.0 - std::exp(-dt / p_.tau_s);  // exact for held samples
+    c_ = std::clamp(c_ + a * (f_w - f - c_), -p_.max_correction_n, p_.max_correction_n);
+  }
+  return f + c_;
+}
+
+}  // namespace tactile

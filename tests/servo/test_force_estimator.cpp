@@ -1,0 +1,200 @@
+// The force estimate (tactile_servo/force_estimator.hpp): Eq. 2's tactile force
+// corrected at low frequency by the arm's estimated wrench. Checked against
+// computed expectations: the correction's exponential step response at every
+// rate, the tare that excludes a load building up below the firing threshold,
+// the clamp, held values on stale or non-finite wrenches, configuration errors,
+// no allocation; and in the servo: the law regulates f_hat, the mismatch
+// watchdog still catches a wrench beyond the correction's bound.
+#include <cmath>
+#include <random>
+
+#include "alloc_counter.hpp"
+#include "servo_test_util.hpp"
+#include "tactile_servo/force_estimator.hpp"
+
+using namespace tactile;
+using namespace servo_test;
+
+namespace {
+
+const KDL::Vector kZs(0.0, 0.0, -1.0);  // sensor facing down: the contact pushes the flange along +z_g
+
+ForceEstimateParams fused() {
+  ForceEstimateParams p;
+  p.fused = true;
+  return p;
+}
+
+// Free motion for `seconds` with the wrench at `bias`, then returns.
+void freeMotion(ForceEstimator& e, const KDL::Vector& bias, double seconds, double dt) {
+  const int n = static_cast<int>(std::lround(seconds / dt));
+  for (int k = 0; k < n; ++k) e.step(0.0, false, true, bias, kZs, dt);
+}
+
+}  // namespace
+
+TEST(ForceEstimator, TactileSourceIsEq2ForceAndTaresNothing) {
+  ForceEstimator e;
+  ASSERT_TRUE(e.configure(ForceEstimateParams{}).ok());
+  freeMotion(e, KDL::Vector(1, 2, 3), 1.0, 0.01);
+  EXPECT_FALSE(e.tared());
+  for (int k = 0; k < 100; ++k) EXPECT_EQ(e.step(4.0, true, true, KDL::Vector(0, 0, 9), kZs, 0.01), 4.0);
+  EXPECT_EQ(e.correction(), 0.0);
+}
+
+TEST(ForceEstimator, CorrectionIsTheHiddenForceWithTimeConstantTauAtEveryRate) {
+  // Tactile 4 N, wrench 1 N bias (tared in free motion) + 5 N contact: 1 N is
+  // below the threshold. c(t) = 1 - exp(-t / tau) for held samples, at any dt.
+  const KDL::Vector bias(0.4, -0.3, 1.0);
+  for (double dt : {0.02, 0.01, 0.001}) {
+    ForceEstimator e;
+    ASSERT_TRUE(e.configure(fused()).ok());
+    freeMotion(e, bias, 1.0, dt);
+    ASSERT_TRUE(e.tared()) << dt;
+    EXPECT_NEAR((e.tare() - bias).Norm(), 0.0, 1e-12) << dt;
+    const KDL::Vector loaded = bias + KDL::Vector(0, 0, 5.0);  // |(F - T) . z_s| = 5
+    const int n = static_cast<int>(std::lround(0.6 / dt));  // 0.6 tau (default tau_s 1 s)
+    double f_hat = 0.0;
+    for (int k = 0; k < n; ++k) f_hat = e.step(4.0, true, true, loaded, kZs, dt);
+    const double expected = 1.0 - std::exp(-0.6 / e.params().tau_s);
+    EXPECT_NEAR(e.correction(), expected, 1e-12) << dt;  // exact for held samples
+    EXPECT_NEAR(f_hat, 4.0 + expected, 1e-12) << dt;
+  }
+}
+
+TEST(ForceEstimator, TareExcludesALoadThatBuildsUpBeforeAnyTaxelFires) {
+  // Free motion at the bias, then 0.3 s of a load growing to 2 N that no taxel
+  // sees (contact false), then contact: T must be the bias, not the load.
+  const KDL::Vector bias(0.2, 0.1, -0.7);
+  const double dt = 0.01;
+  ForceEstimator e;
+  ASSERT_TRUE(e.configure(fused()).ok());
+  freeMotion(e, bias, 1.0, dt);
+  for (int k = 1; k <= 30; ++k) e.step(0.0, false, true, bias + KDL::Vector(0, 0, 2.0 * k / 30.0), kZs, dt);
+  EXPECT_LT((e.tare() - bias).Norm(), 1e-9);
+  // A slow drift of the zero in free motion is followed (within the gate).
+  ForceEstimator d;
+  ASSERT_TRUE(d.configure(fused()).ok());
+  for (int k = 0; k < 500; ++k) d.step(0.0, false, true, bias + KDL::Vector(0, 0, 0.1 * k * dt), kZs, dt);  // 0.1 N/s
+  EXPECT_NEAR(d.tare().z(), bias.z() + 0.1 * 5.0, 0.15);  // T lags by tare_hold_s + tare_tau_s: 0.07 N
+}
+
+TEST(ForceEstimator, NoisyWrenchIsAveragedNotBiased) {
+  // 0.5 N per axis (estExtTcpFT's level): the tare and the correction are
+  // unbiased; the correction's noise is sigma * sqrt(a / (2 - a)), a = 1 - exp(-dt/tau).
+  const double dt = 0.01, sigma = 0.5;
+  ForceEstimator e;
+  ForceEstimateParams p = fused();
+  p.tau_s = 0.3;
+  ASSERT_TRUE(e.configure(p).ok());
+  std::mt19937 rng(7);
+  std::normal_distribution<double> n(0.0, sigma);
+  const KDL::Vector bias(1.0, -1.0, 2.0);
+  for (int k = 0; k < 200; ++k) e.step(0.0, false, true, bias + KDL::Vector(n(rng), n(rng), n(rng)), kZs, dt);
+  EXPECT_LT(std::fabs(e.tare().z() - bias.z()), 0.15);  // 1.5 N noise-free test margin: 4 sigma of a 2 s mean
+  double sum = 0.0, sum2 = 0.0;
+  const int m = 5000;
+  for (int k = 0; k < 500 + m; ++k) {
+    e.step(4.0, true, true, bias + KDL::Vector(n(rng), n(rng), 5.0 + n(rng)), kZs, dt);
+    if (k >= 500) {
+      sum += e.correction();
+      sum2 += e.correction() * e.correction();
+    }
+  }
+  const double mean = sum / m, sd = std::sqrt(sum2 / m - mean * mean);
+  const double a = 1.0 - std::exp(-dt / p.tau_s);
+  EXPECT_NEAR(mean, 1.0 - (e.tare().z() - bias.z()), 0.05);  // the tare's own error shifts it
+  EXPECT_NEAR(sd, sigma * std::sqrt(a / (2.0 - a)), 0.02);
+}
+
+TEST(ForceEstimator, ClampedHeldOnStaleOrNonFiniteWrenchNeverNaN) {
+  const double dt = 0.01;
+  ForceEstimator e;
+  ASSERT_TRUE(e.configure(fused()).ok());
+  freeMotion(e, KDL::Vector::Zero(), 1.0, dt);
+  // A wrench 30 N above the tactile force: c stops at max_correction_n.
+  for (int k = 0; k < 2000; ++k) e.step(5.0, true, true, KDL::Vector(0, 0, 35.0), kZs, dt);
+  EXPECT_DOUBLE_EQ(e.correction(), e.params().max_correction_n);
+  const double c = e.correction();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_DOUBLE_EQ(e.step(5.0, true, false, KDL::Vector(0, 0, 0), kZs, dt), 5.0 + c);  // stale: held
+  EXPECT_DOUBLE_EQ(e.step(5.0, true, true, KDL::Vector(nan, 0, 0), kZs, dt), 5.0 + c);
+  EXPECT_DOUBLE_EQ(e.step(5.0, true, true, KDL::Vector(0, 0, 1.0 / 0.0), kZs, dt), 5.0 + c);
+  EXPECT_DOUBLE_EQ(e.step(5.0, true, true, KDL::Vector(0, 0, 0), kZs, nan), 5.0 + c);
+  EXPECT_DOUBLE_EQ(e.correction(), c);
+}
+
+TEST(ForceEstimator, ConfigurationErrorsNameTheKeyAndRange) {
+  const std::pair<double ForceEstimateParams::*, const char*> keys[] = {
+      {&ForceEstimateParams::tau_s, "tau_s"},
+      {&ForceEstimateParams::max_correction_n, "max_correction_n"},
+      {&ForceEstimateParams::tare_tau_s, "tare_tau_s"},
+      {&ForceEstimateParams::tare_gate_n, "tare_gate_n"},
+      {&ForceEstimateParams::tare_hold_s, "tare_hold_s"}};
+  for (const auto& k : keys)
+    for (double bad : {0.0, -1.0, 1e6, std::numeric_limits<double>::quiet_NaN()}) {
+      ForceEstimateParams p = fused();
+      p.*(k.first) = bad;
+      ForceEstimator e;
+      const ConfigResult r = e.configure(p, "prog.yaml: force_estimate");
+      ASSERT_FALSE(r.ok()) << k.second << " " << bad;
+      EXPECT_NE(r.message().find(std::string("prog.yaml: force_estimate.") + k.second), std::string::npos) << r.message();
+      EXPECT_NE(r.message().find("must be in"), std::string::npos) << r.message();
+    }
+}
+
+TEST(ForceEstimator, StepDoesNotAllocate) {
+  ForceEstimator e;
+  ASSERT_TRUE(e.configure(fused()).ok());
+  test::AllocationScope scope;
+  for (int k = 0; k < 1000; ++k) e.step(k < 500 ? 0.0 : 4.0, k >= 500, true, KDL::Vector(0, 0, k < 500 ? 0 : 5), kZs, 0.001);
+  EXPECT_EQ(scope.count(), 0u);
+}
+
+TEST(ForceEstimator, TheServoRegulatesFHatAndTheWatchdogStillCatchesAWrenchBeyondTheBound) {
+  // One contact phase, features constant: tactile 4 N with an edge, the wrench
+  // 5 N along z_s (identity pose: z_s = z_g; |F . z_s|). The d_z row's error is
+  // C_z (5 - f_hat): it goes to 0 as the correction reaches 1 N.
+  PhaseParams ph = identityPhase("hold", 0.0, 0.0);
+  ph.s_d(kZ) = 5.0 / 1800.0;
+  ServoParams p = singlePhase(ph);
+  p.c_z = 1.0 / 1800.0;
+  p.force_estimate = fused();
+  p.force_estimate.tau_s = 0.3;
+  p.watchdogs.stall_window_s = 0.0;
+  for (double wrench_n : {5.0, 9.0, 46.0}) {
+    TactileServo s;
+    ASSERT_TRUE(s.configure(p).ok());
+    ServoInput in;
+    ServoOutput out;
+    in.flange_measured = toPose(KDL::Frame(KDL::Vector(0.5, 0.0, 0.3)));
+    in.have_wrench = true;
+    const double dt = 0.01;
+    double t = 0.0;
+    ServoStatus st = ServoStatus::Ok;
+    for (int k = 0; k < 300; ++k, t += dt) {  // 1 s free (tare), then 2 s of contact
+      const bool contact = k >= 100;
+      in.time_s = t;
+      in.features = makeFeatures(t, 0, 0, contact ? 4.0 / 1800.0 : 0.0, 0, 0, 0, contact ? ContactType::Edge : ContactType::None);
+      in.features.force = contact ? 4.0 : 0.0;
+      in.wrench.time_s = t;
+      in.wrench.w = {0, 0, contact ? wrench_n : 0.0, 0, 0, 0};
+      st = s.step(in, dt, out);
+      in.flange_measured = out.command.pose;
+      if (st == ServoStatus::ForceMismatch) break;
+    }
+    if (wrench_n == 5.0) {
+      EXPECT_NE(st, ServoStatus::ForceMismatch);
+      EXPECT_NEAR(out.force, 4.0 + (1.0 - std::exp(-2.0 / 0.3)), 1e-9);  // 200 contact cycles
+      EXPECT_NEAR(out.error(kZ), (5.0 - out.force) / 1800.0, 1e-12);
+    } else if (wrench_n == 9.0) {
+      // 5 N hidden: the raw tactile force (4 N) is 5 N off the wrench, beyond the
+      // watchdog's 4 N; f_hat (4 + 2 N, the bound) is 3 N off: accepted.
+      EXPECT_NE(st, ServoStatus::ForceMismatch);
+      EXPECT_NEAR(out.force, 6.0, 1e-9);
+    } else {
+      // The soft-pad case: 46 N against 4 N; the correction stops at 2 N, the rest shows.
+      EXPECT_EQ(st, ServoStatus::ForceMismatch);
+    }
+  }
+}
