@@ -23,8 +23,10 @@
 //                        nothing touched the pad: the load that builds up while
 //                        the pad presses the object but no taxel fires yet
 //                        (below the firing threshold) moves F_lp along z_s and
-//                        holds T instead of being taken for the zero. T = 0
-//                        until the first tare (tared()).
+//                        holds T instead of being taken for the zero (a load
+//                        that then stays below the threshold, unchanged, for
+//                        two tare_hold_s is taken for it). T = 0 until the
+//                        first tare (tared()).
 //   tactile contact:     f_w = |(F - T) . z_s|
 //                        c   <- c + a_c (f_w - f - c),  a_c = 1 - exp(-dt / tau_s),
 //                        |c| <= max_correction_n
