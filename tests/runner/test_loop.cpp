@@ -191,3 +191,85 @@ TEST(SceneEffects, RatesAndEffectsAreValidatedWithFileKeyAndRange) {
   EXPECT_EQ(wp.krc_cycle_s, 0.002);
   EXPECT_EQ(wp.physics_step_s, 1.0 / sc.rates.sim);
 }
+
+// effects.wrench_error: the arm's estimated wrench = (1 + scale) F + bias +
+// drift |p - p_0| + noise, moments exact; the noise a function of (seed, time).
+TEST(EstimatedWrench, ErrorModelIsExactAndTheNoiseDependsOnTimeOnly) {
+  SimState st;
+  st.T_gs = KDL::Frame(KDL::Rotation::RPY(kPi, 0.0, 0.0), KDL::Vector(0.6, 0.1, 0.35));
+  st.T_ge = st.T_gs * KDL::Frame(KDL::Vector(0, 0, -0.03));
+  st.wrench_s = {0.3, -0.2, -5.0, 0.01, 0.02, 0.0};
+  st.time_s = 1.25;
+  Wrench exact, w;
+  fillEstimatedWrench(st, exact);
+  EstimatedWrench model;
+  model.configure(WrenchErrorParams{}, 1);
+  model.start(st);
+  model.fill(st, w);
+  EXPECT_EQ(w.w, exact.w);  // no error: the contact wrench itself
+  WrenchErrorParams p;
+  p.bias_n = {1.0, -1.0, 2.0};
+  p.drift_n_per_m = {0.0, 0.5, -3.0};
+  p.scale = 0.05;
+  model.configure(p, 1);
+  SimState start = st;
+  start.T_ge.p = st.T_ge.p - KDL::Vector(0.03, 0.04, 0.0);  // 5 cm from the start position
+  model.start(start);
+  model.fill(st, w);
+  for (int i = 0; i < 3; ++i)
+    EXPECT_NEAR(w.w[i], 1.05 * exact.w[i] + p.bias_n[i] + p.drift_n_per_m[i] * 0.05, 1e-12) << i;
+  for (int i = 3; i < 6; ++i) EXPECT_EQ(w.w[i], exact.w[i]) << i;
+  // Noise: the same at the same time whoever asks (runner or RTT arm), zero
+  // mean and sigma over many times (4-sigma bounds of the estimates).
+  p = WrenchErrorParams{};
+  p.noise_n = 0.5;
+  model.configure(p, 3);
+  model.start(st);
+  Wrench a, b;
+  model.fill(st, a);
+  model.fill(st, b);
+  EXPECT_EQ(a.w, b.w);
+  const int n = 20000;
+  double sum = 0.0, sum2 = 0.0;
+  for (int k = 0; k < n; ++k) {
+    st.time_s = k * 0.001;
+    model.fill(st, w);
+    const double e = w.w[2] - exact.w[2];
+    sum += e;
+    sum2 += e * e;
+  }
+  const double mean = sum / n, sd = std::sqrt(sum2 / n - mean * mean);
+  EXPECT_NEAR(mean, 0.0, 4.0 * 0.5 / std::sqrt(n));
+  EXPECT_NEAR(sd, 0.5, 4.0 * 0.5 / std::sqrt(2.0 * n));
+  EstimatedWrench other;
+  other.configure(p, 4);  // another seed: other noise
+  other.start(st);
+  st.time_s = 0.5;
+  model.fill(st, a);
+  other.fill(st, b);
+  EXPECT_NE(a.w[2], b.w[2]);
+}
+
+TEST(EstimatedWrench, SceneKeysAreValidatedWithFileKeyAndRange) {
+  const std::string file = TACTILE_SOURCE_DIR "/sim/scenes/edge_exploration.yaml";
+  Scene sc;
+  ASSERT_TRUE(loadScene(file, sc).ok());
+  EXPECT_FALSE(sc.wrench_error.any());
+  ASSERT_TRUE(loadScene(file, sc, {"effects.wrench_error={bias_n: [1, -1, 2], drift_n_per_m: [0, 0, 1], "
+                                   "scale: 0.05, noise_n: 0.5}"})
+                  .ok());
+  EXPECT_EQ(sc.wrench_error.bias_n[2], 2.0);
+  EXPECT_EQ(sc.wrench_error.drift_n_per_m[2], 1.0);
+  EXPECT_EQ(sc.wrench_error.scale, 0.05);
+  EXPECT_EQ(sc.wrench_error.noise_n, 0.5);
+  for (const char* bad : {"effects.wrench_error={bias_n: [0, 0, 25]}", "effects.wrench_error={drift_n_per_m: [0, 200, 0]}",
+                          "effects.wrench_error={scale: 0.6}", "effects.wrench_error={noise_n: -1}"}) {
+    const ConfigResult r = loadScene(file, sc, {bad});
+    ASSERT_FALSE(r.ok()) << bad;
+    EXPECT_NE(r.message().find(file), std::string::npos) << r.message();
+    EXPECT_NE(r.message().find("effects.wrench_error."), std::string::npos) << r.message();
+    EXPECT_NE(r.message().find("must be in"), std::string::npos) << r.message();
+  }
+  EXPECT_FALSE(loadScene(file, sc, {"effects.wrench_error={bias: [0, 0, 1]}"}).ok());  // unknown key
+  EXPECT_FALSE(loadScene(file, sc, {"effects.wrench_error={bias_n: [0, 1]}"}).ok());   // 2 entries
+}

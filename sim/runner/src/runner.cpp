@@ -69,6 +69,9 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
   ServoStatus st = ServoStatus::NotConfigured;
   SimState state = world_.state();
   SimStatus ss = state.status;
+  EstimatedWrench est_wrench;  // the arm's estimated wrench with the scene's error
+  est_wrench.configure(sc.wrench_error, sc.seed);
+  est_wrench.start(state);
   Pose cmd = state.command_g;  // the initial command (dynamics may start at its equilibrium, off it)
   // The arm at start: its image for the first acquisition, its ground truth.
   if (sched.fires().wts) world_.acquireForces(forces, acq);
@@ -104,7 +107,7 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
     if (fi.servo) {  // tactile servo (100 Hz)
       servo_.setMeasuredPose(state.flange_g);
       Wrench wrench;  // the arm's estimated wrench, as the RTT arm publishes it
-      fillEstimatedWrench(state, wrench);
+      est_wrench.fill(state, wrench);
       servo_.setEstimatedWrench(wrench);
       if (servo_.step(t, feats, sout, st)) cmd = sout.command.pose;
 

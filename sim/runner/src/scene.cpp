@@ -105,6 +105,29 @@ ConfigResult readObject(const YAML::Node& n, const Where& w, ObjectParams& o) {
 
 // The sensor's keys of the `effects:` map (ranges: TaxelResponse::configure,
 // through validateScene).
+// effects.wrench_error (scene.hpp).
+ConfigResult readWrenchError(const YAML::Node& n, const Where& w, WrenchErrorParams& e) {
+  if (!n) return ConfigResult::success();
+  ConfigResult r = checkKeys(n, w, {"bias_n", "drift_n_per_m", "scale", "noise_n"});
+  if (!r) return r;
+  Vec3 b{e.bias_n[0], e.bias_n[1], e.bias_n[2]}, d{e.drift_n_per_m[0], e.drift_n_per_m[1], e.drift_n_per_m[2]};
+  for (auto rr : {readVec3(n, "bias_n", b, w), readVec3(n, "drift_n_per_m", d, w), read(n, "scale", e.scale, w),
+                  read(n, "noise_n", e.noise_n, w)})
+    if (!rr) return rr;
+  for (int i = 0; i < 3; ++i) {
+    if (!(std::fabs(b[i]) <= 20.0))
+      return rangeError(w.child("bias_n").str() + "[" + std::to_string(i) + "]", b[i], "must be in [-20, 20] N");
+    if (!(std::fabs(d[i]) <= 100.0))
+      return rangeError(w.child("drift_n_per_m").str() + "[" + std::to_string(i) + "]", d[i],
+                        "must be in [-100, 100] N/m");
+    e.bias_n[i] = b[i];
+    e.drift_n_per_m[i] = d[i];
+  }
+  if (!(std::fabs(e.scale) <= 0.5)) return rangeError(w.child("scale").str(), e.scale, "must be in [-0.5, 0.5]");
+  if (!(e.noise_n >= 0.0 && e.noise_n <= 10.0)) return rangeError(w.child("noise_n").str(), e.noise_n, "must be in [0, 10] N");
+  return ConfigResult::success();
+}
+
 ConfigResult readSensorEffects(const YAML::Node& n, const Where& w, SensorEffects& e) {
   ConfigResult r;
   for (auto rr : {read(n, "wts_transfer_delay_s", e.wts_transfer_delay_s, w), read(n, "gain_spread", e.gain_spread, w),
@@ -348,9 +371,10 @@ ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std:
     if (!(r = checkKeys(n, we,
                         {"friction_mu", "friction_stiffness", "fri_delay_s", "krc_cycle_s", "wts_transfer_delay_s",
                          "gain_spread", "dead_taxels", "calibration_error", "crosstalk", "creep", "hysteresis",
-                         "device_noise"})))
+                         "device_noise", "wrench_error"})))
       return r;
     if (!(r = readSensorEffects(n, we, s.sensor_effects))) return r;
+    if (!(r = readWrenchError(n["wrench_error"], we.child("wrench_error"), s.wrench_error))) return r;
     WorldParams& wp = s.world;
     for (auto rr : {read(n, "friction_mu", wp.friction_mu, we), read(n, "friction_stiffness", wp.friction_stiffness, we),
                     read(n, "fri_delay_s", wp.fri_delay_s, we), read(n, "krc_cycle_s", wp.krc_cycle_s, we)})

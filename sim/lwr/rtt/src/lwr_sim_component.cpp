@@ -45,6 +45,7 @@ bool LwrSimComponent::configureHook() {
   if (r) {
     world_params_ = sim::worldParams(scene);  // seed and physics step (the KRC cycle's and FRI delay's unit)
     sim_period_ = 1.0 / scene.rates.sim;
+    est_wrench_.configure(scene.wrench_error, scene.seed);
     r = world_.configure(world_params_);
     if (r) r = schedule_.configure(scene.rates, scene.duration);
     if (!r) r = ConfigResult::failure(scene_file_ + ": " + r.message());
@@ -81,7 +82,7 @@ void LwrSimComponent::publish() {
   truth_out_.write(truth_);
   pose_out_.write(state_.flange_g);
   // Contact wrench on the sensor moved to the flange, {g} axes (the loop's rule, as the runner).
-  sim::fillEstimatedWrench(state_, wrench_);
+  est_wrench_.fill(state_, wrench_);
   wrench_out_.write(wrench_);
 }
 
@@ -94,6 +95,7 @@ bool LwrSimComponent::startHook() {
   }
   schedule_.reset();
   state_ = world_.state();
+  est_wrench_.start(state_);
   cmd_ = state_.command_g;  // hold the start command until a command arrives
   acq_ = sim::SensorTruth();
   sim_time_ = state_.time_s;

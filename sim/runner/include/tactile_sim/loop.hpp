@@ -120,6 +120,25 @@ void applyEnd(EndReason reason, SimStatus sim_status, Summary& s);
 /// the sensor moved to the flange origin, {g} axes, stamped with the state's time.
 void fillEstimatedWrench(const SimState& state, Wrench& out);
 
+/// The arm's estimated external wrench with the scene's estimation error
+/// (effects.wrench_error, scene.hpp): force (1 + scale) F + bias + drift
+/// |p_flange - p_flange(0)| + noise, moments exact. The noise is a function of
+/// (seed, the state's time) only, so the runner (servo rate) and the RTT arm
+/// (every physics step) publish the same value at the same time. Without an
+/// error it is fillEstimatedWrench().
+class EstimatedWrench {
+ public:
+  void configure(const WrenchErrorParams& p, uint64_t seed);
+  /// The flange's start position p_flange(0) (the drift's origin).
+  void start(const SimState& initial);
+  void fill(const SimState& state, Wrench& out) const;
+
+ private:
+  WrenchErrorParams p_;
+  uint64_t seed_ = 0;
+  KDL::Vector p0_ = KDL::Vector::Zero();
+};
+
 /// The simulator's ground truth port value: the state after a physics step
 /// and the last acquisition's contact point.
 void fillTruth(const SimState& state, const SensorTruth& last_acquisition, SimTruth& out);

@@ -56,6 +56,13 @@
 //                                     # (1 + fraction) x its instantaneous value with time constant tau_s
 //     hysteresis: 0                   # [0, 0.5]: loading reads (1 - h) x load, unloading (1 + h) x load
 //     device_noise: false             # true: sensor noise at the WTS's level (TaxelResponse::deviceNoiseCounts)
+//     wrench_error:                   # the arm's estimated wrench (estExtTcpFT, from the joint torques) is not
+//                                     # the contact wrench: (1 + scale) F + bias + drift |p - p_0| + noise
+//       bias_n: [0, 0, 0]             # N, {g}, each in [-20, 20]: constant force offset
+//       drift_n_per_m: [0, 0, 0]      # N/m, {g}, each in [-100, 100]: offset growing with the flange's distance
+//                                     # from its start position (a model error that depends on the posture)
+//       scale: 0                      # [-0.5, 0.5]: relative gain error of the force
+//       noise_n: 0                    # N, [0, 10]: 1-sigma noise per axis, a function of (seed, time) only
 //   metrics:
 //     transient_s: 2.0                # ignored at the start of each force-servoing phase
 //     force_phases: [explore]         # phases whose force error is scored (default: all contact phases)
@@ -66,6 +73,7 @@
 //       path_length_m: {min: 0.15}    # is summary.json's criteria_passed / criteria_failed
 #pragma once
 
+#include <array>
 #include <limits>
 #include <string>
 #include <vector>
@@ -102,6 +110,20 @@ struct SceneMetrics {
   double force_band_n = 1.0;
 };
 
+/// effects.wrench_error: the error of the arm's estimated wrench (force part;
+/// the moments are exact). All zero: the estimate is the contact wrench.
+struct WrenchErrorParams {
+  std::array<double, 3> bias_n{0.0, 0.0, 0.0};         ///< N, {g}
+  std::array<double, 3> drift_n_per_m{0.0, 0.0, 0.0};  ///< N/m, {g}, times |p_flange - p_flange(0)|
+  double scale = 0.0;                                  ///< relative gain error
+  double noise_n = 0.0;                                ///< N, 1 sigma per axis
+  bool any() const {
+    for (int i = 0; i < 3; ++i)
+      if (bias_n[i] != 0.0 || drift_n_per_m[i] != 0.0) return true;
+    return scale != 0.0 || noise_n != 0.0;
+  }
+};
+
 struct Scene {
   std::string file;         ///< the scene file
   std::string name, description, figure;
@@ -118,6 +140,7 @@ struct Scene {
   bool through_fri = false;  ///< commands go through FRI packets and the bridge
   std::string fri_file;      ///< bridge parameters (empty: defaults)
   SensorEffects sensor_effects;  ///< `effects:` keys of the sensor (TaxelResponse)
+  WrenchErrorParams wrench_error;  ///< effects.wrench_error (the arm's estimated wrench)
 };
 
 /// The simulated sensor's parameters (TaxelResponse) of a scene: its

@@ -88,6 +88,7 @@ class LwrSimComponent : public RTT::TaskContext {
   TactileFrame forces_;
   SimTruth truth_;
   Wrench wrench_;
+  sim::EstimatedWrench est_wrench_;  // the arm's estimated wrench with the scene's error (loop.hpp)
 };
 
 }  // namespace tactile
