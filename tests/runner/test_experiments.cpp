@@ -516,3 +516,41 @@ TEST(Runner, AnUnstableRunStopsWithAStatusAndANonZeroExitCode) {
   for (const auto& row : r.rows)
     for (double v : row.act) ASSERT_TRUE(std::isfinite(v));
 }
+
+// The force estimate (force_estimator.hpp, *_fused programs): the servo
+// regulates the tactile force corrected by the arm's estimated wrench, which
+// carries the scenes' error (a tared offset, 0.5 N of noise per axis), so the
+// TRUE force sits at 5 N. Targets: RMS error <= 0.4 N and >= 95 % of the
+// sliding time within 5 +- 0.5 N (the scenes' force_band_n). The same bar and
+// start with the tactile-only program miss both: the load on taxels below the
+// 0.2 N firing threshold is missing from what it regulates.
+TEST(Experiments, ForceEstimatePutsTheTrueForceOnTarget) {
+  const RunResult f = runScene("bent_bar_fused.yaml");
+  EXPECT_EQ(f.summary.status, "ok");
+  EXPECT_TRUE(f.summary.criteria_failed.empty()) << f.summary.criteria_failed.front();
+  EXPECT_LE(f.summary.force_true_rms_error_n, 0.4);
+  EXPECT_GE(f.summary.force_true_in_band_fraction, 0.95);
+  EXPECT_GE(f.summary.path_length_m, 0.2);
+  EXPECT_EQ(f.summary.contact_lost_count, 0);
+  Scene sc = test::loadShipped("bent_bar_fused.yaml", {"program=../../components/servo/programs/bent_bar.yaml"});
+  const Summary t = test::run(sc);
+  EXPECT_EQ(t.status, "ok");
+  EXPECT_GT(t.force_true_rms_error_n, 0.5);       // measured 0.66 N: the true force ~0.6 N above 5 N
+  EXPECT_LT(t.force_true_in_band_fraction, 0.5);  // measured 0.21
+  EXPECT_GT(t.force_true_mean_n, 5.4);
+
+  // The edge exploration (pad friction 0.5: stick-slip) meets the RMS target;
+  // within +-0.5 N it stays 0.86-0.98 of the sliding time over seeds 1-5 (the
+  // 95 % target is not met: README), against 0.16 for the tactile-only program.
+  const RunResult e = runScene("edge_exploration_fused.yaml");
+  EXPECT_EQ(e.summary.status, "ok");
+  EXPECT_LE(e.summary.force_true_rms_error_n, 0.4);
+  EXPECT_GE(e.summary.force_true_in_band_fraction, 0.85);
+  EXPECT_LT(e.summary.alignment_time_s, 5.0);
+  EXPECT_GE(e.summary.path_length_m, 0.15);
+  Scene se = test::loadShipped("edge_exploration_fused.yaml",
+                               {"program=../../components/servo/programs/edge_exploration.yaml"});
+  const Summary te = test::run(se);
+  EXPECT_GT(te.force_true_rms_error_n, 0.6);
+  EXPECT_LT(te.force_true_in_band_fraction, 0.5);
+}
