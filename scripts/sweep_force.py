@@ -159,6 +159,11 @@ def main():
                 "within +-0.5 N before / after | contact losses after | path (m) after | target met |\n")
         f.write("|---|---|---|---|---|---|---|\n")
         for r in rows:
+            if r["before_status"] != "ok":  # e.g. stopped by a watchdog: its force is not scored
+                for key in ("force_true_mean_n", "force_true_rms_error_n", "force_true_in_band_fraction"):
+                    if r[f"before_{key}"] != r[f"before_{key}"]:
+                        r[f"before_{key}"] = float("nan")
+                r["case"] += f" (before: {r['before_status']})"
             f.write(f"| {r['case']} | {r['before_force_true_mean_n']:.2f} / {r['after_force_true_mean_n']:.2f} | "
                     f"{r['before_force_true_rms_error_n']:.2f} / {r['after_force_true_rms_error_n']:.2f} | "
                     f"{r['before_force_true_in_band_fraction']:.3f} / {r['after_force_true_in_band_fraction']:.3f} | "
