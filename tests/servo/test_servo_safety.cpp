@@ -356,7 +356,9 @@ TEST(ServoSafety, TransitionsOnEvents) {
 // Zero heap allocations per step, across every path: servoing, transitions,
 // holds, NaN, ceiling, contact loss, phase requests.
 TEST(ServoAllocation, StepNeverAllocates) {
-  ServoParams p = loadShipped("edge_exploration.yaml");
+  for (const char* program : {"edge_exploration.yaml", "edge_exploration_fused.yaml"}) {
+  SCOPED_TRACE(program);
+  ServoParams p = loadShipped(program);
   Plant plant;
   plant.infinite_edge = true;
   plant.tilt_point = true;
@@ -379,6 +381,12 @@ TEST(ServoAllocation, StepNeverAllocates) {
       if (k % 89 == 7) in.features.time_s -= 1.0;
       if (k == 1500) in.features.force = 100.0;
       if (k == 1600) s.requestPhase("edge_control");
+      // The arm's estimated wrench (the force estimate's input): the plant's
+      // force along z_s, sometimes stale or NaN.
+      in.have_wrench = true;
+      in.wrench.time_s = (k % 83 == 11) ? in.time_s - 1.0 : in.time_s;
+      const KDL::Vector F = T_ge.M.UnitZ() * (-in.features.force - 0.5);
+      in.wrench.w = {F.x(), F.y(), (k % 79 == 13) ? kNaN : F.z(), 0.0, 0.0, 0.0};
       const double dt = (k % 101 == 3) ? 0.0 : 0.01;
       seen[static_cast<int>(s.step(in, dt, out)) & 15] = true;
       T_ge = toFrame(out.command.pose);
@@ -390,6 +398,7 @@ TEST(ServoAllocation, StepNeverAllocates) {
   EXPECT_TRUE(seen[static_cast<int>(ServoStatus::Holding)]);
   EXPECT_TRUE(seen[static_cast<int>(ServoStatus::ForceCeiling)]);
   EXPECT_TRUE(seen[static_cast<int>(ServoStatus::FreeMotion)]);
+  }
 }
 
 // Fuzz: 200 000 random steps over the shipped programs with random features
@@ -407,7 +416,7 @@ TEST(ServoFuzz, RandomInputsNeverProduceNanOrOversizedSteps) {
     return (2 * u01(rng) - 1) * scale;
   };
   int steps = 0;
-  for (const char* file : {"edge_exploration.yaml", "co_manipulation.yaml", "bent_bar.yaml"}) {
+  for (const char* file : {"edge_exploration.yaml", "co_manipulation.yaml", "bent_bar.yaml", "bent_bar_fused.yaml"}) {
     for (PoseUpdate mode : {PoseUpdate::Integrated, PoseUpdate::Measured}) {
       ServoParams p = loadShipped(file);
       p.pose_update = mode;
@@ -416,7 +425,7 @@ TEST(ServoFuzz, RandomInputsNeverProduceNanOrOversizedSteps) {
       ServoInput in;
       ServoOutput out;
       double t = 0.0;
-      for (int k = 0; k < 200000 / 6; ++k, ++steps) {
+      for (int k = 0; k < 200000 / 8; ++k, ++steps) {
         const double dt = u01(rng) < 0.05 ? value(0.1) : 0.01;
         t += 0.01;
         in.time_s = u01(rng) < 0.01 ? kNaN : t;
@@ -443,6 +452,10 @@ TEST(ServoFuzz, RandomInputsNeverProduceNanOrOversizedSteps) {
           for (double& v : in.flange_measured.q) v = value(1.0);
         }
         if (u01(rng) < 0.002) s.requestPhase(static_cast<int>(u01(rng) * 5));
+        // The arm's estimated wrench (the force estimate's input in *_fused).
+        in.have_wrench = u01(rng) < 0.9;
+        in.wrench.time_s = u01(rng) < 0.05 ? t - 1.0 : t;
+        for (int i = 0; i < 6; ++i) in.wrench.w[static_cast<std::size_t>(i)] = value(60.0);
         const Pose before = out.command.pose;
         const bool was_valid = out.valid;
         s.step(in, dt, out);
