@@ -5,7 +5,8 @@
 # summary.json and the PNG plots of scripts/plot_run.py.
 #
 #   scripts/run_deployment.sh EXPERIMENT [--controller proposed|baseline|no_rotation]
-#     EXPERIMENT: edge_exploration | bent_bar | co_manipulation | sphere_table
+#     EXPERIMENT: edge_exploration | bent_bar | bent_bar_fused (the force estimate) |
+#       co_manipulation | sphere_table
 #     --controller baseline: the Li et al. (RSS 2013) baseline, no_rotation: the
 #       ablation (bent bar only; the servo's .cpf servo_bent_bar_<controller>.cpf,
 #       the same program)
@@ -28,7 +29,7 @@ build="${BUILD:-$root/build}"
 orocos="${OROCOS:-/opt/orocos}"
 py=/usr/bin/python3
 
-usage() { echo "usage: $0 edge_exploration|bent_bar|co_manipulation|sphere_table [--controller proposed|baseline|no_rotation]" >&2; exit 2; }
+usage() { echo "usage: $0 edge_exploration|bent_bar|bent_bar_fused|co_manipulation|sphere_table [--controller proposed|baseline|no_rotation]" >&2; exit 2; }
 [ $# -ge 1 ] || usage
 exp="$1"; shift
 controller=proposed
@@ -41,6 +42,7 @@ done
 case "$exp" in
   edge_exploration) servo_cpf=servo_edge_exploration.cpf ;;
   bent_bar) servo_cpf=servo_bent_bar.cpf ;;
+  bent_bar_fused) servo_cpf=servo_bent_bar_fused.cpf ;;
   co_manipulation) servo_cpf=servo_co_manipulation.cpf ;;
   sphere_table) servo_cpf=servo_edge_exploration.cpf ;;
   *) usage ;;

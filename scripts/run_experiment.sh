@@ -54,6 +54,7 @@ deploy edge_exploration
 deploy bent_bar
 deploy bent_bar --controller baseline
 deploy bent_bar --controller no_rotation
+deploy bent_bar_fused
 deploy co_manipulation
 deploy sphere_table
 /usr/bin/python3 "$root/scripts/experiment_report.py" "$out/deploy"

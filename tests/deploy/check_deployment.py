@@ -45,6 +45,13 @@ elif exp == "bent_bar" and controller in ("proposed", "baseline"):
     check(abs(num(d["force_true_mean_n"]) - 5.0) <= 1.0, f"true force mean 5 +- 1 N ({d['force_true_mean_n']})")
     check(num(d["force_true_max_n"]) <= 6.0, f"true force max <= 6 N ({d['force_true_max_n']})")
     check(num(d["path_length_m"]) >= 0.2, f"slid >= 0.2 m ({d['path_length_m']})")
+elif exp == "bent_bar_fused":
+    # The force estimate: the true force on target (README, "The true force on target").
+    check(d["status"] == "ok", f"status ok ({d['status']})")
+    check(num(d["force_true_rms_error_n"]) <= 0.4, f"true force RMS error <= 0.4 N ({d['force_true_rms_error_n']})")
+    check(num(d["force_true_in_band_fraction"]) >= 0.95,
+          f">= 95 % within 5 +- 0.5 N ({d['force_true_in_band_fraction']})")
+    check(num(d["path_length_m"]) >= 0.2, f"slid >= 0.2 m ({d['path_length_m']})")
 elif exp == "bent_bar" and controller == "no_rotation":
     # The ablation's drift onto the rigid housing is stopped by the servo's
     # force-mismatch watchdog or a ceiling: never `ok`, outside 5 +- 1 N.
