@@ -3,6 +3,7 @@ run `tactile_sim run` on a scene with overrides and read its summary.json.
 
 Debian's /usr/bin/python3 with python3-yaml; no PyPI.
 """
+import argparse
 import glob
 import json
 import os
@@ -51,10 +52,11 @@ def tray_index(scene):
     return None
 
 
-def run(scene, out_dir, args=(), sim=SIM):
+def run(scene, out_dir, args=(), sim=None):
     """Runs `tactile_sim run SCENE --out OUT_DIR --no-plots ARGS`; returns the
     summary dict with 'returncode' added (a run that wrote no summary gives
     {'status': 'no_summary', ...} and the tool's stderr)."""
+    sim = sim or SIM  # the module value at call time (parse_sweep_args may set it)
     cmd = [sim, "run", scene_path(scene), "--out", out_dir, "--no-plots", *args]
     p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     path = os.path.join(out_dir, "summary.json")
@@ -76,3 +78,20 @@ def rel_err(v, ref):
     if bad(v) or bad(ref):
         return 1.0
     return abs(v - ref) / max(abs(ref), 1e-9)
+
+
+def parse_sweep_args(doc, out_name):
+    """The common command line of the scene sweeps (sweep_force.py,
+    sweep_speed.py): --out (made absolute and created), --jobs, --seeds, --sim
+    (sets SIM for run())."""
+    global SIM
+    ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--out", default=os.path.join(ROOT, "out", out_name))
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    ap.add_argument("--seeds", type=int, default=1)
+    ap.add_argument("--sim", default=SIM)
+    a = ap.parse_args()
+    SIM = a.sim
+    a.out = os.path.abspath(a.out)  # paths given to tactile_sim are read relative to the scene otherwise
+    os.makedirs(a.out, exist_ok=True)
+    return a

@@ -23,7 +23,6 @@ fraction of the time within 5 +- 0.5 N (targets: <= 0.4 N, >= 95 %).
 Writes force.csv, force.md (table) and force.png (before/after) into --out;
 exits 1 when a run writes no summary.
 """
-import argparse
 import concurrent.futures
 import copy
 import csv
@@ -108,14 +107,7 @@ def one(job):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--out", default=os.path.join(simsweep.ROOT, "out", "force"))
-    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
-    ap.add_argument("--seeds", type=int, default=1)
-    ap.add_argument("--sim", default=simsweep.SIM)
-    a = ap.parse_args()
-    simsweep.SIM = a.sim
-    os.makedirs(a.out, exist_ok=True)
+    a = simsweep.parse_sweep_args(__doc__, "force")
     cases = [(l, "edge_exploration", "edge_exploration_fused", o) for l, o in straight_cases()]
     cases += [(l, "bent_bar", "bent_bar_fused", o) for l, o in bent_cases()]
     jobs = [(l, b, f, o, s, a.out) for (l, b, f, o) in cases for s in range(1, a.seeds + 1)]

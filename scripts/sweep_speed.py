@@ -25,7 +25,6 @@ contact losses against speed. Target: >= 40 mm/s with RMS error <= 1 N, no
 contact loss, to the end of the bar (status ok, ended by `done`).
 Writes speed.csv, speed.md and speed.png into --out.
 """
-import argparse
 import concurrent.futures
 import copy
 import csv
@@ -118,15 +117,7 @@ def num(v):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--out", default=os.path.join(simsweep.ROOT, "out", "speed"))
-    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
-    ap.add_argument("--seeds", type=int, default=1)
-    ap.add_argument("--sim", default=simsweep.SIM)
-    a = ap.parse_args()
-    simsweep.SIM = a.sim
-    a.out = os.path.abspath(a.out)  # the programs' paths are read relative to the scene otherwise
-    os.makedirs(a.out, exist_ok=True)
+    a = simsweep.parse_sweep_args(__doc__, "speed")
     programs = {(prog, kp): variant(prog, kp, a.out) for _, prog, _ in SERIES for kp in GAINS}
     jobs = [(label, programs[(prog, kp)], ctl, kp, seed, a.out)
             for label, prog, ctl in SERIES for kp in GAINS for seed in range(1, a.seeds + 1)]
