@@ -273,3 +273,27 @@ TEST(EstimatedWrench, SceneKeysAreValidatedWithFileKeyAndRange) {
   EXPECT_FALSE(loadScene(file, sc, {"effects.wrench_error={bias: [0, 0, 1]}"}).ok());  // unknown key
   EXPECT_FALSE(loadScene(file, sc, {"effects.wrench_error={bias_n: [0, 1]}"}).ok());   // 2 entries
 }
+
+// A bar polyline may hold kMaxVertices vertices: a closed 6 cm ring of 64
+// segments (chord error 0.07 mm) loads; one vertex more is refused, naming
+// the object, the key and the range.
+TEST(SceneObjects, AClosedRingOf64SegmentsLoadsOneMoreIsRefused) {
+  const std::string file = TACTILE_SOURCE_DIR "/sim/scenes/bent_bar.yaml";
+  auto ring = [](int n) {
+    std::string v = "[";
+    for (int k = 0; k <= n; ++k) {
+      const double a = -kPi / 2 + 2 * kPi * (k % n) / n;
+      v += (k ? ", [" : "[") + std::to_string(0.72 + 0.06 * std::cos(a)) + ", " +
+           std::to_string(0.06 + 0.06 * std::sin(a)) + ", 0.368]";
+    }
+    return "objects=[{name: ring, type: bent_bar, radius: 0.005, vertices: " + v + "]}]";
+  };
+  Scene sc;
+  const ConfigResult ok = loadScene(file, sc, {ring(kMaxVertices - 1)});
+  EXPECT_TRUE(ok.ok()) << ok.message();
+  const ConfigResult bad = loadScene(file, sc, {ring(kMaxVertices)});
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.message().find("ring"), std::string::npos) << bad.message();
+  EXPECT_NE(bad.message().find("vertices"), std::string::npos) << bad.message();
+  EXPECT_NE(bad.message().find("[2, 65]"), std::string::npos) << bad.message();
+}

@@ -38,8 +38,8 @@ const char* toString(ObjectType t);
 bool parseObjectType(const std::string& s, ObjectType& out);
 
 constexpr int kMaxObjects = 8;
-constexpr int kMaxVertices = 33;   ///< per bar polyline (32 segments)
-constexpr int kMaxSegments = 64;   ///< over all objects
+constexpr int kMaxVertices = 65;   ///< per bar polyline (64 segments: a 6 cm ring within 0.07 mm)
+constexpr int kMaxSegments = 128;  ///< over all objects
 
 using Vec3 = std::array<double, 3>;
 
