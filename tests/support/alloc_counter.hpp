@@ -9,6 +9,9 @@ namespace tactile {
 namespace test {
 
 std::size_t allocationCount();  ///< global count of operator new calls so far
+/// Count of operator new calls made by the calling thread so far: what one
+/// thread (e.g. a real-time loop's) allocated while others run.
+std::size_t threadAllocationCount();
 
 class AllocationScope {
  public:
