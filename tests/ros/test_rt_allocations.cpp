@@ -19,9 +19,22 @@
 // every topic carry data (contact included). At the end the probe itself
 // allocates once per cycle: the count must then grow by at least one per
 // cycle (the instrument sees an allocating hook in that thread).
+//
+// RobotLoopWithStreamsDoesNotAllocate (ctest test_ros_rt_allocations_robot,
+// run by run_robot_alloc_test.sh with fri_sim_krc and wts_sim on a PTY): the
+// robot deployment's loop (robot_loop.ops from a staged deployments/ folder:
+// Robot = FriBridgeComponent at the KRC's 1 kHz, Servo periodic 100 Hz,
+// Features, Sensor, each in its own thread named after it) with
+// ros_streams.ops; the allocations of those four threads, found by name in
+// /proc/self/task, counted over 8 s after warm-up must be 0, while the
+// adapter's thread (RosAdapter, roscpp serialisation) is seen allocating.
 #include <gtest/gtest.h>
 
+#include <dirent.h>
 #include <unistd.h>
+
+#include <fstream>
+#include <vector>
 
 #include <atomic>
 #include <chrono>
@@ -100,7 +113,7 @@ bool waitCycles(const LoopProbe& probe, long n, double max_wall_s) {
   return true;
 }
 
-TEST(RosRealtimeAllocations, LoopWithStreamsDoesNotAllocate) {
+TEST(RosRealtimeAllocations, SimLoopWithStreamsDoesNotAllocate) {
   ASSERT_EQ(chdir(TACTILE_DEPLOYMENTS_DIR), 0) << TACTILE_DEPLOYMENTS_DIR;
   OCL::DeploymentComponent dc("Deployer");
   ASSERT_TRUE(dc.runScript(TACTILE_ROS_TEST_OPS_DIR "/alloc_streams.ops"))
@@ -190,6 +203,93 @@ TEST(RosRealtimeAllocations, LoopWithStreamsDoesNotAllocate) {
   probe.stop();
   clock->removePeer("Probe");
   clock->properties()->getPropertyType<std::string>("reporter")->set("");
+  dc.kickOutAll();
+}
+
+/// Allocations so far per thread name (threads of this process named by RTT
+/// after their component), summed over the counter's slots of those tids.
+std::map<std::string, std::size_t> allocationsByThreadName() {
+  std::map<long, std::string> names;
+  if (DIR* d = opendir("/proc/self/task")) {
+    while (dirent* e = readdir(d)) {
+      if (e->d_name[0] == '.') continue;
+      std::ifstream comm(std::string("/proc/self/task/") + e->d_name + "/comm");
+      std::string name;
+      std::getline(comm, name);
+      names[std::stol(e->d_name)] = name;
+    }
+    closedir(d);
+  }
+  std::vector<tactile::test::ThreadAllocations> slots(256);
+  slots.resize(tactile::test::allThreadAllocations(slots.data(), slots.size()));
+  std::map<std::string, std::size_t> out;
+  for (const auto& n : names) out[n.second] += 0;  // a thread that never allocated: 0
+  for (const auto& s : slots) {
+    auto it = names.find(s.tid);
+    if (it != names.end()) out[it->second] += s.count;
+  }
+  return out;
+}
+
+TEST(RosRealtimeAllocations, RobotLoopWithStreamsDoesNotAllocate) {
+  const char* staged = std::getenv("TACTILE_STAGED_DEPLOYMENTS");
+  ASSERT_NE(staged, nullptr) << "run by tests/ros/run_robot_alloc_test.sh (the staged deployments, the simulated peers)";
+  ASSERT_EQ(chdir(staged), 0) << staged;
+  OCL::DeploymentComponent dc("Deployer");
+  ASSERT_TRUE(dc.runScript(TACTILE_ROS_TEST_OPS_DIR "/alloc_robot_streams.ops"))
+      << "the deployment failed: see '[Guard] deployment step failed' above";
+  RTT::TaskContext* guard = dc.getPeer("Guard");
+  RTT::TaskContext* robot = dc.getPeer("Robot");
+  RTT::TaskContext* servo = dc.getPeer("Servo");
+  ASSERT_TRUE(guard && robot && servo);
+  ASSERT_TRUE(RTT::Attribute<bool>(guard->provides()->getAttribute("ok")).get());
+  ASSERT_TRUE(ros::isStarted());
+  Seen seen;
+  ros::NodeHandle nh;
+  auto sub_flange = nh.subscribe<geometry_msgs::PoseStamped>(
+      "/tactile/flange_pose", 1000, [&](const geometry_msgs::PoseStampedConstPtr&) { seen.add("flange_pose"); });
+  auto sub_command = nh.subscribe<geometry_msgs::PoseStamped>(
+      "/tactile/pose_command", 1000, [&](const geometry_msgs::PoseStampedConstPtr&) { seen.add("pose_command"); });
+  auto sub_image = nh.subscribe<sensor_msgs::Image>("/tactile/image", 1000,
+                                                    [&](const sensor_msgs::ImageConstPtr&) { seen.add("image"); });
+  // Warm-up: the KRC's packets and the sensor's frames flow, then 2 s more.
+  const auto t0 = std::chrono::steady_clock::now();
+  while (seen.get("flange_pose") < 1000 || seen.get("image") < 100) {
+    ASSERT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 120.0)
+        << "no KRC packets or sensor frames through the streams (flange_pose " << seen.get("flange_pose") << ", image "
+        << seen.get("image") << ")";
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  RTT::Attribute<int> received(robot->provides()->getAttribute("received"));
+  const int received0 = received.ready() ? received.get() : -1;
+  const long msgs0 = seen.get("flange_pose"), cmds0 = seen.get("pose_command"), imgs0 = seen.get("image");
+  const auto before = allocationsByThreadName();
+  std::this_thread::sleep_for(std::chrono::seconds(8));
+  const auto after = allocationsByThreadName();
+  const int received1 = received.ready() ? received.get() : -1;
+  const long msgs = seen.get("flange_pose") - msgs0, cmds = seen.get("pose_command") - cmds0,
+             imgs = seen.get("image") - imgs0;
+  std::printf("over 8 s: Robot received %d KRC packets; in this process /tactile/flange_pose %ld, pose_command %ld, "
+              "image %ld messages\n",
+              received1 - received0, msgs, cmds, imgs);
+  for (const char* name : {"Robot", "Servo", "Features", "Sensor", "RosAdapter"}) {
+    const bool found = before.count(name) && after.count(name);
+    const std::size_t delta = found ? after.at(name) - before.at(name) : 0;
+    std::printf("thread %-10s %s: %zu allocations over 8 s\n", name, found ? "found" : "MISSING", delta);
+    EXPECT_TRUE(found) << "no thread named " << name;
+    if (std::string(name) == "RosAdapter") {
+      EXPECT_GT(delta, 0u) << "the adapter's thread (roscpp serialisation) is not seen allocating: the counter is blind";
+    } else {
+      EXPECT_EQ(delta, 0u) << "thread " << name << " allocated with the streams on";
+    }
+  }
+  EXPECT_GT(received1 - received0, 1000) << "the 1 kHz loop did not run during the window";
+  EXPECT_GT(cmds, 100) << "the servo's commands did not reach ROS during the window";
+  EXPECT_GT(imgs, 100) << "the sensor's frames did not reach ROS during the window";
+  sub_flange.shutdown();
+  sub_command.shutdown();
+  sub_image.shutdown();
   dc.kickOutAll();
 }
 
