@@ -4,9 +4,11 @@
 # with ROS streams (tests/ros/ops/edge_exploration_ros.ops, run from
 # deployments/) and tests/ros/check_topics.py subscribing meanwhile; the
 # roscore is stopped at the end, whatever happened.
-#   run_ros_test.sh SOURCE_DIR BUILD_DIR OROCOS_PREFIX ROS_PREFIX
+# With BAG_OUT, rosbag records /tactile/image and /tactile/features meanwhile
+# into that file (for ctest ros_bag_replay: tests/ros/check_bag.py).
+#   run_ros_test.sh SOURCE_DIR BUILD_DIR OROCOS_PREFIX ROS_PREFIX [BAG_OUT]
 set -o pipefail
-src="$1"; build="$2"; orocos="$3"; ros_prefix="$4"
+src="$1"; build="$2"; orocos="$3"; ros_prefix="$4"; bag_out="${5:-}"
 export PATH="/usr/bin:$PATH"   # Debian's python3 for roscore and rospy
 [ -f "$build/ros/devel/setup.bash" ] || { echo "no $build/ros/devel/setup.bash (the ROS workspace is not built)"; exit 1; }
 # shellcheck disable=SC1091
@@ -26,8 +28,10 @@ echo "run_ros_test: roscore on $ROS_MASTER_URI (log $tmp)"
 setsid roscore -p "$port" > "$tmp/roscore.log" 2>&1 &
 core=$!
 checker=""
+recorder=""
 cleanup() {
   [ -n "$checker" ] && kill "$checker" 2>/dev/null
+  [ -n "$recorder" ] && kill -INT -- "-$recorder" 2>/dev/null
   kill -INT -- "-$core" 2>/dev/null
   for _ in $(seq 50); do kill -0 "$core" 2>/dev/null || break; sleep 0.1; done
   kill -KILL -- "-$core" 2>/dev/null
@@ -51,10 +55,34 @@ rm -f "$report"
 /usr/bin/python3 "$src/tests/ros/check_topics.py" "$report" "$done_file" "$src/sim/scenes/edge_exploration.yaml" \
   "$src/components/servo/programs/edge_exploration.yaml" > "$tmp/check.log" 2>&1 &
 checker=$!
+if [ -n "$bag_out" ]; then
+  # rosbag's recorder (subscribed before the deployment advertises); SIGINT closes the bag.
+  rm -f "$bag_out" "$tmp/run.bag"
+  recorder_bin=/usr/lib/rosbag/record
+  [ -x "$recorder_bin" ] || recorder_bin="$(command -v rosbag) record"
+  setsid $recorder_bin -O "$tmp/run.bag" /tactile/image /tactile/features __name:=tactile_test_bag \
+    > "$tmp/rosbag.log" 2>&1 &
+  recorder=$!
+  for _ in $(seq 100); do
+    rosnode list 2>/dev/null | grep -q tactile_test_bag && break
+    sleep 0.1
+  done
+fi
 (cd "$src/deployments" && "$orocos/bin/deployer-gnulinux" --check -lwarning -s "$src/tests/ros/ops/edge_exploration_ros.ops" \
    < /dev/null > "$tmp/deployer.log" 2>&1)
 rc=$?
 touch "$done_file"
+if [ -n "$recorder" ]; then
+  sleep 1  # the last messages in flight
+  kill -INT -- "-$recorder" 2>/dev/null
+  for _ in $(seq 100); do kill -0 "$recorder" 2>/dev/null || break; sleep 0.1; done
+  recorder=""
+  if [ -f "$tmp/run.bag" ]; then
+    mkdir -p "$(dirname "$bag_out")" && cp "$tmp/run.bag" "$bag_out" && echo "run_ros_test: bag $bag_out"
+  else
+    echo "run_ros_test: rosbag wrote no bag"; cat "$tmp/rosbag.log"; ls "$tmp"
+  fi
+fi
 wait "$checker"
 crc=$?
 checker=""

@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# ctest ros_robot_streams_<experiment> (run inside tests/ros/with_roscore.sh):
+# the ROS variant of a robot deployment, deployments/<experiment>_robot_ros.ops,
+# unchanged, against the simulated peers: fri_sim_krc (the KRC over FRI/UDP,
+# fri.yaml's port) and wts_sim (the WTS0614 on a PTY, a press circling the
+# pad), from a staged copy of deployments/ (absolute paths, the PTY in
+# wts_reader.cpf, as scripts/rt_common.sh stages them). check_robot_topics.py
+# subscribes meanwhile and ends the run by switching the servo to `done`
+# through the phase service.
+#   run_robot_ros_test.sh SOURCE_DIR BUILD_DIR OROCOS_PREFIX EXPERIMENT
+set -o pipefail
+src="$1"; build="$2"; orocos="$3"; exp="$4"
+[ -f "$src/deployments/${exp}_robot_ros.ops" ] || { echo "run_robot_ros_test: no deployments/${exp}_robot_ros.ops"; exit 2; }
+out="${TACTILE_ROS_TMP:?run inside with_roscore.sh}/robot"
+mkdir -p "$out/deployments"
+cp "$src"/deployments/*.ops "$src"/deployments/*.cpf "$src"/deployments/*.osd "$out/deployments/"
+sed -i "s#\.\./#$src/#g" "$out"/deployments/*.cpf
+sed -i "s#<value>/dev/ttyACM0</value>#<value>$out/wts0</value>#" "$out/deployments/wts_reader.cpf"
+cat > "$out/deployments/robot_ros_test.ops" <<'EOF'
+// tests/ros/run_robot_ros_test.sh: the robot ROS variant as shipped, held until
+// the checker switches the servo to `done` (or Guard.timeout s), then stopped.
+runScript("EXPERIMENT_robot_ros.ops")
+Guard.timeout = 150.0
+var double waited = 0.0
+while Guard.ok && waited < Guard.timeout && Servo.phaseName() != "done" {
+  Guard.sleep(0.5)
+  waited = waited + 0.5
+}
+Guard.step(true, "robot_ros: phase " + Servo.phaseName() + " after " + waited + " s; Robot received " + Robot.received + " replies " + Robot.replies + " lost " + Robot.lost + "; Sensor frames " + Sensor.frames)
+Guard.step(stopComponents(), "stop all components")
+var int robot_ros_finished(Guard.verdict())
+EOF
+sed -i "s#EXPERIMENT_robot_ros#${exp}_robot_ros#" "$out/deployments/robot_ros_test.ops"
+
+pids=()
+cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null; done; }
+trap cleanup EXIT
+"$build/bin/wts_sim" --link "$out/wts0" --pattern blob > "$out/wts_sim.log" 2>&1 &
+pids+=($!)
+for _ in $(seq 50); do [ -e "$out/wts0" ] && break; sleep 0.1; done
+[ -e "$out/wts0" ] || { echo "run_robot_ros_test: wts_sim did not start"; cat "$out/wts_sim.log"; exit 1; }
+
+cd "$out/deployments" || exit 1
+"$orocos/bin/deployer-gnulinux" --check -linfo -s robot_ros_test.ops < /dev/null > "$out/deployer.log" 2>&1 &
+dep=$!
+cd - > /dev/null || exit 1
+pids+=($dep)
+# The deployment is up once ros_streams.ops has offered the phase service.
+up=0
+for _ in $(seq 600); do
+  rosservice list 2>/dev/null | grep -q '^/tactile/switch_phase$' && { up=1; break; }
+  kill -0 "$dep" 2>/dev/null || break
+  sleep 0.1
+done
+if [ "$up" -ne 1 ]; then
+  echo "run_robot_ros_test: the deployment did not offer /tactile/switch_phase"; tail -n 40 "$out/deployer.log"; exit 1
+fi
+# The KRC: monitor mode for 1 s, then command mode; at most 180 s (the checker ends the run first).
+"$build/bin/fri_sim_krc" --port 49938 --cycles 180000 --period-ms 1 --schedule 0:MON:PERFECT,1000:CMD:PERFECT \
+  > "$out/krc.log" 2>&1 &
+krc=$!
+pids+=($krc)
+/usr/bin/python3 "$src/tests/ros/check_robot_topics.py" "$out/ready" 4.0 > "$out/check.log" 2>&1
+crc=$?
+if [ "$crc" -ne 0 ]; then  # the servo may never reach `done`: end the deployer (it cleans up on SIGINT)
+  kill -INT "$dep" 2>/dev/null
+  for _ in $(seq 100); do kill -0 "$dep" 2>/dev/null || break; sleep 0.1; done
+  kill -KILL "$dep" 2>/dev/null
+fi
+wait "$dep"
+rc=$?
+kill "$krc" 2>/dev/null
+echo "---- deployer (exit $rc) ----"
+grep -E "deployment step failed|ERROR|robot_ros:" "$out/deployer.log" | cut -c1-300 | head -40
+echo "---- fri_sim_krc ----"; tail -n 3 "$out/krc.log" | cut -c1-200
+echo "---- check_robot_topics (exit $crc) ----"; cat "$out/check.log"
+[ "$rc" -eq 0 ] || { echo "run_robot_ros_test: deployer exit $rc"; tail -n 40 "$out/deployer.log"; exit 1; }
+[ "$crc" -eq 0 ] || exit 1
+echo "run_robot_ros_test: passed"

@@ -1,0 +1,296 @@
+// The real-time side with the ROS streams on: the simulated edge exploration's
+// loop (deployments/sim_loop.ops: tactile::SimClock executing Robot =
+// LwrSimComponent at 1 kHz, Sensor, Features, Servo at 100 Hz in its thread)
+// with deployments/ros_streams.ops (tactile_ros::RosAdapter, rtt_roscomm
+// streams of the project's messages, roscpp publishers, TF, the phase
+// service), all run by an OCL::DeploymentComponent in this process against
+// the roscore of tests/ros/with_roscore.sh, at wall-clock speed.
+//
+// Allocations are counted per thread (tests/support/alloc_counter.hpp,
+// operator new): a probe component takes the reporter's place in the clock
+// (SimClock calls it after every servo cycle, in the clock's thread) and reads
+// that thread's count. Everything the loop runs -- the 1 kHz arm, sensor,
+// features, the 100 Hz servo, their writes into the streams' buffered
+// connections and the wake-ups of the adapter -- is in that thread; the
+// adapter, rtt_roscomm and roscpp allocate in their own threads, which are
+// not counted. After a warm-up (the first connections' first samples) the
+// count must stay unchanged over many cycles through free motion, contact and
+// the phase switches of the program, while a subscriber in this process sees
+// every topic carry data (contact included). At the end the probe itself
+// allocates once per cycle: the count must then grow by at least one per
+// cycle (the instrument sees an allocating hook in that thread).
+//
+// RobotLoopWithStreamsDoesNotAllocate (ctest test_ros_rt_allocations_robot,
+// run by run_robot_alloc_test.sh with fri_sim_krc and wts_sim on a PTY): the
+// robot deployment's loop (robot_loop.ops from a staged deployments/ folder:
+// Robot = FriBridgeComponent at the KRC's 1 kHz, Servo periodic 100 Hz,
+// Features, Sensor, each in its own thread named after it) with
+// ros_streams.ops; the allocations of those four threads, found by name in
+// /proc/self/task, counted over 8 s after warm-up must be 0, while the
+// adapter's thread (RosAdapter, roscpp serialisation) is seen allocating.
+#include <gtest/gtest.h>
+
+#include <dirent.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <vector>
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <map>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include <ocl/DeploymentComponent.hpp>
+#include <rtt/Attribute.hpp>
+#include <rtt/TaskContext.hpp>
+#include <rtt/extras/SlaveActivity.hpp>
+
+#include <geometry_msgs/PoseStamped.h>
+#include <geometry_msgs/WrenchStamped.h>
+#include <ros/ros.h>
+#include <sensor_msgs/Image.h>
+#include <tactile_msgs/ContactFeatures.h>
+#include <tactile_msgs/Phase.h>
+
+#include "alloc_counter.hpp"
+#include "support/rtt_environment.hpp"
+
+namespace {
+
+const auto* const env =
+    ::testing::AddGlobalTestEnvironment(new tactile::test::RttEnvironment(tactile::test::Clock::System));
+
+constexpr long kWarmupCycles = 100;    ///< servo cycles (1 s simulated) before counting
+constexpr long kMeasuredCycles = 1000; ///< servo cycles counted (10 s: free motion, contact, alignment, exploration)
+constexpr long kAllocatingCycles = 30; ///< the probe's own allocating cycles at the end
+
+/// In the reporter's place of the clock: runs in the clock's thread after
+/// every servo cycle and publishes that thread's allocation count.
+class LoopProbe : public RTT::TaskContext {
+ public:
+  LoopProbe() : RTT::TaskContext("Probe") {}
+  void updateHook() override {
+    if (allocate.load(std::memory_order_relaxed)) {
+      sink_ = new double(1.0);  // the allocating hook of the negative control
+      delete sink_;
+    }
+    count.store(tactile::test::threadAllocationCount(), std::memory_order_relaxed);
+    cycles.fetch_add(1, std::memory_order_release);
+  }
+  std::atomic<bool> allocate{false};
+  std::atomic<std::size_t> count{0};
+  std::atomic<long> cycles{0};
+
+ private:
+  double* volatile sink_ = nullptr;
+};
+
+/// Message counts per topic, and whether a features message reported contact.
+struct Seen {
+  std::mutex m;
+  std::map<std::string, long> count;
+  bool contact = false;
+  void add(const std::string& topic) {
+    std::lock_guard<std::mutex> l(m);
+    ++count[topic];
+  }
+  long get(const std::string& topic) {
+    std::lock_guard<std::mutex> l(m);
+    return count[topic];
+  }
+};
+
+bool waitCycles(const LoopProbe& probe, long n, double max_wall_s) {
+  const auto t0 = std::chrono::steady_clock::now();
+  while (probe.cycles.load(std::memory_order_acquire) < n) {
+    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > max_wall_s) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return true;
+}
+
+TEST(RosRealtimeAllocations, SimLoopWithStreamsDoesNotAllocate) {
+  ASSERT_EQ(chdir(TACTILE_DEPLOYMENTS_DIR), 0) << TACTILE_DEPLOYMENTS_DIR;
+  OCL::DeploymentComponent dc("Deployer");
+  ASSERT_TRUE(dc.runScript(TACTILE_ROS_TEST_OPS_DIR "/alloc_streams.ops"))
+      << "the deployment failed: see '[Guard] deployment step failed' above";
+  RTT::TaskContext* guard = dc.getPeer("Guard");
+  ASSERT_NE(guard, nullptr);
+  ASSERT_TRUE(RTT::Attribute<bool>(guard->provides()->getAttribute("ok")).get());
+  RTT::TaskContext* clock = dc.getPeer("Clock");
+  RTT::TaskContext* robot = dc.getPeer("Robot");
+  RTT::TaskContext* adapter = dc.getPeer("RosAdapter");
+  ASSERT_TRUE(clock && robot && adapter);
+  ASSERT_TRUE(adapter->isRunning());
+
+  // The probe in the reporter's place, executed by the clock.
+  LoopProbe probe;
+  ASSERT_TRUE(probe.setActivity(new RTT::extras::SlaveActivity(clock->getActivity())));
+  ASSERT_TRUE(clock->addPeer(&probe));
+  clock->properties()->getPropertyType<std::string>("reporter")->set("Probe");
+  clock->properties()->getPropertyType<double>("realtime_factor")->set(1.0);
+  ASSERT_TRUE(clock->cleanup() && clock->configure());
+  ASSERT_TRUE(probe.configure() && probe.start());
+
+  // A subscriber in this process (the ROS node of rtt_rosnode, its spinner).
+  ASSERT_TRUE(ros::isStarted());
+  Seen seen;
+  ros::NodeHandle nh;
+  auto sub_image = nh.subscribe<sensor_msgs::Image>("/tactile/image", 1000,
+                                                    [&](const sensor_msgs::ImageConstPtr&) { seen.add("image"); });
+  auto sub_features = nh.subscribe<tactile_msgs::ContactFeatures>(
+      "/tactile/features", 1000, [&](const tactile_msgs::ContactFeaturesConstPtr& m) {
+        seen.add("features");
+        if (m->contact != tactile_msgs::ContactFeatures::CONTACT_NONE) {
+          std::lock_guard<std::mutex> l(seen.m);
+          seen.contact = true;
+        }
+      });
+  auto sub_flange = nh.subscribe<geometry_msgs::PoseStamped>(
+      "/tactile/flange_pose", 1000, [&](const geometry_msgs::PoseStampedConstPtr&) { seen.add("flange_pose"); });
+  auto sub_command = nh.subscribe<geometry_msgs::PoseStamped>(
+      "/tactile/pose_command", 1000, [&](const geometry_msgs::PoseStampedConstPtr&) { seen.add("pose_command"); });
+  auto sub_wrench = nh.subscribe<geometry_msgs::WrenchStamped>(
+      "/tactile/wrench", 1000, [&](const geometry_msgs::WrenchStampedConstPtr&) { seen.add("wrench"); });
+  auto sub_phase = nh.subscribe<tactile_msgs::Phase>("/tactile/phase", 1000,
+                                                     [&](const tactile_msgs::PhaseConstPtr&) { seen.add("phase"); });
+  std::this_thread::sleep_for(std::chrono::seconds(1));  // the subscriptions connect
+
+  ASSERT_TRUE(robot->start() && clock->start());
+  // Generous wall-clock limits (a hung loop, not a speed check): the run is 1x real time.
+  ASSERT_TRUE(waitCycles(probe, kWarmupCycles, 120.0)) << "the clock did not run";
+  const std::size_t before = probe.count.load();
+  const long c0 = probe.cycles.load();
+  ASSERT_TRUE(waitCycles(probe, c0 + kMeasuredCycles, 300.0));
+  const std::size_t after = probe.count.load();
+  const long c1 = probe.cycles.load();
+  const int ticks = RTT::Attribute<int>(clock->provides()->getAttribute("ticks")).get();
+  std::printf("clock thread: %zu allocations in the first %ld servo cycles (warm-up), %zu in the next %ld "
+              "(%d physics ticks so far)\n",
+              before, c0, after - before, c1 - c0, ticks);
+  EXPECT_EQ(after - before, 0u) << "the loop allocated with the streams on, over " << (c1 - c0) << " servo cycles";
+
+  // The negative control: an allocating hook in the loop's thread is seen.
+  probe.allocate.store(true);
+  const long c2 = probe.cycles.load();
+  ASSERT_TRUE(waitCycles(probe, c2 + kAllocatingCycles + 1, 120.0));
+  probe.allocate.store(false);
+  const std::size_t allocating = probe.count.load() - after;
+  std::printf("clock thread with the probe allocating: %zu allocations over >= %ld cycles\n", allocating,
+              kAllocatingCycles);
+  EXPECT_GE(allocating, static_cast<std::size_t>(kAllocatingCycles));
+  EXPECT_TRUE(clock->stop());
+
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // the last messages arrive
+  for (const char* t : {"image", "features", "flange_pose", "pose_command", "wrench", "phase"}) {
+    std::printf("/tactile/%s: %ld messages received\n", t, seen.get(t));
+    EXPECT_GT(seen.get(t), 0) << "/tactile/" << t << " carried nothing: the streams were not on";
+  }
+  {
+    std::lock_guard<std::mutex> l(seen.m);
+    EXPECT_TRUE(seen.contact) << "no features message with a contact: the measured cycles did not reach the bar";
+  }
+  sub_image.shutdown();
+  sub_features.shutdown();
+  sub_flange.shutdown();
+  sub_command.shutdown();
+  sub_wrench.shutdown();
+  sub_phase.shutdown();
+  probe.stop();
+  clock->removePeer("Probe");
+  clock->properties()->getPropertyType<std::string>("reporter")->set("");
+  dc.kickOutAll();
+}
+
+/// Allocations so far per thread name (threads of this process named by RTT
+/// after their component), summed over the counter's slots of those tids.
+std::map<std::string, std::size_t> allocationsByThreadName() {
+  std::map<long, std::string> names;
+  if (DIR* d = opendir("/proc/self/task")) {
+    while (dirent* e = readdir(d)) {
+      if (e->d_name[0] == '.') continue;
+      std::ifstream comm(std::string("/proc/self/task/") + e->d_name + "/comm");
+      std::string name;
+      std::getline(comm, name);
+      names[std::stol(e->d_name)] = name;
+    }
+    closedir(d);
+  }
+  std::vector<tactile::test::ThreadAllocations> slots(256);
+  slots.resize(tactile::test::allThreadAllocations(slots.data(), slots.size()));
+  std::map<std::string, std::size_t> out;
+  for (const auto& n : names) out[n.second] += 0;  // a thread that never allocated: 0
+  for (const auto& s : slots) {
+    auto it = names.find(s.tid);
+    if (it != names.end()) out[it->second] += s.count;
+  }
+  return out;
+}
+
+TEST(RosRealtimeAllocations, RobotLoopWithStreamsDoesNotAllocate) {
+  const char* staged = std::getenv("TACTILE_STAGED_DEPLOYMENTS");
+  ASSERT_NE(staged, nullptr) << "run by tests/ros/run_robot_alloc_test.sh (the staged deployments, the simulated peers)";
+  ASSERT_EQ(chdir(staged), 0) << staged;
+  OCL::DeploymentComponent dc("Deployer");
+  ASSERT_TRUE(dc.runScript(TACTILE_ROS_TEST_OPS_DIR "/alloc_robot_streams.ops"))
+      << "the deployment failed: see '[Guard] deployment step failed' above";
+  RTT::TaskContext* guard = dc.getPeer("Guard");
+  RTT::TaskContext* robot = dc.getPeer("Robot");
+  RTT::TaskContext* servo = dc.getPeer("Servo");
+  ASSERT_TRUE(guard && robot && servo);
+  ASSERT_TRUE(RTT::Attribute<bool>(guard->provides()->getAttribute("ok")).get());
+  ASSERT_TRUE(ros::isStarted());
+  Seen seen;
+  ros::NodeHandle nh;
+  auto sub_flange = nh.subscribe<geometry_msgs::PoseStamped>(
+      "/tactile/flange_pose", 1000, [&](const geometry_msgs::PoseStampedConstPtr&) { seen.add("flange_pose"); });
+  auto sub_command = nh.subscribe<geometry_msgs::PoseStamped>(
+      "/tactile/pose_command", 1000, [&](const geometry_msgs::PoseStampedConstPtr&) { seen.add("pose_command"); });
+  auto sub_image = nh.subscribe<sensor_msgs::Image>("/tactile/image", 1000,
+                                                    [&](const sensor_msgs::ImageConstPtr&) { seen.add("image"); });
+  // Warm-up: the KRC's packets and the sensor's frames flow, then 2 s more.
+  const auto t0 = std::chrono::steady_clock::now();
+  while (seen.get("flange_pose") < 1000 || seen.get("image") < 100) {
+    ASSERT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 120.0)
+        << "no KRC packets or sensor frames through the streams (flange_pose " << seen.get("flange_pose") << ", image "
+        << seen.get("image") << ")";
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  RTT::Attribute<int> received(robot->provides()->getAttribute("received"));
+  const int received0 = received.ready() ? received.get() : -1;
+  const long msgs0 = seen.get("flange_pose"), cmds0 = seen.get("pose_command"), imgs0 = seen.get("image");
+  const auto before = allocationsByThreadName();
+  std::this_thread::sleep_for(std::chrono::seconds(8));
+  const auto after = allocationsByThreadName();
+  const int received1 = received.ready() ? received.get() : -1;
+  const long msgs = seen.get("flange_pose") - msgs0, cmds = seen.get("pose_command") - cmds0,
+             imgs = seen.get("image") - imgs0;
+  std::printf("over 8 s: Robot received %d KRC packets; in this process /tactile/flange_pose %ld, pose_command %ld, "
+              "image %ld messages\n",
+              received1 - received0, msgs, cmds, imgs);
+  for (const char* name : {"Robot", "Servo", "Features", "Sensor", "RosAdapter"}) {
+    const bool found = before.count(name) && after.count(name);
+    const std::size_t delta = found ? after.at(name) - before.at(name) : 0;
+    std::printf("thread %-10s %s: %zu allocations over 8 s\n", name, found ? "found" : "MISSING", delta);
+    EXPECT_TRUE(found) << "no thread named " << name;
+    if (std::string(name) == "RosAdapter") {
+      EXPECT_GT(delta, 0u) << "the adapter's thread (roscpp serialisation) is not seen allocating: the counter is blind";
+    } else {
+      EXPECT_EQ(delta, 0u) << "thread " << name << " allocated with the streams on";
+    }
+  }
+  EXPECT_GT(received1 - received0, 1000) << "the 1 kHz loop did not run during the window";
+  EXPECT_GT(cmds, 100) << "the servo's commands did not reach ROS during the window";
+  EXPECT_GT(imgs, 100) << "the sensor's frames did not reach ROS during the window";
+  sub_flange.shutdown();
+  sub_command.shutdown();
+  sub_image.shutdown();
+  dc.kickOutAll();
+}
+
+}  // namespace
