@@ -423,24 +423,3 @@ TEST(FeatureRobustnessRealTime, NoAllocationWithRegionsNoiseEstimateAndTares) {
   EXPECT_EQ(scope.count(), 0u);
   EXPECT_EQ(out.contact, ContactType::Multiple);
 }
-
-// One firing taxel: lambda1 is the moments' rounding (~1e-20 m^2), not a
-// direction; alpha_z stays undefined and held, wherever the taxel is.
-TEST(FeaturePca, OneTaxelHasNoDirection) {
-  FeatureExtractor ex = configured();
-  ContactFeatures out;
-  TactileFrame line = blank();
-  for (int c = 1; c <= 12; ++c) line.at(c < 7 ? 2 : 3, c) = 0.5;
-  ASSERT_EQ(ex.step(line, out), FeatureStatus::Ok);
-  ASSERT_TRUE(out.alpha_defined);
-  const double alpha_edge = out.alpha_z;
-  for (int r = 0; r < 6; ++r)
-    for (int c = 0; c < 14; ++c) {
-      TactileFrame one = blank();
-      one.at(r, c) = 0.37;
-      ASSERT_EQ(ex.step(one, out), FeatureStatus::Ok);
-      EXPECT_EQ(out.contact, ContactType::Point) << r << " " << c;
-      EXPECT_FALSE(out.alpha_defined) << r << " " << c << " lambda1 " << out.lambda1;
-      EXPECT_EQ(out.alpha_z, alpha_edge);
-    }
-}

@@ -355,11 +355,7 @@ FeatureStatus FeatureExtractor::step(const TactileFrame& frame, ContactFeatures&
       last_alpha_sigma_ = params_.taxel_noise * std::sqrt(s) / (2.0 * m00 * gn);
     }
     double alpha = alpha_prev_;
-    // A principal direction needs a spread: a one-taxel contact has lambda1 of
-    // the moments' rounding (~1e-20 m^2), and its "direction" is that noise.
-    // Any two taxels give lambda1 >= pitch^2 / 8; the floor is 1e-6 pitch^2.
-    const double l_floor = 1e-6 * params_.pitch * params_.pitch;
-    if (l1 > l_floor && (l1 - l2) > params_.isotropy_tol * (l1 + l2) &&
+    if (l1 > 0.0 && (l1 - l2) > params_.isotropy_tol * (l1 + l2) &&
         last_alpha_sigma_ <= params_.alpha_max_sigma) {
       alpha_ok = true;
       // Principal axis angle from x_s; 0.5*atan2 lies in (-pi/2, pi/2].
