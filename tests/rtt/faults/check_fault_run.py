@@ -18,6 +18,10 @@ Every run (each check prints ok/FAIL; exit 1 on any FAIL):
 and per fault (its start and duration are read from FAULT_OPS):
   none        the bar's end: explore ends on the point contact (the program's
               rule), then `done` holds the command, the run ends 1 s later
+  contact_lost  the bar's end with the shipped end rule only: `contact_lost`
+              only there, each cycle searching along +z_s at most
+              search_speed * dt (no rotation), at most search_max_distance per
+              loss, `done` after 0.5 s of continuous loss, held, the end 1 s later
   stale       `holding` exactly on the cycles whose features are older than
               safety.stale_timeout, the command held, then the slide resumes
   disconnect  the same, the sensor's link_status Disconnected (5) in the
@@ -59,6 +63,8 @@ stale_timeout = float(safety["stale_timeout"])
 mount = [float(v) for v in prog["controller"]["sensor_mount"]["xyz"]]
 assert all(float(a) == 0.0 for a in prog["controller"]["sensor_mount"]["rpy_deg"]), "mount rotation not handled"
 TOL_P, TOL_R = 3e-6, 1e-5  # the reporter's 6 significant digits
+search_speed = float(safety["contact_loss"]["search_speed"])
+search_max = float(safety["contact_loss"]["search_max_distance"])
 
 lines = [l.split() for l in open(report) if l.strip()]
 head = lines[0]
@@ -144,7 +150,7 @@ print(f"measured: max command step (sensor frame) {max_dp * 1e3:.4f} mm {math.de
 explore = [i for i, r in enumerate(rows) if phase[i] == 0]
 check(bool(explore), "the program reached explore")
 e0 = times[explore[0]]
-slide = [i for i in explore if e0 + 1.0 <= times[i] < min(t0, 100.0)] if name != "none" else \
+slide = [i for i in explore if e0 + 1.0 <= times[i] < min(t0, 100.0)] if name not in ("none", "contact_lost") else \
         [i for i in explore if e0 + 1.0 <= times[i] < e0 + 5.0]
 if len(slide) > 10:
     a, b = rows[slide[0]], rows[slide[-1]]
@@ -161,17 +167,24 @@ def held(i):
     return all(s(rows[i], k) == s(rows[i - 1], k) for k in P + Q)
 
 
-def bar_end_reached():
-    """The program ends explore at the bar's end: a point contact, then done
-    holding the command, and the run ends 1 s after done."""
+def bar_end_reached(on_point=True):
+    """The program ends explore at the bar's end: a point contact (or the
+    contact lost for 0.5 s), then done holding the command, and the run ends
+    1 s after done."""
     done = [i for i, p in enumerate(phase) if p == 1]
     check(bool(done), "the program reached done")
     if not done:
         return
     d = done[0]
     last_explore = rows[d - 1]
-    check(s(last_explore, "Features.features.contact") == "point",
-          f"explore ended on a point contact (the bar's end), contact {s(last_explore, 'Features.features.contact')}")
+    if on_point:
+        check(s(last_explore, "Features.features.contact") == "point",
+              f"explore ended on a point contact (the bar's end), contact {s(last_explore, 'Features.features.contact')}")
+    else:
+        run = 0
+        while run < d and status[d - 1 - run] == "contact_lost":
+            run += 1
+        check(run >= 49, f"explore ended after the contact was lost for 0.5 s: {run} contact_lost cycles before done")
     x = f(rows[d], FP[0])
     check(x < 0.43, f"at the bar's end (x = 0.42 m): flange x {x:.4f} m at done (t = {times[d]:.2f} s)")
     check(all(status[i] == "done" for i in done), "status done on every cycle after it")
@@ -244,7 +257,40 @@ def one_frame(kind):
         check(rot_angle(quat(rows[i - 1]), quat(rows[i])) < 1e-9, "no rotation while retreating")
 
 
-if name == "none":
+def contact_lost_at_end():
+    lost = [i for i in range(len(rows)) if status[i] == "contact_lost"]
+    check(bool(lost), f"the servo reports contact_lost ({len(lost)} cycles)")
+    if not lost:
+        return
+    xs = [f(rows[i], FP[0]) for i in lost]
+    check(max(xs) < 0.43, f"contact_lost only at the bar's end (x = 0.42 m): flange x in [{min(xs):.4f}, {max(xs):.4f}] m "
+          f"from t = {times[lost[0]]:.2f} s")
+    bad, episode, worst = [], 0.0, 0.0
+    for i in lost:
+        if status[i - 1] != "contact_lost":
+            episode = 0.0
+        dp = [b - a for a, b in zip(sensor_origin(rows[i - 1]), sensor_origin(rows[i]))]
+        z = z_axis(quat(rows[i - 1]))
+        along = sum(x * y for x, y in zip(dp, z))
+        n = math.sqrt(sum(x * x for x in dp))
+        episode += along
+        worst = max(worst, episode)
+        if (along < -TOL_P or n > search_speed * 0.01 + TOL_P or abs(n - abs(along)) > TOL_P or
+                rot_angle(quat(rows[i - 1]), quat(rows[i])) > TOL_R):
+            bad.append(times[i])
+    check(not bad, f"each contact_lost cycle searches along +z_s by at most search_speed x dt = "
+          f"{search_speed * 0.01 * 1e3:.3f} mm, no rotation" + (f"; not at {bad[:3]}" if bad else ""))
+    check(worst <= search_max + 10 * TOL_P, f"at most search_max_distance ({search_max * 1e3:.1f} mm) per loss: "
+          f"{worst * 1e3:.3f} mm")
+    print(f"measured: contact_lost {len(lost)} cycles from {times[lost[0]]:.2f} s, search at most {worst * 1e3:.3f} mm per loss")
+
+
+if name == "contact_lost":
+    check(not any(st in ("holding", "force_ceiling", "invalid_input") for st in status),
+          "no holding, force_ceiling or invalid_input without a sensor fault")
+    contact_lost_at_end()
+    bar_end_reached(on_point=False)
+elif name == "none":
     check(not any(st in ("holding", "contact_lost", "force_ceiling", "invalid_input") for st in status),
           "no holding, contact_lost, force_ceiling or invalid_input without a fault")
     bar_end_reached()
