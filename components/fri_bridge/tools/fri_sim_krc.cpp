@@ -8,6 +8,7 @@
 //   --schedule SPEC   comma-separated CYCLE:STATE:QUALITY[:POWER] events,
 //                     e.g. 0:MON:PERFECT,200:CMD:PERFECT,800:CMD:BAD,900:MON:OK
 //   --loss p --dup p --reorder p --late p --wrong-size p --wrong-id p --cmd-loss p --seed S
+//   --burst CYCLE:N   the measurements of cycles CYCLE .. CYCLE+N-1 are not sent (a burst of N lost packets)
 //   --fast            do not sleep; wait for each reply up to --reply-timeout-ms (default 100)
 //   --latency-out F   write one line per cycle to F: the reply latency in us
 //                     (measurement sent -> matched reply received), or nan
@@ -28,7 +29,7 @@ int usage(const std::string& msg) {
   std::fprintf(stderr,
                "fri_sim_krc: %s\nusage: fri_sim_krc --port P [--cycles N] [--period-ms T] [--fast] "
                "[--reply-timeout-ms T] [--latency-out FILE] [--schedule C:STATE:QUALITY[:POWER],...] [--loss p] [--dup p] [--reorder p] "
-               "[--late p] [--wrong-size p] [--wrong-id p] [--cmd-loss p] [--seed S]\n",
+               "[--late p] [--wrong-size p] [--wrong-id p] [--cmd-loss p] [--seed S] [--burst CYCLE:N]\n",
                msg.c_str());
   return 1;
 }
@@ -90,6 +91,13 @@ int main(int argc, char** argv) {
                   : a == "--late" ? p.faults.late : a == "--wrong-size" ? p.faults.wrong_size
                   : a == "--wrong-id" ? p.faults.wrong_id : p.faults.cmd_loss;
       f = v;
+    } else if (a == "--burst" && has) {
+      unsigned long long c = 0, n = 0;
+      char tail = 0;
+      if (std::sscanf(argv[++i], "%llu:%llu%c", &c, &n, &tail) != 2 || n < 1 || n > 1000000)
+        return usage("--burst must be CYCLE:N with N in [1, 1e6]");
+      p.faults.burst_start = c;
+      p.faults.burst_length = n;
     } else if (a == "--schedule" && has) {
       std::string spec = argv[++i];
       std::size_t pos = 0;

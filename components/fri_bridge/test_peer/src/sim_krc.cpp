@@ -133,7 +133,10 @@ void SimKrc::runCycle() {
   bool late = false;
   bool held_now = false;
   const FaultParams& f = params_.faults;
-  if (f.loss > 0.0 && uni_(rng_) < f.loss) {
+  if (f.burst_length > 0 && stats_.cycles >= f.burst_start && stats_.cycles - f.burst_start < f.burst_length) {
+    ++stats_.inj_lost;  // the burst: not sent, no draw from the generator
+    expect_reply = false;
+  } else if (f.loss > 0.0 && uni_(rng_) < f.loss) {
     ++stats_.inj_lost;
     expect_reply = false;
   } else if (f.wrong_size > 0.0 && uni_(rng_) < f.wrong_size) {

@@ -10,18 +10,35 @@
 namespace tactile {
 
 WtsSimComponent::WtsSimComponent(const std::string& name)
-    : RTT::TaskContext(name, PreOperational), forces_in_("taxel_forces"), raw_out_("raw_frame") {
+    : RTT::TaskContext(name, PreOperational),
+      forces_in_("taxel_forces"),
+      raw_out_("raw_frame"),
+      fault_frame_out_("fault_frame") {
   addProperty("scene_file", scene_file_)
       .doc("Scene YAML (sim/scenes/*.yaml): its features_file's `calibration:` block (the real reader's "
            "calibration, inverted), sensor.noise_counts, sensor.threshold, seed and the sensor's `effects:` "
            "(transfer delay, gains, dead taxels, calibration error, crosstalk, creep, hysteresis, device noise). "
            "Read by configure().");
   addAttribute("frames", frames_);
+  addProperty("fault", fault_)
+      .doc("TESTS ONLY, fault injection (tactile_sim/sensor_faults.hpp): '' = none (default), stale (no frame in "
+           "[fault_start, fault_start + fault_duration)), disconnect (the same, link_status Disconnected, then "
+           "Reconnected), nan (the first acquisition at or after fault_start goes out on fault_frame with a NaN "
+           "taxel instead of raw_frame), saturated (that acquisition at full scale on every taxel). Read by configure().");
+  addProperty("fault_start", fault_start_).doc("TESTS ONLY: simulated time of the fault (s), >= 0.");
+  addProperty("fault_duration", fault_duration_).doc("TESTS ONLY: window of stale and disconnect (s), in (0, 60].");
+  addAttribute("link_status", link_status_);
+  addAttribute("fault_seq", fault_seq_);
   addEventPort(forces_in_).doc("SIM ONLY: true taxel forces (N, {s} layout) from the simulated arm (LwrSimComponent).");
   addPort(raw_out_).doc("Raw WTS frame (12-bit counts, {s} layout), stamped with RTT's TimeService (s): the port "
                         "of tactile::WtsComponent.");
+  addPort(fault_frame_out_).doc("TESTS ONLY (fault nan): the calibrated frame (N, {s} layout) with a NaN taxel, for "
+                                "FeatureComponent's `frame` input; nothing is written without that fault.");
   addOperation("lastError", &WtsSimComponent::lastError, this, RTT::ClientThread)
       .doc("Message of the last failed configure().");
+  addOperation("statusName", &WtsSimComponent::statusName, this, RTT::ClientThread)
+      .doc("link_status as text, with the names of tactile::WtsComponent's read_status (NewFrame, Disconnected, "
+           "Reconnected).");
 }
 
 bool WtsSimComponent::configureHook() {
@@ -31,6 +48,10 @@ bool WtsSimComponent::configureHook() {
   if (r) {
     r = response_.configure(sim::responseParams(scene));
     if (!r) r = ConfigResult::failure(scene_file_ + ": sensor: " + r.message());
+  }
+  if (r) {
+    r = faults_.configure(fault_, fault_start_, fault_duration_);
+    if (!r) r = ConfigResult::failure(getName() + ": " + r.message());
   }
   if (!r) {
     last_error_ = r.message();
@@ -42,6 +63,11 @@ bool WtsSimComponent::configureHook() {
   raw_.rows = static_cast<uint16_t>(scene.calibration.rows);
   raw_.cols = static_cast<uint16_t>(scene.calibration.cols);
   raw_out_.setDataSample(raw_);
+  full_scale_ = scene.calibration.full_scale;
+  nan_frame_ = TactileFrame();
+  nan_frame_.rows = raw_.rows;
+  nan_frame_.cols = raw_.cols;
+  fault_frame_out_.setDataSample(nan_frame_);
   return true;
 }
 
@@ -49,6 +75,28 @@ bool WtsSimComponent::startHook() {
   response_.reseed(response_.params().seed);
   seq_ = 0;
   frames_ = 0;
+  faults_.reset();
+  fault_seq_ = -1;
+  withheld_ = false;
+  link_status_ = static_cast<int>(faults_.link());
+  link_shadow_.store(link_status_);
+  return true;
+}
+
+bool WtsSimComponent::applyFault() {
+  const sim::FaultAction a = faults_.action(raw_.time_s);
+  link_status_ = static_cast<int>(faults_.link());
+  link_shadow_.store(link_status_);
+  if (a == sim::FaultAction::Withhold) {
+    withheld_ = true;
+    return false;
+  }
+  if (withheld_) {  // the first frame after the window
+    withheld_ = false;
+    fault_seq_ = static_cast<int>(seq_);
+  }
+  if (a == sim::FaultAction::Saturate) sim::saturateFrame(raw_, full_scale_);
+  if (a == sim::FaultAction::Saturate || a == sim::FaultAction::NanFrame) fault_seq_ = static_cast<int>(seq_);
   return true;
 }
 
@@ -59,10 +107,16 @@ void WtsSimComponent::updateHook() {
   bool out = forces_in_.read(forces_, false) == RTT::NewData && response_.acquire(forces_, now, raw_);
   if (response_.delayed() && response_.deliver(now, raw_)) out = true;
   if (!out) return;
+  if (faults_.kind() != sim::SensorFault::None && !applyFault()) return;  // tests only (fault)
   raw_.seq = seq_++;
   raw_.device_time_ms = static_cast<uint32_t>(std::llround(raw_.time_s * 1000.0));
-  raw_out_.write(raw_);
   ++frames_;
+  if (faults_.kind() == sim::SensorFault::Nan && fault_seq_ == static_cast<int>(raw_.seq)) {
+    sim::nanFrame(forces_, raw_.time_s, raw_.seq, nan_frame_);  // instead of the counts
+    fault_frame_out_.write(nan_frame_);
+    return;
+  }
+  raw_out_.write(raw_);
 }
 
 }  // namespace tactile

@@ -80,6 +80,10 @@ struct FaultParams {
   double wrong_id = 0.0;    ///< the datagram id is corrupted
   double cmd_loss = 0.0;    ///< a received command is discarded (loss on the way back)
   uint32_t seed = 1;
+  /// A burst: the measurements of cycles [burst_start, burst_start + burst_length)
+  /// are not sent (counted in inj_lost); burst_length 0 = none.
+  uint64_t burst_start = 0;
+  uint64_t burst_length = 0;
 };
 
 struct SimKrcParams {

@@ -13,6 +13,17 @@
 //   out  raw_frame (/tactile/RawTactileFrame)  counts, stamped with RTT's TimeService (s)
 //   attr frames (int)   frames written since start
 //   op   string lastError()
+// Fault injection (tests only; off by default, nothing done when off:
+// tactile::sim::SensorFaultSchedule, tactile_sim/sensor_faults.hpp):
+//   property fault (string)          '' | stale | disconnect | nan | saturated
+//   property fault_start (double)    s, simulated time of the fault
+//   property fault_duration (double) s, the window of stale and disconnect
+//   out  fault_frame (/tactile/TactileFrame)  the nan fault's frame (calibrated, N, one NaN taxel),
+//                                             for FeatureComponent's `frame` input
+//   attr link_status (int)   tactile::sim::SensorLink (the reader's read_status names: 0 NewFrame,
+//                            5 Disconnected, 4 Reconnected); op string statusName()
+//   attr fault_seq (int)     seq of the frame the fault hit (nan, saturated) or of the first frame
+//                            after its window (stale, disconnect); -1 before
 //
 // Each update with a new force image: acquire -> raw_frame (seq counts from
 // 0 at start); with the scene's effects.wts_transfer_delay_s the frame is
@@ -25,8 +36,10 @@
 #include <rtt/OutputPort.hpp>
 #include <rtt/TaskContext.hpp>
 
+#include <atomic>
 #include <string>
 
+#include "tactile_sim/sensor_faults.hpp"
 #include "tactile_sim/taxel_response.hpp"
 #include "tactile_types/types.hpp"
 
@@ -41,16 +54,31 @@ class WtsSimComponent : public RTT::TaskContext {
   void updateHook() override;
 
   std::string lastError() const { return last_error_; }
+  std::string statusName() const { return sim::toString(static_cast<sim::SensorLink>(link_shadow_.load())); }
 
  private:
+  /// Applies the fault schedule to the frame in raw_; false: withheld.
+  bool applyFault();
+
   std::string scene_file_;
+  std::string fault_;
+  double fault_start_ = 0.0;
+  double fault_duration_ = 0.0;
+  int link_status_ = 0;
+  std::atomic<int> link_shadow_{0};  // for statusName()
+  int fault_seq_ = -1;
+  bool withheld_ = false;
   std::string last_error_;
   int frames_ = 0;
 
   RTT::InputPort<TactileFrame> forces_in_;
   RTT::OutputPort<RawTactileFrame> raw_out_;
+  RTT::OutputPort<TactileFrame> fault_frame_out_;
 
   sim::TaxelResponse response_;
+  sim::SensorFaultSchedule faults_;
+  uint16_t full_scale_ = 4095;
+  TactileFrame nan_frame_;
   TactileFrame forces_;
   RawTactileFrame raw_;
   uint32_t seq_ = 0;
