@@ -18,9 +18,7 @@
 #                contact force: layer and housing force, wrench on the sensor)
 #   rss.txt      the deployer's resident memory (VmRSS), every minute
 #   deployer.log one line per minute ("soak minute N": simulated time, ticks,
-#                phase, flange x, turns of the loop (the script's, and
-#                program_turns: phase changes seen, which must equal them),
-#                clock and arm status)
+#                phase, flange x, turns of the loop, clock and arm status)
 #   rt_soak_sim.md, rt_soak_sim.png   per-minute table and plot, with the checks
 #                of scripts/rt_soak_sim_report.py (exit status 1 on a failure).
 # Environment: BUILD (default <repo>/build), OROCOS (default /opt/orocos),
@@ -112,8 +110,9 @@ var /tactile/Pose pose_now
 var double x = 0.0
 var int phase_now = -1
 var int turns = 0
-var int program_turns = 0
-var bool going_out = true
+// the phase requested by the last switch, until the servo has entered it
+// (switchPhase takes effect at the next servo cycle): no decision before
+var int pending = -1
 var double waited = 0.0
 var int minute = 0
 while Guard.ok && waited < Guard.timeout && !Clock.finished {
@@ -122,31 +121,24 @@ while Guard.ok && waited < Guard.timeout && !Clock.finished {
   pose_now = Robot.flange_pose.last()
   x = pose_now.p[0]
   phase_now = Servo.phaseIndex()
-  if phase_now == i_out && !going_out then {
-    program_turns = program_turns + 1
-    going_out = true
-  }
-  if phase_now == i_back && going_out then {
-    program_turns = program_turns + 1
-    going_out = false
-  }
-  if phase_now == i_out && x <= x_min then {
+  if pending >= 0 && phase_now == pending then pending = -1
+  if pending < 0 && phase_now == i_out && x <= x_min then {
     Servo.switchPhase("slide_back")
-    going_out = false
+    pending = i_back
     turns = turns + 1
   }
-  if phase_now == i_back && x >= x_max then {
+  if pending < 0 && phase_now == i_back && x >= x_max then {
     Servo.switchPhase("slide_out")
-    going_out = true
+    pending = i_out
     turns = turns + 1
   }
   if Clock.sim_time >= 60.0 * (minute + 1) then {
     minute = minute + 1
-    Guard.step(true, "soak minute " + minute + " sim_time " + Clock.sim_time + " wall " + waited + " ticks " + Clock.ticks + " phase " + Servo.phaseName() + " x " + x + " turns " + turns + " program_turns " + program_turns + " clock " + Clock.status + " robot " + Robot.statusName() + " sensor_frames " + Sensor.frames)
+    Guard.step(true, "soak minute " + minute + " sim_time " + Clock.sim_time + " wall " + waited + " ticks " + Clock.ticks + " phase " + Servo.phaseName() + " x " + x + " turns " + turns + " clock " + Clock.status + " robot " + Robot.statusName() + " sensor_frames " + Sensor.frames)
   }
 }
 if Guard.ok then Guard.step(Clock.finished, "the simulated run ended within Guard.timeout s of wall clock")
-Guard.step(true, "soak end: clock " + Clock.status + " exit_code " + Clock.exit_code + " sim_time " + Clock.sim_time + " turns " + turns + " program_turns " + program_turns + " phase " + Servo.phaseName())
+Guard.step(true, "soak end: clock " + Clock.status + " exit_code " + Clock.exit_code + " sim_time " + Clock.sim_time + " turns " + turns + " phase " + Servo.phaseName())
 Guard.step(Reporter.stop(), "stop Reporter")
 Guard.step(stopComponents(), "stop all components")
 var int soak_finished(Guard.verdict())
