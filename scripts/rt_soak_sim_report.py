@@ -212,6 +212,14 @@ if rows:
         if not abs(d) <= tol:  # NaN fails
             failures.append("force %s drifted: %+.4f N > %.4f N" % (name, d, tol))
 
+# Trends over the run (reported, not checked): least-squares slope per minute
+# of the per-minute statistics, minutes 2.. (minute 1 holds the approach).
+tr = [r for r in rows if r["n"] >= 2 and np.isfinite(r["mean"])]
+if len(tr) >= 3:
+    mm_ = np.array([r["n"] for r in tr], float)
+    print("trends (slope per minute, minutes 2-%d): " % tr[-1]["n"] + ", ".join(
+        "%s %+.2e N" % (k, np.polyfit(mm_, np.array([r[k] for r in tr]), 1)[0]) for k in ("mean", "std", "p95", "fmax")))
+
 # --- plot ---
 try:
     import matplotlib
