@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Soak of the real-time robot path (a long run, not a test): nothing grows,
+# Soak of the real-time robot path (a long run, not a test; the simulated
+# deployment on a looping scene: scripts/rt_soak_sim.sh): nothing grows,
 # nothing NaNs, nothing is lost over MINUTES of wall clock.
 #
 #   scripts/rt_soak.sh [MINUTES]           default 60 (CI: 2)
@@ -16,7 +17,7 @@
 # read_status; Features frames, last_status; Servo phase, last_status: the
 # ServoStatus number of tactile_types/types.hpp). At the
 # end scripts/rt_soak_report.py prints the per-minute table
-# (out/rt_soak/rt_soak.md) and checks, exit status 1 on a failure:
+# (out/rt_soak/robot/rt_soak.md) and checks, exit status 1 on a failure:
 #   * resident memory after minute 1 grows by less than 1 MiB (memory is
 #     locked, mlockall: a per-cycle allocation would show);
 #   * every minute: >= 90 % of 60000 KRC packets received and answered, no
@@ -30,7 +31,7 @@ name=rt_soak
 # shellcheck source=scripts/rt_common.sh
 source "$(dirname "${BASH_SOURCE[0]}")/rt_common.sh"
 minutes=${1:-60}
-out="$root/out/rt_soak"
+out="$root/out/rt_soak/robot"  # the sim soak (rt_soak_sim.sh) writes out/rt_soak/sim_*
 rt_check_tools
 [ "$minutes" -ge 1 ] 2>/dev/null && [ "$minutes" -le 1440 ] || { echo "usage: $0 [MINUTES >= 1]" >&2; exit 2; }
 

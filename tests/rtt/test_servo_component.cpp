@@ -91,6 +91,13 @@ Pose startPose() {
   return p;
 }
 
+std::vector<double> integralAttribute(tactile::ServoComponent& c) {
+  RTT::base::AttributeBase* a = c.provides()->getAttribute("integral");
+  if (!a) return {};
+  auto ds = RTT::internal::DataSource<std::vector<double>>::narrow(a->getDataSource().get());
+  return ds ? ds->get() : std::vector<double>();
+}
+
 TEST(ServoComponent, InterfaceIsDeclaredAndDocumented) {
   tactile::ServoComponent c("s");
   for (const char* port : {"features", "flange_pose", "estimated_wrench", "pose_command", "phase"}) {
@@ -101,6 +108,8 @@ TEST(ServoComponent, InterfaceIsDeclaredAndDocumented) {
     ASSERT_NE(c.properties()->getProperty(prop), nullptr) << prop;
     EXPECT_FALSE(c.properties()->getProperty(prop)->getDescription().empty()) << prop;
   }
+  for (const char* attr : {"last_status", "integral"}) EXPECT_NE(c.provides()->getAttribute(attr), nullptr) << attr;
+  EXPECT_EQ(integralAttribute(c).size(), 6u);
   for (const char* op : {"switchPhase", "phaseName", "phaseIndex", "phaseIndexOf", "controllerMode", "lastError"}) {
     EXPECT_TRUE(c.provides()->hasOperation(op)) << op;
     EXPECT_FALSE(c.provides()->getDescription(op).empty()) << op;
@@ -119,6 +128,7 @@ TEST(ServoComponent, CommandsMatchTheCore) {
   tactile::ServoOutput want;
   Pose pose = startPose();
   int commands = 0;
+  int integral_nonzero = 0;
   double t_prev = 0.0;
   for (int k = 0; k < 60; ++k) {
     RTT::os::TimeService::Instance()->secondsChange(kDt);
@@ -147,8 +157,15 @@ TEST(ServoComponent, CommandsMatchTheCore) {
     ASSERT_EQ(rig.phase_in.read(ph), RTT::NewData);
     EXPECT_EQ(ph.index, want.phase.index) << k;
     EXPECT_STREQ(ph.name.data(), want.phase.name.data());
+    // The integrator's view (attribute integral): the core's state after the same step.
+    const std::vector<double> integral = integralAttribute(rig.comp);
+    ASSERT_EQ(integral.size(), 6u);
+    for (int i = 0; i < 6; ++i) EXPECT_EQ(integral[static_cast<std::size_t>(i)], core.controlLaw().integral()[i]) << k << " axis " << i;
+    if (core.controlLaw().integral().norm() > 0.0) ++integral_nonzero;
     pose = got.pose;  // an ideal robot follows the command
   }
+  // The comparison above is not only between zero vectors: the edge phase integrated its error.
+  EXPECT_GT(integral_nonzero, 0);
   EXPECT_EQ(commands, 60);
   // The run left phase I (free motion) once the edge appeared.
   EXPECT_NE(rig.comp.phaseName(), "free_motion");

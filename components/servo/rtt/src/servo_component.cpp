@@ -26,6 +26,7 @@ ServoComponent::ServoComponent(const std::string& name)
       .doc("Servo period (s): dt of the first cycle after start (later cycles use the TimeService). "
            "0 = the activity's period (1 ms without one). In [0, 10].");
   addAttribute("last_status", last_status_);
+  addAttribute("integral", integral_);
   addEventPort(features_in_).doc("Contact features in {s} (from the feature component).");
   addPort(flange_in_).doc("Measured flange pose {g}T{e} (LWR simulator or FRI bridge).");
   addPort(wrench_in_).doc("The arm's estimated external wrench [Fx Fy Fz Tx Ty Tz] ({g} axes; LWR simulator or FRI "
@@ -121,6 +122,9 @@ void ServoComponent::updateHook() {
   current_phase_.store(stage_.servo().phaseIndex());
   if (command) command_out_.write(out_.command);
   phase_out_.write(out_.phase);
+  // The integrator's view (attribute `integral`): copied in place, the core's state is not touched.
+  const Vec6& integral = stage_.servo().controlLaw().integral();
+  for (std::size_t i = 0; i < 6; ++i) integral_[i] = integral[static_cast<Eigen::Index>(i)];
 }
 
 }  // namespace tactile

@@ -23,6 +23,10 @@
 //   op   string controllerMode()        controller in use (proposed | baseline | no_rotation)
 //   op   string lastError()             message of the last failed configure()
 //   attr last_status (int)              ServoStatus of the last cycle
+//   attr integral (array, 6 doubles)    view of the PI integrator ∫Δs_task dt (Eq. 13) per task
+//                                       axis x y z wx wy wz after the last cycle (for soaks and logs,
+//                                       read in the servo's thread, e.g. by a slave reporter;
+//                                       the controller never reads it back)
 //
 // Time: the cycle time is RTT's TimeService (seconds), the clock the sensor
 // chain must also stamp its frames with (the stale-features watchdog compares
@@ -37,6 +41,7 @@
 
 #include <atomic>
 #include <string>
+#include <vector>
 
 #include "tactile_servo/servo.hpp"
 #include "tactile_servo/servo_stage.hpp"
@@ -66,6 +71,7 @@ class ServoComponent : public RTT::TaskContext {
   double period_ = 0.0;
   std::string last_error_;
   int last_status_ = static_cast<int>(ServoStatus::NotConfigured);
+  std::vector<double> integral_ = std::vector<double>(6, 0.0);  // sized once: updated in place, no allocation
 
   RTT::InputPort<ContactFeatures> features_in_;
   RTT::InputPort<Pose> flange_in_;
