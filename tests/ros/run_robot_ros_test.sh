@@ -40,6 +40,10 @@ pids+=($!)
 for _ in $(seq 50); do [ -e "$out/wts0" ] && break; sleep 0.1; done
 [ -e "$out/wts0" ] || { echo "run_robot_ros_test: wts_sim did not start"; cat "$out/wts_sim.log"; exit 1; }
 
+# The report's path as a ROS parameter (ros_params.ops): the run must write there.
+report="$out/deployments/robot_ros_param_${exp}.dat"
+rm -f "$report"
+rosparam set /Guard/report_file "$report" || { echo "run_robot_ros_test: rosparam set failed"; exit 1; }
 cd "$out/deployments" || exit 1
 "$orocos/bin/deployer-gnulinux" --check -linfo -s robot_ros_test.ops < /dev/null > "$out/deployer.log" 2>&1 &
 dep=$!
@@ -76,4 +80,7 @@ echo "---- fri_sim_krc ----"; tail -n 3 "$out/krc.log" | cut -c1-200
 echo "---- check_robot_topics (exit $crc) ----"; cat "$out/check.log"
 [ "$rc" -eq 0 ] || { echo "run_robot_ros_test: deployer exit $rc"; tail -n 40 "$out/deployer.log"; exit 1; }
 [ "$crc" -eq 0 ] || exit 1
+rows=$(grep -vc '^#' "$report" 2>/dev/null || echo 0)
+[ "$rows" -gt 10 ] || { echo "run_robot_ros_test: the report named by /Guard/report_file ($report) has $rows rows"; exit 1; }
+echo "run_robot_ros_test: report from the ROS parameter /Guard/report_file: $rows rows"
 echo "run_robot_ros_test: passed"
