@@ -1,5 +1,5 @@
-# Sourced by scripts/rt_latency.sh and scripts/rt_soak.sh: what both do before
-# their own runs. Needs `name` (the script's name for messages) set by the caller.
+# Sourced by scripts/rt_latency.sh, scripts/rt_soak.sh and tests/ros/run_robot_*_test.sh: what they do
+# before their own runs. Needs `name` (the script's name for messages) set by the caller.
 # Sets root, build, orocos, deployer; defines rt_check_tools, rt_stage_deployments
 # and rt_start_wts_sim (with the cleanup trap of the background processes in pids).
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"

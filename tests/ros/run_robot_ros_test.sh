@@ -12,10 +12,10 @@ set -o pipefail
 src="$1"; build="$2"; orocos="$3"; exp="$4"
 [ -f "$src/deployments/${exp}_robot_ros.ops" ] || { echo "run_robot_ros_test: no deployments/${exp}_robot_ros.ops"; exit 2; }
 out="${TACTILE_ROS_TMP:?run inside with_roscore.sh}/robot"
-mkdir -p "$out/deployments"
-cp "$src"/deployments/*.ops "$src"/deployments/*.cpf "$src"/deployments/*.osd "$out/deployments/"
-sed -i "s#\.\./#$src/#g" "$out"/deployments/*.cpf
-sed -i "s#<value>/dev/ttyACM0</value>#<value>$out/wts0</value>#" "$out/deployments/wts_reader.cpf"
+name=run_robot_ros_test
+# shellcheck source=../../scripts/rt_common.sh
+BUILD="$build" OROCOS="$orocos" source "$src/scripts/rt_common.sh"   # staging, wts_sim, the cleanup of pids
+rt_stage_deployments "$out"
 cat > "$out/deployments/robot_ros_test.ops" <<'EOF'
 // tests/ros/run_robot_ros_test.sh: the robot ROS variant as shipped, held until
 // the checker switches the servo to `done` (or Guard.timeout s), then stopped.
@@ -32,13 +32,7 @@ var int robot_ros_finished(Guard.verdict())
 EOF
 sed -i "s#EXPERIMENT_robot_ros#${exp}_robot_ros#" "$out/deployments/robot_ros_test.ops"
 
-pids=()
-cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null; done; }
-trap cleanup EXIT
-"$build/bin/wts_sim" --link "$out/wts0" --pattern blob > "$out/wts_sim.log" 2>&1 &
-pids+=($!)
-for _ in $(seq 50); do [ -e "$out/wts0" ] && break; sleep 0.1; done
-[ -e "$out/wts0" ] || { echo "run_robot_ros_test: wts_sim did not start"; cat "$out/wts_sim.log"; exit 1; }
+rt_start_wts_sim "$out"
 
 # The report's path as a ROS parameter (ros_params.ops): the run must write there.
 report="$out/deployments/robot_ros_param_${exp}.dat"

@@ -1,49 +1,22 @@
 #!/usr/bin/env bash
-# ctest ros_sim_streams: a roscore of its own on the loopback address (port
-# from this script's PID, the next free one), the simulated edge exploration
-# with ROS streams (tests/ros/ops/edge_exploration_ros.ops, run from
-# deployments/) and tests/ros/check_topics.py subscribing meanwhile; the
-# roscore is stopped at the end, whatever happened.
+# ctest ros_sim_streams (run inside tests/ros/with_roscore.sh: a roscore of
+# its own on the loopback address): the simulated edge exploration with ROS
+# streams (tests/ros/ops/edge_exploration_ros.ops, run from deployments/) and
+# tests/ros/check_topics.py subscribing meanwhile.
 # With BAG_OUT, rosbag records /tactile/image and /tactile/features meanwhile
 # into that file (for ctest ros_bag_replay: tests/ros/check_bag.py).
 #   run_ros_test.sh SOURCE_DIR BUILD_DIR OROCOS_PREFIX ROS_PREFIX [BAG_OUT]
 set -o pipefail
 src="$1"; build="$2"; orocos="$3"; ros_prefix="$4"; bag_out="${5:-}"
-export PATH="/usr/bin:$PATH"   # Debian's python3 for roscore and rospy
-[ -f "$build/ros/devel/setup.bash" ] || { echo "no $build/ros/devel/setup.bash (the ROS workspace is not built)"; exit 1; }
-# shellcheck disable=SC1091
-source "$build/ros/devel/setup.bash"   # (its hooks read unset variables: no `set -u` here)
-export ROS_PACKAGE_PATH="$src/ros:$ROS_PACKAGE_PATH"
-export RTT_COMPONENT_PATH="$build/lib/orocos:$build/ros/devel/lib/orocos:$ros_prefix/lib/orocos:$orocos/lib/orocos"
-tmp="$(mktemp -d /tmp/tactile-ros-test.XXXXXX)"
-export ROS_HOME="$tmp" ROS_LOG_DIR="$tmp/log" ROS_IP=127.0.0.1
-unset ROS_HOSTNAME
-
-port=$(( 20000 + $$ % 20000 ))
-while /usr/bin/python3 -c "import socket,sys; s=socket.socket(); sys.exit(s.connect_ex(('127.0.0.1', $port)) != 0)"; do
-  port=$((port + 1))
-done
-export ROS_MASTER_URI="http://127.0.0.1:$port"
-echo "run_ros_test: roscore on $ROS_MASTER_URI (log $tmp)"
-setsid roscore -p "$port" > "$tmp/roscore.log" 2>&1 &
-core=$!
+tmp="${TACTILE_ROS_TMP:?run inside with_roscore.sh}"
 checker=""
 recorder=""
 cleanup() {
   [ -n "$checker" ] && kill "$checker" 2>/dev/null
   [ -n "$recorder" ] && kill -INT -- "-$recorder" 2>/dev/null
-  kill -INT -- "-$core" 2>/dev/null
-  for _ in $(seq 50); do kill -0 "$core" 2>/dev/null || break; sleep 0.1; done
-  kill -KILL -- "-$core" 2>/dev/null
   rm -f "$src/deployments/edge_exploration_sim_ros_test.dat" "$src/deployments/edge_exploration_sim_ros_test_param.dat"
 }
 trap cleanup EXIT
-for _ in $(seq 100); do
-  /usr/bin/python3 -c "import rosgraph,sys; sys.exit(0 if rosgraph.is_master_online() else 1)" 2>/dev/null && break
-  sleep 0.2
-done
-/usr/bin/python3 -c "import rosgraph,sys; sys.exit(0 if rosgraph.is_master_online() else 1)" \
-  || { echo "run_ros_test: roscore did not come up"; cat "$tmp/roscore.log"; exit 1; }
 
 # The report's path comes as a ROS parameter (deployments/ros_params.ops): the
 # checker reads this file, so a parameter that did not take effect fails.
