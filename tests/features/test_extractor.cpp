@@ -173,6 +173,34 @@ TEST(FeatureExtremes, OneTaxel) {
   EXPECT_DOUBLE_EQ(out.force, 1.5);
 }
 
+// A single taxel has no direction. Where its centre is not exactly
+// representable, m20/m00 - cx^2 leaves rounding (lambda1 ~ 1e-20 m^2) that the
+// noise model (which scales with the spread) cannot tell from a real spread:
+// every position and load must still give alpha_z undefined, with and without
+// the noise model.
+TEST(FeatureExtremes, OneTaxelAnywhereHasNoAngle) {
+  int rounded = 0;
+  for (double noise : {0.0, 0.02}) {
+    FeatureParams p;
+    p.taxel_noise = noise;
+    for (int r = 0; r < 6; ++r) {
+      for (int c = 0; c < 14; ++c) {
+        for (double v : {0.3, 1.7, 9.1}) {
+          FeatureExtractor ex = makeExtractor(p);
+          TactileFrame f = blankFrame();
+          f.at(r, c) = v;
+          ContactFeatures out;
+          ASSERT_EQ(ex.step(f, out), FeatureStatus::Ok);
+          EXPECT_FALSE(out.alpha_defined) << "taxel (" << r << ", " << c << "), " << v << " N, lambda1 " << out.lambda1;
+          rounded += out.lambda1 > 0.0;
+        }
+      }
+    }
+  }
+  // The case exists: some positions leave a rounding residue.
+  EXPECT_GT(rounded, 0);
+}
+
 TEST(FeatureExtremes, FullySaturatedFrame) {
   FeatureExtractor ex = makeExtractor();
   TactileFrame f = blankFrame();

@@ -355,7 +355,10 @@ FeatureStatus FeatureExtractor::step(const TactileFrame& frame, ContactFeatures&
       last_alpha_sigma_ = params_.taxel_noise * std::sqrt(s) / (2.0 * m00 * gn);
     }
     double alpha = alpha_prev_;
-    if (l1 > 0.0 && (l1 - l2) > params_.isotropy_tol * (l1 + l2) &&
+    // One taxel in contact has no direction: its covariance is zero up to
+    // rounding (lambda1 ~ 1e-20 m^2) and the noise model, which scales with the
+    // spread, cannot see that; the angle would be rounding noise.
+    if (area >= 2 && l1 > 0.0 && (l1 - l2) > params_.isotropy_tol * (l1 + l2) &&
         last_alpha_sigma_ <= params_.alpha_max_sigma) {
       alpha_ok = true;
       // Principal axis angle from x_s; 0.5*atan2 lies in (-pi/2, pi/2].
