@@ -1,9 +1,8 @@
 #!/usr/bin/env bash
 # Installs Debian 12's ROS 1 packages and builds the rtt_ros_integration
 # packages the project's ROS face needs (rtt_ros, rtt_rospack, rtt_rosnode,
-# rtt_rosclock, rtt_roscomm, rtt_rosparam and the typekits of std_msgs and
-# rosgraph_msgs; geometry_msgs and sensor_msgs with
-# TACTILE_RTT_ROS_COMMON_MSGS=ON) with catkin against Debian's ROS 1 and the
+# rtt_rosclock, rtt_roscomm, rtt_rosparam and the typekits of std_msgs,
+# rosgraph_msgs, geometry_msgs and sensor_msgs) with catkin against Debian's ROS 1 and the
 # Orocos toolchain in $OROCOS_PREFIX, into $OROCOS_PREFIX/ros (a catkin
 # install space: source $OROCOS_PREFIX/ros/setup.sh). rtt_ros_integration is not packaged by Debian;
 # it is a dependency, never part of this repository.
@@ -23,7 +22,6 @@
 #   OROCOS_SOURCE_DIR   folder holding the archive and SHA256SUMS (optional)
 #   RTT_ROS_BUILD_DIR   scratch folder (default /tmp/tactile-rtt-ros-build)
 #   TACTILE_JOBS        parallel jobs (default: nproc)
-#   TACTILE_RTT_ROS_COMMON_MSGS=ON  also the typekits of geometry_msgs, sensor_msgs
 #   TACTILE_WITH_RVIZ=ON            also apt-install rviz, xvfb, x11-apps (scripts/ros_screenshot.sh)
 set -euo pipefail
 
@@ -42,16 +40,13 @@ commit=454c86f56a817453f7ee65a95e38e69533234b1e
 url=https://github.com/orocos/rtt_ros_integration.git
 # Folders of the repository, one catkin package each (rtt_rosclock needs
 # rtt_rosgraph_msgs, rtt_roscomm needs rtt_rospack and rtt_rosnode; the
-# project's tactile_msgs typekit needs rtt_std_msgs). The typekits of
-# geometry_msgs and sensor_msgs (61 compilation units, most of this build)
-# are left out unless TACTILE_RTT_ROS_COMMON_MSGS=ON: the project's adapter
-# publishes its standard messages (image, poses, wrench, TF) with roscpp from
-# its own thread and streams only tactile_msgs through rtt_roscomm.
+# project's tactile_msgs typekit needs rtt_std_msgs; the deployments stream
+# sensor_msgs/Image, geometry_msgs/PoseStamped and WrenchStamped through
+# rtt_roscomm: the typekits of geometry_msgs and sensor_msgs, 61 compilation
+# units, most of this build).
 PKGS=(rtt_ros rtt_rospack rtt_rosnode rtt_rosclock rtt_roscomm rtt_rosparam
-      typekits/rtt_std_msgs typekits/rtt_rosgraph_msgs)
-if [ "${TACTILE_RTT_ROS_COMMON_MSGS:-OFF}" = "ON" ]; then
-  PKGS+=(typekits/rtt_geometry_msgs typekits/rtt_sensor_msgs)
-fi
+      typekits/rtt_std_msgs typekits/rtt_rosgraph_msgs
+      typekits/rtt_geometry_msgs typekits/rtt_sensor_msgs)
 
 stamp_dir="$ros_prefix/share/tactile_servo"
 stamp="$stamp_dir/rtt_ros.stamp"

@@ -2,7 +2,7 @@
 // loop (deployments/sim_loop.ops: tactile::SimClock executing Robot =
 // LwrSimComponent at 1 kHz, Sensor, Features, Servo at 100 Hz in its thread)
 // with deployments/ros_streams.ops (tactile_ros::RosAdapter, rtt_roscomm
-// streams of the project's messages, roscpp publishers, TF, the phase
+// rtt_roscomm streams of every message, TF, the phase
 // service), all run by an OCL::DeploymentComponent in this process against
 // the roscore of tests/ros/with_roscore.sh, at wall-clock speed.
 //
@@ -27,7 +27,7 @@
 // Features, Sensor, each in its own thread named after it) with
 // ros_streams.ops; the allocations of those four threads, found by name in
 // /proc/self/task, counted over 8 s after warm-up must be 0, while the
-// adapter's thread (RosAdapter, roscpp serialisation) is seen allocating.
+// adapter's thread (RosAdapter: TF through tf2_ros) is seen allocating.
 #include <gtest/gtest.h>
 
 #include <dirent.h>
@@ -279,7 +279,7 @@ TEST(RosRealtimeAllocations, RobotLoopWithStreamsDoesNotAllocate) {
     std::printf("thread %-10s %s: %zu allocations over 8 s\n", name, found ? "found" : "MISSING", delta);
     EXPECT_TRUE(found) << "no thread named " << name;
     if (std::string(name) == "RosAdapter") {
-      EXPECT_GT(delta, 0u) << "the adapter's thread (roscpp serialisation) is not seen allocating: the counter is blind";
+      EXPECT_GT(delta, 0u) << "the adapter's thread (its TF broadcasts through tf2_ros) is not seen allocating: the counter is blind";
     } else {
       EXPECT_EQ(delta, 0u) << "thread " << name << " allocated with the streams on";
     }

@@ -2,20 +2,20 @@
 // (non-real-time) thread. A thin component: it reads the deployment's ports
 // (buffered connections: every sample), converts them with the plain
 // functions of conversions.hpp, and
-//   - writes the project's messages (tactile_msgs) to output ports that a
-//     deployment streams to ROS topics with rtt_roscomm (deployments/ros_streams.ops;
-//     their typekit is rtt_tactile_msgs, generated the rtt_roscomm way);
-//   - publishes the standard messages (image, poses, wrench) and TF with
-//     roscpp from this thread (no typekit of sensor_msgs/geometry_msgs needed).
-// The real-time components only gain one more lock-free connection per port;
-// conversion, serialisation and publishing happen here and in ROS's threads.
+// writes them as ROS messages to output ports that a deployment streams to
+// ROS topics with rtt_roscomm (deployments/ros_streams.ops; the typekits are
+// rtt_sensor_msgs, rtt_geometry_msgs and the project's rtt_tactile_msgs,
+// generated the rtt_roscomm way), and broadcasts TF with tf2_ros from this
+// thread. The real-time components only gain one more lock-free connection
+// per port; conversion here, serialisation and publishing in rtt_roscomm's
+// publisher thread.
 //
-//   in   calibrated_frame (/tactile/TactileFrame)    -> image_topic        sensor_msgs/Image 32FC1 (N)
-//   in   features         (/tactile/ContactFeatures) -> port features_msg  tactile_msgs/ContactFeatures
-//   in   flange_pose      (/tactile/Pose)            -> flange_pose_topic  geometry_msgs/PoseStamped ({g})
-//   in   pose_command     (/tactile/PoseCommand)     -> pose_command_topic geometry_msgs/PoseStamped ({g})
-//   in   estimated_wrench (/tactile/Wrench)          -> wrench_topic       geometry_msgs/WrenchStamped ({e})
-//   in   phase            (/tactile/PhaseState)      -> port phase_msg     tactile_msgs/Phase
+//   in   calibrated_frame (/tactile/TactileFrame)    -> port image_msg        sensor_msgs/Image 32FC1 (N)
+//   in   features         (/tactile/ContactFeatures) -> port features_msg     tactile_msgs/ContactFeatures
+//   in   flange_pose      (/tactile/Pose)            -> port flange_pose_msg  geometry_msgs/PoseStamped ({g})
+//   in   pose_command     (/tactile/PoseCommand)     -> port pose_command_msg geometry_msgs/PoseStamped ({g})
+//   in   estimated_wrench (/tactile/Wrench)          -> port wrench_msg       geometry_msgs/WrenchStamped ({e})
+//   in   phase            (/tactile/PhaseState)      -> port phase_msg        tactile_msgs/Phase
 //   TF   {g} -> {e} (flange_pose), {e} -> {s} (sensor_mount), {s} -> {c} (features, while in contact)
 //   op   bool switchPhase(SwitchPhase::Request&, SwitchPhase::Response&)  for rtt_rosservice:
 //        calls switchPhase(name) of the peer named by the property `servo`
@@ -47,7 +47,11 @@ class RosAdapter : public RTT::TaskContext {
         command_in_("pose_command"),
         wrench_in_("estimated_wrench"),
         phase_in_("phase"),
+        image_out_("image_msg"),
         features_out_("features_msg"),
+        flange_out_("flange_pose_msg"),
+        command_out_("pose_command_msg"),
+        wrench_out_("wrench_msg"),
         phase_out_("phase_msg"),
         servo_switch_("switchPhase") {
     addProperty("base_frame", base_frame_).doc("TF name of {g}, the robot base.");
@@ -69,13 +73,12 @@ class RosAdapter : public RTT::TaskContext {
     addEventPort(command_in_).doc("Commanded flange pose {g}T{e} from the servo.");
     addEventPort(wrench_in_).doc("The arm's estimated wrench [F T] ({g} axes, flange origin).");
     addEventPort(phase_in_).doc("Phase program state from the servo.");
+    addPort(image_out_).doc("The calibrated frame as sensor_msgs/Image (rows x cols, 32FC1, N, row-major; frame_id sensor_frame), to stream.");
     addPort(features_out_).doc("The features as tactile_msgs/ContactFeatures (frame_id sensor_frame), to stream.");
+    addPort(flange_out_).doc("The measured flange pose as geometry_msgs/PoseStamped (frame_id base_frame), to stream.");
+    addPort(command_out_).doc("The commanded flange pose as geometry_msgs/PoseStamped (frame_id base_frame), to stream.");
+    addPort(wrench_out_).doc("The estimated wrench as geometry_msgs/WrenchStamped (in {e}: frame_id flange_frame), to stream.");
     addPort(phase_out_).doc("Phase as tactile_msgs/Phase, to stream.");
-    addProperty("image_topic", image_topic_).doc("Topic of the calibrated frame, sensor_msgs/Image (rows x cols, 32FC1, N).");
-    addProperty("flange_pose_topic", flange_topic_).doc("Topic of the measured flange pose, geometry_msgs/PoseStamped ({g}).");
-    addProperty("pose_command_topic", command_topic_).doc("Topic of the commanded flange pose, geometry_msgs/PoseStamped ({g}).");
-    addProperty("wrench_topic", wrench_topic_).doc("Topic of the estimated wrench, geometry_msgs/WrenchStamped (in {e}).");
-    addProperty("queue_size", queue_size_).doc("roscpp publisher queue of those topics (messages).");
     addOperation("switchPhase", &RosAdapter::switchPhase, this, RTT::ClientThread)
         .doc("ROS service body (tactile_msgs/SwitchPhase): the servo's switchPhase(request.phase).");
   }
@@ -101,16 +104,10 @@ class RosAdapter : public RTT::TaskContext {
                            << RTT::endlog();
       return false;
     }
-    if (queue_size_ < 1) {
-      RTT::log(RTT::Error) << getName() << ": property queue_size must be >= 1" << RTT::endlog();
-      return false;
-    }
-    ros::NodeHandle nh;
-    const auto q = static_cast<uint32_t>(queue_size_);
-    image_pub_ = nh.advertise<sensor_msgs::Image>(image_topic_, q);
-    flange_pub_ = nh.advertise<geometry_msgs::PoseStamped>(flange_topic_, q);
-    command_pub_ = nh.advertise<geometry_msgs::PoseStamped>(command_topic_, q);
-    wrench_pub_ = nh.advertise<geometry_msgs::WrenchStamped>(wrench_topic_, q);
+    // The image's size for the streams' buffers (the largest frame).
+    sensor_msgs::Image sample;
+    sample.data.resize(static_cast<std::size_t>(tactile::kMaxRows) * tactile::kMaxCols * sizeof(float));
+    image_out_.setDataSample(sample);
     if (publish_tf_) tf_ = std::make_unique<tf2_ros::TransformBroadcaster>();
     return true;
   }
@@ -123,7 +120,7 @@ class RosAdapter : public RTT::TaskContext {
   void updateHook() override {
     while (frame_in_.read(frame_, false) == RTT::NewData) {
       if (!stamp(frame_.time_s)) continue;
-      if (toImage(frame_, stamp_, sensor_frame_, image_)) image_pub_.publish(image_);
+      if (toImage(frame_, stamp_, sensor_frame_, image_)) image_out_.write(image_);
     }
     while (features_in_.read(features_, false) == RTT::NewData) {
       if (!stamp(features_.time_s)) continue;
@@ -137,7 +134,7 @@ class RosAdapter : public RTT::TaskContext {
     while (command_in_.read(command_, false) == RTT::NewData) {
       if (!stamp(command_.time_s)) continue;
       toPose(command_.pose, stamp_, base_frame_, command_msg_);
-      command_pub_.publish(command_msg_);
+      command_out_.write(command_msg_);
     }
     // A pose carries no time: the arm writes flange_pose, then estimated_wrench,
     // every step, so the pose that precedes a wrench in its (FIFO) buffer is
@@ -146,7 +143,7 @@ class RosAdapter : public RTT::TaskContext {
       if (!stamp(wrench_.time_s)) continue;
       if (flange_in_.read(flange_, false) == RTT::NewData) {
         toPose(flange_, stamp_, base_frame_, flange_msg_);
-        flange_pub_.publish(flange_msg_);
+        flange_out_.write(flange_msg_);
         if (tf_ && tactile::validPose(flange_)) {
           toTransform(flange_, stamp_, base_frame_, flange_frame_, tf_ge_);
           toTransform(mount_, stamp_, flange_frame_, sensor_frame_, tf_es_);
@@ -156,7 +153,7 @@ class RosAdapter : public RTT::TaskContext {
         }
       }
       toWrench(wrench_, flange_, stamp_, base_frame_, flange_frame_, wrench_msg_);
-      wrench_pub_.publish(wrench_msg_);
+      wrench_out_.write(wrench_msg_);
     }
     while (phase_in_.read(phase_, false) == RTT::NewData) {
       if (!stamp(phase_.time_s)) continue;
@@ -193,9 +190,12 @@ class RosAdapter : public RTT::TaskContext {
   RTT::InputPort<tactile::PoseCommand> command_in_;
   RTT::InputPort<tactile::Wrench> wrench_in_;
   RTT::InputPort<tactile::PhaseState> phase_in_;
+  RTT::OutputPort<sensor_msgs::Image> image_out_;
   RTT::OutputPort<tactile_msgs::ContactFeatures> features_out_;
+  RTT::OutputPort<geometry_msgs::PoseStamped> flange_out_;
+  RTT::OutputPort<geometry_msgs::PoseStamped> command_out_;
+  RTT::OutputPort<geometry_msgs::WrenchStamped> wrench_out_;
   RTT::OutputPort<tactile_msgs::Phase> phase_out_;
-  ros::Publisher image_pub_, flange_pub_, command_pub_, wrench_pub_;
   RTT::OperationCaller<bool(const std::string&)> servo_switch_;
 
   std::string base_frame_ = "lwr_base";
@@ -208,11 +208,6 @@ class RosAdapter : public RTT::TaskContext {
   bool offset_set_ = false;
   std::string servo_name_;
   bool publish_tf_ = true;
-  std::string image_topic_ = "/tactile/image";
-  std::string flange_topic_ = "/tactile/flange_pose";
-  std::string command_topic_ = "/tactile/pose_command";
-  std::string wrench_topic_ = "/tactile/wrench";
-  int queue_size_ = 1000;
 
   tactile::Pose mount_;
   tactile::TactileFrame frame_;
