@@ -257,6 +257,7 @@ FeatureStatus FeatureExtractor::step(const TactileFrame& frame, ContactFeatures&
   double m00 = 0, m10 = 0, m01 = 0, m20 = 0, m11 = 0, m02 = 0;
   double bx = 0, by = 0;
   int area = 0;
+  int loaded = 0;  // taxels carrying force (the moments' support)
   for (int r = 0; r < rows; ++r) {
     const double y = ys_[static_cast<std::size_t>(r)];
     const double* row = g + r * cols;
@@ -271,6 +272,7 @@ FeatureStatus FeatureExtractor::step(const TactileFrame& frame, ContactFeatures&
       s2 += x * x * v;
       const bool on = v > thr || est[c] != 0;
       cnt += on;
+      loaded += v > 0.0;
       sb += on ? x : 0.0;
     }
     m00 += s0;
@@ -355,10 +357,10 @@ FeatureStatus FeatureExtractor::step(const TactileFrame& frame, ContactFeatures&
       last_alpha_sigma_ = params_.taxel_noise * std::sqrt(s) / (2.0 * m00 * gn);
     }
     double alpha = alpha_prev_;
-    // One taxel in contact has no direction: its covariance is zero up to
+    // One loaded taxel has no direction: its covariance is zero up to
     // rounding (lambda1 ~ 1e-20 m^2) and the noise model, which scales with the
     // spread, cannot see that; the angle would be rounding noise.
-    if (area >= 2 && l1 > 0.0 && (l1 - l2) > params_.isotropy_tol * (l1 + l2) &&
+    if (loaded >= 2 && l1 > 0.0 && (l1 - l2) > params_.isotropy_tol * (l1 + l2) &&
         last_alpha_sigma_ <= params_.alpha_max_sigma) {
       alpha_ok = true;
       // Principal axis angle from x_s; 0.5*atan2 lies in (-pi/2, pi/2].
