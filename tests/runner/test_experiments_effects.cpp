@@ -2,7 +2,7 @@
 // realistic levels (Coulomb friction mu 0.5 at the pad, FRI delay 2 ms, KRC
 // cycle 2 ms; sim/lwr/README.md "Physics and timing effects"): every shipped
 // scene keeps the criteria of test_experiments.cpp, and the effects do reach
-// the runner (the co-manipulation's stick-slip tilts the tray further).
+// the runner (the co-manipulation's pad drags on the tray's bar).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -60,11 +60,22 @@ TEST(ExperimentsWithPhysicsEffects, CoManipulation) {
   EXPECT_GT(s.translation_x_m, 0.01);
   EXPECT_NEAR(s.force_true_mean_n, 6.0, 1.0);
   EXPECT_LT(s.tray_angle_max_deg, 5.0);
-  // The pad sticks to the tray's bar: the tray tilts further before the pad
-  // slips (measured 3.4 deg against 1.25 deg frictionless). The recovery time
-  // (DZMP_y low-passed 0.1 s) is about the same (1.41 s against 1.47 s).
-  const Summary off = runScene("co_manipulation.yaml", {"effects={}"});
-  EXPECT_GT(s.tray_angle_max_deg, off.tray_angle_max_deg + 1.0);
+  EXPECT_EQ(s.sim_unconverged_steps, 0);
+  // The friction reaches the runner: while the arm slides the pad along the
+  // tray's bar to rebalance (5-8 s), the drag mu N (0.5 x ~6.7 N) holds the
+  // sensor back from its command by mu N / k_trans (k_trans 1000 N/m):
+  // ~3.4 mm (measured 3.75 mm) against 0.09 mm without friction. The tray's
+  // tilt and the recovery time stay about the same (1.29 deg and 1.51 s
+  // against 1.27 deg and 1.48 s).
+  auto maxLagX = [](const RunResult& r) {
+    double lag = 0.0;
+    for (const auto& row : r.rows)
+      if (row.t > 5.0 && row.t < 8.0) lag = std::max(lag, std::fabs(row.cmd[0] - row.act[0]));
+    return lag;
+  };
+  const double mu_n_over_k = 0.5 * 6.0 / 1000.0;  // m, with the 6 N set point
+  EXPECT_GT(maxLagX(test::runFull(test::loadShipped("co_manipulation.yaml", kEffects))), 0.8 * mu_n_over_k);
+  EXPECT_LT(maxLagX(test::runFull(test::loadShipped("co_manipulation.yaml", {"effects={}"}))), 0.1 * mu_n_over_k);
 }
 
 TEST(ExperimentsWithPhysicsEffects, SphereTable) {
@@ -75,16 +86,16 @@ TEST(ExperimentsWithPhysicsEffects, SphereTable) {
 
 // The realistic delays on top of each scene as shipped (pad friction where it
 // ships): the WTS frame's serial transfer (15.7 ms: 181 bytes at 115200 Bd),
-// the KRC's 2 ms cycle and a 2 ms FRI delay. Every hold and paper scene but the
-// co-manipulation passes its own criteria (metrics.criteria) for seeds 1 and 2,
-// and the edge aligns within 5 s. The co-manipulation with friction and the
-// WTS delay is not covered here: it fails its criteria for some seeds (README,
-// "Simulated effects": stick-slip of the pad on the tray's bar).
+// the KRC's 2 ms cycle and a 2 ms FRI delay. Every hold and paper scene passes
+// its own criteria (metrics.criteria) for seeds 1 and 2, and the edge aligns
+// within 5 s. (The co-manipulation with friction and the WTS delay once failed
+// for some seeds: the quasi-static solve stopped at its iteration cap during
+// stick-slip, World::stepQuasiStatic; 20 of 20 seeds pass now.)
 TEST(ExperimentsWithRealisticDelays, ShippedScenesPassTheirCriteria) {
   const std::vector<std::string> delays = {"effects.wts_transfer_delay_s=0.0157", "effects.krc_cycle_s=0.002",
                                            "effects.fri_delay_s=0.002"};
   for (const char* name : {"edge_exploration.yaml", "bent_bar.yaml", "sphere_table.yaml", "partial_edge.yaml",
-                           "short_bar.yaml", "off_centre_load.yaml"}) {
+                           "short_bar.yaml", "off_centre_load.yaml", "co_manipulation.yaml"}) {
     for (int seed = 1; seed <= 2; ++seed) {
       Scene sc = test::loadShipped(name, delays);
       EXPECT_DOUBLE_EQ(sc.sensor_effects.wts_transfer_delay_s, 0.0157);

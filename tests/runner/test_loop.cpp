@@ -129,7 +129,18 @@ TEST(EndRule, RefusedStepsAndCommandsEndTheRunWithANamedStatus) {
   for (int k = 0; k < 99; ++k) EXPECT_EQ(e.afterPhysics(SimStatus::InvalidCommand), EndReason::None) << k;
   EXPECT_EQ(e.afterPhysics(SimStatus::InvalidCommand), EndReason::SimRejected);
   EXPECT_EQ(e.afterPhysics(SimStatus::NotConverged), EndReason::None);
+  // A quasi-static world without equilibrium for 0.1 s (100 steps at 1 kHz):
+  // its state is not the physics any more.
+  e.reset();
+  for (int k = 0; k < 99; ++k) EXPECT_EQ(e.afterPhysics(SimStatus::NotConverged), EndReason::None) << k;
+  EXPECT_EQ(e.afterPhysics(SimStatus::Ok), EndReason::None);  // converged again: the count restarts
+  for (int k = 0; k < 99; ++k) EXPECT_EQ(e.afterPhysics(SimStatus::NotConverged), EndReason::None) << k;
+  EXPECT_EQ(e.afterPhysics(SimStatus::NotConverged), EndReason::SimFatal);
+  EXPECT_EQ(e.unconvergedSteps(), 199);
   Summary s;
+  applyEnd(EndReason::SimFatal, SimStatus::NotConverged, s);
+  EXPECT_EQ(s.status, "sim_not_converged");
+  EXPECT_EQ(s.exit_code, 3);
   applyEnd(EndReason::SimRejected, SimStatus::StepRejected, s);
   EXPECT_EQ(s.status, "sim_step_rejected");
   EXPECT_EQ(s.exit_code, 3);

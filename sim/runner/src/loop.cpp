@@ -83,6 +83,12 @@ EndReason EndRule::afterServo(ServoStatus st) {
 
 EndReason EndRule::afterPhysics(SimStatus st) {
   if (fatal(st)) return EndReason::SimFatal;
+  if (st == SimStatus::NotConverged) {
+    ++unconverged_total_;
+    if (++unconverged_cycles_ >= unconverged_limit_) return EndReason::SimFatal;
+  } else {
+    unconverged_cycles_ = 0;
+  }
   if (st == SimStatus::StepRejected) return EndReason::SimRejected;  // time stands still: it never recovers
   if (st != SimStatus::InvalidCommand) {
     invalid_cycles_ = 0;

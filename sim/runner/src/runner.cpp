@@ -154,6 +154,7 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
   if (worst_dzmp >= 0.0) out.snapshots.push_back(worst);
   out.snapshots.push_back({state.time_s, "end", frame});
   applyEnd(end, ss, sum);
+  sum.sim_unconverged_steps = end_.unconvergedSteps();
   sum.sim_time_s = state.time_s;
   sum.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   sum.real_time_factor = sum.wall_time_s > 0 ? sum.sim_time_s / sum.wall_time_s : 0.0;

@@ -56,7 +56,7 @@ struct WorldParams {
   /// Extra constant wrench on the flange, {g} at the flange, [f; m] (tests, pushes).
   std::array<double, 6> external_wrench{};
   double force_ceiling = 150.0;     ///< N, |contact force| above this -> ForceCeiling
-  int qs_max_iterations = 12;       ///< quasi-static Newton iterations per step
+  int qs_max_iterations = 40;       ///< quasi-static Newton iterations per step (with friction the steps may be halved)
   double qs_tolerance = 1e-4;       ///< N (and N m) residual to stop the quasi-static solve
   double qs_max_step = 0.005;       ///< m per Newton iteration (rad for rotations: x 10)
   /// Dynamics only: start from the quasi-static equilibrium of the initial

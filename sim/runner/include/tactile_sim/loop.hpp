@@ -93,22 +93,31 @@ class EndRule {
   void configure(const Rates& rates) {
     done_limit_ = static_cast<int>(rates.servo);
     invalid_limit_ = std::max(1, static_cast<int>(std::lround(0.1 * rates.sim)));
+    unconverged_limit_ = invalid_limit_;
   }
-  void reset() { done_cycles_ = invalid_cycles_ = 0; }
+  void reset() { done_cycles_ = invalid_cycles_ = unconverged_cycles_ = unconverged_total_ = 0; }
   /// After a servo cycle: ForceCeiling and the watchdog statuses
   /// (PhaseTimeout, ArmStalled, ForceMismatch) end the run at once; Done
   /// ends it after one more second (rates.servo cycles) of holding.
   EndReason afterServo(ServoStatus st);
   /// After a physics step: a fatal simulator status ends the run (SimFatal);
   /// so does a refused step (SimRejected: the world's time did not advance)
-  /// and an invalid command refused on every step for 0.1 s (SimRejected).
+  /// and an invalid command refused on every step for 0.1 s (SimRejected);
+  /// so does a quasi-static world that has not found its equilibrium
+  /// (NotConverged) on every step for 0.1 s (SimFatal, status
+  /// sim_not_converged): its state is then not the physics.
   EndReason afterPhysics(SimStatus st);
+  /// Physics steps whose quasi-static solve did not converge, since reset().
+  int unconvergedSteps() const { return unconverged_total_; }
 
  private:
   int done_limit_ = 100;
   int done_cycles_ = 0;
   int invalid_limit_ = 100;  ///< physics steps: 0.1 s
   int invalid_cycles_ = 0;
+  int unconverged_limit_ = 100;  ///< physics steps: 0.1 s
+  int unconverged_cycles_ = 0;
+  int unconverged_total_ = 0;
 };
 
 /// summary.json's status and exit code for an end reason (sim_status: the
