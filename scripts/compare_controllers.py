@@ -20,7 +20,6 @@ or wrote no summary.
 """
 import argparse
 import csv
-import glob
 import json
 import math
 import os
@@ -34,6 +33,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "scripts"))
+import simsweep  # noqa: E402
+
 CONTROLLERS = ["proposed", "baseline", "no_rotation"]
 LABEL = {"proposed": "proposed (DZMP, Eq. 8)", "baseline": "baseline (Li et al. 2013)",
          "no_rotation": "no_rotation (ablation)"}
@@ -71,11 +73,11 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--sim", default=os.path.join(ROOT, "build", "bin", "tactile_sim"))
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "compare"))
-    ap.add_argument("--scenes", default="", help="comma-separated scene names (default: all in sim/scenes)")
+    ap.add_argument("--scenes", default="", help="comma-separated scene names (default: the experiment scenes of sim/scenes)")
     ap.add_argument("--controllers", default=",".join(CONTROLLERS))
     a = ap.parse_args()
 
-    shipped = sorted(os.path.splitext(os.path.basename(p))[0] for p in glob.glob(os.path.join(ROOT, "sim", "scenes", "*.yaml")))
+    shipped = simsweep.shipped_scenes()
     scenes = [s for s in a.scenes.split(",") if s] or (
         [s for s in ORDER if s in shipped] + [s for s in shipped if s not in ORDER])
     controllers = [c for c in a.controllers.split(",") if c]

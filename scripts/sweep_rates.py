@@ -18,7 +18,6 @@ a key metric leaves the 10 % band or a run does not end `ok`.
 """
 import argparse
 import concurrent.futures
-import glob
 import json
 import os
 import subprocess
@@ -31,6 +30,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
+import simsweep  # noqa: E402
 from sweep_tradeoff import SCENES  # noqa: E402
 
 RATES = [50, 100, 200, 500, 1000]
@@ -69,8 +69,8 @@ def main():
     ap.add_argument("--set", action="append", default=[], dest="sets")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
-    scenes = sorted(glob.glob(os.path.join(ROOT, "sim", "scenes", "*.yaml")))
-    names = [os.path.splitext(os.path.basename(f))[0] for f in scenes]
+    names = simsweep.shipped_scenes()
+    scenes = [simsweep.scene_path(n) for n in names]
     seeds = list(range(1, a.seeds + 1))
     one = {}
     with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
