@@ -98,7 +98,7 @@ def main():
     open(os.path.join(a.out, "tradeoff.md"), "w").write("\n".join(md) + "\n")
     print("\n".join(md))
     fig, ax = plt.subplots(figsize=(11, 5.5))
-    marks = {"edge_exploration": "o", "bent_bar": "s", "co_manipulation": "^"}
+    marks = {sc: m for sc, m in zip(SCENES, ["o", "s", "^", "D", "v", "P", "X", "*"])}
     colors = {label(s): plt.cm.tab10(i % 10) for i, s in enumerate(grid)}
     for sc, lb, w, rtf, e, _, st in rows:
         if lb == label(FINEST):
