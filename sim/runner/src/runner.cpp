@@ -128,7 +128,9 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
         worst.frame = frame;
       }
       if (pp.requires_contact && feats.contact != ContactType::None) {
-        const KDL::Vector p = state.T_gs * KDL::Vector(feats.cop_x, feats.cop_y, 0.0);
+        // The controller's own data: the measured flange pose, the sensor
+        // mount and the CoP (the truth beside it, for evaluation only).
+        const KDL::Vector p = toFrame(state.flange_g) * sc.servo.sensor_mount * KDL::Vector(feats.cop_x, feats.cop_y, 0.0);
         out.contacts.push_back({t, {p.x(), p.y(), p.z()}, acq.contact_point_g});
       }
       if ((end = end_.afterServo(st)) != EndReason::None) break;
