@@ -21,7 +21,7 @@ contours here lie in horizontal planes, touched from above).
 Writes RUN/contour.json and RUN/contour.png; exits 1 when a check fails
 (--max-closure, --max-rms; defaults: the targets 5 mm and 1 mm), 2 on bad input.
 
-usage: contour_check.py RUN SCENE [--max-closure M] [--max-rms M] [--no-plot]
+usage: contour_check.py RUN SCENE [--max-closure M] [--max-rms M] [--min-unwinds N] [--no-plot]
 """
 import argparse
 import csv
@@ -62,6 +62,10 @@ def dist_to_polylines(pts, lines):
 WINDOW_M = 0.015  # m: the neighbourhood in which the contour's local curvature is fitted
 
 
+FIT_RESIDUAL_M = 0.0002  # m: RMS residual of the circle fit up to which the curve is taken as an arc
+                          # (the ring's CoP path: < 0.05 mm; a 1 cm corner under the 47.6 mm pad: mm)
+
+
 def fit_circle(xy):
     """Algebraic (Kasa) circle fit: centre (2,), radius; radius inf when (nearly) straight."""
     A = np.c_[2 * xy, np.ones(len(xy))]
@@ -99,6 +103,10 @@ def reconstruct(P, lam1, seg):
         c, R = fit_circle(P[m, :2])
         if not math.isfinite(R):
             continue
+        # Only where the path is a circle (a steady curve under the pad); at a
+        # corner tighter than the pad the arc model does not hold: left as is.
+        if np.sqrt(np.mean((np.linalg.norm(P[m, :2] - c, axis=1) - R) ** 2)) > FIT_RESIDUAL_M:
+            continue
         d = lam1[i] / (2 * R)
         v = P[i, :2] - c
         out[i, :2] = P[i, :2] + d * v / np.linalg.norm(v)
@@ -111,6 +119,7 @@ def main():
     ap.add_argument("scene")
     ap.add_argument("--max-closure", type=float, default=0.005)
     ap.add_argument("--max-rms", type=float, default=0.001)
+    ap.add_argument("--min-unwinds", type=int, default=0, help="at least this many lift-off-and-unwind sequences")
     ap.add_argument("--no-plot", action="store_true")
     a = ap.parse_args()
     try:
@@ -173,6 +182,8 @@ def main():
         fails.append("never left the start (farthest %.4f m)" % far)
     if not res["rms_m"] <= a.max_rms:
         fails.append("cloud RMS %.5f m > %.5f m" % (res["rms_m"], a.max_rms))
+    if not len(unw) >= a.min_unwinds:
+        fails.append("%d unwinds < %d" % (len(unw), a.min_unwinds))
     res["failed"] = fails
     json.dump(res, open(os.path.join(a.run, "contour.json"), "w"), indent=1)
     if not a.no_plot:
