@@ -17,6 +17,9 @@ contours here lie in horizontal planes, touched from above).
               (the CoP lies on the undeformed pad surface, z_s = 0, which the
               ridge presses into by about 1 mm at 5 N)
   unwinds     entries into the `unwind*` phases, with their times
+  coverage    per object, the share of its contour with a reconstructed point
+              within COVER_M; end_distance_m: the last exploring point to the
+              last object's last vertex (--open: must be <= END_M)
 
 Writes RUN/contour.json and RUN/contour.png; exits 1 when a check fails
 (--max-closure, --max-rms; defaults: the targets 5 mm and 1 mm), 2 on bad input.
@@ -59,6 +62,8 @@ def dist_to_polylines(pts, lines):
     return best
 
 
+END_M = 0.025  # m: an open contour's end is reached when the CoP came this close (the pad's half length, 23.8 mm)
+COVER_M = 0.003  # m: a point of the true contour is covered when a reconstructed point lies this close
 WINDOW_M = 0.015  # m: the neighbourhood in which the contour's local curvature is fitted
 
 
@@ -120,6 +125,9 @@ def main():
     ap.add_argument("--max-closure", type=float, default=0.005)
     ap.add_argument("--max-rms", type=float, default=0.001)
     ap.add_argument("--min-unwinds", type=int, default=0, help="at least this many lift-off-and-unwind sequences")
+    ap.add_argument("--open", action="store_true",
+                    help="an open contour: instead of the closure, the run must reach the last object's far end "
+                         "(the last exploring contact point within END_M of its last vertex)")
     ap.add_argument("--no-plot", action="store_true")
     a = ap.parse_args()
     try:
@@ -158,6 +166,17 @@ def main():
     closure = float(np.linalg.norm(last - start))
     far = float(np.max(np.linalg.norm(P - start, axis=1)))
     unw = [p["t_enter"] for p in phases if p["name"].startswith("unwind")]
+    # Coverage: the share of each object's contour (sampled every mm) with a reconstructed point within COVER_M.
+    cover = []
+    for v in lines:
+        smp = []
+        for a0, b0 in zip(v[:-1], v[1:]):
+            k = max(1, int(np.linalg.norm(b0 - a0) / 0.001))
+            smp += [a0 + (b0 - a0) * j / k for j in range(k)]
+        smp = np.array(smp)[:, :2]
+        dmin = np.array([np.min(np.linalg.norm(E[:, :2] - q, axis=1)) for q in smp])
+        cover.append(float(np.mean(dmin <= COVER_M)))
+    end_dist = float(np.linalg.norm(P[-1, :2] - lines[-1][-1, :2]))
     res = {
         "scene": summ["scene"], "status": summ["status"], "sim_time_s": summ["sim_time_s"],
         "t_explore_s": next((p["t_enter"] for p in phases if p["name"] == "explore"), None),
@@ -168,15 +187,18 @@ def main():
         "rms_cop_m": float(np.sqrt(np.mean(d_cop ** 2))),
         "rms_3d_m": float(np.sqrt(np.mean(d_3d ** 2))),
         "rms_true_pressure_centre_m": float(np.sqrt(np.mean(d_true ** 2))),
-        "points": int(len(E)), "unwinds": len(unw), "unwind_times_s": unw,
+        "points": int(len(E)), "coverage": cover, "end_distance_m": end_dist, "unwinds": len(unw), "unwind_times_s": unw,
         "phases": [p["name"] for p in phases],
     }
     fails = []
     if summ["status"] != "ok":
         fails.append("status %s" % summ["status"])
-    if not res["ended_by_loop_closure"]:
+    if not res["ended_by_loop_closure"]:  # (an open contour: by the search past its end)
         fails.append("the run did not end in 'done'")
-    if not closure <= a.max_closure:
+    if a.open:
+        if not end_dist <= END_M:
+            fails.append("the end not reached: last point %.4f m from it > %.3f m" % (end_dist, END_M))
+    elif not closure <= a.max_closure:
         fails.append("closure %.4f m > %.4f m" % (closure, a.max_closure))
     if not far > 10 * a.max_closure:
         fails.append("never left the start (farthest %.4f m)" % far)
@@ -196,13 +218,13 @@ def main():
         ax[0].plot(P[:, 0] * 1e3, P[:, 1] * 1e3, ".", ms=1.5, color="tab:orange", label="CoP (RMS %.2f mm)" % (res["rms_cop_m"] * 1e3))
         ax[0].plot(E[:, 0] * 1e3, E[:, 1] * 1e3, ".", ms=1.5, color="tab:blue", label="reconstruction (RMS %.2f mm)" % (res["rms_m"] * 1e3))
         ax[0].plot(start[0] * 1e3, start[1] * 1e3, "g^", ms=9, label="exploration start")
-        ax[0].plot(last[0] * 1e3, last[1] * 1e3, "rv", ms=9, label="end (closure %.1f mm)" % (closure * 1e3))
+        ax[0].plot(last[0] * 1e3, last[1] * 1e3, "rv", ms=9, label=("end (%.1f mm from the far end)" % (end_dist * 1e3)) if a.open else ("end (closure %.1f mm)" % (closure * 1e3)))
         t_c = np.array([float(r["time"]) for r in rows])
         for tu in unw:
             k = int(np.argmin(np.abs(t_c - tu)))
             ax[0].plot(float(rows[k]["x"]) * 1e3, float(rows[k]["y"]) * 1e3, "ms", ms=8, mfc="none")
         ax[0].plot([], [], "ms", mfc="none", label="lift off + unwind (%d)" % len(unw))
-        ax[0].set_aspect("equal")
+        ax[0].set_aspect("equal", adjustable="datalim")
         ax[0].set_xlabel("x_g (mm)")
         ax[0].set_ylabel("y_g (mm)")
         ax[0].legend(fontsize=8, loc="best")
@@ -219,7 +241,7 @@ def main():
         ax[1].legend(fontsize=8)
         fig.tight_layout()
         fig.savefig(os.path.join(a.run, "contour.png"), dpi=110)
-    print(json.dumps({k: res[k] for k in ("scene", "status", "closure_m", "rms_m", "rms_cop_m", "rms_3d_m", "max_m", "unwinds",
+    print(json.dumps({k: res[k] for k in ("scene", "status", "closure_m", "end_distance_m", "coverage", "rms_m", "rms_cop_m", "rms_3d_m", "max_m", "unwinds",
                                            "unwind_times_s", "t_done_s")}))
     for f in fails:
         print("FAIL: " + f)

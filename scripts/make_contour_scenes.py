@@ -53,7 +53,7 @@ def s_curve(r=0.05, n=24):
 
 def gap_bars(length=0.10, gap=0.010):
     """Two collinear straight bars along x_g with a gap; START on the first."""
-    x0, y0 = START[0] + 0.03, START[1] + 0.06
+    x0, y0 = START[0] + 0.17, START[1] + 0.06  # x_g 0.72 .. 0.51 m: much nearer the base, a joint runs out
     return [(x0, y0), (x0 - length, y0)], [(x0 - length - gap, y0), (x0 - 2 * length - gap, y0)]
 
 
