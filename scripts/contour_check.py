@@ -232,7 +232,7 @@ def main():
         tt = np.array([float(r["time"]) for r in expl])
         ax[1].plot(tt, d_cop * 1e3, ".", ms=1.5, color="tab:orange", label="CoP")
         ax[1].plot(tt, d_edge * 1e3, ".", ms=1.5, color="tab:blue", label="reconstruction")
-        ax[1].axhline(a.max_rms * 1e3, color="r", ls="--", lw=1, label="1 mm")
+        ax[1].axhline(a.max_rms * 1e3, color="r", ls="--", lw=1, label="RMS bound %g mm" % (a.max_rms * 1e3))
         for tu in unw:
             ax[1].axvline(tu, color="m", lw=0.8)
         ax[1].set_xlabel("time (s)")
