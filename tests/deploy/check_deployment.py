@@ -65,6 +65,20 @@ elif exp == "co_manipulation":
 elif exp == "sphere_table":
     check(d["status"] == "ok", f"status ok ({d['status']})")
     check(abs(num(d["force_true_mean_n"]) - 5.0) <= 1.0, f"true force mean 5 +- 1 N ({d['force_true_mean_n']})")
+elif exp == "ring":
+    # Whole closed contours: the program lifts off and unwinds the wrist
+    # (twice on the ring) and ends in `done` when the loop closes; the phases
+    # as the headless run's (README "Whole closed contours").
+    check(d["status"] == "ok", f"status ok ({d['status']})")
+    names = [p["name"] for p in d["phases"]]
+    check(names[-1:] == ["done"], f"ended in done ({names[-1:]})")
+    n_unw = sum(1 for n in names if n.startswith("unwind"))
+    check(n_unw == 2, f"two unwindings ({n_unw})")
+    hn = [p["name"] for p in h["phases"]]
+    check(names == hn, "the phase sequence as tactile_sim's")
+    if names == hn:
+        dt = max(abs(num(a["t_enter"]) - num(b["t_enter"])) for a, b in zip(d["phases"], h["phases"]))
+        check(dt <= 1e-4 * max(1.0, num(h["sim_time_s"])), f"phase entry times as tactile_sim's (max diff {dt:.3g} s)")
 else:
     sys.exit(f"check_deployment.py: unknown experiment {exp} with controller {controller}")
 

@@ -83,3 +83,15 @@ TEST(EdgeExperimentOsd, RunAndTransitionsBuildNoStringsAndDoNotPrint) {
 }
 
 }  // namespace
+
+namespace {
+// The closed-contour state machine (deployments/closed_contour_experiment.osd), the same rule.
+TEST(ContourExperimentOsd, RunAndTransitionsBuildNoStringsAndDoNotPrint) {
+  const std::string text = code(TACTILE_DEPLOYMENTS_DIR "/closed_contour_experiment.osd");
+  const std::vector<Block> run = blocks(text, "run"), tr = blocks(text, "transitions");
+  EXPECT_GE(run.size(), 4u);  // WAIT_EXPLORE, EXPLORE, UNWIND, REACQUIRE
+  EXPECT_GE(tr.size(), 4u);
+  expectNoStrings(run);
+  expectNoStrings(tr);
+}
+}  // namespace

@@ -269,3 +269,87 @@ TEST(PhaseProgram, FilterIsOnlyForAlignedAndInRange) {
   EXPECT_NE(r.message().find("filter_s"), std::string::npos) << r.message();
   EXPECT_NE(r.message().find("[0, 60]"), std::string::npos) << r.message();
 }
+
+// The wrist: wrist_wound fires on |accumulated yaw| >= angle (either sign),
+// wrist_unwound once the yaw has come back by >= angle since the phase was
+// entered (not from zero), loop_closed once the contact point went further
+// than leave_m from its anchor and is back within radius_m; the anchor is the
+// first contact point seen by a loop_closed transition and survives phase
+// changes until reset().
+TEST(PhaseProgram, WristAndLoopEventsReadTheObservedPose) {
+  ServoParams p;
+  p.phases.push_back(phaseOn("explore", TransitionEvent::LoopClosed, "done"));
+  p.phases[0].transitions[0].radius_m = 0.005;
+  p.phases[0].transitions[0].leave_m = 0.03;
+  TransitionParams w;
+  w.on = TransitionEvent::WristWound;
+  w.to = "unwind";
+  w.angle_rad = 2.6;
+  p.phases[0].transitions.push_back(w);
+  p.phases.push_back(phaseOn("unwind", TransitionEvent::WristUnwound, "explore"));
+  p.phases[1].transitions[0].angle_rad = 3.0;
+  p.phases.push_back(identityPhase("done", 0, 0));
+  p.phases[2].terminal = true;
+  PhaseProgram prog;
+  ASSERT_TRUE(prog.configure(p).ok());
+  const ContactFeatures edge = makeFeatures(0, 0, 0, 0.002, 0, 0, 0, ContactType::Edge);
+  auto at = [&](double yaw, double x, double y, bool point = true) {
+    ProgramSignals s;
+    s.wrist_yaw = yaw;
+    s.have_point = point;
+    s.point[0] = x, s.point[1] = y, s.point[2] = 0.3;
+    prog.observe(s);
+  };
+  at(0.0, 0.5, 0.0);
+  prog.enter(0, 0.0);
+  double t = 0.0;
+  const int explore = prog.indexOf("explore"), unwind = prog.indexOf("unwind"), done = prog.indexOf("done");
+  EXPECT_EQ(stepOnce(prog, edge, Vec6::Zero(), t += 0.01), explore);  // anchors at (0.5, 0)
+  at(-2.5, 0.51, 0.0);
+  EXPECT_EQ(stepOnce(prog, edge, Vec6::Zero(), t += 0.01), explore);  // within the range, not left yet
+  at(-2.61, 0.54, 0.0);
+  EXPECT_EQ(stepOnce(prog, edge, Vec6::Zero(), t += 0.01), unwind);   // |yaw| >= 2.6 (negative side)
+  EXPECT_DOUBLE_EQ(prog.yawAtEnter(), -2.61);
+  at(-0.5, 0.54, 0.0, false);
+  EXPECT_EQ(stepOnce(prog, edge, Vec6::Zero(), t += 0.01), unwind);   // back by 2.11 < 3.0
+  at(0.39, 0.54, 0.0, false);
+  EXPECT_EQ(stepOnce(prog, edge, Vec6::Zero(), t += 0.01), explore);  // back by 3.0
+  at(0.39, 0.506, 0.0);
+  EXPECT_EQ(stepOnce(prog, edge, Vec6::Zero(), t += 0.01), explore);  // 6 mm from the anchor
+  at(0.39, 0.5, 0.004, false);
+  EXPECT_EQ(stepOnce(prog, edge, Vec6::Zero(), t += 0.01), explore);  // no contact point: no closure
+  at(0.39, 0.5, 0.004);
+  EXPECT_EQ(stepOnce(prog, edge, Vec6::Zero(), t += 0.01), done);     // 4 mm, after leaving by 40 mm
+  double a[3];
+  ASSERT_TRUE(prog.loopAnchor(a));
+  EXPECT_DOUBLE_EQ(a[0], 0.5);
+  // After reset: no anchor; the first point anchors, and coming back to it
+  // without having left does not close the loop.
+  prog.reset();
+  EXPECT_FALSE(prog.loopAnchor(a));
+  at(0.0, 0.6, 0.0);
+  prog.enter(0, 0.0);
+  EXPECT_EQ(stepOnce(prog, edge, Vec6::Zero(), 0.01), explore);
+  at(0.0, 0.601, 0.0);
+  EXPECT_EQ(stepOnce(prog, edge, Vec6::Zero(), 0.02), explore);
+}
+
+TEST(PhaseProgram, WristAndLoopParametersAreChecked) {
+  ServoParams p;
+  p.phases.push_back(phaseOn("a", TransitionEvent::LoopClosed, "b"));
+  p.phases[0].transitions[0].radius_m = 0.005;
+  p.phases[0].transitions[0].leave_m = 0.004;  // must exceed radius_m
+  p.phases.push_back(phaseOn("b", TransitionEvent::WristWound, "a"));
+  p.phases[1].transitions[0].angle_rad = 2.0;
+  PhaseProgram prog;
+  ConfigResult r = prog.configure(p);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("leave_m"), std::string::npos) << r.message();
+  p.phases[0].transitions[0].leave_m = 0.03;
+  p.phases[1].transitions[0].angle_rad = 0.0;  // must be > 0
+  r = prog.configure(p);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("angle_deg"), std::string::npos) << r.message();
+  p.phases[1].transitions[0].angle_rad = 2.0;
+  EXPECT_TRUE(prog.configure(p).ok());
+}

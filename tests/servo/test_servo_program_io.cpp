@@ -40,7 +40,7 @@ void expectRejected(const std::string& name, const std::string& text, std::initi
 }  // namespace
 
 TEST(ServoProgramIo, ShippedProgramsLoadAndConfigure) {
-  for (const char* f : {"edge_exploration.yaml", "co_manipulation.yaml", "bent_bar.yaml"}) {
+  for (const char* f : {"edge_exploration.yaml", "co_manipulation.yaml", "bent_bar.yaml", "closed_contour.yaml"}) {
     ServoParams p;
     const ConfigResult r = loadServoProgram(programPath(f), p);
     ASSERT_TRUE(r.ok()) << r.message();
@@ -65,6 +65,21 @@ TEST(ServoProgramIo, ShippedProgramsLoadAndConfigure) {
   EXPECT_DOUBLE_EQ(p.safety.max_trans_speed, 0.05);           // m/s
   EXPECT_EQ(p.phases[2].transitions[0].tolerance[kTolAlphaZ], 0.035);
   EXPECT_EQ(p.phases[2].transitions[0].tolerance[kTolCocX], -1.0);  // unused
+  // The closed-contour program: the wrist and loop events with their units.
+  ServoParams c = loadShipped("closed_contour.yaml");
+  const PhaseParams* explore = nullptr;
+  const PhaseParams* unwind = nullptr;
+  for (const PhaseParams& ph : c.phases) {
+    if (ph.name == "explore") explore = &ph;
+    if (ph.name == "unwind") unwind = &ph;
+  }
+  ASSERT_TRUE(explore && unwind);
+  EXPECT_EQ(explore->transitions[0].on, TransitionEvent::LoopClosed);
+  EXPECT_DOUBLE_EQ(explore->transitions[0].radius_m, 0.005);
+  EXPECT_EQ(explore->transitions[1].on, TransitionEvent::WristWound);
+  EXPECT_NEAR(explore->transitions[1].angle_rad, 150.0 * kPi / 180.0, 1e-12);
+  EXPECT_DOUBLE_EQ(unwind->unwind_rate, 0.7);
+  EXPECT_EQ(unwind->transitions[0].on, TransitionEvent::WristUnwound);
 }
 
 TEST(ServoProgramIo, AlternativeFormsParse) {
@@ -140,6 +155,19 @@ TEST(ServoProgramIo, BadProgramsNameFilePhaseField) {
     }
   }
   expectRejected("yaml_syntax", "phases: [ {name: a\n", {"YAML error"});
+  // The wrist and loop events (closed contours).
+  expectRejected("wound_without_angle", program("", "    transitions: [{on: wrist_wound, to: approach}]\n"),
+                 {"phases.hold", "transitions[0].angle_deg", "required"});
+  expectRejected("angle_elsewhere", program("", "    transitions: [{on: contact_lost, to: approach, angle_deg: 10}]\n"),
+                 {"transitions[0].angle_deg", "only for 'wrist_wound' and 'wrist_unwound'"});
+  expectRejected("bad_angle", program("", "    transitions: [{on: wrist_unwound, to: approach, angle_deg: 0}]\n"),
+                 {"transitions[0].angle_deg", "(0, 720] deg"});
+  expectRejected("loop_without_radius", program("", "    transitions: [{on: loop_closed, to: approach, leave_m: 0.03}]\n"),
+                 {"transitions[0].radius_m", "required"});
+  expectRejected("loop_leave_too_small",
+                 program("", "    transitions: [{on: loop_closed, to: approach, radius_m: 0.005, leave_m: 0.005}]\n"),
+                 {"phases.hold", "leave_m", "(radius_m, 10] m"});
+  expectRejected("bad_unwind_rate", program("", "    unwind_rate: 2\n"), {"phases.hold.unwind_rate", "[0, 0.87] rad/s"});
 }
 
 // Rates in physical units: the per-cycle keys of earlier programs are rejected

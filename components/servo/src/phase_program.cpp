@@ -20,6 +20,9 @@ const char* toString(TransitionEvent e) {
     case TransitionEvent::ContactLost: return "contact_lost";
     case TransitionEvent::ForceAbove: return "force_above";
     case TransitionEvent::Timeout: return "timeout";
+    case TransitionEvent::WristWound: return "wrist_wound";
+    case TransitionEvent::WristUnwound: return "wrist_unwound";
+    case TransitionEvent::LoopClosed: return "loop_closed";
   }
   return "unknown";
 }
@@ -63,6 +66,15 @@ ConfigResult PhaseProgram::configure(const ServoParams& p) {
         return err(p, nm, f + ".timeout_s", tr.timeout_s, "must be > 0 (s)");
       if (tr.on == TransitionEvent::ForceAbove && !(std::isfinite(tr.force_n) && tr.force_n > 0))
         return err(p, nm, f + ".force_n", tr.force_n, "must be > 0 (N)");
+      if ((tr.on == TransitionEvent::WristWound || tr.on == TransitionEvent::WristUnwound) &&
+          !(std::isfinite(tr.angle_rad) && tr.angle_rad > 0 && tr.angle_rad <= 4 * 3.14159265358979323846))
+        return err(p, nm, f + ".angle_deg", tr.angle_rad * 180.0 / 3.14159265358979323846, "must be in (0, 720] deg");
+      if (tr.on == TransitionEvent::LoopClosed) {
+        if (!(std::isfinite(tr.radius_m) && tr.radius_m > 0 && tr.radius_m <= 1))
+          return err(p, nm, f + ".radius_m", tr.radius_m, "must be in (0, 1] m");
+        if (!(std::isfinite(tr.leave_m) && tr.leave_m > tr.radius_m && tr.leave_m <= 10))
+          return err(p, nm, f + ".leave_m", tr.leave_m, "must be in (radius_m, 10] m");
+      }
     }
   }
   const int init = p.initial_phase.empty() ? 0 : indexOfName(p.initial_phase);
@@ -102,7 +114,7 @@ ConfigResult PhaseProgram::configure(const ServoParams& p) {
     q.num_transitions = static_cast<int>(ph.transitions.size());
     for (const TransitionParams& tr : ph.transitions)
       transitions_.push_back({tr.on, indexOfName(tr.to), tr.for_s, tr.filter_s, tr.tolerance, tr.timeout_s, tr.force_n,
-                              0.0, false, {}, false});
+                              tr.angle_rad, tr.radius_m, tr.leave_m, 0.0, false, {}, false});
     phases_.push_back(q);
   }
   initial_ = init;
@@ -115,6 +127,9 @@ void PhaseProgram::reset() {
   current_ = initial_;
   pending_ = -1;
   entered_ = false;
+  signals_ = ProgramSignals{};
+  yaw_enter_ = 0.0;
+  anchor_valid_ = left_anchor_ = false;
   for (Transition& t : transitions_) t.held_s = 0.0, t.holding = false, t.filtered_valid = false;
 }
 
@@ -135,6 +150,7 @@ void PhaseProgram::enter(int index, double now) {
   current_ = index;
   t_enter_ = now;
   entered_ = true;
+  yaw_enter_ = signals_.wrist_yaw;
   const Phase& ph = phases_[static_cast<std::size_t>(index)];
   for (int k = 0; k < ph.num_transitions; ++k) {
     Transition& t = transitions_[static_cast<std::size_t>(ph.first_transition + k)];
@@ -157,6 +173,24 @@ bool PhaseProgram::evaluate(const ContactFeatures& f, const Vec6& e, double now,
       case TransitionEvent::ContactLost: cond = !contact; break;
       case TransitionEvent::ForceAbove: cond = f.force > t.force_n; break;
       case TransitionEvent::Timeout: cond = now - t_enter_ >= t.timeout_s; break;
+      case TransitionEvent::WristWound: cond = std::fabs(signals_.wrist_yaw) >= t.angle_rad; break;
+      case TransitionEvent::WristUnwound: cond = std::fabs(signals_.wrist_yaw - yaw_enter_) >= t.angle_rad; break;
+      case TransitionEvent::LoopClosed: {
+        if (!contact || !signals_.have_point) break;
+        if (!anchor_valid_) {
+          for (int i = 0; i < 3; ++i) anchor_[static_cast<std::size_t>(i)] = signals_.point[i];
+          anchor_valid_ = true;
+        }
+        double d2 = 0.0;
+        for (int i = 0; i < 3; ++i) {
+          const double d = signals_.point[i] - anchor_[static_cast<std::size_t>(i)];
+          d2 += d * d;
+        }
+        const double d = std::sqrt(d2);
+        if (d > t.leave_m) left_anchor_ = true;
+        cond = left_anchor_ && d <= t.radius_m;
+        break;
+      }
       case TransitionEvent::Aligned: {
         // Signed errors: the rows of Δs, Δforce = Δd_z / c_z, CoC.
         double q[kNumTol];

@@ -128,18 +128,21 @@ ConfigResult readTransition(const YAML::Node& n, const Where& w, TransitionParam
   const Renamed cyc[] = {{"cycles", "for_s", "s the condition must hold; = cycles / servo rate (cycles 20 at 100 Hz = for_s 0.2)"}};
   ConfigResult r = rejectRenamed(n, w, cyc, 1);
   if (!r) return r;
-  r = checkKeys(n, w, {"on", "to", "for_s", "filter_s", "tolerance", "timeout_s", "force_n"});
+  r = checkKeys(n, w, {"on", "to", "for_s", "filter_s", "tolerance", "timeout_s", "force_n", "angle_deg", "radius_m",
+                       "leave_m"});
   if (!r) return r;
   std::string on;
   if (!(r = read(n, "on", on, w))) return r;
-  const char* const events[] = {"contact", "edge", "point", "aligned", "contact_lost", "force_above", "timeout"};
+  const char* const events[] = {"contact",     "edge",    "point",       "aligned",       "contact_lost",
+                                "force_above", "timeout", "wrist_wound", "wrist_unwound", "loop_closed"};
+  constexpr int kEvents = 10;
   bool found = false;
-  for (int i = 0; i < 7; ++i)
+  for (int i = 0; i < kEvents; ++i)
     if (on == events[i]) {
       t.on = static_cast<TransitionEvent>(i);
       found = true;
     }
-  if (!found) return fail(w.child("on"), "'" + on + "': unknown event (allowed: " + list(events, 7) + ")");
+  if (!found) return fail(w.child("on"), "'" + on + "': unknown event (allowed: " + list(events, kEvents) + ")");
   if (!n["to"]) return fail(w.child("to"), "missing target phase");
   if (!(r = read(n, "to", t.to, w))) return r;
   if (!(r = read(n, "for_s", t.for_s, w))) return r;
@@ -149,6 +152,21 @@ ConfigResult readTransition(const YAML::Node& n, const Where& w, TransitionParam
   if (!(r = read(n, "force_n", t.force_n, w))) return r;
   if (t.on == TransitionEvent::Timeout && !n["timeout_s"]) return fail(w.child("timeout_s"), "required for 'timeout'");
   if (t.on == TransitionEvent::ForceAbove && !n["force_n"]) return fail(w.child("force_n"), "required for 'force_above'");
+  const bool wrist = t.on == TransitionEvent::WristWound || t.on == TransitionEvent::WristUnwound;
+  if (n["angle_deg"] && !wrist) return fail(w.child("angle_deg"), "only for 'wrist_wound' and 'wrist_unwound'");
+  if (wrist && !n["angle_deg"]) return fail(w.child("angle_deg"), "required for '" + on + "' (deg)");
+  double angle_deg = 0.0;
+  if (!(r = read(n, "angle_deg", angle_deg, w))) return r;
+  if (wrist && !(angle_deg > 0.0 && angle_deg <= 720.0))
+    return rangeError(w.child("angle_deg").str(), angle_deg, "must be in (0, 720] deg");
+  t.angle_rad = angle_deg * 3.14159265358979323846 / 180.0;
+  const bool loop = t.on == TransitionEvent::LoopClosed;
+  for (const char* k : {"radius_m", "leave_m"}) {
+    if (n[k] && !loop) return fail(w.child(k), "only for 'loop_closed'");
+    if (loop && !n[k]) return fail(w.child(k), "required for 'loop_closed' (m)");
+  }
+  if (!(r = read(n, "radius_m", t.radius_m, w))) return r;
+  if (!(r = read(n, "leave_m", t.leave_m, w))) return r;
   if (const YAML::Node tol = n["tolerance"]) {
     if (t.on != TransitionEvent::Aligned) return fail(w.child("tolerance"), "only for 'aligned'");
     if (!tol.IsMap()) return fail(w.child("tolerance"), "must be a mapping feature: tolerance");
@@ -178,7 +196,7 @@ ConfigResult readPhase(const YAML::Node& n, const Where& w0, const Defaults& d, 
   const Where w{w0.file, "phases." + ph.name};
   if (!(r = rejectRenamed(n, w, kRenamedGains, 4))) return r;
   if (!(r = checkKeys(n, w, {"name", "s_d", "jacobian", "P", "kp_per_s", "ki_per_s2", "integral_limit_per_s",
-                             "u_max_per_s", "feedforward", "requires_contact", "reset_integrator", "terminal",
+                             "u_max_per_s", "feedforward", "unwind_rate", "requires_contact", "reset_integrator", "terminal",
                              "max_duration_s", "transitions"})))
     return r;
   // s_d: rows of Δs, plus `force` (N) for the d_z row.
@@ -249,6 +267,9 @@ ConfigResult readPhase(const YAML::Node& n, const Where& w0, const Defaults& d, 
   ph.u_max = d.umax;
   if (!(r = readGains(n, w, ph.kp, ph.ki, ph.integral_limit, ph.u_max))) return r;
   if (!(r = readVec6(n["feedforward"], w.child("feedforward"), kFfNames, "twist component", ph.feedforward))) return r;
+  if (!(r = read(n, "unwind_rate", ph.unwind_rate, w))) return r;
+  if (!(std::isfinite(ph.unwind_rate) && ph.unwind_rate >= 0.0 && ph.unwind_rate <= 0.87))
+    return rangeError(w.child("unwind_rate").str(), ph.unwind_rate, "must be in [0, 0.87] rad/s");
   for (auto rr : {read(n, "requires_contact", ph.requires_contact, w), read(n, "reset_integrator", ph.reset_integrator, w),
                   read(n, "terminal", ph.terminal, w)})
     if (!rr) return rr;

@@ -1,6 +1,7 @@
 #include "tactile_servo/servo.hpp"
 #include "tactile_types/kdl_pose.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace tactile {
@@ -93,6 +94,25 @@ ServoStatus TactileServo::applyIncrement(const KDL::Frame& base, Vec6 u_s, doubl
   return finish(st, now, out);
 }
 
+void TactileServo::observePose(const KDL::Frame& meas, const ContactFeatures& f, bool first) {
+  const KDL::Frame T_gs = meas * law_.sensorMount();
+  if (first) {
+    wrist_yaw_ = 0.0;
+  } else {
+    const KDL::Vector rot = (yaw_prev_.Inverse() * T_gs.M).GetRot();  // rotation vector in {s}(t-1)
+    wrist_yaw_ += rot.z();
+  }
+  yaw_prev_ = T_gs.M;
+  ProgramSignals sig;
+  sig.wrist_yaw = wrist_yaw_;
+  sig.have_point = PhaseProgram::hasContact(f) && std::isfinite(f.cop_x) && std::isfinite(f.cop_y);
+  if (sig.have_point) {
+    const KDL::Vector p = T_gs * KDL::Vector(f.cop_x, f.cop_y, 0.0);
+    sig.point[0] = p.x(), sig.point[1] = p.y(), sig.point[2] = p.z();
+  }
+  program_.observe(sig);
+}
+
 ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out) {
   out.error.setZero();
   out.error_task.setZero();
@@ -120,6 +140,7 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
     if (!time_ok) return finish(ServoStatus::InvalidInput, now, out);
     cmd_ = meas;
     has_cmd_ = true;
+    observePose(meas, in.features, true);
     enterPhase(program_.pending() >= 0 ? program_.pending() : program_.current(), now);
     program_.clearPending();
     return finish(ServoStatus::Starting, now, out);
@@ -137,6 +158,7 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
     return finish(ServoStatus::PhaseTimeout, now, out);
   if (!time_ok || !pose_ok || !(std::isfinite(dt) && dt > 0)) return finish(ServoStatus::InvalidInput, now, out);
   meas_ = meas;
+  observePose(meas, in.features, false);
 
   const KDL::Frame base = params_.pose_update == PoseUpdate::Measured ? meas : cmd_;
   const ContactFeatures& f = in.features;
@@ -200,6 +222,9 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   const Vec6 task = law_.project(ph, e);
   out.error_task = task;
   u = law_.increment(ph, task, dt);
+  const double unwind = params_.phases[static_cast<std::size_t>(ph)].unwind_rate;
+  if (unwind > 0.0)  // WRIST: against the yaw the phase was entered with (its wrist_unwound ends it)
+    u(5) += program_.yawAtEnter() > 0.0 ? -unwind * dt : unwind * dt;
   return applyIncrement(base, u, dt, program_.freeMotion(ph) ? ServoStatus::FreeMotion : ServoStatus::Ok, now, out);
 }
 

@@ -135,10 +135,10 @@ bool writeRun(const std::string& dir, const Scene& sc, const RunResult& r, std::
   std::fclose(f);
 
   if (!(f = open("contacts.csv"))) return false;
-  std::fprintf(f, "time,x,y,z,true_x,true_y,true_z\n");
+  std::fprintf(f, "time,x,y,z,true_x,true_y,true_z,lambda1,phase\n");
   for (const auto& c : r.contacts)
-    std::fprintf(f, "%.4f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", c.t, c.p[0], c.p[1], c.p[2], c.truth[0], c.truth[1],
-                 c.truth[2]);
+    std::fprintf(f, "%.4f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.4g,%d\n", c.t, c.p[0], c.p[1], c.p[2], c.truth[0], c.truth[1],
+                 c.truth[2], c.lambda1, c.phase);
   std::fclose(f);
 
   if (!(f = open("summary.json"))) return false;

@@ -127,9 +127,12 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
         worst.t = t;
         worst.frame = frame;
       }
-      if (pp.requires_contact && feats.contact != ContactType::None) {
-        const KDL::Vector p = state.T_gs * KDL::Vector(feats.cop_x, feats.cop_y, 0.0);
-        out.contacts.push_back({t, {p.x(), p.y(), p.z()}, acq.contact_point_g});
+      if ((pp.requires_contact || pp.terminal) && feats.contact != ContactType::None) {
+        // The controller's own data: the measured flange pose, the sensor
+        // mount and the CoP (the truth beside it, for evaluation only).
+        const KDL::Frame T_gs = toFrame(state.flange_g) * sc.servo.sensor_mount;
+        const KDL::Vector p = T_gs * KDL::Vector(feats.cop_x, feats.cop_y, 0.0);
+        out.contacts.push_back({t, {p.x(), p.y(), p.z()}, acq.contact_point_g, feats.lambda1, ph});
       }
       if ((end = end_.afterServo(st)) != EndReason::None) break;
     }

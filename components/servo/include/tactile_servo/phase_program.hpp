@@ -7,7 +7,13 @@
 // the first included) fires. Events: contact, edge, point
 // (the extractor's contact type), aligned (chosen |Δs| rows, |Δforce| = |Δd_z| /
 // c_z, |CoC| below tolerances; optionally low-passed with `filter_s`), contact_lost, force_above, timeout (time in
-// the phase). A request (by index) is kept until the caller enters it.
+// the phase), and from the arm's measured pose (observe()): wrist_wound
+// (|accumulated yaw about z_s| >= angle), wrist_unwound (the yaw has come back
+// by >= angle since the phase was entered) and loop_closed (the contact point
+// in {g}, anchored where a loop_closed transition was first evaluated in
+// contact, has gone further than leave_m from the anchor and is back within
+// radius_m; the anchor is kept across phases until reset()). A request (by
+// index) is kept until the caller enters it.
 // Real-time: nothing here allocates, throws or logs after configure().
 #pragma once
 
@@ -17,6 +23,14 @@
 #include "tactile_servo/servo_params.hpp"
 
 namespace tactile {
+
+/// What the phase program reads besides the features: from the arm's measured
+/// pose (the controller's own data, never the simulator's ground truth).
+struct ProgramSignals {
+  double wrist_yaw = 0.0;       ///< rad: rotation of {s} about z_s accumulated since the servo started
+  bool have_point = false;      ///< a contact point this cycle
+  double point[3] = {0, 0, 0};  ///< m: the contact point (CoP) in {g}
+};
 
 class PhaseProgram {
  public:
@@ -33,6 +47,16 @@ class PhaseProgram {
   /// The requested phase, -1 if none; clearPending() forgets it.
   int pending() const { return pending_; }
   void clearPending() { pending_ = -1; }
+  /// The pose-derived signals of this cycle (before evaluate() and enter()).
+  void observe(const ProgramSignals& s) { signals_ = s; }
+  const ProgramSignals& signals() const { return signals_; }
+  /// The accumulated wrist yaw (rad) when the current phase was entered.
+  double yawAtEnter() const { return yaw_enter_; }
+  /// loop_closed: the anchor (valid once set) and whether the contact has left it.
+  bool loopAnchor(double p[3]) const {
+    for (int i = 0; i < 3; ++i) p[i] = anchor_[static_cast<std::size_t>(i)];
+    return anchor_valid_;
+  }
   /// Enters phase `index` at `now` (resets its transitions' counters).
   void enter(int index, double now);
   /// Entered since the last reset()?
@@ -69,6 +93,7 @@ class PhaseProgram {
     double filter_s;  ///< aligned: low-pass time constant of the tested errors (0 = raw)
     std::array<double, kNumTol> tol;
     double timeout_s, force_n;
+    double angle_rad, radius_m, leave_m;
     double held_s;  ///< s the condition has held so far
     bool holding;
     std::array<double, kNumTol> filtered;  ///< aligned: the low-passed signed errors
@@ -87,6 +112,10 @@ class PhaseProgram {
   int pending_ = -1;
   bool entered_ = false;
   double t_enter_ = 0.0;
+  ProgramSignals signals_;
+  double yaw_enter_ = 0.0;  ///< accumulated yaw when the current phase was entered
+  std::array<double, 3> anchor_{};
+  bool anchor_valid_ = false, left_anchor_ = false;
 };
 
 }  // namespace tactile

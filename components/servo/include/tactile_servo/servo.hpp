@@ -99,6 +99,18 @@
 //    convention where z_s points into the object
 //    is +z_s here because our z_s points out of the surface at the object.
 //
+// WRIST (beyond the paper). Following a closed contour turns the sensor about
+// z_s without end; the arm's last joint (coaxial with z_s) runs out of range.
+// The servo integrates the rotation of {s} about its own z axis between
+// consecutive measured poses ({g}R{s}(t-1)^T {g}R{s}(t), the z component of
+// its rotation vector): wrist_yaw, zero at the start. The phase program's
+// wrist_wound / wrist_unwound events read it, and a phase with unwind_rate > 0
+// adds a rotation about z_s against the yaw it was entered with, through zero
+// (the phase's wrist_unwound transition says how far): lift off,
+// unwind, come back down, as an operator would (programs/closed_contour.yaml).
+// The contact point for loop_closed is the CoP on the pad, {g}T{e} {e}T{s} (CoP_x, CoP_y, 0),
+// from the measured flange pose.
+//
 // PHASE PROGRAM. Each cycle with valid features, the current phase's
 // transitions are evaluated in their listed order (first to fire wins; a
 // transition fires once its condition held for `for_s` seconds of consecutive
@@ -176,6 +188,8 @@ class TactileServo {
 
   int phaseCount() const { return configured_ ? program_.count() : 0; }
   int phaseIndex() const { return program_.current(); }
+  /// rad: rotation of {s} about z_s accumulated from the measured poses since the start (WRIST).
+  double wristYaw() const { return wrist_yaw_; }
   int phaseIndexOf(const char* name) const { return program_.indexOf(name); }  ///< -1 if unknown
   const PhaseParams& phase(int i) const { return params_.phases[static_cast<std::size_t>(i)]; }
   const ServoParams& params() const { return params_; }
@@ -211,6 +225,10 @@ class TactileServo {
   bool motion_cycle_ = false;  ///< this cycle commanded motion (the stall watchdog's window)
   bool in_contact_ = false;    ///< this cycle's features report contact (the stall watchdog's axes)
   bool has_cmd_ = false;
+  KDL::Rotation yaw_prev_;     ///< {g}R{s} measured at the previous cycle (the wrist yaw's integration)
+  double wrist_yaw_ = 0.0;     ///< rad about z_s accumulated since the start (WRIST)
+  /// The pose-derived signals of the phase program (WRIST, loop_closed).
+  void observePose(const KDL::Frame& meas, const ContactFeatures& f, bool first);
   uint32_t seq_ = 0;
 };
 

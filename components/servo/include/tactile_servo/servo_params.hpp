@@ -50,7 +50,12 @@ Mat6 projection(double gx, double gy, double gz, double gwx, double gwy, double 
 /// Default motion sign S (see the header comment).
 Vec6 defaultMotionSign();
 
-enum class TransitionEvent : uint8_t { Contact, Edge, Point, Aligned, ContactLost, ForceAbove, Timeout };
+enum class TransitionEvent : uint8_t {
+  Contact, Edge, Point, Aligned, ContactLost, ForceAbove, Timeout,
+  WristWound,    ///< |accumulated yaw of {s} about z_s, from the measured poses| >= angle_rad
+  WristUnwound,  ///< the accumulated yaw has come back by >= angle_rad since the phase was entered
+  LoopClosed     ///< the contact point is back within radius_m of its anchor, after leaving it by > leave_m
+};
 const char* toString(TransitionEvent e);
 
 /// Tolerance quantities for the `aligned` event. The first six are the rows of
@@ -75,6 +80,9 @@ struct TransitionParams {
   std::array<double, kNumTol> tolerance;  ///< aligned: per quantity, < 0 = unused
   double timeout_s = 0.0;  ///< timeout: seconds in the phase (> 0)
   double force_n = 0.0;    ///< force_above: threshold (N, > 0)
+  double angle_rad = 0.0;  ///< wrist_wound / wrist_unwound: yaw (rad, > 0; files: angle_deg)
+  double radius_m = 0.0;   ///< loop_closed: closure radius (m, > 0)
+  double leave_m = 0.0;    ///< loop_closed: distance the contact must first go away from the anchor (m, > radius_m)
   TransitionParams() { tolerance.fill(-1.0); }
 };
 
@@ -96,6 +104,9 @@ struct PhaseParams {
   Vec6 integral_limit = Vec6::Constant(0.1);   ///< |K_I ∫Δ| per axis (m/s or rad/s), >= 0
   Vec6 u_max = Vec6::Constant(1e9);        ///< per-axis limit of the PI rate (m/s or rad/s), > 0
   Vec6 feedforward = Vec6::Zero();         ///< twist in {s} (m/s, rad/s)
+  /// rad/s (>= 0) about z_s against the accumulated wrist yaw the phase was
+  /// entered with (unwinding the last joint: servo.hpp, WRIST); 0 = none.
+  double unwind_rate = 0.0;
   bool requires_contact = true;            ///< contact-loss recovery applies in this phase
   bool reset_integrator = true;            ///< zero the integrator on entering this phase
   bool terminal = false;                   ///< entering it -> status Done, hold

@@ -1,0 +1,66 @@
+#!/usr/bin/python3
+"""Runs the whole-contour scenes (sim/scenes/ring, rounded_square, s_curve,
+gap_bars: scripts/make_contour_scenes.py) through the headless runner, checks
+each with scripts/contour_check.py and writes OUT/contours.md (the table of
+the README's "Whole closed contours") and OUT/contours.png (the four
+reconstructions over the truth).
+
+usage: run_contours.py [--sim build/bin/tactile_sim] [--out out/contours]
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+# scene, open contour, the RMS bound the check applies (m)
+SCENES = [("ring", False, 0.001), ("rounded_square", False, 0.003), ("s_curve", True, 0.001),
+          ("gap_bars", True, 0.001)]
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--sim", default=os.path.join(ROOT, "build", "bin", "tactile_sim"))
+    ap.add_argument("--out", default=os.path.join(ROOT, "out", "contours"))
+    a = ap.parse_args()
+    os.makedirs(a.out, exist_ok=True)
+    res = []
+    for name, is_open, rms in SCENES:
+        scene = os.path.join(ROOT, "sim", "scenes", name + ".yaml")
+        run = os.path.join(a.out, name)
+        subprocess.run([a.sim, "run", scene, "--out", run, "--no-plots"], check=False, stdout=subprocess.DEVNULL)
+        cmd = [sys.executable, os.path.join(HERE, "contour_check.py"), run, scene, "--max-rms", str(rms)]
+        if is_open:
+            cmd.append("--open")
+        rc = subprocess.run(cmd, stdout=subprocess.DEVNULL).returncode
+        r = json.load(open(os.path.join(run, "contour.json")))
+        r["open"], r["rc"], r["bound"] = is_open, rc, rms
+        res.append(r)
+    with open(os.path.join(a.out, "contours.md"), "w") as f:
+        f.write("| scene | status | explore -> done (s) | closure / end (mm) | cloud RMS (mm) | raw CoP RMS (mm) | "
+                "3-D RMS (mm) | max (mm) | unwinds (at s) | check |\n|---|---|---|---|---|---|---|---|---|---|\n")
+        for r in res:
+            ce = ("end %.1f" % (r["end_distance_m"] * 1e3)) if r["open"] else ("%.1f" % (r["closure_m"] * 1e3))
+            f.write("| %s | %s | %.1f -> %.1f | %s | %.2f | %.2f | %.2f | %.1f | %d (%s) | %s |\n" % (
+                r["scene"], r["status"], r["t_explore_s"], r["t_done_s"] or float("nan"), ce, r["rms_m"] * 1e3,
+                r["rms_cop_m"] * 1e3, r["rms_3d_m"] * 1e3, r["max_m"] * 1e3, r["unwinds"],
+                ", ".join("%.1f" % t for t in r["unwind_times_s"]) or "-",
+                "pass" if r["rc"] == 0 else "FAIL: " + "; ".join(r["failed"])))
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.image as mpimg
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(len(res), 1, figsize=(12, 5.5 * len(res)))
+    for k, r in enumerate(res):
+        ax[k].imshow(mpimg.imread(os.path.join(a.out, r["scene"], "contour.png")))
+        ax[k].axis("off")
+    fig.tight_layout()
+    fig.savefig(os.path.join(a.out, "contours.png"), dpi=80)
+    print(open(os.path.join(a.out, "contours.md")).read())
+    return 0 if all(r["rc"] == 0 for r in res) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
