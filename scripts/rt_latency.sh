@@ -20,9 +20,10 @@
 # The simulated KRC itself runs SCHED_FIFO 95 (on a real robot it is a
 # separate computer).
 #
-# Output (out/rt_latency/): per configuration <cfg>_krc.txt (one latency per
-# cycle, us; nan = no reply), <cfg>_cyclictest.hist, <cfg>_deployer.log;
-# rt_latency.md (table: p50, p99, p99.9, max, late replies > 1 ms, missed)
+# Output (out/rt_latency/): per configuration <cfg>_krc.txt (one line per
+# cycle: latency in us and 1/0 for on time; "nan 0" = no reply), <cfg>_cyclictest.hist, <cfg>_deployer.log;
+# rt_latency.md (table: p50, p99, p99.9, max, late replies > 1 ms, replies that
+# missed their tick, replies that never came; a late reply keeps its true latency)
 # and rt_latency.png (histograms), written by scripts/rt_latency_report.py.
 # Needs root (or CAP_SYS_NICE) for SCHED_FIFO; stress-ng and cyclictest
 # (scripts/setup_deps.sh installs them).

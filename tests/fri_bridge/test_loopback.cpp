@@ -5,6 +5,8 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <cmath>
+#include <vector>
 #include <thread>
 
 #include <poll.h>
@@ -343,4 +345,63 @@ TEST(FriUdp, FdForAnEventLoopZeroTimeoutReceiveAndDiscardPending) {
   EXPECT_EQ(a.discardPending(), 3u);
   a.close();
   EXPECT_EQ(a.fd(), -1);
+}
+
+// The latency record of the simulated KRC (scripts/rt_latency.sh): a reply
+// that misses its cycle is ignored by the KRC (stale, the cycle counts as
+// missed), but its true latency is entered in its cycle's sample, marked not
+// on time; a measurement never answered stays NaN. Single-threaded: the KRC
+// polls without waiting, the remote answers in between.
+TEST(FriLoopback, LatencyLogRecordsLateRepliesWithTheirTrueLatency) {
+  BridgeParams bp;
+  FriBridge bridge;
+  ASSERT_TRUE(bridge.configure(bp).ok());
+  UdpSocket remote;
+  UdpParams up;
+  up.bind_address = "127.0.0.1";
+  up.port = 0;
+  ASSERT_TRUE(remote.open(up).ok());
+  SimKrcParams p = fastKrc(remote.localPort());
+  p.reply_timeout_s = 0.0;  // poll once: every reply comes after its cycle
+  FirstOrderPlant plant;
+  SimKrc krc;
+  ASSERT_TRUE(krc.configure(p, plant).ok());
+  std::vector<SimKrc::LatencySample> log;
+  log.reserve(8);
+  krc.setLatencyLog(&log);
+
+  const double t_before = steadyNow();
+  krc.runCycle();  // measurement 1, no reply yet
+  ASSERT_EQ(log.size(), 1u);
+  EXPECT_TRUE(std::isnan(log[0].latency_s));
+  EXPECT_FALSE(log[0].on_time);
+
+  std::array<uint8_t, 2048> buf{};
+  std::size_t n = 0;
+  ASSERT_EQ(remote.receive(buf.data(), buf.size(), n, 500000), UdpStatus::Ok);
+  PoseCommand desired;
+  desired.status = ServoStatus::Ok;
+  toPose(startPose(), desired.pose);
+  BridgeOutput out;
+  bridge.stepDatagram(buf.data(), n, desired, steadyNow(), out);
+  ASSERT_TRUE(out.reply);
+  uint8_t tx[kCmdPacketSize];
+  std::size_t w = 0;
+  ASSERT_EQ(encodeCommand(out.cmd, tx, sizeof tx, w), PacketStatus::Ok);
+  ASSERT_EQ(remote.reply(tx, w), UdpStatus::Ok);
+
+  krc.runCycle();  // measurement 2; the late reply to 1 arrives now
+  const double t_after = steadyNow();
+  ASSERT_EQ(log.size(), 2u);
+  EXPECT_EQ(krc.stats().stale_replies, 1u);
+  EXPECT_EQ(krc.stats().missed, 2u);
+  EXPECT_FALSE(log[0].on_time);
+  ASSERT_FALSE(std::isnan(log[0].latency_s)) << "the late reply's latency was not recorded";
+  EXPECT_GT(log[0].latency_s, 0.0);
+  EXPECT_LE(log[0].latency_s, t_after - t_before);  // it happened inside this window
+  EXPECT_TRUE(std::isnan(log[1].latency_s));        // measurement 2 was never answered
+
+  krc.runCycle();  // still no reply to 2: its sample stays NaN
+  EXPECT_TRUE(std::isnan(log[1].latency_s));
+  EXPECT_EQ(log.size(), 3u);
 }

@@ -10,9 +10,11 @@
 //   --loss p --dup p --reorder p --late p --wrong-size p --wrong-id p --cmd-loss p --seed S
 //   --burst CYCLE:N   the measurements of cycles CYCLE .. CYCLE+N-1 are not sent (a burst of N lost packets)
 //   --fast            do not sleep; wait for each reply up to --reply-timeout-ms (default 100)
-//   --latency-out F   write one line per cycle to F: the reply latency in us
-//                     (measurement sent -> matched reply received), or nan
-//                     when no reply came (scripts/rt_latency.sh)
+//   --latency-out F   write one line per cycle to F: "LATENCY_US ON_TIME", the
+//                     reply latency in us (measurement sent -> its reply
+//                     received, also when the reply came after the next tick
+//                     and was ignored as stale: ON_TIME 0), or "nan 0" when
+//                     no reply came (scripts/rt_latency.sh)
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -131,7 +133,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "fri_sim_krc: %s\n", r.message().c_str());
     return 1;
   }
-  std::vector<double> latencies;
+  std::vector<SimKrc::LatencySample> latencies;
   if (!latency_out.empty()) {
     if (cycles > 100000000ULL) return usage("--latency-out: at most 1e8 cycles");
     latencies.reserve(cycles);
@@ -144,7 +146,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "fri_sim_krc: cannot write %s\n", latency_out.c_str());
       return 1;
     }
-    for (double l : latencies) std::fprintf(f, "%.2f\n", 1e6 * l);
+    for (const SimKrc::LatencySample& l : latencies) std::fprintf(f, "%.2f %d\n", 1e6 * l.latency_s, l.on_time ? 1 : 0);
     std::fclose(f);
   }
   const SimKrcStats& s = krc.stats();

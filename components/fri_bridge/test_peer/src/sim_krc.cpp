@@ -105,6 +105,16 @@ void SimKrc::handleReply(const uint8_t* buf, std::size_t n, double t_sent, doubl
   }
   const ReplyResult r = model_.handleReply(buf, n);
   syncStats();
+  if (r == ReplyResult::Stale && latency_log_ != nullptr) {
+    // A reply to an earlier measurement: its true latency, if that cycle has none yet.
+    const uint16_t refl = model_.lastCommand().head.refl_seq;
+    for (const SentRecord& rec : sent_ring_) {
+      if (!rec.valid || rec.seq != refl || rec.log_index >= latency_log_->size()) continue;
+      LatencySample& sample = (*latency_log_)[rec.log_index];
+      if (std::isnan(sample.latency_s)) sample = LatencySample{now - rec.t_sent, false};
+      break;
+    }
+  }
   if (r != ReplyResult::Matched) return;
   const double lat = now - t_sent;
   if (std::isnan(cycle_latency_s_)) cycle_latency_s_ = lat;
@@ -205,7 +215,11 @@ void SimKrc::runCycle() {
     if (nowSeconds() >= deadline) break;
   }
   if (!matched) ++stats_.missed;
-  if (latency_log_ != nullptr) latency_log_->push_back(matched ? cycle_latency_s_ : std::nan(""));
+  if (latency_log_ != nullptr) {
+    sent_ring_[stats_.cycles % kLateWindow] =
+        SentRecord{model_.sendSeq(), t_sent, latency_log_->size(), expect_reply};
+    latency_log_->push_back(LatencySample{matched ? cycle_latency_s_ : std::nan(""), matched});
+  }
   answer_rate_ = 0.99 * answer_rate_ + 0.01 * (matched ? 1.0 : 0.0);
   if (late) sendMeasurement(out_.data(), n);
   ++stats_.cycles;

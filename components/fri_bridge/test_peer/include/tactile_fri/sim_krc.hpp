@@ -123,10 +123,19 @@ class SimKrc {
   /// `cycles` cycles, or until *stop becomes true.
   void run(uint64_t cycles, const std::atomic<bool>* stop = nullptr);
 
-  /// Optional per-cycle record (benchmarks): after each cycle, the latency
-  /// (s) from the measurement's departure to its matched reply, or NaN when
-  /// none came. Not owned; reserve it beforehand (push_back per cycle).
-  void setLatencyLog(std::vector<double>* log) { latency_log_ = log; }
+  /// One cycle's reply latency (benchmarks).
+  struct LatencySample {
+    double latency_s;  ///< measurement sent -> its reply received; NaN: no reply ever came
+    bool on_time;      ///< the reply came before the next tick (it was taken)
+  };
+  /// Optional per-cycle record (benchmarks): one sample per cycle. A reply
+  /// that misses its tick is ignored by the KRC (stale), but when it arrives
+  /// within the next kLateWindow cycles its true latency is still entered in
+  /// its cycle's sample (on_time false), so that the percentiles are the
+  /// latencies, not a censored count. Not owned; reserve it beforehand
+  /// (push_back per cycle).
+  void setLatencyLog(std::vector<LatencySample>* log) { latency_log_ = log; }
+  static constexpr std::size_t kLateWindow = 64;
 
   const SimKrcStats& stats() const { return stats_; }
   const PlantState& plantState() const { return plant_state_; }
@@ -158,8 +167,15 @@ class SimKrc {
   std::size_t held_size_ = 0;
   double t0_ = 0.0;
   double answer_rate_ = 1.0;
-  std::vector<double>* latency_log_ = nullptr;
+  std::vector<LatencySample>* latency_log_ = nullptr;
   double cycle_latency_s_ = 0.0;  // this cycle's first matched reply (NaN: none yet)
+  struct SentRecord {
+    uint16_t seq = 0;
+    double t_sent = 0.0;
+    std::size_t log_index = 0;
+    bool valid = false;
+  };
+  std::array<SentRecord, kLateWindow> sent_ring_{};  // the last cycles' measurements (late replies)
 };
 
 }  // namespace fri
