@@ -110,3 +110,45 @@ TEST(ExperimentsWithRealisticDelays, ShippedScenesPassTheirCriteria) {
     }
   }
 }
+
+// Every simulated effect of the hardware at once, at the levels of
+// scripts/sweep_effects.py (`all`): the delays, pad friction, creep,
+// hysteresis, per-taxel gain spread, two dead taxels, calibration error,
+// crosstalk, the device's noise level, the arm's wrench error and the dynamic
+// tray. Each experiment scene passes its own criteria (metrics.criteria) for
+// seeds 1 and 2: the shipped edge-exploration, bent-bar and hold programs
+// regulate the force estimate (force_estimator.hpp, bound 2.5 N), which takes
+// up the load that the sensor's gain and crosstalk errors hide. The paper's
+// tactile-only hold program does not: on the off-centre load its first touch
+// at the pad's end loads the rigid housing, and the force-mismatch watchdog
+// stops it.
+TEST(ExperimentsWithEveryEffect, ShippedScenesPassTheirCriteria) {
+  const std::string all =
+      "effects={wts_transfer_delay_s: 0.0157, krc_cycle_s: 0.002, fri_delay_s: 0.002, friction_mu: 0.5, "
+      "creep: {fraction: 0.1, tau_s: 2.0}, hysteresis: 0.05, gain_spread: 0.1, dead_taxels: 2, "
+      "calibration_error: 0.05, crosstalk: 0.05, device_noise: true, "
+      "wrench_error: {bias_n: [1.0, -1.0, 2.0], noise_n: 0.5}}";
+  // (The closed-contour scenes are not in this list: their program regulates
+  // Eq. 2's force alone, and the ring at seed 2 ends servo_force_mismatch with
+  // every effect on; README, "Simulated effects".)
+  for (const char* name : {"edge_exploration.yaml", "bent_bar.yaml", "sphere_table.yaml", "partial_edge.yaml",
+                           "short_bar.yaml", "off_centre_load.yaml", "co_manipulation.yaml"}) {
+    std::vector<std::string> overrides = {all};
+    if (std::string(name) == "co_manipulation.yaml") overrides.push_back("objects.0.fidelity=dynamics");
+    for (int seed = 1; seed <= 2; ++seed) {
+      Scene sc = test::loadShipped(name, overrides);
+      EXPECT_DOUBLE_EQ(sc.sensor_effects.crosstalk, 0.05);
+      EXPECT_DOUBLE_EQ(sc.world.friction_mu, 0.5);
+      sc.seed = static_cast<uint64_t>(seed);
+      const Summary s = test::run(sc);
+      EXPECT_EQ(s.status, "ok") << name << " seed " << seed;
+      EXPECT_TRUE(s.criteria_failed.empty())
+          << name << " seed " << seed << ": " << (s.criteria_failed.empty() ? "" : s.criteria_failed[0]);
+    }
+  }
+  Scene paper = test::loadPaper("off_centre_load.yaml", {all});
+  ASSERT_FALSE(paper.servo.force_estimate.fused);
+  const Summary p = test::run(paper);
+  EXPECT_EQ(p.status, "servo_force_mismatch");
+  EXPECT_FALSE(p.criteria_failed.empty());
+}

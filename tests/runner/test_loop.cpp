@@ -262,7 +262,7 @@ TEST(EstimatedWrench, ErrorModelIsExactAndTheNoiseDependsOnTimeOnly) {
 }
 
 TEST(EstimatedWrench, SceneKeysAreValidatedWithFileKeyAndRange) {
-  const std::string file = TACTILE_SOURCE_DIR "/sim/scenes/edge_exploration.yaml";
+  const std::string file = TACTILE_SOURCE_DIR "/sim/scenes/co_manipulation.yaml";  // no wrench error
   Scene sc;
   ASSERT_TRUE(loadScene(file, sc).ok());
   EXPECT_FALSE(sc.wrench_error.any());

@@ -356,7 +356,7 @@ TEST(ServoSafety, TransitionsOnEvents) {
 // Zero heap allocations per step, across every path: servoing, transitions,
 // holds, NaN, ceiling, contact loss, phase requests.
 TEST(ServoAllocation, StepNeverAllocates) {
-  for (const char* program : {"edge_exploration.yaml", "edge_exploration_fused.yaml"}) {
+  for (const char* program : {"edge_exploration.yaml", "co_manipulation.yaml"}) {  // force estimate fused / tactile
   SCOPED_TRACE(program);
   ServoParams p = loadShipped(program);
   Plant plant;
@@ -416,7 +416,7 @@ TEST(ServoFuzz, RandomInputsNeverProduceNanOrOversizedSteps) {
     return (2 * u01(rng) - 1) * scale;
   };
   int steps = 0;
-  for (const char* file : {"edge_exploration.yaml", "co_manipulation.yaml", "bent_bar.yaml", "bent_bar_fused.yaml"}) {
+  for (const char* file : {"edge_exploration.yaml", "co_manipulation.yaml", "bent_bar.yaml", "hold_edge.yaml"}) {
     for (PoseUpdate mode : {PoseUpdate::Integrated, PoseUpdate::Measured}) {
       ServoParams p = loadShipped(file);
       p.pose_update = mode;
