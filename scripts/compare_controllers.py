@@ -3,6 +3,7 @@
 
 usage: compare_controllers.py [--sim build/bin/tactile_sim] [--out out/compare]
                               [--scenes a,b,...] [--controllers proposed,baseline,no_rotation]
+                              [--paper]
 
 Runs `tactile_sim run SCENE --controller C` for every shipped scene
 (sim/scenes/*.yaml) and every controller:
@@ -10,7 +11,10 @@ Runs `tactile_sim run SCENE --controller C` for every shipped scene
   baseline     Li et al. (RSS 2013): constant J^-1 on CoP, force, alpha_z with
                the CoP -> rotation rows, no DZMP (tactile::liJinv);
   no_rotation  ablation: constant diag(1,1,1,0,0,1), never rotates about x_s, y_s.
-Everything else (program, gains, P, safety, scene) is identical. Writes into
+Everything else (program, gains, P, safety, scene) is identical. --paper runs
+each scene's program as the paper has it, the `*_tactile.yaml` beside it
+where there is one (Eq. 2's force alone, CoP_y at 0), instead of the shipped
+program (the force estimate). Writes into
 the output folder compare.csv, compare.md (the table of README.md) and
 compare_<scene>.png (true force against time, the three controllers overlaid,
 with the sensor's pitch), and keeps each run in <out>/<scene>/<controller>/.
@@ -75,6 +79,7 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "compare"))
     ap.add_argument("--scenes", default="", help="comma-separated scene names (default: the experiment scenes of sim/scenes)")
     ap.add_argument("--controllers", default=",".join(CONTROLLERS))
+    ap.add_argument("--paper", action="store_true", help="the paper's programs (*_tactile.yaml) where there are")
     a = ap.parse_args()
 
     shipped = simsweep.shipped_scenes()
@@ -88,9 +93,15 @@ def main():
     for scene in scenes:
         yaml = os.path.join(ROOT, "sim", "scenes", scene + ".yaml")
         series = {}
+        extra = []
+        if a.paper:
+            program = os.path.normpath(os.path.join(os.path.dirname(yaml), simsweep.load_scene(scene)["program"]))
+            paper = program[:-len(".yaml")] + "_tactile.yaml"
+            if os.path.exists(paper):
+                extra = ["--set", "program=" + paper]
         for c in controllers:
             d = os.path.join(a.out, scene, c)
-            rc = subprocess.run([a.sim, "run", yaml, "--controller", c, "--out", d, "--no-plots"],
+            rc = subprocess.run([a.sim, "run", yaml, "--controller", c, "--out", d, "--no-plots", *extra],
                                 stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
             summary = os.path.join(d, "summary.json")
             if rc.returncode == 2 or not os.path.exists(summary):
@@ -123,7 +134,8 @@ def main():
             top = max(max(f) for (_, f, _, _) in series.values())
             ax.set_ylim(0, min(max(10.0, top * 1.05), 80.0))
             ax.set_ylabel("true force (N)")
-            ax.set_title(f"{scene}: the three controllers (same program, gains, scene)")
+            force = "the paper's force, Eq. 2" if a.paper else "the shipped force estimate"
+            ax.set_title(f"{scene}: the three controllers (same program, gains, scene; {force})")
             ax.legend(loc="upper left", fontsize=8)
             ax.grid(alpha=0.3)
             ax2.set_ylabel("flange pitch (deg)")

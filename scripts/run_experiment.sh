@@ -4,10 +4,14 @@
 #   edge exploration (Sec. 5.2, Fig. 9/10), the bent bar with the proposed
 #   controller, the Li et al. (RSS 2013) baseline and the no_rotation ablation
 #   (Sec. 5.2.1, Fig. 12), tray co-manipulation (Sec. 5.3, Fig. 14), and a
-#   sphere (point contact). Then the three controllers on every scene
-#   (scripts/compare_controllers.py -> out/compare/compare.md, ~10 s), and the
-#   force estimate against the tactile force over edge radii, yaw and bend
-#   directions (scripts/sweep_force.py -> out/force/force.md, ~2 min).
+#   sphere (point contact). Then the three controllers on every scene, with the
+#   shipped programs (the force estimate) and with the paper's (Eq. 2's force
+#   alone) (scripts/compare_controllers.py -> out/compare/compare.md and
+#   out/compare_paper/compare.md, ~10 s each), the force estimate against the
+#   tactile force over edge radii, yaw and bend directions
+#   (scripts/sweep_force.py -> out/force/force.md, ~2 min), and the force
+#   estimate's bound against the image (scripts/sweep_correction.py ->
+#   out/correction/correction.md, ~10 s).
 # Results and PNG plots go to out/<scene>/. Then every experiment again as
 # Orocos components under the OCL deployer (scripts/run_deployment.sh: the
 # simulated deployment on tactile::SimClock, the experiment's state machine,
@@ -40,6 +44,8 @@ run bent_bar_fused bent_bar_fused
 /usr/bin/python3 "$root/scripts/plot_run.py" "$out/bent_bar" --compare "$out/bent_bar_baseline" "$out/bent_bar_no_rotation"
 /usr/bin/python3 "$root/scripts/experiment_report.py" "$out"
 /usr/bin/python3 "$root/scripts/compare_controllers.py" --sim "$sim" --out "$out/compare" || echo "  (compare_controllers.py failed)"
+/usr/bin/python3 "$root/scripts/compare_controllers.py" --sim "$sim" --out "$out/compare_paper" --paper || echo "  (compare_controllers.py --paper failed)"
+/usr/bin/python3 "$root/scripts/sweep_correction.py" --sim "$sim" --seeds 3 --out "$out/correction" > "$out/correction.log" 2>&1 || echo "  (sweep_correction.py failed: $out/correction.log)"
 /usr/bin/python3 "$root/scripts/sweep_force.py" --seeds 3 --out "$out/force" > "$out/force.log" 2>&1 || echo "  (sweep_force.py failed: $out/force.log)"
 
 # The same experiments as deployed (the loop that runs on the robot, with the

@@ -44,6 +44,8 @@ EFFECTS = {
     "calibration_error": (["--set", "effects.calibration_error=0.05"], "5 % per taxel"),
     "crosstalk": (["--set", "effects.crosstalk=0.05"], "5 % to each neighbour"),
     "device_noise": (["--set", "effects.device_noise=true"], "63.8 counts: the bound the 0.2 N threshold implies"),
+    "wrench_error": (["--set", "effects.wrench_error={bias_n: [1.0, -1.0, 2.0], noise_n: 0.5}"],
+                     "the arm's estimated wrench: an offset and 0.5 N noise per axis (as the fused scenes)"),
     "tray_dynamic": (["--set", "objects.{tray}.fidelity=dynamics"], "tray integrated in time, arm quasi-static"),
     "arm_dynamic": (["--fidelity", "dynamics"], "arm (and every body) in dynamics"),
 }

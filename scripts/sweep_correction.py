@@ -1,0 +1,175 @@
+#!/usr/bin/python3
+"""The force estimate's bound: the true force against the tactile image.
+
+usage: sweep_correction.py [--out out/correction] [--jobs N] [--seeds N] [--sim PATH]
+
+The shipped edge-exploration and bent-bar programs regulate the tactile force
+corrected by the arm's estimated wrench (force_estimator.hpp), the correction
+bounded by force_estimate.max_correction_n. The bound trades two things:
+  * the true force: the correction takes up the load the image does not report
+    (taxels below the 0.2 N firing threshold, the sensor's gain and crosstalk
+    errors); a small bound leaves the true force above the set point;
+  * the image: every newton of correction is a newton less on the taxels, so
+    more of them fall below the threshold and the contact features (CoP, the
+    contact-point cloud) follow a thinner, broken image.
+For each bound (the paper's tactile-only program, then 1 to 4 N) and seed it
+runs each scene as shipped (effects, wrench error) and with every simulated
+effect on (scripts/sweep_effects.py's `all`), and reports the true force
+(mean, RMS error, fraction within 5 +- 1 N while sliding), the contact losses,
+the CoP's error against the true pressure centre while sliding (contacts.csv:
+the controller's reconstructed contact point against the simulator's truth,
+from 2 s after the slide starts; mean and 95th percentile) and whether the
+scene's criteria pass. Writes correction.csv, correction.md and
+correction.png into --out; exits 1 when a run writes no summary.
+"""
+import concurrent.futures
+import csv
+import math
+import os
+import re
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import simsweep  # noqa: E402
+import sweep_effects  # noqa: E402
+
+PROGRAMS = os.path.join(simsweep.ROOT, "components", "servo", "programs")
+SCENES = {"edge_exploration": "edge_exploration", "bent_bar": "bent_bar"}  # scene -> program name
+BOUNDS = [1.0, 1.5, 2.0, 2.5, 3.0, 4.0]
+SLIDE_PHASE = "explore"
+
+
+def program_with_bound(name, bound, out):
+    """The shipped program with max_correction_n set to `bound` (a copy in out)."""
+    with open(os.path.join(PROGRAMS, name + ".yaml")) as f:
+        text = f.read()
+    new, n = re.subn(r"(\n  max_correction_n:)\s*[0-9.]+", rf"\g<1> {bound}", text)
+    if n != 1:
+        raise SystemExit(f"sweep_correction: {name}.yaml has no single force_estimate.max_correction_n")
+    path = os.path.join(out, "programs", f"{name}_{bound}.yaml")
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, "w") as f:
+        f.write(new)
+    return path
+
+
+def cop_errors(run_dir):
+    """|reconstructed contact point - true pressure centre| (m) while sliding:
+    the rows of contacts.csv from 2 s after the slide phase is entered."""
+    t_slide = None
+    with open(os.path.join(run_dir, "timeseries.csv")) as f:
+        for r in csv.DictReader(f):
+            if r["phase_name"] == SLIDE_PHASE:
+                t_slide = float(r["time"])
+                break
+    if t_slide is None:
+        return []
+    out = []
+    with open(os.path.join(run_dir, "contacts.csv")) as f:
+        for r in csv.DictReader(f):
+            if float(r["time"]) >= t_slide + 2.0:
+                out.append(math.dist([float(r[k]) for k in "xyz"], [float(r["true_" + k]) for k in "xyz"]))
+    return out
+
+
+def one(job):
+    scene, label, program, setting, seed, out = job
+    d = os.path.join(out, "runs", f"{scene}_{label}_{setting}_{seed}")
+    args = ["--seed", str(seed), "--set", "program=" + program]
+    if setting == "all":
+        args = sweep_effects.effect_args(scene, sweep_effects.ALL) + args  # the wrench error among them
+    s = simsweep.run(scene, d, args)
+    e = cop_errors(d) if s.get("status") != "no_summary" else []
+    e.sort()
+    s["cop_error_mean_m"] = sum(e) / len(e) if e else float("nan")
+    s["cop_error_p95_m"] = e[int(0.95 * (len(e) - 1))] if e else float("nan")
+    return scene, label, setting, seed, s
+
+
+def mean(vals):
+    vals = [v for v in vals if isinstance(v, (int, float)) and v == v]
+    return sum(vals) / len(vals) if vals else float("nan")
+
+
+def main():
+    a = simsweep.parse_sweep_args(__doc__, "correction")
+    jobs = []
+    for scene, prog in SCENES.items():
+        variants = [("tactile", os.path.join(PROGRAMS, prog + "_tactile.yaml"))]
+        variants += [(f"{b:g}N", program_with_bound(prog, b, a.out)) for b in BOUNDS]
+        for label, path in variants:
+            for setting in ("shipped", "all"):
+                for seed in range(1, a.seeds + 1):
+                    jobs.append((scene, label, path, setting, seed, a.out))
+    res, failed = {}, False
+    with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as ex:
+        for k, (scene, label, setting, seed, s) in enumerate(ex.map(one, jobs), 1):
+            res[(scene, label, setting, seed)] = s
+            if s.get("status") == "no_summary":
+                failed = True
+                print(f"{scene} {label} {setting} seed {seed}: no summary: {s.get('error', '')[-300:]}", file=sys.stderr)
+            print(f"[{k}/{len(jobs)}] {scene} {label} {setting} seed {seed}: RMS {s.get('force_true_rms_error_n')} N, "
+                  f"CoP error {s.get('cop_error_mean_m')} m", flush=True)
+
+    labels = ["tactile"] + [f"{b:g}N" for b in BOUNDS]
+    rows = []
+    for scene in SCENES:
+        for label in labels:
+            r = {"scene": scene, "bound": label}
+            for setting in ("shipped", "all"):
+                runs = [res[(scene, label, setting, s)] for s in range(1, a.seeds + 1)]
+                for key in ("force_true_mean_n", "force_true_rms_error_n", "force_true_in_band_fraction",
+                            "contact_lost_count", "cop_error_mean_m", "cop_error_p95_m"):
+                    r[f"{setting}_{key}"] = mean([x.get(key) for x in runs])
+                r[f"{setting}_passed"] = sum(1 for x in runs if x.get("criteria_passed") and x.get("returncode") == 0)
+            rows.append(r)
+    os.makedirs(a.out, exist_ok=True)
+    with open(os.path.join(a.out, "correction.csv"), "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+
+    def f2(v, scale=1.0, digits=2):
+        return "-" if not (isinstance(v, (int, float)) and v == v) else f"{v * scale:.{digits}f}"
+
+    with open(os.path.join(a.out, "correction.md"), "w") as f:
+        f.write(f"Means over seeds 1-{a.seeds}. `tactile`: the paper's program (Eq. 2 alone, CoP_y 0); "
+                "otherwise the shipped program with force_estimate.max_correction_n = the bound. "
+                "CoP error: reconstructed contact point against the true pressure centre while sliding. "
+                f"Criteria: seeds passed of {a.seeds}, as shipped / with every effect on.\n\n")
+        f.write("| scene | bound | true force mean (N) | RMS error (N) | within 5 +- 1 N | CoP error mean / p95 (mm) | "
+                "contact losses | RMS error, all effects (N) | criteria shipped / all |\n")
+        f.write("|---|---|---:|---:|---:|---:|---:|---:|---:|\n")
+        for r in rows:
+            f.write(f"| {r['scene']} | {r['bound']} | {f2(r['shipped_force_true_mean_n'])} | "
+                    f"{f2(r['shipped_force_true_rms_error_n'])} | {f2(r['shipped_force_true_in_band_fraction'], 100, 1)} % | "
+                    f"{f2(r['shipped_cop_error_mean_m'], 1000, 1)} / {f2(r['shipped_cop_error_p95_m'], 1000, 1)} | "
+                    f"{f2(r['shipped_contact_lost_count'], 1, 1)} | {f2(r['all_force_true_rms_error_n'])} | "
+                    f"{r['shipped_passed']} / {r['all_passed']} |\n")
+
+    fig, ax = plt.subplots(1, len(SCENES), figsize=(6 * len(SCENES), 4.5))
+    for i, scene in enumerate(SCENES):
+        for setting, marker in (("shipped", "o"), ("all", "s")):
+            pts = [(r[f"{setting}_cop_error_mean_m"] * 1000, r[f"{setting}_force_true_rms_error_n"], r["bound"])
+                   for r in rows if r["scene"] == scene]
+            ax[i].plot([p[0] for p in pts], [p[1] for p in pts], marker=marker, label=f"{setting} effects")
+            for x, y, lab in pts:
+                ax[i].annotate(lab, (x, y), fontsize=7, xytext=(3, 3), textcoords="offset points")
+        ax[i].set_xlabel("CoP error against the true pressure centre, mean (mm)")
+        ax[i].set_ylabel("true force RMS error while sliding (N)")
+        ax[i].set_title(f"{scene}: the correction bound")
+        ax[i].grid(alpha=0.3)
+        ax[i].legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(a.out, "correction.png"), dpi=90)
+    print(f"written: {a.out}/correction.csv, correction.md, correction.png")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
