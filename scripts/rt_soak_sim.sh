@@ -134,7 +134,7 @@ while Guard.ok && waited < Guard.timeout && !Clock.finished {
   }
   if Clock.sim_time >= 60.0 * (minute + 1) then {
     minute = minute + 1
-    Guard.step(true, "soak minute " + minute + " sim_time " + Clock.sim_time + " wall " + waited + " ticks " + Clock.ticks + " phase " + Servo.phaseName() + " x " + x + " turns " + turns + " clock " + Clock.status + " robot " + Robot.statusName() + " sensor_frames " + Sensor.frames)
+    Guard.step(true, "soak minute " + minute + " sim_time " + Clock.sim_time + " wall " + waited + " ticks " + Clock.ticks + " phase " + Servo.phaseName() + " x " + x + " turns " + turns + " clock_exit_code " + Clock.exit_code + " robot " + Robot.statusName() + " sensor_frames " + Sensor.frames)
   }
 }
 if Guard.ok then Guard.step(Clock.finished, "the simulated run ended within Guard.timeout s of wall clock")

@@ -58,6 +58,7 @@
 
 #include "alloc_counter.hpp"
 #include "support/rtt_environment.hpp"
+#include "tactile_types_rtt/atomic_attribute.hpp"
 
 namespace {
 
@@ -120,7 +121,7 @@ TEST(RosRealtimeAllocations, SimLoopWithStreamsDoesNotAllocate) {
       << "the deployment failed: see '[Guard] deployment step failed' above";
   RTT::TaskContext* guard = dc.getPeer("Guard");
   ASSERT_NE(guard, nullptr);
-  ASSERT_TRUE(RTT::Attribute<bool>(guard->provides()->getAttribute("ok")).get());
+  ASSERT_TRUE(tactile::readAttribute<bool>(*guard->provides(), "ok"));
   RTT::TaskContext* clock = dc.getPeer("Clock");
   RTT::TaskContext* robot = dc.getPeer("Robot");
   RTT::TaskContext* adapter = dc.getPeer("RosAdapter");
@@ -168,7 +169,7 @@ TEST(RosRealtimeAllocations, SimLoopWithStreamsDoesNotAllocate) {
   ASSERT_TRUE(waitCycles(probe, c0 + kMeasuredCycles, 300.0));
   const std::size_t after = probe.count.load();
   const long c1 = probe.cycles.load();
-  const int ticks = RTT::Attribute<int>(clock->provides()->getAttribute("ticks")).get();
+  const int ticks = tactile::readAttribute<int>(*clock->provides(), "ticks");
   std::printf("clock thread: %zu allocations in the first %ld servo cycles (warm-up), %zu in the next %ld "
               "(%d physics ticks so far)\n",
               before, c0, after - before, c1 - c0, ticks);
@@ -242,7 +243,7 @@ TEST(RosRealtimeAllocations, RobotLoopWithStreamsDoesNotAllocate) {
   RTT::TaskContext* robot = dc.getPeer("Robot");
   RTT::TaskContext* servo = dc.getPeer("Servo");
   ASSERT_TRUE(guard && robot && servo);
-  ASSERT_TRUE(RTT::Attribute<bool>(guard->provides()->getAttribute("ok")).get());
+  ASSERT_TRUE(tactile::readAttribute<bool>(*guard->provides(), "ok"));
   ASSERT_TRUE(ros::isStarted());
   Seen seen;
   ros::NodeHandle nh;
@@ -261,13 +262,13 @@ TEST(RosRealtimeAllocations, RobotLoopWithStreamsDoesNotAllocate) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   std::this_thread::sleep_for(std::chrono::seconds(2));
-  RTT::Attribute<int> received(robot->provides()->getAttribute("received"));
-  const int received0 = received.ready() ? received.get() : -1;
+  auto received = [&] { return tactile::readAttribute<int>(*robot->provides(), "received", -1); };
+  const int received0 = received();
   const long msgs0 = seen.get("flange_pose"), cmds0 = seen.get("pose_command"), imgs0 = seen.get("image");
   const auto before = allocationsByThreadName();
   std::this_thread::sleep_for(std::chrono::seconds(8));
   const auto after = allocationsByThreadName();
-  const int received1 = received.ready() ? received.get() : -1;
+  const int received1 = received();
   const long msgs = seen.get("flange_pose") - msgs0, cmds = seen.get("pose_command") - cmds0,
              imgs = seen.get("image") - imgs0;
   std::printf("over 8 s: Robot received %d KRC packets; in this process /tactile/flange_pose %ld, pose_command %ld, "

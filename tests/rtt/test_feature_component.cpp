@@ -22,6 +22,7 @@
 #include "tactile_sim/elastic_pad.hpp"
 #include "support/rtt_environment.hpp"
 #include "temp_file.hpp"
+#include "tactile_types_rtt/atomic_attribute.hpp"
 
 namespace {
 
@@ -118,7 +119,7 @@ struct Rig {
     raw_out.setDataSample(raw_sample);
     frame_out.setDataSample(frame_sample);
   }
-  int frames() { return comp.provides()->getAttribute("frames") ? RTT::Attribute<int>(comp.provides()->getAttribute("frames")).get() : -1; }
+  int frames() { return comp.provides()->getAttribute("frames") ? tactile::readAttribute<int>(*comp.provides(), "frames") : -1; }
 };
 
 struct Cores {

@@ -36,6 +36,7 @@
 #include "tactile_fri_rtt/fri_bridge_component.hpp"
 #include "tactile_types/kdl_pose.hpp"
 #include "support/rtt_environment.hpp"
+#include "tactile_types_rtt/atomic_attribute.hpp"
 
 namespace {
 
@@ -93,8 +94,8 @@ struct Rig {
     command_out.setDataSample(PoseCommand());
   }
   ~Rig() { comp.stop(); }  // before CountingFri is destroyed: its updateHook may be running
-  int attr(const char* name) { return RTT::Attribute<int>(comp.provides()->getAttribute(name)).get(); }
-  bool flag(const char* name) { return RTT::Attribute<bool>(comp.provides()->getAttribute(name)).get(); }
+  int attr(const char* name) { return tactile::readAttribute<int>(*comp.provides(), name); }
+  bool flag(const char* name) { return tactile::readAttribute<bool>(*comp.provides(), name); }
   RTT::extras::FileDescriptorActivity* fdActivity() {
     return dynamic_cast<RTT::extras::FileDescriptorActivity*>(comp.getActivity());
   }
@@ -148,7 +149,7 @@ TEST(FriBridgeComponent, ConfigureErrorsNameTheParameter) {
     c.properties()->getPropertyType<std::string>("param_file")->set(TACTILE_FRI_PARAM_FILE);
     c.properties()->getPropertyType<int>("port")->set(0);
     EXPECT_TRUE(c.configure()) << c.lastError();
-    EXPECT_GT(RTT::Attribute<int>(c.provides()->getAttribute("local_port")).get(), 0);
+    EXPECT_GT(tactile::readAttribute<int>(*c.provides(), "local_port"), 0);
   }
 }
 

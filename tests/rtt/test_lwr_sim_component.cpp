@@ -25,6 +25,7 @@
 #include "tactile_sim_rtt/wts_sim_component.hpp"
 #include "support/rtt_environment.hpp"
 #include "temp_file.hpp"
+#include "tactile_types_rtt/atomic_attribute.hpp"
 
 namespace {
 
@@ -71,7 +72,7 @@ struct Rig {
   }
   template <typename T>
   T attr(const char* name) {
-    return RTT::Attribute<T>(comp.provides()->getAttribute(name)).get();
+    return tactile::readAttribute<T>(*comp.provides(), name);
   }
 };
 

@@ -20,6 +20,7 @@
 #include "tactile_servo/servo.hpp"
 #include "tactile_servo_rtt/servo_component.hpp"
 #include "support/rtt_environment.hpp"
+#include "tactile_types_rtt/atomic_attribute.hpp"
 
 namespace {
 
@@ -282,7 +283,7 @@ TEST(ServoComponent, FirstCommandIsAPoseWrittenAfterStart) {
     rig.features_out.write(noContact(now()));
     rig.comp.update();
     EXPECT_EQ(rig.command_in.read(c), RTT::NoData) << k;
-    EXPECT_EQ(RTT::Attribute<int>(rig.comp.provides()->getAttribute("last_status")).get(),
+    EXPECT_EQ(tactile::readAttribute<int>(*rig.comp.provides(), "last_status"),
               static_cast<int>(ServoStatus::WaitingForPose));
   }
   RTT::os::TimeService::Instance()->secondsChange(kDt);

@@ -40,6 +40,7 @@
 #include "tactile_sim_rtt/sim_clock.hpp"
 #include "tactile_sim_rtt/wts_sim_component.hpp"
 #include "temp_file.hpp"
+#include "tactile_types_rtt/atomic_attribute.hpp"
 
 namespace {
 
@@ -122,10 +123,10 @@ Recording runDeployment(const std::string& scene_file, const std::string& progra
   EXPECT_TRUE(sensor.start() && features.start() && servo.start() && robot.start());
   drain(truth_in, rec.truths);  // the arm's initial state
   EXPECT_TRUE(clock.start());
-  RTT::Attribute<bool> finished(clock.provides()->getAttribute("finished"));
+  auto finished = [&] { return tactile::readAttribute<bool>(*clock.provides(), "finished"); };
   // The truth buffer (one sample per physics tick) is drained while the clock runs.
   const auto t0 = std::chrono::steady_clock::now();
-  while (!finished.get()) {
+  while (!finished()) {
     drain(truth_in, rec.truths);
     std::this_thread::sleep_for(std::chrono::microseconds(200));
     if (std::chrono::steady_clock::now() - t0 > std::chrono::seconds(300)) {
@@ -138,9 +139,9 @@ Recording runDeployment(const std::string& scene_file, const std::string& progra
   drain(cmd_in, rec.commands);
   drain(phase_in, rec.phases);
   drain(feat_in, rec.features);
-  rec.status = RTT::Attribute<std::string>(clock.provides()->getAttribute("status")).get();
-  rec.exit_code = RTT::Attribute<int>(clock.provides()->getAttribute("exit_code")).get();
-  rec.ticks = RTT::Attribute<int>(clock.provides()->getAttribute("ticks")).get();
+  rec.status = tactile::readAttribute<std::string>(*clock.provides(), "status");
+  rec.exit_code = tactile::readAttribute<int>(*clock.provides(), "exit_code");
+  rec.ticks = tactile::readAttribute<int>(*clock.provides(), "ticks");
   servo.stop();
   features.stop();
   sensor.stop();
@@ -372,14 +373,14 @@ TEST(SimLoopClock, TicksDoNotAllocate) {
   ASSERT_TRUE(clock.configure()) << clock.lastError();
   ASSERT_TRUE(sensor.start() && features.start() && servo.start() && robot.start());
   ASSERT_TRUE(clock.start());
-  RTT::Attribute<int> ticks(clock.provides()->getAttribute("ticks"));
+  auto ticks = [&] { return tactile::readAttribute<int>(*clock.provides(), "ticks", -1); };
   for (int k = 0; k < 40; ++k) ASSERT_TRUE(clock.update());  // warm-up: 2000 ticks, every port used
   {
     tactile::test::AllocationScope scope;
     for (int k = 0; k < 100; ++k) clock.update();  // 5000 ticks: free motion into contact and alignment
     EXPECT_EQ(scope.count(), 0u);
   }
-  EXPECT_EQ(ticks.get(), 7000);
+  EXPECT_EQ(ticks(), 7000);
   EXPECT_NE(servo.phaseName(), "free_motion") << "the loop reached the bar";
   clock.stop();
   // The stages' port events queued trigger messages on the clock's engine:

@@ -52,6 +52,7 @@
 #include "tactile_sim_rtt/wts_sim_component.hpp"
 #include "tactile_types/kdl_pose.hpp"
 #include "support/rtt_environment.hpp"
+#include "tactile_types_rtt/atomic_attribute.hpp"
 
 namespace {
 
@@ -87,7 +88,7 @@ bool connectByName(RTT::TaskContext& from, const std::string& out, RTT::TaskCont
 
 template <typename T>
 T attr(RTT::TaskContext& tc, const char* name) {
-  return RTT::Attribute<T>(tc.provides()->getAttribute(name)).get();
+  return tactile::readAttribute<T>(*tc.provides(), name);
 }
 
 // The program's step limits (the bound on every later command's motion).

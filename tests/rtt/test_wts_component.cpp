@@ -28,6 +28,7 @@
 #include "tactile_wts_rtt/wts_component.hpp"
 #include "wts_test_util.hpp"
 #include "support/rtt_environment.hpp"
+#include "tactile_types_rtt/atomic_attribute.hpp"
 
 namespace {
 
@@ -68,8 +69,8 @@ struct Rig {
     EXPECT_TRUE(comp.ports()->getPort("raw_frame")->connectTo(&raw_in));
   }
   ~Rig() { comp.stop(); }  // before CountingWts is destroyed: its updateHook may be running
-  int attr(const char* n) { return RTT::Attribute<int>(comp.provides()->getAttribute(n)).get(); }
-  bool flag(const char* n) { return RTT::Attribute<bool>(comp.provides()->getAttribute(n)).get(); }
+  int attr(const char* n) { return tactile::readAttribute<int>(*comp.provides(), n); }
+  bool flag(const char* n) { return tactile::readAttribute<bool>(*comp.provides(), n); }
 };
 
 // Polls `pred` every 1 ms for up to `limit_s` (this thread); true when it held.

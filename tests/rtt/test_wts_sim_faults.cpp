@@ -18,6 +18,7 @@
 #include "alloc_counter.hpp"
 #include "support/rtt_environment.hpp"
 #include "tactile_sim_rtt/wts_sim_component.hpp"
+#include "tactile_types_rtt/atomic_attribute.hpp"
 
 namespace {
 
@@ -59,7 +60,7 @@ struct Rig {
   }
   template <typename T>
   T attr(const char* name) {
-    return RTT::Attribute<T>(sensor.provides()->getAttribute(name)).get();
+    return tactile::readAttribute<T>(*sensor.provides(), name);
   }
 };
 

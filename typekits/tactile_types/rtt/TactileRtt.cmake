@@ -26,6 +26,8 @@ get_filename_component(TACTILE_RTT_SYSTEM_COMPONENT_PATH "${_tactile_rtt_tdir}" 
 function(tactile_rtt_library target kind)
   add_library(${target} SHARED ${ARGN})
   target_include_directories(${target} SYSTEM PUBLIC ${OROCOS-RTT_INCLUDE_DIRS})
+  # tactile_types_rtt/ (atomic_attribute.hpp) for every RTT library.
+  target_include_directories(${target} PUBLIC $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/typekits/tactile_types/rtt/include>)
   target_compile_definitions(${target} PUBLIC OROCOS_TARGET=${OROCOS_TARGET})
   target_link_libraries(${target} PUBLIC ${OROCOS-RTT_LIBRARIES})
   tactile_warnings(${target})

@@ -1,5 +1,7 @@
 #include "tactile_features_rtt/feature_component.hpp"
 
+#include "tactile_types_rtt/atomic_attribute.hpp"
+
 #include <rtt/Component.hpp>
 #include <rtt/Logger.hpp>
 
@@ -33,8 +35,8 @@ FeatureComponent::FeatureComponent(const std::string& name)
   addProperty("param_file", param_file_)
       .doc("YAML parameter file with `features:` (FeatureParams) and `calibration:` (CalibrationParams) maps; "
            "read by configure() and reload().");
-  addAttribute("last_status", last_status_);
-  addAttribute("frames", frames_);
+  addAtomicAttribute(*provides(), "last_status", last_status_);
+  addAtomicAttribute(*provides(), "frames", frames_);
   addEventPort(raw_in_).doc("Raw sensor frame (12-bit counts, {s} layout): calibrated, then features extracted.");
   addEventPort(frame_in_).doc("Calibrated frame (N per taxel, {s} layout): features extracted (used when no raw frame is new).");
   addPort(frame_out_).doc("Calibrated frame computed from raw_frame (N per taxel).");
@@ -88,8 +90,8 @@ bool FeatureComponent::tare() {
 
 bool FeatureComponent::startHook() {
   stage_.reset();
-  frames_ = 0;
-  last_status_ = static_cast<int>(FeatureStatus::NotConfigured);
+  record(frames_, 0);
+  record(last_status_, static_cast<int>(FeatureStatus::NotConfigured));
   return true;
 }
 
@@ -104,8 +106,8 @@ void FeatureComponent::updateHook() {
   } else {
     return;
   }
-  last_status_ = static_cast<int>(features_.status);
-  ++frames_;
+  record(last_status_, static_cast<int>(features_.status));
+  bump(frames_);
   features_out_.write(features_);
 }
 

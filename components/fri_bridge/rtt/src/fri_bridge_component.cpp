@@ -1,5 +1,7 @@
 #include "tactile_fri_rtt/fri_bridge_component.hpp"
 
+#include "tactile_types_rtt/atomic_attribute.hpp"
+
 #include <rtt/Component.hpp>
 #include <rtt/Logger.hpp>
 #include <rtt/extras/SlaveActivity.hpp>
@@ -24,17 +26,17 @@ FriBridgeComponent::FriBridgeComponent(const std::string& name)
   addProperty("receive_timeout", receive_timeout_)
       .doc("Longest KRC silence (s), (0, 1], before krc_silent: the FileDescriptorActivity's timeout "
            "(set by configure()/start()); on a periodic or slave activity, measured with RTT's TimeService.");
-  addAttribute("local_port", local_port_);
-  addAttribute("bridge_status", bridge_status_);
-  addAttribute("fri_state", fri_state_);
-  addAttribute("fri_quality", fri_quality_);
-  addAttribute("krc_silent", krc_silent_);
-  addAttribute("fd_activity", fd_activity_attr_);
-  addAttribute("received", received_);
-  addAttribute("replies", replies_);
-  addAttribute("lost", lost_);
-  addAttribute("timeouts", timeouts_);
-  addAttribute("socket_errors", socket_errors_);
+  addAtomicAttribute(*provides(), "local_port", local_port_);
+  addAtomicAttribute(*provides(), "bridge_status", bridge_status_);
+  addAtomicAttribute(*provides(), "fri_state", fri_state_);
+  addAtomicAttribute(*provides(), "fri_quality", fri_quality_);
+  addAtomicAttribute(*provides(), "krc_silent", krc_silent_);
+  addAtomicAttribute(*provides(), "fd_activity", fd_activity_attr_);
+  addAtomicAttribute(*provides(), "received", received_);
+  addAtomicAttribute(*provides(), "replies", replies_);
+  addAtomicAttribute(*provides(), "lost", lost_);
+  addAtomicAttribute(*provides(), "timeouts", timeouts_);
+  addAtomicAttribute(*provides(), "socket_errors", socket_errors_);
   addPort(command_in_).doc("Desired flange pose {g}T{e} (from the servo); rate-limited by the bridge.");
   addPort(pose_out_).doc("Measured flange pose {g}T{e} (msrCartPos of the KRC), per accepted packet.");
   addPort(wrench_out_).doc("Estimated external TCP wrench w = [Fx Fy Fz Tx Ty Tz] (N, N m) from estExtTcpFT, "
@@ -86,15 +88,15 @@ bool FriBridgeComponent::configureHook() {
     return false;
   }
   last_error_.clear();
-  local_port_ = socket_.localPort();
+  record(local_port_, static_cast<int>(socket_.localPort()));
   measured_ = Pose();
   pose_out_.setDataSample(measured_);
   wrench_ = Wrench();
   wrench_out_.setDataSample(wrench_);
-  received_ = replies_ = lost_ = timeouts_ = socket_errors_ = 0;
+  for (std::atomic<int>* c : {&received_, &replies_, &lost_, &timeouts_, &socket_errors_}) record(*c, 0);
   // Paced by the socket: the KRC's silence is the FileDescriptorActivity's timeout.
   auto* fda = fdActivity();
-  fd_activity_attr_ = fda != nullptr;
+  record(fd_activity_attr_, fda != nullptr);
   if (fda) fda->setTimeout_us(fdTimeoutUs(receive_timeout_));
   return true;
 }
@@ -114,12 +116,11 @@ bool FriBridgeComponent::startHook() {
   max_per_cycle_ = dynamic_cast<RTT::extras::SlaveActivity*>(getActivity()) != nullptr ? 1 : kMaxPerCycle;
   bridge_.reset();
   desired_ = PoseCommand();  // never set: the bridge holds (DesiredInvalid) until the servo writes one
-  krc_silent_ = false;
-  silent_shadow_.store(false);
+  record(krc_silent_, false);
   // Measurements queued while stopped are stale: the first reply answers a current one.
   socket_.discardPending();
   fd_activity_ = fdActivity();  // the activity cannot change while running
-  fd_activity_attr_ = fd_activity_ != nullptr;
+  record(fd_activity_attr_, fd_activity_ != nullptr);
   if (fd_activity_) {
     fd_activity_->setTimeout_us(fdTimeoutUs(receive_timeout_));
     // Watched only while running: select() is level-triggered and a Stopped
@@ -139,14 +140,13 @@ void FriBridgeComponent::stopHook() {
 void FriBridgeComponent::cleanupHook() { socket_.close(); }
 
 std::string FriBridgeComponent::statusName() const {
-  if (silent_shadow_.load()) return "krc_silent";
-  return fri::toString(static_cast<fri::BridgeStatus>(status_shadow_.load()));
+  if (krc_silent_.load(std::memory_order_relaxed)) return "krc_silent";
+  return fri::toString(static_cast<fri::BridgeStatus>(bridge_status_.load(std::memory_order_relaxed)));
 }
 
 void FriBridgeComponent::markSilent() {
-  ++timeouts_;
-  krc_silent_ = true;
-  silent_shadow_.store(true);
+  bump(timeouts_);
+  record(krc_silent_, true);
 }
 
 void FriBridgeComponent::updateHook() {
@@ -159,7 +159,7 @@ void FriBridgeComponent::updateHook() {
       return;
     }
     if (fd_activity_->hasError()) {
-      ++socket_errors_;  // select() failed (the activity logs it)
+      bump(socket_errors_);  // select() failed (the activity logs it)
       return;
     }
     // One datagram per cycle; another one queued wakes the activity again at once.
@@ -167,7 +167,7 @@ void FriBridgeComponent::updateHook() {
     if (us == fri::UdpStatus::Ok || us == fri::UdpStatus::Truncated)
       handleDatagram(us, n);
     else if (us != fri::UdpStatus::Timeout)  // Timeout: woken without a datagram (trigger)
-      ++socket_errors_;
+      bump(socket_errors_);
     return;
   }
   pollCycle();
@@ -180,7 +180,7 @@ void FriBridgeComponent::pollCycle() {
     const fri::UdpStatus us = socket_.receive(rx_.data(), rx_.size(), n, 0);
     if (us == fri::UdpStatus::Timeout) break;  // nothing (more) queued
     if (us != fri::UdpStatus::Ok && us != fri::UdpStatus::Truncated) {
-      ++socket_errors_;  // Error / NotOpen: stop() + start() retries
+      bump(socket_errors_);  // Error / NotOpen: stop() + start() retries
       return;
     }
     handleDatagram(us, n);
@@ -195,8 +195,7 @@ void FriBridgeComponent::pollCycle() {
 }
 
 void FriBridgeComponent::handleDatagram(fri::UdpStatus us, std::size_t n) {
-  krc_silent_ = false;
-  silent_shadow_.store(false);
+  record(krc_silent_, false);
   command_in_.read(desired_, false);  // keeps the last sample when nothing new
   const double now = nowS();
   // A truncated datagram is passed as longer than the buffer: the decoder rejects it (TooLong).
@@ -206,18 +205,17 @@ void FriBridgeComponent::handleDatagram(fri::UdpStatus us, std::size_t n) {
     std::size_t w = 0;
     if (fri::encodeCommand(out_.cmd, tx_.data(), tx_.size(), w) == fri::PacketStatus::Ok &&
         socket_.reply(tx_.data(), w) == fri::UdpStatus::Ok)
-      ++replies_;
+      bump(replies_);
   }
-  bridge_status_ = static_cast<int>(st);
-  status_shadow_.store(bridge_status_);
-  ++received_;
-  lost_ = static_cast<int>(bridge_.stats().lost);
+  record(bridge_status_, static_cast<int>(st));
+  bump(received_);
+  record(lost_, static_cast<int>(bridge_.stats().lost));
   if (st == fri::BridgeStatus::Malformed || st == fri::BridgeStatus::DroppedDuplicate ||
       st == fri::BridgeStatus::DroppedOutOfOrder || st == fri::BridgeStatus::NotConfigured)
     return;
   const fri::MsrPacket& msr = bridge_.lastMeasurement();
-  fri_state_ = static_cast<int>(out_.state);
-  fri_quality_ = static_cast<int>(out_.quality);
+  record(fri_state_, static_cast<int>(out_.state));
+  record(fri_quality_, static_cast<int>(out_.quality));
   if (fri::validFriPose(msr.data.msr_cart_pos)) {
     KDL::Frame f;
     fri::toFrame(msr.data.msr_cart_pos, f);

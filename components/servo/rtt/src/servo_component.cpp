@@ -1,5 +1,7 @@
 #include "tactile_servo_rtt/servo_component.hpp"
 
+#include "tactile_types_rtt/atomic_attribute.hpp"
+
 #include <rtt/Component.hpp>
 #include <rtt/Logger.hpp>
 #include <rtt/os/TimeService.hpp>
@@ -25,7 +27,7 @@ ServoComponent::ServoComponent(const std::string& name)
   addProperty("period", period_)
       .doc("Servo period (s): dt of the first cycle after start (later cycles use the TimeService). "
            "0 = the activity's period (1 ms without one). In [0, 10].");
-  addAttribute("last_status", last_status_);
+  addAtomicAttribute(*provides(), "last_status", last_status_);
   addAttribute("integral", integral_);
   addEventPort(features_in_).doc("Contact features in {s} (from the feature component).");
   addPort(flange_in_).doc("Measured flange pose {g}T{e} (LWR simulator or FRI bridge).");
@@ -118,7 +120,7 @@ void ServoComponent::updateHook() {
   const double now = RTT::os::TimeService::Instance()->secondsSince(0);
   ServoStatus st = ServoStatus::NotConfigured;
   const bool command = stage_.step(now, features_, out_, st);  // holds (no command) until a valid pose arrived
-  last_status_ = static_cast<int>(st);
+  record(last_status_, static_cast<int>(st));
   current_phase_.store(stage_.servo().phaseIndex());
   if (command) command_out_.write(out_.command);
   phase_out_.write(out_.phase);

@@ -1,5 +1,7 @@
 #include "tactile_wts_rtt/wts_component.hpp"
 
+#include "tactile_types_rtt/atomic_attribute.hpp"
+
 #include <rtt/Component.hpp>
 #include <rtt/Logger.hpp>
 #include <rtt/extras/SlaveActivity.hpp>
@@ -19,10 +21,10 @@ WtsComponent::WtsComponent(const std::string& name) : RTT::TaskContext(name, Pre
   addProperty("poll_timeout", poll_timeout_)
       .doc("FileDescriptorActivity timeout (s), (0, 1]: with no byte for this long the hook runs anyway "
            "(NoData; reconnection checks while unplugged). The hook itself never waits.");
-  addAttribute("read_status", read_status_);
-  addAttribute("frames", frames_);
-  addAttribute("timeouts", timeouts_);
-  addAttribute("fd_activity", fd_activity_attr_);
+  addAtomicAttribute(*provides(), "read_status", read_status_);
+  addAtomicAttribute(*provides(), "frames", frames_);
+  addAtomicAttribute(*provides(), "timeouts", timeouts_);
+  addAtomicAttribute(*provides(), "fd_activity", fd_activity_attr_);
   addPort(raw_out_).doc("Raw WTS frame (12-bit counts, {s} layout), stamped with RTT's TimeService (s).");
   addOperation("lastError", &WtsComponent::lastError, this, RTT::ClientThread)
       .doc("Message of the last failed configure() or start().");
@@ -52,7 +54,7 @@ bool WtsComponent::configureHook() {
   raw_.cols = static_cast<uint16_t>(p.cells.cols);
   raw_out_.setDataSample(raw_);
   auto* fda = fdActivity();
-  fd_activity_attr_ = fda != nullptr;
+  record(fd_activity_attr_, fda != nullptr);
   if (fda) fda->setTimeout_us(static_cast<int>(poll_timeout_ * 1e6));
   return true;
 }
@@ -71,7 +73,7 @@ void WtsComponent::syncWatch() {
 
 bool WtsComponent::startHook() {
   fd_activity_ = fdActivity();  // the activity cannot change while running
-  fd_activity_attr_ = fd_activity_ != nullptr;
+  record(fd_activity_attr_, fd_activity_ != nullptr);
   if (!fd_activity_ && getActivity() && !getActivity()->isPeriodic() &&
       dynamic_cast<RTT::extras::SlaveActivity*>(getActivity()) == nullptr) {
     last_error_ = "a non-periodic activity that is not a FileDescriptorActivity would spin or never read: "
@@ -87,8 +89,8 @@ bool WtsComponent::startHook() {
     driver_.close();
     return false;
   }
-  frames_ = 0;
-  timeouts_ = 0;
+  record(frames_, 0);
+  record(timeouts_, 0);
   if (fd_activity_) {
     // Clamped to [1 ms, 1 s] (the property may change after configure; 0 would mean no timeout).
     fd_activity_->setTimeout_us(static_cast<int>(1e6 * std::min(1.0, std::max(0.001, poll_timeout_))));
@@ -107,20 +109,19 @@ void WtsComponent::stopHook() {
 }
 
 std::string WtsComponent::statusName() const {
-  return wts::toString(static_cast<wts::ReadStatus>(status_shadow_.load()));
+  return wts::toString(static_cast<wts::ReadStatus>(read_status_.load(std::memory_order_relaxed)));
 }
 
 void WtsComponent::updateHook() {
   const double now = RTT::os::TimeService::Instance()->secondsSince(0);  // the servo's clock
-  if (fd_activity_ && fd_activity_->hasTimeout()) ++timeouts_;  // no byte for poll_timeout s
+  if (fd_activity_ && fd_activity_->hasTimeout()) bump(timeouts_);  // no byte for poll_timeout s
   // Never waits: what arrived is read, decoded; reconnection is due by `now`.
   const wts::ReadStatus st = driver_.poll(now, 0, raw_);
-  read_status_ = static_cast<int>(st);
-  status_shadow_.store(read_status_);
+  record(read_status_, static_cast<int>(st));
   if (st == wts::ReadStatus::NewFrame) {
     raw_.time_s = now;
     raw_out_.write(raw_);
-    ++frames_;
+    bump(frames_);
   }
   // The driver closes the port on unplug and re-opens it later: watch the
   // descriptor it has now (never a closed one: select() would fail on it).

@@ -1,5 +1,7 @@
 #include "tactile_sim_rtt/lwr_sim_component.hpp"
 
+#include "tactile_types_rtt/atomic_attribute.hpp"
+
 #include <rtt/Component.hpp>
 #include <rtt/Logger.hpp>
 #include <rtt/os/TimeService.hpp>
@@ -20,10 +22,10 @@ LwrSimComponent::LwrSimComponent(const std::string& name)
   addProperty("scene_file", scene_file_)
       .doc("Scene YAML (sim/scenes/*.yaml, the headless runner's files): arm, pad, objects, initial flange "
            "pose, rates (physics step, WTS schedule). Read by configure().");
-  addAttribute("sim_period", sim_period_);
-  addAttribute("sim_time", sim_time_);
-  addAttribute("sim_status", sim_status_);
-  addAttribute("frames", frames_);
+  addAtomicAttribute(*provides(), "sim_period", sim_period_);
+  addAtomicAttribute(*provides(), "sim_time", sim_time_);
+  addAtomicAttribute(*provides(), "sim_status", sim_status_);
+  addAtomicAttribute(*provides(), "frames", frames_);
   addPort(command_in_).doc("Desired flange pose {g}T{e} (from the servo); the last valid one is held.");
   addPort(pose_out_).doc("Measured flange pose {g}T{e}, after every physics step (and at start).");
   addPort(wrench_out_).doc("Contact wrench on the flange [Fx Fy Fz Tx Ty Tz] (N, N m), {g} axes, flange origin: "
@@ -44,7 +46,7 @@ bool LwrSimComponent::configureHook() {
                                        : sim::loadScene(scene_file_, scene);
   if (r) {
     world_params_ = sim::worldParams(scene);  // seed and physics step (the KRC cycle's and FRI delay's unit)
-    sim_period_ = 1.0 / scene.rates.sim;
+    record(sim_period_, 1.0 / scene.rates.sim);
     est_wrench_.configure(scene.wrench_error, scene.seed);
     r = world_.configure(world_params_);
     if (r) r = schedule_.configure(scene.rates, scene.duration);
@@ -55,9 +57,10 @@ bool LwrSimComponent::configureHook() {
     RTT::log(RTT::Error) << getName() << ": " << last_error_ << RTT::endlog();
     return false;
   }
-  if (getPeriod() > 0.0 && std::fabs(getPeriod() - sim_period_) > 1e-9)
+  const double sim_period = sim_period_.load();
+  if (getPeriod() > 0.0 && std::fabs(getPeriod() - sim_period) > 1e-9)
     RTT::log(RTT::Warning) << getName() << ": activity period " << getPeriod() << " s differs from the scene's physics step "
-                           << sim_period_ << " s: simulated time runs at " << sim_period_ / getPeriod()
+                           << sim_period << " s: simulated time runs at " << sim_period / getPeriod()
                            << " x wall time" << RTT::endlog();
   last_error_.clear();
   // Preallocate the output samples (fixed-size types).
@@ -76,7 +79,7 @@ void LwrSimComponent::publish() {
     world_.acquireForces(forces_, acq_);
     forces_.time_s = state_.time_s;
     forces_out_.write(forces_);
-    ++frames_;
+    bump(frames_);
   }
   sim::fillTruth(state_, acq_, truth_);
   truth_out_.write(truth_);
@@ -98,24 +101,22 @@ bool LwrSimComponent::startHook() {
   est_wrench_.start(state_);
   cmd_ = state_.command_g;  // hold the start command until a command arrives
   acq_ = sim::SensorTruth();
-  sim_time_ = state_.time_s;
-  frames_ = 0;
-  sim_status_ = static_cast<int>(sim::SimStatus::Ok);
-  status_shadow_.store(sim_status_);
+  record(sim_time_, state_.time_s);
+  record(frames_, 0);
+  record(sim_status_, static_cast<int>(sim::SimStatus::Ok));
   publish();  // the initial pose, wrench, truth and the tick-0 image
   return true;
 }
 
 std::string LwrSimComponent::statusName() const {
-  return sim::toString(static_cast<sim::SimStatus>(status_shadow_.load()));
+  return sim::toString(static_cast<sim::SimStatus>(sim_status_.load(std::memory_order_acquire)));
 }
 
 void LwrSimComponent::updateHook() {
   if (command_in_.read(cmd_in_, false) == RTT::NewData) cmd_ = cmd_in_.pose;  // World rejects NaN / non-unit
-  const sim::SimStatus st = world_.step(cmd_, sim_period_, state_);
-  sim_status_ = static_cast<int>(st);
-  status_shadow_.store(sim_status_);
-  sim_time_ = state_.time_s;
+  const sim::SimStatus st = world_.step(cmd_, sim_period_.load(std::memory_order_relaxed), state_);
+  record(sim_status_, static_cast<int>(st));
+  record(sim_time_, state_.time_s);
   schedule_.advance();
   publish();
 }

@@ -1,5 +1,7 @@
 #include "tactile_sim_rtt/sim_clock.hpp"
 
+#include "tactile_types_rtt/atomic_attribute.hpp"
+
 #include <rtt/Logger.hpp>
 #include <rtt/base/AttributeBase.hpp>
 #include <rtt/extras/SlaveActivity.hpp>
@@ -25,11 +27,11 @@ SimClock::SimClock(const std::string& name) : RTT::TaskContext(name, PreOperatio
   addProperty("reporter", reporter_name_)
       .doc("Optional peer executed right after each servo cycle (a logger, e.g. OCL::FileReporting, a slave of "
            "this clock), so that it samples every cycle at simulated time; '' = none.");
-  addAttribute("sim_time", sim_time_);
-  addAttribute("ticks", ticks_);
-  addAttribute("finished", finished_);
+  addAtomicAttribute(*provides(), "sim_time", sim_time_);
+  addAtomicAttribute(*provides(), "ticks", ticks_);
+  addAtomicAttribute(*provides(), "finished", finished_);
   addAttribute("status", status_);
-  addAttribute("exit_code", exit_code_);
+  addAtomicAttribute(*provides(), "exit_code", exit_code_);
   addOperation("lastError", &SimClock::lastError, this, RTT::ClientThread)
       .doc("Message of the last failed configure().");
 }
@@ -103,13 +105,13 @@ void SimClock::setTime(int64_t t_ns) {
 bool SimClock::startHook() {
   schedule_.reset();
   end_.reset();
-  ticks_ = 0;
-  finished_ = false;
+  record(ticks_, 0);
+  record(finished_, false);
   status_ = "running";
-  exit_code_ = 0;
+  record(exit_code_, 0);
   RTT::os::TimeService::Instance()->enableSystemClock(false);
   setTime(0);
-  sim_time_ = schedule_.time();
+  record(sim_time_, schedule_.time());
   wall_start_ns_ = rtos_get_time_ns();
   return true;
 }
@@ -118,19 +120,19 @@ void SimClock::finish(sim::EndReason reason, sim::SimStatus st) {
   sim::Summary s;
   sim::applyEnd(reason, st, s);
   status_ = s.status;
-  exit_code_ = s.exit_code;
-  finished_ = true;
+  record(exit_code_, s.exit_code);
+  record(finished_, true);  // after status_ (release)
 }
 
 bool SimClock::tick() {
   if (schedule_.finished()) {
-    sim_time_ = schedule_.time();  // the runner's end time: after the last physics step
+    record(sim_time_, schedule_.time());  // the runner's end time: after the last physics step
     finish(sim::EndReason::Duration, sim::SimStatus::Ok);
     return false;
   }
   const double t = schedule_.time();
   setTime(static_cast<int64_t>(schedule_.tick()) * schedule_.periodNs());
-  sim_time_ = t;
+  record(sim_time_, t);
   const sim::StageFires f = schedule_.fires();
   if (f.wts || sensor_every_tick_) sensor_->update();
   if (f.features) features_->update();
@@ -145,11 +147,11 @@ bool SimClock::tick() {
   }
   robot_->update();
   schedule_.advance();
-  ++ticks_;
+  bump(ticks_);
   const sim::SimStatus ss = static_cast<sim::SimStatus>(sim_status_->get());
   const sim::EndReason e = end_.afterPhysics(ss);
   if (e != sim::EndReason::None) {
-    sim_time_ = schedule_.time();  // after the fatal physics step, as the runner's
+    record(sim_time_, schedule_.time());  // after the fatal physics step, as the runner's
     finish(e, ss);
     return false;
   }
@@ -157,7 +159,7 @@ bool SimClock::tick() {
 }
 
 void SimClock::updateHook() {
-  if (finished_) return;
+  if (finished_.load(std::memory_order_acquire)) return;
   for (int k = 0; k < 50; ++k) {
     if (realtime_factor_ > 0.0) {
       // Not ahead of the wall clock: t_i <= r * elapsed.

@@ -1,5 +1,7 @@
 #include "tactile_sim_rtt/wts_sim_component.hpp"
 
+#include "tactile_types_rtt/atomic_attribute.hpp"
+
 #include <rtt/Logger.hpp>
 #include <rtt/os/TimeService.hpp>
 
@@ -19,7 +21,7 @@ WtsSimComponent::WtsSimComponent(const std::string& name)
            "calibration, inverted), sensor.noise_counts, sensor.threshold, seed and the sensor's `effects:` "
            "(transfer delay, gains, dead taxels, calibration error, crosstalk, creep, hysteresis, device noise). "
            "Read by configure().");
-  addAttribute("frames", frames_);
+  addAtomicAttribute(*provides(), "frames", frames_);
   addProperty("fault", fault_)
       .doc("TESTS ONLY, fault injection (tactile_sim/sensor_faults.hpp): '' = none (default), stale (no frame in "
            "[fault_start, fault_start + fault_duration)), disconnect (the same, link_status Disconnected, then "
@@ -27,8 +29,8 @@ WtsSimComponent::WtsSimComponent(const std::string& name)
            "taxel instead of raw_frame), saturated (that acquisition at full scale on every taxel). Read by configure().");
   addProperty("fault_start", fault_start_).doc("TESTS ONLY: simulated time of the fault (s), >= 0.");
   addProperty("fault_duration", fault_duration_).doc("TESTS ONLY: window of stale and disconnect (s), in (0, 60].");
-  addAttribute("link_status", link_status_);
-  addAttribute("fault_seq", fault_seq_);
+  addAtomicAttribute(*provides(), "link_status", link_status_);
+  addAtomicAttribute(*provides(), "fault_seq", fault_seq_);
   addEventPort(forces_in_).doc("SIM ONLY: true taxel forces (N, {s} layout) from the simulated arm (LwrSimComponent).");
   addPort(raw_out_).doc("Raw WTS frame (12-bit counts, {s} layout), stamped with RTT's TimeService (s): the port "
                         "of tactile::WtsComponent.");
@@ -74,29 +76,27 @@ bool WtsSimComponent::configureHook() {
 bool WtsSimComponent::startHook() {
   response_.reseed(response_.params().seed);
   seq_ = 0;
-  frames_ = 0;
+  record(frames_, 0);
   faults_.reset();
-  fault_seq_ = -1;
+  record(fault_seq_, -1);
   withheld_ = false;
-  link_status_ = static_cast<int>(faults_.link());
-  link_shadow_.store(link_status_);
+  record(link_status_, static_cast<int>(faults_.link()));
   return true;
 }
 
 bool WtsSimComponent::applyFault() {
   const sim::FaultAction a = faults_.action(raw_.time_s);
-  link_status_ = static_cast<int>(faults_.link());
-  link_shadow_.store(link_status_);
+  record(link_status_, static_cast<int>(faults_.link()));
   if (a == sim::FaultAction::Withhold) {
     withheld_ = true;
     return false;
   }
   if (withheld_) {  // the first frame after the window
     withheld_ = false;
-    fault_seq_ = static_cast<int>(seq_);
+    record(fault_seq_, static_cast<int>(seq_));
   }
   if (a == sim::FaultAction::Saturate) sim::saturateFrame(raw_, full_scale_);
-  if (a == sim::FaultAction::Saturate || a == sim::FaultAction::NanFrame) fault_seq_ = static_cast<int>(seq_);
+  if (a == sim::FaultAction::Saturate || a == sim::FaultAction::NanFrame) record(fault_seq_, static_cast<int>(seq_));
   return true;
 }
 
@@ -110,8 +110,8 @@ void WtsSimComponent::updateHook() {
   if (faults_.kind() != sim::SensorFault::None && !applyFault()) return;  // tests only (fault)
   raw_.seq = seq_++;
   raw_.device_time_ms = static_cast<uint32_t>(std::llround(raw_.time_s * 1000.0));
-  ++frames_;
-  if (faults_.kind() == sim::SensorFault::Nan && fault_seq_ == static_cast<int>(raw_.seq)) {
+  bump(frames_);
+  if (faults_.kind() == sim::SensorFault::Nan && fault_seq_.load() == static_cast<int>(raw_.seq)) {
     sim::nanFrame(forces_, raw_.time_s, raw_.seq, nan_frame_);  // instead of the counts
     fault_frame_out_.write(nan_frame_);
     return;

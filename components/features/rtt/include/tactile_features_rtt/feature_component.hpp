@@ -58,8 +58,9 @@ class FeatureComponent : public RTT::TaskContext {
   // properties / attributes
   std::string param_file_;
   std::string last_error_;
-  int last_status_ = static_cast<int>(FeatureStatus::NotConfigured);
-  int frames_ = 0;
+  // Written by the activity, read by any thread (atomic_attribute.hpp).
+  std::atomic<int> last_status_{static_cast<int>(FeatureStatus::NotConfigured)};
+  std::atomic<int> frames_{0};
 
   // ports
   RTT::InputPort<RawTactileFrame> raw_in_;

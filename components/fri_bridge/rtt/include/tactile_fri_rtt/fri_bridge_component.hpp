@@ -84,18 +84,18 @@ class FriBridgeComponent : public RTT::TaskContext {
   int port_ = -1;
   double receive_timeout_ = 0.1;
   std::string last_error_;
-  int local_port_ = 0;
-  int bridge_status_ = static_cast<int>(fri::BridgeStatus::NotConfigured);
-  std::atomic<int> status_shadow_{static_cast<int>(fri::BridgeStatus::NotConfigured)};
-  int fri_state_ = 0, fri_quality_ = 0;
-  bool krc_silent_ = false;
-  bool fd_activity_attr_ = false;
-  std::atomic<bool> silent_shadow_{false};
+  // The component's record, written by the activity and read by any thread
+  // (attributes over atomics: tactile_types_rtt/atomic_attribute.hpp).
+  std::atomic<int> local_port_{0};
+  std::atomic<int> bridge_status_{static_cast<int>(fri::BridgeStatus::NotConfigured)};
+  std::atomic<int> fri_state_{0}, fri_quality_{0};
+  std::atomic<bool> krc_silent_{false};
+  std::atomic<bool> fd_activity_attr_{false};
   RTT::extras::FileDescriptorActivityInterface* fd_activity_ = nullptr;  // set by startHook while running
   int watched_fd_ = -1;
   double silence_since_s_ = 0.0;  // polled mode: last datagram or timeout (TimeService s)
   int max_per_cycle_ = 1;         // polled mode: datagrams per cycle (SlaveActivity 1, periodic 8)
-  int received_ = 0, replies_ = 0, lost_ = 0, timeouts_ = 0, socket_errors_ = 0;
+  std::atomic<int> received_{0}, replies_{0}, lost_{0}, timeouts_{0}, socket_errors_{0};
 
   // ports
   RTT::InputPort<PoseCommand> command_in_;

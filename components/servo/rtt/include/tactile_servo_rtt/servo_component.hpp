@@ -70,7 +70,7 @@ class ServoComponent : public RTT::TaskContext {
   std::string mode_in_use_;
   double period_ = 0.0;
   std::string last_error_;
-  int last_status_ = static_cast<int>(ServoStatus::NotConfigured);
+  std::atomic<int> last_status_{static_cast<int>(ServoStatus::NotConfigured)};  // read by any thread
   std::vector<double> integral_ = std::vector<double>(6, 0.0);  // sized once: updated in place, no allocation
 
   RTT::InputPort<ContactFeatures> features_in_;

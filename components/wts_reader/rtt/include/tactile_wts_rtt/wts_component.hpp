@@ -67,11 +67,12 @@ class WtsComponent : public RTT::TaskContext {
   std::string device_;
   double poll_timeout_ = 0.05;
   std::string last_error_;
-  int read_status_ = static_cast<int>(wts::ReadStatus::NotConfigured);
-  std::atomic<int> status_shadow_{static_cast<int>(wts::ReadStatus::NotConfigured)};
-  int frames_ = 0;
-  int timeouts_ = 0;
-  bool fd_activity_attr_ = false;
+  // The component's record, written by the activity and read by any thread
+  // (attributes over atomics: tactile_types_rtt/atomic_attribute.hpp).
+  std::atomic<int> read_status_{static_cast<int>(wts::ReadStatus::NotConfigured)};
+  std::atomic<int> frames_{0};
+  std::atomic<int> timeouts_{0};
+  std::atomic<bool> fd_activity_attr_{false};
   RTT::extras::FileDescriptorActivityInterface* fd_activity_ = nullptr;  // set by startHook while running
   int watched_fd_ = -1;
 

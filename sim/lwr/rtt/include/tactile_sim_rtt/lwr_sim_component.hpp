@@ -63,11 +63,11 @@ class LwrSimComponent : public RTT::TaskContext {
 
   // properties / attributes
   std::string scene_file_;
-  double sim_period_ = 0.001;
-  double sim_time_ = 0.0;
-  int sim_status_ = static_cast<int>(sim::SimStatus::NotConfigured);
-  std::atomic<int> status_shadow_{static_cast<int>(sim::SimStatus::NotConfigured)};  // for statusName()
-  int frames_ = 0;
+  // The component's record, read by any thread (atomic_attribute.hpp).
+  std::atomic<double> sim_period_{0.001};
+  std::atomic<double> sim_time_{0.0};
+  std::atomic<int> sim_status_{static_cast<int>(sim::SimStatus::NotConfigured)};
+  std::atomic<int> frames_{0};
   std::string last_error_;
 
   // ports

@@ -38,6 +38,7 @@
 #include <rtt/TaskContext.hpp>
 #include <rtt/internal/DataSource.hpp>
 
+#include <atomic>
 #include <string>
 
 #include "tactile_sim/loop.hpp"
@@ -64,11 +65,16 @@ class SimClock : public RTT::TaskContext {
   double realtime_factor_ = 0.0;
   std::string robot_name_ = "Robot", sensor_name_ = "Sensor", features_name_ = "Features", servo_name_ = "Servo";
   std::string reporter_name_;
-  double sim_time_ = 0.0;
-  int ticks_ = 0;
-  bool finished_ = false;
+  // The run's record, read by any thread (atomic_attribute.hpp). `status_`
+  // is written by startHook() (before the activity runs) and by finish()
+  // before `finished_` is stored (release): a reader that saw `finished`
+  // true (acquire) reads the final status; the deployment scripts read it
+  // only then.
+  std::atomic<double> sim_time_{0.0};
+  std::atomic<int> ticks_{0};
+  std::atomic<bool> finished_{false};
   std::string status_ = "running";
-  int exit_code_ = 0;
+  std::atomic<int> exit_code_{0};
   std::string last_error_;
 
   sim::Schedule schedule_;

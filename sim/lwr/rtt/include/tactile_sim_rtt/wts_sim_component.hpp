@@ -54,7 +54,7 @@ class WtsSimComponent : public RTT::TaskContext {
   void updateHook() override;
 
   std::string lastError() const { return last_error_; }
-  std::string statusName() const { return sim::toString(static_cast<sim::SensorLink>(link_shadow_.load())); }
+  std::string statusName() const { return sim::toString(static_cast<sim::SensorLink>(link_status_.load())); }
 
  private:
   /// Applies the fault schedule to the frame in raw_; false: withheld.
@@ -64,12 +64,11 @@ class WtsSimComponent : public RTT::TaskContext {
   std::string fault_;
   double fault_start_ = 0.0;
   double fault_duration_ = 0.0;
-  int link_status_ = 0;
-  std::atomic<int> link_shadow_{0};  // for statusName()
-  int fault_seq_ = -1;
+  std::atomic<int> link_status_{0};  // the record, read by any thread (atomic_attribute.hpp)
+  std::atomic<int> fault_seq_{-1};
   bool withheld_ = false;
   std::string last_error_;
-  int frames_ = 0;
+  std::atomic<int> frames_{0};
 
   RTT::InputPort<TactileFrame> forces_in_;
   RTT::OutputPort<RawTactileFrame> raw_out_;
