@@ -55,6 +55,19 @@ TEST(Watchdogs, ArmThatDoesNotMoveEndsWithArmStalled) {
   EXPECT_EQ(run(off).status, "ok");  // without the watchdog: `ok`, the arm never having moved
 }
 
+// The closed-contour program's wider stall test (2 s, 10 mm: the first touch
+// below the firing threshold and pad friction at the start of the slide lead
+// the arm by several mm) still catches an arm that does not move, within 4 s.
+TEST(Watchdogs, ClosedContourProgramStillCatchesAFrozenArm) {
+  Scene sc = load("ring.yaml", {"fidelity=dynamics", "arm.k_trans=1", "arm.k_rot=1"});
+  EXPECT_DOUBLE_EQ(sc.servo.watchdogs.stall_window_s, 2.0);
+  EXPECT_DOUBLE_EQ(sc.servo.watchdogs.stall_min_distance, 0.01);
+  const Summary s = run(sc);
+  EXPECT_EQ(s.status, "servo_arm_stalled");
+  EXPECT_EQ(s.exit_code, 6);
+  EXPECT_LT(s.sim_time_s, 4.0);
+}
+
 // A phase that never ends: the edge-exploration program with its free-motion
 // phase limited to 1 s, started far above the bar: servo_phase_timeout, exit 5.
 TEST(Watchdogs, PhaseThatNeverEndsEndsWithPhaseTimeout) {
