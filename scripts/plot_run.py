@@ -102,8 +102,11 @@ def fig10(run, ts, summary):
     a.set_title("(a) position: solid actual, dashed set point", fontsize=9)
     a.legend(fontsize=7)
     a = ax[0, 1]
-    a.plot(t, ts["force"], "r", label="f")
+    a.plot(t, ts["force"], "r", label="f (taxels, Eq. 2)")
     a.plot(t, ts["sd_force"], "r--", label="f desired")
+    if np.any(np.isfinite(ts["force_true"])):  # the shipped programs regulate f + the wrench's correction
+        a.plot(t, ts["force_true"], "k", lw=0.8, label="f true (Nano17)")
+    a.legend(fontsize=7, loc="lower right")
     a2 = a.twinx()
     a2.plot(t, ts["cop_y"] * 1e3, "b", label="CoP_y")
     a2.plot(t, ts["sd_cop_y"] * 1e3, "b--", lw=0.8)
