@@ -28,6 +28,17 @@ Summary runScene(const std::string& name, const std::vector<std::string>& overri
   return test::run(sc);
 }
 
+// Runs `sc` at `seed` and expects status ok with every criterion of the
+// scene met (metrics.criteria).
+Summary expectCriteriaMet(Scene sc, int seed, const std::string& name) {
+  sc.seed = static_cast<uint64_t>(seed);
+  const Summary s = test::run(sc);
+  EXPECT_EQ(s.status, "ok") << name << " seed " << seed;
+  EXPECT_TRUE(s.criteria_failed.empty())
+      << name << " seed " << seed << ": " << (s.criteria_failed.empty() ? "" : s.criteria_failed[0]);
+  return s;
+}
+
 }  // namespace
 
 TEST(ExperimentsWithPhysicsEffects, EdgeExploration) {
@@ -97,13 +108,9 @@ TEST(ExperimentsWithRealisticDelays, ShippedScenesPassTheirCriteria) {
   for (const char* name : {"edge_exploration.yaml", "bent_bar.yaml", "sphere_table.yaml", "partial_edge.yaml",
                            "short_bar.yaml", "off_centre_load.yaml", "co_manipulation.yaml"}) {
     for (int seed = 1; seed <= 2; ++seed) {
-      Scene sc = test::loadShipped(name, delays);
+      const Scene sc = test::loadShipped(name, delays);
       EXPECT_DOUBLE_EQ(sc.sensor_effects.wts_transfer_delay_s, 0.0157);
-      sc.seed = static_cast<uint64_t>(seed);
-      const Summary s = test::run(sc);
-      EXPECT_EQ(s.status, "ok") << name << " seed " << seed;
-      EXPECT_TRUE(s.criteria_failed.empty())
-          << name << " seed " << seed << ": " << (s.criteria_failed.empty() ? "" : s.criteria_failed[0]);
+      const Summary s = expectCriteriaMet(sc, seed, name);
       if (std::string(name) == "edge_exploration.yaml") {
         EXPECT_LT(s.alignment_time_s, 5.0) << "seed " << seed;
       }
@@ -136,14 +143,10 @@ TEST(ExperimentsWithEveryEffect, ShippedScenesPassTheirCriteria) {
     std::vector<std::string> overrides = {all};
     if (std::string(name) == "co_manipulation.yaml") overrides.push_back("objects.0.fidelity=dynamics");
     for (int seed = 1; seed <= 2; ++seed) {
-      Scene sc = test::loadShipped(name, overrides);
+      const Scene sc = test::loadShipped(name, overrides);
       EXPECT_DOUBLE_EQ(sc.sensor_effects.crosstalk, 0.05);
       EXPECT_DOUBLE_EQ(sc.world.friction_mu, 0.5);
-      sc.seed = static_cast<uint64_t>(seed);
-      const Summary s = test::run(sc);
-      EXPECT_EQ(s.status, "ok") << name << " seed " << seed;
-      EXPECT_TRUE(s.criteria_failed.empty())
-          << name << " seed " << seed << ": " << (s.criteria_failed.empty() ? "" : s.criteria_failed[0]);
+      expectCriteriaMet(sc, seed, name);
     }
   }
   Scene paper = test::loadPaper("off_centre_load.yaml", {all});
