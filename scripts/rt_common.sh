@@ -5,7 +5,7 @@
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${BUILD:-$root/build}"
 orocos="${OROCOS:-/opt/orocos}"
-deployer="$orocos/bin/deployer-gnulinux"
+deployer="${DEPLOYER:-$orocos/bin/deployer-gnulinux}"  # scripts/sanitize.sh: its wrapper
 
 # The deployer and the two simulated peers must be built.
 rt_check_tools() {

@@ -22,7 +22,9 @@
 # (the runner's own rows and metrics; the reporter keeps 6 significant
 # digits). One run at a time (the report file and deployments/orocos.log are
 # per directory). A robot run's table is converted by scripts/deployment_to_run.py.
-# Environment: BUILD (default <repo>/build), OROCOS (default /opt/orocos).
+# Environment: BUILD (default <repo>/build), OROCOS (default /opt/orocos),
+# DEPLOYER (default $OROCOS/bin/deployer-gnulinux; scripts/sanitize.sh sets its
+# wrapper), DEPLOY_OUT (default <repo>/out/deploy; the ctests use the build tree).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${BUILD:-$root/build}"
@@ -56,10 +58,10 @@ case "$controller" in
   *) usage ;;
 esac
 
-deployer="$orocos/bin/deployer-gnulinux"
+deployer="${DEPLOYER:-$orocos/bin/deployer-gnulinux}"
 [ -x "$deployer" ] || { echo "$0: no OCL deployer at $deployer" >&2; exit 1; }
 [ -d "$build/lib/orocos" ] || { echo "$0: no RTT components in $build/lib/orocos (build with -DTACTILE_WITH_RTT=ON)" >&2; exit 1; }
-out="$root/out/deploy/$run"
+out="${DEPLOY_OUT:-$root/out/deploy}/$run"
 mkdir -p "$out"
 dep="$root/deployments"
 report="$dep/${run}_sim.dat"

@@ -9,8 +9,8 @@ src="$1"; build="$2"; exp="$3"; controller="$4"
 run="$exp"; [ "$controller" = proposed ] || run="${exp}_${controller}"
 headless="$build/deploy_test/$run"
 rm -rf "$headless"; mkdir -p "$headless"
-BUILD="$build" bash "$src/scripts/run_deployment.sh" "$exp" --controller "$controller"
+BUILD="$build" DEPLOY_OUT="$build/deploy_out" bash "$src/scripts/run_deployment.sh" "$exp" --controller "$controller"
 rc=$?
 [ "$rc" -eq 0 ] || { echo "run_deployment.sh exit $rc"; exit 1; }
 "$build/bin/tactile_sim" run "$src/sim/scenes/$exp.yaml" --controller "$controller" --out "$headless" --no-plots
-/usr/bin/python3 "$src/tests/deploy/check_deployment.py" "$exp" "$controller" "$src/out/deploy/$run" "$headless"
+/usr/bin/python3 "$src/tests/deploy/check_deployment.py" "$exp" "$controller" "$build/deploy_out/$run" "$headless"

@@ -39,7 +39,7 @@ report="$out/deployments/robot_ros_param_${exp}.dat"
 rm -f "$report"
 rosparam set /Guard/report_file "$report" || { echo "run_robot_ros_test: rosparam set failed"; exit 1; }
 cd "$out/deployments" || exit 1
-"$orocos/bin/deployer-gnulinux" --check -linfo -s robot_ros_test.ops < /dev/null > "$out/deployer.log" 2>&1 &
+"${DEPLOYER:-$orocos/bin/deployer-gnulinux}" --check -linfo -s robot_ros_test.ops < /dev/null > "$out/deployer.log" 2>&1 &
 dep=$!
 cd - > /dev/null || exit 1
 pids+=($dep)

@@ -41,7 +41,7 @@ if [ -n "$bag_out" ]; then
     sleep 0.1
   done
 fi
-(cd "$src/deployments" && "$orocos/bin/deployer-gnulinux" --check -lwarning -s "$src/tests/ros/ops/edge_exploration_ros.ops" \
+(cd "$src/deployments" && "${DEPLOYER:-$orocos/bin/deployer-gnulinux}" --check -lwarning -s "$src/tests/ros/ops/edge_exploration_ros.ops" \
    < /dev/null > "$tmp/deployer.log" 2>&1)
 rc=$?
 touch "$done_file"

@@ -24,6 +24,13 @@
 
 namespace {
 
+// A bag that a decomposition filled: RTT leaves deleting its properties to the
+// bag's user (found by the whole-suite ASan run: LeakSanitizer).
+struct OwnedBag {
+  RTT::PropertyBag bag;
+  ~OwnedBag() { RTT::deletePropertyBag(bag); }
+};
+
 using RTT::internal::AssignableDataSource;
 using RTT::internal::DataSource;
 using RTT::internal::ValueDataSource;
@@ -190,7 +197,8 @@ TEST(RttTypekit, DecompositionRoundTripsFieldValues) {
   in.status = tactile::FeatureStatus::Saturated;
   in.alpha_defined = true;
   RTT::Property<tactile::ContactFeatures> prop("f", "", in);
-  RTT::PropertyBag bag;
+  OwnedBag owned;
+  RTT::PropertyBag& bag = owned.bag;
   ASSERT_TRUE(RTT::types::propertyDecomposition(&prop, bag));
   ASSERT_EQ(bag.size(), 18u);
   RTT::Property<bool> alpha_defined = bag.getProperty("alpha_defined");
@@ -264,7 +272,8 @@ TEST(RttTypekit, DecomposedEnumNamesFollowTheData) {
   src->set().contact = tactile::ContactType::Point;
   EXPECT_EQ(name->rvalue(), "point");
   // The same through a whole-struct decomposition (the reporter's path).
-  RTT::PropertyBag bag;
+  OwnedBag owned;
+  RTT::PropertyBag& bag = owned.bag;
   ASSERT_TRUE(RTT::types::typeDecomposition(src, bag, true));
   RTT::Property<std::string> status = bag.getProperty("status");
   ASSERT_TRUE(status.ready());
@@ -281,7 +290,8 @@ TEST(RttTypekit, PoseAndPhaseStateRoundTrip) {
   std::strncpy(ph.name.data(), "align", ph.name.size() - 1);
   ph.status = tactile::ServoStatus::Ok;
   RTT::Property<tactile::PhaseState> prop("phase", "", ph);
-  RTT::PropertyBag bag;
+  OwnedBag owned;
+  RTT::PropertyBag& bag = owned.bag;
   ASSERT_TRUE(RTT::types::propertyDecomposition(&prop, bag));
   RTT::Property<double>(bag.getProperty("t_enter_s")).set(3.75);
   ValueDataSource<tactile::PhaseState>::shared_ptr out = new ValueDataSource<tactile::PhaseState>();
@@ -296,7 +306,8 @@ TEST(RttTypekit, PoseAndPhaseStateRoundTrip) {
   pose.p = {0.4, 0.5, 0.6};
   pose.q = {0.1, 0.2, 0.3, 0.927361849549570};
   RTT::Property<tactile::Pose> pp("pose", "", pose);
-  RTT::PropertyBag pbag;
+  OwnedBag powned;
+  RTT::PropertyBag& pbag = powned.bag;
   ASSERT_TRUE(RTT::types::propertyDecomposition(&pp, pbag));
   ValueDataSource<tactile::Pose>::shared_ptr pout = new ValueDataSource<tactile::Pose>();
   ASSERT_TRUE(type("/tactile/Pose")->composeType(new ValueDataSource<RTT::PropertyBag>(pbag), pout));

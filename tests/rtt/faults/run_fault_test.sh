@@ -6,7 +6,8 @@
 #   run_fault_test.sh SOURCE_DIR BUILD_DIR NAME     NAME: none|contact_lost|stale|disconnect|nan|saturated
 # The deployer runs tests/rtt/faults/fault_<name>.ops from deployments/ (its
 # own checks: the steps, the end status); its report file is moved to
-# BUILD_DIR/fault_test/<name>/. Environment: OROCOS (default /opt/orocos).
+# BUILD_DIR/fault_test/<name>/. Environment: OROCOS (default /opt/orocos),
+# DEPLOYER (default $OROCOS/bin/deployer-gnulinux; the sanitizer builds: their wrapper).
 set -uo pipefail
 src="$1"; build="$2"; name="$3"
 orocos="${OROCOS:-/opt/orocos}"
@@ -15,7 +16,7 @@ rm -rf "$out"; mkdir -p "$out"
 dep="$src/deployments"
 rm -f "$dep/fault_$name.dat"
 (cd "$dep" && RTT_COMPONENT_PATH="$build/lib/orocos:$orocos/lib/orocos" \
-   "$orocos/bin/deployer-gnulinux" --check -lwarning -s "../tests/rtt/faults/fault_$name.ops" < /dev/null) \
+   "${DEPLOYER:-$orocos/bin/deployer-gnulinux}" --check -lwarning -s "../tests/rtt/faults/fault_$name.ops" < /dev/null) \
    > "$out/deployer.log" 2>&1
 rc=$?
 grep -E "^\[(PASS|FAIL)\]|ops checks|deployment step failed|\[BentBarExperiment\] finished" "$out/deployer.log"

@@ -52,6 +52,11 @@ ServoComponent::ServoComponent(const std::string& name)
       .doc("Message of the last failed configure().");
 }
 
+ServoComponent::~ServoComponent() {
+  stop();
+  provides()->removeService("scripting");  // its state machines, while the component is whole
+}
+
 bool ServoComponent::configureHook() {
   ServoParams p;
   ConfigResult r = program_file_.empty()

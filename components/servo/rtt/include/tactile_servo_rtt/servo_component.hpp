@@ -52,6 +52,11 @@ namespace tactile {
 class ServoComponent : public RTT::TaskContext {
  public:
   explicit ServoComponent(const std::string& name);
+  /// Removes the scripting service first: the experiment's state machine
+  /// (.osd) runs in this component and calls its operations; RTT would
+  /// otherwise tear it down in ~TaskContext, after this part of the object
+  /// is gone (UBSan: a member call on a destroyed ServoComponent).
+  ~ServoComponent() override;
 
   bool configureHook() override;
   bool startHook() override;
