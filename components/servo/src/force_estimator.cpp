@@ -35,7 +35,6 @@ void ForceEstimator::reset() {
 
 double ForceEstimator::step(double f, bool contact, bool fresh, const KDL::Vector& F, const KDL::Vector& z_s,
                             double dt) {
-  if (!p_.fused) return f;  // the paper: Eq. 2's force; no tare (the watchdog reads the raw wrench)
   const bool usable = fresh && std::isfinite(F.x()) && std::isfinite(F.y()) && std::isfinite(F.z()) &&
                       std::isfinite(dt) && dt > 0.0;
   if (!contact) {
@@ -60,6 +59,9 @@ double ForceEstimator::step(double f, bool contact, bool fresh, const KDL::Vecto
     }
     return f;
   }
+  // Source tactile (the paper): Eq. 2's force; the tare above still gives the
+  // force-mismatch watchdog the wrench less its zero.
+  if (!p_.fused) return f;
   if (usable && std::isfinite(f)) {
     const double f_w = std::fabs(dot(F - tare_, z_s));
     const double a = 1.0 - std::exp(-dt / p_.tau_s);  // exact for held samples
