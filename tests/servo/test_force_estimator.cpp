@@ -45,6 +45,31 @@ TEST(ForceEstimator, TactileSourceIsEq2ForceAndTaresTheWrench) {
   EXPECT_EQ(e.correction(), 0.0);
 }
 
+// An offset within tare_max_n (5 N) is the zero; a larger one is a load (the
+// pad resting on something with no taxel firing) and is never tared, in
+// either source, so the force-mismatch watchdog's no-contact check sees it.
+TEST(ForceEstimator, ALoadLargerThanTareMaxIsNeverTheZero) {
+  for (bool fused : {false, true}) {
+    ForceEstimateParams p;
+    p.fused = fused;
+    ForceEstimator small, large;
+    ASSERT_TRUE(small.configure(p).ok());
+    ASSERT_TRUE(large.configure(p).ok());
+    freeMotion(small, KDL::Vector(0, 0, 4.9), 2.0, 0.01);
+    freeMotion(large, KDL::Vector(0, 0, 20.0), 2.0, 0.01);
+    EXPECT_TRUE(small.tared()) << fused;
+    EXPECT_NEAR(small.tare().z(), 4.9, 1e-9) << fused;
+    EXPECT_FALSE(large.tared()) << fused;
+    EXPECT_EQ(large.tare().Norm(), 0.0) << fused;
+  }
+  ForceEstimateParams bad;
+  bad.tare_max_n = 0.0;
+  ForceEstimator e;
+  const ConfigResult r = e.configure(bad);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("tare_max_n"), std::string::npos) << r.message();
+}
+
 TEST(ForceEstimator, CorrectionIsTheHiddenForceWithTimeConstantTauAtEveryRate) {
   // Tactile 4 N, wrench 1 N bias (tared in free motion) + 5 N contact: 1 N is
   // below the threshold. c(t) = 1 - exp(-t / tau) for held samples, at any dt.

@@ -17,6 +17,7 @@ ConfigResult ForceEstimator::configure(const ForceEstimateParams& p, const char*
     return rangeError(w + "max_correction_n", p.max_correction_n, "must be in (0, 50] N");
   if (!inRange(p.tare_tau_s, 100.0)) return rangeError(w + "tare_tau_s", p.tare_tau_s, "must be in (0, 100] s");
   if (!inRange(p.tare_gate_n, 50.0)) return rangeError(w + "tare_gate_n", p.tare_gate_n, "must be in (0, 50] N");
+  if (!inRange(p.tare_max_n, 50.0)) return rangeError(w + "tare_max_n", p.tare_max_n, "must be in (0, 50] N");
   if (!inRange(p.tare_hold_s, 10.0)) return rangeError(w + "tare_hold_s", p.tare_hold_s, "must be in (0, 10] s");
   p_ = p;
   reset();
@@ -48,7 +49,9 @@ double ForceEstimator::step(double f, bool contact, bool fresh, const KDL::Vecto
         // T takes the previous snapshot (samples at least tare_hold_s old)
         // unless the wrench moved along z_s by more than tare_gate_n since
         // then: a load building up.
-        if (n_snap_ > 0 && std::fabs(dot(lp_ - snap_, z_s)) <= p_.tare_gate_n) {
+        // An offset larger than tare_max_n is a load, not a zero: never tared
+        // (the watchdog's no-contact check must still see it).
+        if (n_snap_ > 0 && std::fabs(dot(lp_ - snap_, z_s)) <= p_.tare_gate_n && snap_.Norm() <= p_.tare_max_n) {
           tare_ = snap_;
           tared_ = true;
         }

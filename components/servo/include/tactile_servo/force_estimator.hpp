@@ -25,7 +25,11 @@
 //                        (below the firing threshold) moves F_lp along z_s and
 //                        holds T instead of being taken for the zero (a load
 //                        that then stays below the threshold, unchanged, for
-//                        two tare_hold_s is taken for it). T = 0 until the
+//                        two tare_hold_s is taken for it), unless |F_lp| >
+//                        tare_max_n: a larger offset is a load, never the
+//                        zero (the estimate's offset is a few N; a load on the
+//                        housing with no taxel firing must still reach the
+//                        force-mismatch watchdog). T = 0 until the
 //                        first tare (tared()).
 //   tactile contact:     f_w = |(F - T) . z_s|
 //                        c   <- c + a_c (f_w - f - c),  a_c = 1 - exp(-dt / tau_s),
@@ -56,6 +60,7 @@ struct ForceEstimateParams {
   double max_correction_n = 2.0;   ///< N, (0, 50]: |c| limit
   double tare_tau_s = 0.5;         ///< s, (0, 100]: time constant of the wrench's zero without contact
   double tare_gate_n = 0.3;        ///< N, (0, 50]: largest step of the tare along z_s (a load building up: held)
+  double tare_max_n = 5.0;         ///< N, (0, 50]: largest offset taken for the zero (|T|; a larger one is a load)
   double tare_hold_s = 0.2;        ///< s, (0, 10]: age of the samples the tare is taken from
 };
 
