@@ -124,8 +124,18 @@ namespace {
 // Row kernels of lowestZRow(): candidate heights of one primitive over m
 // columns (+inf where it misses), branch-free so that they vectorise. On
 // x86-64 they are also compiled for AVX2 and picked at load time (ifunc);
-// no FMA in either clone, so both round exactly like lowestZ().
-#if defined(__x86_64__) && (defined(__clang__) ? __clang_major__ >= 14 : defined(__GNUC__))
+// no FMA in either clone, so both round exactly like lowestZ(). Not under
+// ThreadSanitizer: the ifunc resolver runs while the loader relocates, before
+// the TSan runtime is up, and the instrumented resolver crashes there (every
+// binary linking the simulator segfaulted before main; scripts/sanitize.sh).
+#if defined(__SANITIZE_THREAD__)
+#define TACTILE_NO_IFUNC 1
+#elif defined(__has_feature)
+#if __has_feature(thread_sanitizer)
+#define TACTILE_NO_IFUNC 1
+#endif
+#endif
+#if defined(__x86_64__) && !defined(TACTILE_NO_IFUNC) && (defined(__clang__) ? __clang_major__ >= 14 : defined(__GNUC__))
 #define TACTILE_ROW_KERNEL __attribute__((target_clones("avx2", "default")))
 #else
 #define TACTILE_ROW_KERNEL
