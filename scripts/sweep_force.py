@@ -13,8 +13,8 @@ seed:
           the correction bounded at 4 N (the shipped edge_exploration.yaml and
           bent_bar.yaml bound it at 2.5 N: scripts/sweep_correction.py), the
           edge on a taxel row. The estimated wrench carries the *_fused
-          scene's error (a constant
-          offset, tared in free motion, and 0.5 N of noise per axis).
+          scene's error (a constant offset, tared in free motion, and
+          0.5 N of noise per axis).
 Geometries (scene overrides only; a scene still names just its bar):
   straight bar (edge exploration, pad friction 0.5): edge radius 2, 3, 5, 8 mm;
       yaw offset of the bar in the sensor plane 10 (shipped), 20, 30 deg;

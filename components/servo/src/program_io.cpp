@@ -392,8 +392,8 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
       else return fail(w.child("source"), "'" + src + "': must be tactile (Eq. 2, the paper) or fused (with the arm's wrench)");
     }
     for (auto rr : {read(fe, "tau_s", fp.tau_s, w), read(fe, "max_correction_n", fp.max_correction_n, w),
-                    read(fe, "tare_tau_s", fp.tare_tau_s, w), read(fe, "tare_gate_n", fp.tare_gate_n, w), read(fe, "tare_max_n", fp.tare_max_n, w),
-                    read(fe, "tare_hold_s", fp.tare_hold_s, w)})
+                    read(fe, "tare_tau_s", fp.tare_tau_s, w), read(fe, "tare_gate_n", fp.tare_gate_n, w),
+                    read(fe, "tare_hold_s", fp.tare_hold_s, w), read(fe, "tare_max_n", fp.tare_max_n, w)})
       if (!rr) return rr;
     ForceEstimator probe;
     if (!(r = probe.configure(fp, w.str().c_str()))) return r;

@@ -42,7 +42,8 @@
 // filters are exact for held samples: the same at every servo rate. The
 // force-mismatch watchdog reads F - T (tare()) against f_hat; with source
 // tactile f_hat = f and the wrench is tared all the same (an offset of the
-// arm's estimate is not a contradiction of the tactile force). The tare needs the pad free of load at the
+// arm's estimate is not a contradiction of the tactile force). The tare needs
+// the pad free of load at the
 // start, as any force-sensor tare: a load present from the first sample
 // (e.g. on the housing) would be taken for the zero.
 // Real-time: step() does not allocate, throw, log or block.
