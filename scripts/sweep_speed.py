@@ -12,9 +12,9 @@ the bent bar (sim/scenes/bent_bar_fused.yaml: the bent bar, started 10 mm
 higher, the arm's estimated wrench with its error) with four controllers:
   proposed, force estimate     bent_bar_fused.yaml (the tactile force corrected
                                by the arm's wrench, edge on a taxel row)
-  proposed, tactile force      bent_bar.yaml (the paper)
+  proposed, tactile force      bent_bar_tactile.yaml (the paper)
   Li et al. baseline, estimate bent_bar_fused.yaml, controller baseline
-  Li et al. baseline, tactile  bent_bar.yaml, controller baseline
+  Li et al. baseline, tactile  bent_bar_tactile.yaml, controller baseline
 Every variant ends at the bar's end cap (transition `point` for 0.2 s, as the
 edge exploration does). Reports, per run, the measured slide speed
 (summary.json slide_speed_mps), the true-force RMS error and maximum (scored
@@ -46,9 +46,9 @@ GAINS = [0.2, 0.4, 0.8, 1.2, 1.6, 2.0, 2.4, 3.0, 4.0]  # 1/s: 5 .. 100 mm/s comm
 LIMIT = 0.08  # m/s
 END_MM = 10.0  # "to the end of the bar": the last contact within 10 mm of its end vertex (the end cap's radius + 5 mm)
 SERIES = [("proposed, force estimate", "bent_bar_fused", "proposed"),
-          ("proposed, tactile force", "bent_bar", "proposed"),
+          ("proposed, tactile force", "bent_bar_tactile", "proposed"),
           ("Li et al. baseline, force estimate", "bent_bar_fused", "baseline"),
-          ("Li et al. baseline, tactile force", "bent_bar", "baseline")]
+          ("Li et al. baseline, tactile force", "bent_bar_tactile", "baseline")]
 END_CAP = {"on": "point", "to": "done", "for_s": 0.2}
 
 

@@ -550,12 +550,13 @@ TEST(Experiments, ForceEstimatePutsTheTrueForceOnTarget) {
   EXPECT_GT(t.force_true_mean_n, 5.4);
 
   // The edge exploration (pad friction 0.5: stick-slip) meets the RMS target;
-  // within +-0.5 N it stays 0.86-0.98 of the sliding time over seeds 1-5 (the
-  // 95 % target is not met: README), against 0.16 for the tactile-only program.
+  // within +-0.5 N it stays 0.92-0.99 of the sliding time over seeds 1-5 (mean
+  // 0.97; seed 2, a run of short contact losses, 0.92: README), against 0.16
+  // for the tactile-only program. With the correction's former 0.3 s: 0.86-0.98.
   const RunResult e = runScene("edge_exploration_fused.yaml");
   EXPECT_EQ(e.summary.status, "ok");
   EXPECT_LE(e.summary.force_true_rms_error_n, 0.4);
-  EXPECT_GE(e.summary.force_true_in_band_fraction, 0.85);
+  EXPECT_GE(e.summary.force_true_in_band_fraction, 0.95);  // seed 1 (the test's): 0.98
   EXPECT_LT(e.summary.alignment_time_s, 5.0);
   EXPECT_GE(e.summary.path_length_m, 0.15);
   Scene se = test::loadShipped("edge_exploration_fused.yaml",
@@ -572,7 +573,8 @@ TEST(Experiments, ForceEstimatePutsTheTrueForceOnTarget) {
 // puts the true force nearer still but thins the image out: the reconstructed
 // contact point wanders from the true pressure centre (README, "The force
 // estimate's bound"; measured seed 1: paper 0.80 N RMS / 0.67 mm mean CoP
-// error, 2.5 N 0.53 N / 1.77 mm, 4 N 0.35 N / 6.41 mm).
+// error, 2.5 N 0.53 N / 1.77 mm, 4 N 0.26 N / 3.25 mm; 4 N with the former
+// 0.3 s correction: 0.35 N / 6.41 mm).
 double meanCopErrorWhileSliding(const RunResult& r) {
   const double t4 = tEnter(r, "explore");
   double sum = 0;
@@ -604,10 +606,10 @@ TEST(ShippedPrograms, ForceEstimateBoundKeepsTheImage) {
   EXPECT_LT(wide.summary.force_true_rms_error_n, shipped.summary.force_true_rms_error_n);
   // The image: the contact point within 2.5 mm of the true pressure centre on
   // average with the 2.5 N bound (the paper's: 0.7 mm); with 4 N it is more
-  // than twice as far off.
+  // than 1.5 times as far off (measured 1.84).
   const double e_paper = meanCopErrorWhileSliding(paper), e_shipped = meanCopErrorWhileSliding(shipped),
                e_wide = meanCopErrorWhileSliding(wide);
   EXPECT_LT(e_paper, 0.001);
   EXPECT_LT(e_shipped, 0.0025);
-  EXPECT_GT(e_wide, 2.0 * e_shipped);
+  EXPECT_GT(e_wide, 1.5 * e_shipped);
 }
