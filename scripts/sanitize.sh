@@ -88,6 +88,7 @@ EOF
   fi
   t_build=$((SECONDS - t0))
   t0=$SECONDS
+  touch "$build/sanitize_ctest.start"  # the logs written by this ctest run are newer
   (
     cd "$build" || exit 1
     # (options above) halt_on_error / exitcode: a report fails the test that produced it.
@@ -99,9 +100,18 @@ EOF
   summary=$(grep -E "tests passed|tests failed out of" "$build/sanitize_ctest.log" | tail -1)
   echo "sanitize.sh[$m]: build ${t_build} s, ctest ${t_test} s: ${summary:-no summary} (log: $build/sanitize_ctest.log)"
   grep -E "^\s+[0-9]+ - .*\(Failed|Timeout|SEGFAULT|Subprocess" "$build/sanitize_ctest.log" || true
-  local n
-  n=$(grep -cE "ERROR: (AddressSanitizer|LeakSanitizer)|runtime error:|WARNING: ThreadSanitizer" "$build/sanitize_ctest.log")
-  echo "sanitize.sh[$m]: sanitizer reports in the test output: $n"
+  # The reports: in the test output, and in the logs the deployer tests write
+  # into the build tree (run_deployment.sh's deployer.log etc.; their tests
+  # fail on the exit code and print the log's path, not the reports).
+  local n logs
+  mapfile -t logs < <(find "$build" -name '*.log' -newer "$build/sanitize_ctest.start" \
+                        ! -name 'sanitize_*.log' ! -path '*/Testing/*' 2>/dev/null)
+  n=$(cat "$build/sanitize_ctest.log" "${logs[@]}" |
+      grep -cE "ERROR: (AddressSanitizer|LeakSanitizer)|runtime error:|WARNING: ThreadSanitizer")
+  echo "sanitize.sh[$m]: sanitizer reports: $n (the test output and ${#logs[@]} logs of the deployer tests)"
+  for f in "${logs[@]}"; do
+    grep -qE "ERROR: (AddressSanitizer|LeakSanitizer)|runtime error:|WARNING: ThreadSanitizer" "$f" && echo "  reports in $f"
+  done
   return $rc
 }
 

@@ -34,13 +34,14 @@
 #include <tf2_ros/transform_broadcaster.h>
 
 #include "tactile_ros/conversions.hpp"
+#include "tactile_types_rtt/component.hpp"
 
 namespace tactile_ros {
 
-class RosAdapter : public RTT::TaskContext {
+class RosAdapter : public tactile::Component {
  public:
   explicit RosAdapter(const std::string& name)
-      : RTT::TaskContext(name, PreOperational),
+      : tactile::Component(name, PreOperational),
         frame_in_("calibrated_frame"),
         features_in_("features"),
         flange_in_("flange_pose"),
@@ -118,6 +119,7 @@ class RosAdapter : public RTT::TaskContext {
   }
 
   void updateHook() override {
+    const HookScope hook(*this);  // tactile_types_rtt/component.hpp
     while (frame_in_.read(frame_, false) == RTT::NewData) {
       if (!stamp(frame_.time_s)) continue;
       if (toImage(frame_, stamp_, sensor_frame_, image_)) image_out_.write(image_);

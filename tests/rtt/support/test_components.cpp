@@ -46,13 +46,14 @@
 #include "tactile_features/params_io.hpp"
 #include "tactile_sim/elastic_pad.hpp"
 #include "tactile_types/types.hpp"
+#include "tactile_types_rtt/component.hpp"
 
 namespace tactile {
 
-class SyntheticTouch : public RTT::TaskContext {
+class SyntheticTouch : public Component {
  public:
   explicit SyntheticTouch(const std::string& name)
-      : RTT::TaskContext(name, PreOperational), raw_out_("raw_frame"), frame_out_("frame") {
+      : Component(name, PreOperational), raw_out_("raw_frame"), frame_out_("frame") {
     addProperty("rows", rows_).doc("Taxel rows (6 for the WTS0614).");
     addProperty("cols", cols_).doc("Taxel columns (14 for the WTS0614).");
     addProperty("pitch", pitch_).doc("Taxel pitch (m).");
@@ -97,6 +98,7 @@ class SyntheticTouch : public RTT::TaskContext {
   }
 
   void updateHook() override {
+    const HookScope hook(*this);  // component.hpp
     sim::PadGeometry g;
     g.rows = rows_;
     g.cols = cols_;
@@ -144,10 +146,10 @@ class SyntheticTouch : public RTT::TaskContext {
   TactileFrame frame_;
 };
 
-class IdealRobot : public RTT::TaskContext {
+class IdealRobot : public Component {
  public:
   explicit IdealRobot(const std::string& name)
-      : RTT::TaskContext(name, PreOperational), command_in_("pose_command"), pose_out_("flange_pose") {
+      : Component(name, PreOperational), command_in_("pose_command"), pose_out_("flange_pose") {
     const char* names[7] = {"x", "y", "z", "qx", "qy", "qz", "qw"};
     for (int i = 0; i < 7; ++i)
       addProperty(names[i], start_[static_cast<std::size_t>(i)]).doc("Initial flange pose {g}T{e} (m, unit quaternion).");
@@ -161,6 +163,7 @@ class IdealRobot : public RTT::TaskContext {
     return true;
   }
   void updateHook() override {
+    const HookScope hook(*this);  // component.hpp
     if (command_in_.read(cmd_, false) == RTT::NewData) pose_ = cmd_.pose;
     pose_out_.write(pose_);
   }
@@ -173,9 +176,9 @@ class IdealRobot : public RTT::TaskContext {
   Pose pose_;
 };
 
-class PhaseLog : public RTT::TaskContext {
+class PhaseLog : public Component {
  public:
-  explicit PhaseLog(const std::string& name) : RTT::TaskContext(name), phase_in_("phase") {
+  explicit PhaseLog(const std::string& name) : Component(name), phase_in_("phase") {
     addEventPort(phase_in_).doc("Phase state of a ServoComponent (use a buffered connection).");
     addOperation("visited", &PhaseLog::visited, this, RTT::ClientThread)
         .doc("True once a PhaseState with this name was received.")
@@ -188,6 +191,7 @@ class PhaseLog : public RTT::TaskContext {
     addAttribute("samples", samples_);
   }
   void updateHook() override {
+    const HookScope hook(*this);  // component.hpp
     while (phase_in_.read(ps_, false) == RTT::NewData) {
       ++samples_;
       const std::size_t i = ps_.index;

@@ -27,7 +27,7 @@ ConfigResult loadSensorParamFile(const std::string& file, FeatureParams& fp, Cal
 }
 
 FeatureComponent::FeatureComponent(const std::string& name)
-    : RTT::TaskContext(name, PreOperational),
+    : Component(name, PreOperational),
       raw_in_("raw_frame"),
       frame_in_("frame"),
       frame_out_("calibrated_frame"),
@@ -96,6 +96,7 @@ bool FeatureComponent::startHook() {
 }
 
 void FeatureComponent::updateHook() {
+  const HookScope hook(*this);  // the other hooks' writes before this update (component.hpp)
   if (raw_in_.read(raw_, false) == RTT::NewData) {
     if (tare_requested_.exchange(false)) stage_.requestTare();
     bool frame_ok = false;

@@ -16,7 +16,7 @@
 namespace tactile {
 
 FriBridgeComponent::FriBridgeComponent(const std::string& name)
-    : RTT::TaskContext(name, PreOperational),
+    : Component(name, PreOperational),
       command_in_("pose_command"),
       pose_out_("flange_pose"),
       wrench_out_("estimated_wrench") {
@@ -150,6 +150,7 @@ void FriBridgeComponent::markSilent() {
 }
 
 void FriBridgeComponent::updateHook() {
+  const HookScope hook(*this);  // the other hooks' writes before this update (component.hpp)
   std::size_t n = 0;
   if (fd_activity_) {
     // FileDescriptorActivity: woken by a readable socket, by its timeout (no

@@ -11,7 +11,7 @@
 namespace tactile {
 
 ServoComponent::ServoComponent(const std::string& name)
-    : RTT::TaskContext(name, PreOperational),
+    : Component(name, PreOperational),
       features_in_("features"),
       flange_in_("flange_pose"),
       wrench_in_("estimated_wrench"),
@@ -117,6 +117,7 @@ std::string ServoComponent::phaseName() const {
 }
 
 void ServoComponent::updateHook() {
+  const HookScope hook(*this);  // the other hooks' writes before this update (component.hpp)
   const int req = requested_phase_.exchange(-1);
   if (req >= 0) stage_.requestPhase(req);
   features_in_.read(features_, false);  // keeps the last sample when nothing new

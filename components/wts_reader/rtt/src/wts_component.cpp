@@ -14,7 +14,7 @@
 
 namespace tactile {
 
-WtsComponent::WtsComponent(const std::string& name) : RTT::TaskContext(name, PreOperational), raw_out_("raw_frame") {
+WtsComponent::WtsComponent(const std::string& name) : Component(name, PreOperational), raw_out_("raw_frame") {
   addProperty("param_file", param_file_)
       .doc("Optional YAML file with a `wts:` map (device, rows, cols, transpose, periodic_ms, ...); empty = defaults.");
   addProperty("device", device_).doc("Serial device path; overrides the file's wts.device when not empty.");
@@ -113,6 +113,7 @@ std::string WtsComponent::statusName() const {
 }
 
 void WtsComponent::updateHook() {
+  const HookScope hook(*this);  // the other hooks' writes before this update (component.hpp)
   const double now = RTT::os::TimeService::Instance()->secondsSince(0);  // the servo's clock
   if (fd_activity_ && fd_activity_->hasTimeout()) bump(timeouts_);  // no byte for poll_timeout s
   // Never waits: what arrived is read, decoded; reconnection is due by `now`.

@@ -13,7 +13,7 @@
 namespace tactile {
 
 LwrSimComponent::LwrSimComponent(const std::string& name)
-    : RTT::TaskContext(name, PreOperational),
+    : Component(name, PreOperational),
       command_in_("pose_command"),
       pose_out_("flange_pose"),
       wrench_out_("estimated_wrench"),
@@ -113,6 +113,7 @@ std::string LwrSimComponent::statusName() const {
 }
 
 void LwrSimComponent::updateHook() {
+  const HookScope hook(*this);  // the other hooks' writes before this update (component.hpp)
   if (command_in_.read(cmd_in_, false) == RTT::NewData) cmd_ = cmd_in_.pose;  // World rejects NaN / non-unit
   const sim::SimStatus st = world_.step(cmd_, sim_period_.load(std::memory_order_relaxed), state_);
   record(sim_status_, static_cast<int>(st));

@@ -15,7 +15,7 @@
 
 namespace tactile {
 
-SimClock::SimClock(const std::string& name) : RTT::TaskContext(name, PreOperational) {
+SimClock::SimClock(const std::string& name) : Component(name, PreOperational) {
   addProperty("scene_file", scene_file_)
       .doc("Scene YAML (sim/scenes/*.yaml): rates (Table 2) and duration of the run; the stages load the same file.");
   addProperty("realtime_factor", realtime_factor_)
@@ -159,6 +159,7 @@ bool SimClock::tick() {
 }
 
 void SimClock::updateHook() {
+  const HookScope hook(*this);  // the other hooks' writes before this update (component.hpp)
   if (finished_.load(std::memory_order_acquire)) return;
   for (int k = 0; k < 50; ++k) {
     if (realtime_factor_ > 0.0) {

@@ -12,7 +12,7 @@
 namespace tactile {
 
 WtsSimComponent::WtsSimComponent(const std::string& name)
-    : RTT::TaskContext(name, PreOperational),
+    : Component(name, PreOperational),
       forces_in_("taxel_forces"),
       raw_out_("raw_frame"),
       fault_frame_out_("fault_frame") {
@@ -101,6 +101,7 @@ bool WtsSimComponent::applyFault() {
 }
 
 void WtsSimComponent::updateHook() {
+  const HookScope hook(*this);  // the other hooks' writes before this update (component.hpp)
   const double now = RTT::os::TimeService::Instance()->secondsSince(0);  // the servo's clock
   // Acquisition on new forces; with a transfer delay the frame is written
   // when it has arrived (TaxelResponse::deliver), the clock updates us every tick.

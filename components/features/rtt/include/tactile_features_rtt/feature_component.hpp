@@ -25,6 +25,8 @@
 #include <rtt/OutputPort.hpp>
 #include <rtt/TaskContext.hpp>
 
+#include "tactile_types_rtt/component.hpp"
+
 #include <atomic>
 #include <string>
 
@@ -38,7 +40,7 @@ namespace tactile {
 /// Loads `features:` and `calibration:` from a YAML file (configuration time).
 ConfigResult loadSensorParamFile(const std::string& file, FeatureParams& fp, CalibrationParams& cp);
 
-class FeatureComponent : public RTT::TaskContext {
+class FeatureComponent : public Component {
  public:
   explicit FeatureComponent(const std::string& name);
 

@@ -43,6 +43,8 @@
 #include <rtt/InputPort.hpp>
 #include <rtt/OutputPort.hpp>
 #include <rtt/TaskContext.hpp>
+
+#include "tactile_types_rtt/component.hpp"
 #include <rtt/extras/FileDescriptorActivityInterface.hpp>
 
 #include <array>
@@ -56,7 +58,7 @@
 
 namespace tactile {
 
-class FriBridgeComponent : public RTT::TaskContext {
+class FriBridgeComponent : public Component {
  public:
   explicit FriBridgeComponent(const std::string& name);
   ~FriBridgeComponent() override;

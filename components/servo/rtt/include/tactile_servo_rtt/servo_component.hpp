@@ -39,6 +39,8 @@
 #include <rtt/OutputPort.hpp>
 #include <rtt/TaskContext.hpp>
 
+#include "tactile_types_rtt/component.hpp"
+
 #include <atomic>
 #include <string>
 #include <vector>
@@ -49,7 +51,7 @@
 
 namespace tactile {
 
-class ServoComponent : public RTT::TaskContext {
+class ServoComponent : public Component {
  public:
   explicit ServoComponent(const std::string& name);
   /// Removes the scripting service first: the experiment's state machine

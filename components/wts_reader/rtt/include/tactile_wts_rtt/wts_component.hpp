@@ -35,6 +35,8 @@
 
 #include <rtt/OutputPort.hpp>
 #include <rtt/TaskContext.hpp>
+
+#include "tactile_types_rtt/component.hpp"
 #include <rtt/extras/FileDescriptorActivityInterface.hpp>
 
 #include <atomic>
@@ -45,7 +47,7 @@
 
 namespace tactile {
 
-class WtsComponent : public RTT::TaskContext {
+class WtsComponent : public Component {
  public:
   explicit WtsComponent(const std::string& name);
 

@@ -36,6 +36,8 @@
 #include <rtt/OutputPort.hpp>
 #include <rtt/TaskContext.hpp>
 
+#include "tactile_types_rtt/component.hpp"
+
 #include <atomic>
 #include <string>
 
@@ -45,7 +47,7 @@
 
 namespace tactile {
 
-class LwrSimComponent : public RTT::TaskContext {
+class LwrSimComponent : public Component {
  public:
   explicit LwrSimComponent(const std::string& name);
 

@@ -36,6 +36,8 @@
 #pragma once
 
 #include <rtt/TaskContext.hpp>
+
+#include "tactile_types_rtt/component.hpp"
 #include <rtt/internal/DataSource.hpp>
 
 #include <atomic>
@@ -45,7 +47,7 @@
 
 namespace tactile {
 
-class SimClock : public RTT::TaskContext {
+class SimClock : public Component {
  public:
   explicit SimClock(const std::string& name);
 

@@ -36,6 +36,8 @@
 #include <rtt/OutputPort.hpp>
 #include <rtt/TaskContext.hpp>
 
+#include "tactile_types_rtt/component.hpp"
+
 #include <atomic>
 #include <string>
 
@@ -45,7 +47,7 @@
 
 namespace tactile {
 
-class WtsSimComponent : public RTT::TaskContext {
+class WtsSimComponent : public Component {
  public:
   explicit WtsSimComponent(const std::string& name);
 

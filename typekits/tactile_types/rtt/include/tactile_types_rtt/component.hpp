@@ -1,0 +1,68 @@
+// tactile::Component: RTT::TaskContext with a happens-before edge between the
+// hooks that run in the caller's thread and updateHook() in the activity's.
+//
+// Why: TaskCore::configure()/start() run configureHook()/startHook() in the
+// calling thread (the deployer's script, a test's main thread) and then set
+// the task state, a plain enum in RTT 2.10 (TaskCore::mTaskState); the
+// activity's thread, running since setActivity(), reads that state and calls
+// updateHook(). Nothing orders the hooks' writes (a configured core, a loaded
+// scene, reset filters) before updateHook()'s reads by the C++ memory model:
+// x86 does in practice, a weakly ordered CPU (ARM, which Xenomai also runs
+// on) need not, and ThreadSanitizer reports every such pair (README,
+// "Sanitizers"). The same holds the other way for stop()/cleanup() after the
+// last update.
+//
+// What: configure(), start(), stop() and cleanup() acquire before and release
+// after RTT's own; a component's updateHook() opens with `const HookScope
+// hook(*this);`, which acquires on entry and releases on exit. The edge is one
+// atomic counter per component: an uncontended load and add per update, no
+// lock, no allocation (real-time safe). It adds an ordering, never a wait: a
+// hook cannot block another through it.
+#pragma once
+
+#include <atomic>
+#include <string>
+
+#include <rtt/TaskContext.hpp>
+
+namespace tactile {
+
+class Component : public RTT::TaskContext {
+ public:
+  explicit Component(const std::string& name, TaskState initial_state = Stopped)
+      : RTT::TaskContext(name, initial_state) {}
+
+  bool configure() override { return ordered([this] { return RTT::TaskContext::configure(); }); }
+  bool start() override { return ordered([this] { return RTT::TaskContext::start(); }); }
+  bool stop() override { return ordered([this] { return RTT::TaskContext::stop(); }); }
+  bool cleanup() override { return ordered([this] { return RTT::TaskContext::cleanup(); }); }
+
+ protected:
+  /// updateHook()'s first statement: sees what the other hooks wrote; what
+  /// this update writes is seen by the next stop()/cleanup()/configure().
+  class HookScope {
+   public:
+    explicit HookScope(const Component& c) noexcept : c_(c) { c_.acquire(); }
+    ~HookScope() { c_.release(); }
+    HookScope(const HookScope&) = delete;
+    HookScope& operator=(const HookScope&) = delete;
+
+   private:
+    const Component& c_;
+  };
+
+ private:
+  void acquire() const noexcept { (void)gen_.load(std::memory_order_acquire); }
+  void release() const noexcept { gen_.fetch_add(1, std::memory_order_release); }
+  template <class F>
+  bool ordered(F&& f) {
+    acquire();
+    const bool ok = f();
+    release();
+    return ok;
+  }
+
+  mutable std::atomic<unsigned> gen_{0};
+};
+
+}  // namespace tactile
