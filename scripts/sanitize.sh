@@ -67,9 +67,16 @@ run_mode() {
   # which RTT's factories construct. Our components' leaks are checked
   # in-process by tests/rtt/test_*_component (leak detection on); memory
   # errors (ASan) and UBSan stay on in the deployer tests.
+  # The deployer's reports go to files (log_path): the deployer tests run it
+  # through scripts that keep its output in logs of their own or not at all
+  # (the ROS tests); the script counts the files' reports after ctest.
+  rm -rf "$build/san_reports"
+  mkdir -p "$build/san_reports"
   cat > "$build/deployer-san" <<EOF
 #!/bin/sh
-ASAN_OPTIONS="\${ASAN_OPTIONS:+\$ASAN_OPTIONS:}detect_leaks=0" \\
+ASAN_OPTIONS="\${ASAN_OPTIONS:+\$ASAN_OPTIONS:}detect_leaks=0:log_path=$build/san_reports/deployer" \\
+UBSAN_OPTIONS="\${UBSAN_OPTIONS:+\$UBSAN_OPTIONS:}log_path=$build/san_reports/deployer" \\
+TSAN_OPTIONS="\${TSAN_OPTIONS:+\$TSAN_OPTIONS:}log_path=$build/san_reports/deployer" \\
 LD_PRELOAD="$rt\${LD_PRELOAD:+:\$LD_PRELOAD}" exec "$deployer" "\$@"
 EOF
   chmod +x "$build/deployer-san"
@@ -88,7 +95,6 @@ EOF
   fi
   t_build=$((SECONDS - t0))
   t0=$SECONDS
-  touch "$build/sanitize_ctest.start"  # the logs written by this ctest run are newer
   (
     cd "$build" || exit 1
     # (options above) halt_on_error / exitcode: a report fails the test that produced it.
@@ -100,18 +106,13 @@ EOF
   summary=$(grep -E "tests passed|tests failed out of" "$build/sanitize_ctest.log" | tail -1)
   echo "sanitize.sh[$m]: build ${t_build} s, ctest ${t_test} s: ${summary:-no summary} (log: $build/sanitize_ctest.log)"
   grep -E "^\s+[0-9]+ - .*\(Failed|Timeout|SEGFAULT|Subprocess" "$build/sanitize_ctest.log" || true
-  # The reports: in the test output, and in the logs the deployer tests write
-  # into the build tree (run_deployment.sh's deployer.log etc.; their tests
-  # fail on the exit code and print the log's path, not the reports).
+  # The reports: in the test output (in-process tests) and in the deployer
+  # processes' report files (san_reports/deployer.<pid>).
   local n logs
-  mapfile -t logs < <(find "$build" -name '*.log' -newer "$build/sanitize_ctest.start" \
-                        ! -name 'sanitize_*.log' ! -path '*/Testing/*' 2>/dev/null)
+  mapfile -t logs < <(find "$build/san_reports" -type f 2>/dev/null)
   n=$(cat "$build/sanitize_ctest.log" "${logs[@]}" |
       grep -cE "ERROR: (AddressSanitizer|LeakSanitizer)|runtime error:|WARNING: ThreadSanitizer")
-  echo "sanitize.sh[$m]: sanitizer reports: $n (the test output and ${#logs[@]} logs of the deployer tests)"
-  for f in "${logs[@]}"; do
-    grep -qE "ERROR: (AddressSanitizer|LeakSanitizer)|runtime error:|WARNING: ThreadSanitizer" "$f" && echo "  reports in $f"
-  done
+  echo "sanitize.sh[$m]: sanitizer reports: $n (the test output and ${#logs[@]} deployer report files in $build/san_reports)"
   return $rc
 }
 
