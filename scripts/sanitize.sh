@@ -67,6 +67,18 @@ run_mode() {
   # which RTT's factories construct. Our components' leaks are checked
   # in-process by tests/rtt/test_*_component (leak detection on); memory
   # errors (ASan) and UBSan stay on in the deployer tests.
+  # TSan in the deployer: ignore_noninstrumented_modules=1, the mode TSan has
+  # for a process of mostly uninstrumented libraries (here RTT, OCL, roscpp
+  # and rtt_roscomm's generated ROS transports): the accesses that
+  # uninstrumented code makes through the runtime's interceptors (memcpy,
+  # close, ...) are not checked, everything our instrumented code does is.
+  # Found necessary by the ROS tests: rtt_roscomm's transports copy a
+  # message's strings (libstdc++, called from their uninstrumented code) in
+  # the component's thread and in the RosPublishActivity's, handed over by
+  # RTT's uninstrumented lock-free buffer; no frame of theirs is in the stack
+  # for a suppression to name. What it costs: a race in a libstdc++ routine
+  # that our component calls out of line (a std::string copy) is not seen in
+  # the deployer tests; the in-process component tests keep the full check.
   # The deployer's reports go to files (log_path): the deployer tests run it
   # through scripts that keep its output in logs of their own or not at all
   # (the ROS tests); the script counts the files' reports after ctest.
@@ -76,7 +88,7 @@ run_mode() {
 #!/bin/sh
 ASAN_OPTIONS="\${ASAN_OPTIONS:+\$ASAN_OPTIONS:}detect_leaks=0:log_path=$build/san_reports/deployer" \\
 UBSAN_OPTIONS="\${UBSAN_OPTIONS:+\$UBSAN_OPTIONS:}log_path=$build/san_reports/deployer" \\
-TSAN_OPTIONS="\${TSAN_OPTIONS:+\$TSAN_OPTIONS:}log_path=$build/san_reports/deployer" \\
+TSAN_OPTIONS="\${TSAN_OPTIONS:+\$TSAN_OPTIONS:}ignore_noninstrumented_modules=1:log_path=$build/san_reports/deployer" \\
 LD_PRELOAD="$rt\${LD_PRELOAD:+:\$LD_PRELOAD}" exec "$deployer" "\$@"
 EOF
   chmod +x "$build/deployer-san"
