@@ -11,7 +11,11 @@ contours here lie in horizontal planes, touched from above).
               started to the last contact point of the run
   rms_m       RMS distance, in the contour's plane (x_g, y_g), of the
               reconstructed contour points in the exploring phases to the
-              ridge (see reconstruct())
+              ridge: the contact line's points (RUN/edge_points.csv: where
+              the edge crosses each taxel column; tactile_features/
+              edge_line.hpp), or, for a run without that file, the
+              arc-corrected CoP (reconstruct())
+  rms_arc_m   the same for the arc-corrected CoP (reconstruct())
   rms_cop_m   the same for the raw CoP (inside a curve: the arc's centroid)
   rms_3d_m    the reconstruction's 3-D distance: adds the pad's indentation
               (the CoP lies on the undeformed pad surface, z_s = 0, which the
@@ -22,9 +26,10 @@ contours here lie in horizontal planes, touched from above).
               last object's last vertex (--open: must be <= END_M)
 
 Writes RUN/contour.json and RUN/contour.png; exits 1 when a check fails
-(--max-closure, --max-rms; defaults: the targets 5 mm and 1 mm), 2 on bad input.
+(--max-closure, --max-rms, --min-coverage; defaults: the targets 5 mm and 1 mm,
+and 90 % of each contour covered), 2 on bad input.
 
-usage: contour_check.py RUN SCENE [--max-closure M] [--max-rms M] [--min-unwinds N] [--no-plot]
+usage: contour_check.py RUN SCENE [--max-closure M] [--max-rms M] [--min-coverage F] [--min-unwinds N] [--no-plot]
 """
 import argparse
 import csv
@@ -124,6 +129,9 @@ def main():
     ap.add_argument("scene")
     ap.add_argument("--max-closure", type=float, default=0.005)
     ap.add_argument("--max-rms", type=float, default=0.001)
+    ap.add_argument("--min-coverage", type=float, default=0.9,
+                    help="least share of each object's contour with a reconstructed point within COVER_M "
+                         "(an accurate cloud must also cover the contour)")
     ap.add_argument("--min-unwinds", type=int, default=0, help="at least this many lift-off-and-unwind sequences")
     ap.add_argument("--open", action="store_true",
                     help="an open contour: instead of the closure, the run must reach the last object's far end "
@@ -151,12 +159,24 @@ def main():
     lam1 = np.array([float(r["lambda1"]) for r in expl])
     ph = np.array([int(r["phase"]) for r in expl])
     seg = np.r_[0, np.cumsum(np.diff(ph) != 0)]  # exploring stretches between re-acquisitions
-    E = reconstruct(P, lam1, seg)
+    A = reconstruct(P, lam1, seg)  # the arc-corrected CoP
+    # The reconstruction: the contact line's points (edge_points.csv, one per
+    # taxel column that has the edge on two or three rows; edge_line.hpp), in
+    # the exploring phases. A run without that file (an older runner) falls
+    # back to the arc-corrected CoP.
+    ep_path = os.path.join(a.run, "edge_points.csv")
+    E, tE, recon = A, np.array([float(r["time"]) for r in expl]), "arc-corrected CoP"
+    if os.path.exists(ep_path):
+        ep = [r for r in csv.DictReader(open(ep_path)) if names.get(int(r["phase"]), "").startswith("explore")]
+        if ep:
+            E = np.array([[float(r["x"]), float(r["y"]), float(r["z"])] for r in ep])
+            tE = np.array([float(r["time"]) for r in ep])
+            recon = "edge line"
     T = np.array([[float(r["true_x"]), float(r["true_y"]), float(r["true_z"])] for r in expl])
     flat = [np.c_[v[:, :2], np.zeros(len(v))] for v in lines]
     def d2(X):  # in the contour's (horizontal) plane
         return dist_to_polylines(np.c_[X[:, :2], np.zeros(len(X))], flat)
-    d_edge, d_cop, d_true = d2(E), d2(P), d2(T)
+    d_edge, d_cop, d_true, d_arc = d2(E), d2(P), d2(T), d2(A)
     d_3d = dist_to_polylines(E, lines)
     start = P[0]
     # The loop's end: the contact point where the program entered `done` (the
@@ -184,7 +204,9 @@ def main():
         "ended_by_loop_closure": phases[-1]["name"] == "done",
         "closure_m": closure, "farthest_from_start_m": far,
         "rms_m": float(np.sqrt(np.mean(d_edge ** 2))), "max_m": float(np.max(d_edge)),
+        "reconstruction": recon,
         "rms_cop_m": float(np.sqrt(np.mean(d_cop ** 2))),
+        "rms_arc_m": float(np.sqrt(np.mean(d_arc ** 2))),
         "rms_3d_m": float(np.sqrt(np.mean(d_3d ** 2))),
         "rms_true_pressure_centre_m": float(np.sqrt(np.mean(d_true ** 2))),
         "points": int(len(E)), "coverage": cover, "end_distance_m": end_dist, "unwinds": len(unw), "unwind_times_s": unw,
@@ -204,6 +226,8 @@ def main():
         fails.append("never left the start (farthest %.4f m)" % far)
     if not res["rms_m"] <= a.max_rms:
         fails.append("cloud RMS %.5f m > %.5f m" % (res["rms_m"], a.max_rms))
+    if not min(cover) >= a.min_coverage:
+        fails.append("coverage %.3f < %.3f" % (min(cover), a.min_coverage))
     if not len(unw) >= a.min_unwinds:
         fails.append("%d unwinds < %d" % (len(unw), a.min_unwinds))
     res["failed"] = fails
@@ -216,7 +240,7 @@ def main():
         for i, v in enumerate(lines):
             ax[0].plot(v[:, 0] * 1e3, v[:, 1] * 1e3, "k-", lw=2.5, alpha=0.35, label="true contour (ridge)" if i == 0 else None)
         ax[0].plot(P[:, 0] * 1e3, P[:, 1] * 1e3, ".", ms=1.5, color="tab:orange", label="CoP (RMS %.2f mm)" % (res["rms_cop_m"] * 1e3))
-        ax[0].plot(E[:, 0] * 1e3, E[:, 1] * 1e3, ".", ms=1.5, color="tab:blue", label="reconstruction (RMS %.2f mm)" % (res["rms_m"] * 1e3))
+        ax[0].plot(E[:, 0] * 1e3, E[:, 1] * 1e3, ".", ms=1.5, color="tab:blue", label="%s (RMS %.2f mm)" % (recon, res["rms_m"] * 1e3))
         ax[0].plot(start[0] * 1e3, start[1] * 1e3, "g^", ms=9, label="exploration start")
         ax[0].plot(last[0] * 1e3, last[1] * 1e3, "rv", ms=9, label=("end (%.1f mm from the far end)" % (end_dist * 1e3)) if a.open else ("end (closure %.1f mm)" % (closure * 1e3)))
         t_c = np.array([float(r["time"]) for r in rows])
@@ -231,7 +255,7 @@ def main():
         ax[0].set_title("%s: reconstructed contour over the truth (top view)" % summ["scene"])
         tt = np.array([float(r["time"]) for r in expl])
         ax[1].plot(tt, d_cop * 1e3, ".", ms=1.5, color="tab:orange", label="CoP")
-        ax[1].plot(tt, d_edge * 1e3, ".", ms=1.5, color="tab:blue", label="reconstruction")
+        ax[1].plot(tE, d_edge * 1e3, ".", ms=1.5, color="tab:blue", label=recon)
         ax[1].axhline(a.max_rms * 1e3, color="r", ls="--", lw=1, label="RMS bound %g mm" % (a.max_rms * 1e3))
         for tu in unw:
             ax[1].axvline(tu, color="m", lw=0.8)
@@ -241,7 +265,8 @@ def main():
         ax[1].legend(fontsize=8)
         fig.tight_layout()
         fig.savefig(os.path.join(a.run, "contour.png"), dpi=110)
-    print(json.dumps({k: res[k] for k in ("scene", "status", "closure_m", "end_distance_m", "coverage", "rms_m", "rms_cop_m", "rms_3d_m", "max_m", "unwinds",
+    print(json.dumps({k: res[k] for k in ("scene", "status", "closure_m", "end_distance_m", "coverage", "reconstruction", "rms_m",
+                                           "rms_arc_m", "rms_cop_m", "rms_3d_m", "max_m", "points", "unwinds",
                                            "unwind_times_s", "t_done_s")}))
     for f in fails:
         print("FAIL: " + f)

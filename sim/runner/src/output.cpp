@@ -141,6 +141,11 @@ bool writeRun(const std::string& dir, const Scene& sc, const RunResult& r, std::
                  c.truth[2], c.lambda1, c.phase);
   std::fclose(f);
 
+  if (!(f = open("edge_points.csv"))) return false;
+  std::fprintf(f, "time,x,y,z,phase\n");
+  for (const auto& e : r.edge_points) std::fprintf(f, "%.4f,%.6f,%.6f,%.6f,%d\n", e.t, e.p[0], e.p[1], e.p[2], e.phase);
+  std::fclose(f);
+
   if (!(f = open("summary.json"))) return false;
   const std::string js = summaryJson(sc, r);
   std::fputs(js.c_str(), f);

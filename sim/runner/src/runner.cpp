@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "tactile_features/edge_line.hpp"
 #include "tactile_sim/loop.hpp"
 
 #include "tactile_fri/params_io.hpp"
@@ -55,6 +56,9 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
   const double dt = sched.dt();
   out.rows.reserve(static_cast<std::size_t>(sc.duration * sc.rates.servo) + 16);
   out.contacts.reserve(out.rows.capacity());
+  out.edge_points.reserve(out.rows.capacity() * static_cast<std::size_t>(sc.features.cols));
+  const SensorGeometry geometry = sc.features.geometry();
+  EdgeLinePoints line;
 
   // The signals between the stages (what the RTT ports carry).
   TactileFrame forces;     // arm -> sensor: true taxel forces
@@ -133,6 +137,11 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
         const KDL::Frame T_gs = toFrame(state.flange_g) * sc.servo.sensor_mount;
         const KDL::Vector p = T_gs * KDL::Vector(feats.cop_x, feats.cop_y, 0.0);
         out.contacts.push_back({t, {p.x(), p.y(), p.z()}, acq.contact_point_g, feats.lambda1, ph});
+        const int n = edgeLinePoints(frame, geometry, EdgeLineParams{}, line);
+        for (int i = 0; i < n && out.edge_points.size() < out.edge_points.capacity(); ++i) {
+          const KDL::Vector q = T_gs * KDL::Vector(line[static_cast<std::size_t>(i)].x, line[static_cast<std::size_t>(i)].y, 0.0);
+          out.edge_points.push_back({t, {q.x(), q.y(), q.z()}, ph});
+        }
       }
       if ((end = end_.afterServo(st)) != EndReason::None) break;
     }

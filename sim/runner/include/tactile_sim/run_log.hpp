@@ -48,6 +48,15 @@ struct Snapshot {
   TactileFrame frame;
 };
 
+/// A point of the contact line: where the edge crosses a taxel column
+/// (tactile_features/edge_line.hpp), through the measured flange pose and the
+/// sensor mount into {g}.
+struct EdgePoint {
+  double t = 0;
+  std::array<double, 3> p{};  ///< {g} (m)
+  int phase = 0;
+};
+
 struct ContactPoint {
   double t = 0;
   std::array<double, 3> p{};     ///< CoP mapped to {g} (m)
@@ -90,6 +99,7 @@ struct RunResult {
   std::vector<PhaseEntry> phases;
   std::vector<Snapshot> snapshots;
   std::vector<ContactPoint> contacts;
+  std::vector<EdgePoint> edge_points;  ///< edge_points.csv
   Summary summary;
 };
 
