@@ -21,6 +21,8 @@ contours here lie in horizontal planes, touched from above).
               (the CoP lies on the undeformed pad surface, z_s = 0, which the
               ridge presses into by about 1 mm at 5 N)
   unwinds     entries into the `unwind*` phases, with their times
+  gap_crossings  entries into the `cross_gap*` phases (a gap in the edge
+              under the pad), with their times (--gap-crossings: exactly)
   coverage    per object, the share of its contour with a reconstructed point
               within COVER_M; end_distance_m: the last exploring point to the
               last object's last vertex (--open: must be <= END_M)
@@ -29,7 +31,8 @@ Writes RUN/contour.json and RUN/contour.png; exits 1 when a check fails
 (--max-closure, --max-rms, --min-coverage; defaults: the targets 5 mm and 1 mm,
 and 90 % of each contour covered), 2 on bad input.
 
-usage: contour_check.py RUN SCENE [--max-closure M] [--max-rms M] [--min-coverage F] [--min-unwinds N] [--no-plot]
+usage: contour_check.py RUN SCENE [--max-closure M] [--max-rms M] [--min-coverage F] [--min-unwinds N]
+                        [--gap-crossings N] [--no-plot]
 """
 import argparse
 import csv
@@ -133,6 +136,8 @@ def main():
                     help="least share of each object's contour with a reconstructed point within COVER_M "
                          "(an accurate cloud must also cover the contour)")
     ap.add_argument("--min-unwinds", type=int, default=0, help="at least this many lift-off-and-unwind sequences")
+    ap.add_argument("--gap-crossings", type=int, default=0,
+                    help="exactly this many entries into a cross_gap phase (a gap in the edge under the pad)")
     ap.add_argument("--open", action="store_true",
                     help="an open contour: instead of the closure, the run must reach the last object's far end "
                          "(the last exploring contact point within END_M of its last vertex)")
@@ -186,6 +191,7 @@ def main():
     closure = float(np.linalg.norm(last - start))
     far = float(np.max(np.linalg.norm(P - start, axis=1)))
     unw = [p["t_enter"] for p in phases if p["name"].startswith("unwind")]
+    gaps = [p["t_enter"] for p in phases if p["name"].startswith("cross_gap")]
     # Coverage: the share of each object's contour (sampled every mm) with a reconstructed point within COVER_M.
     cover = []
     for v in lines:
@@ -210,6 +216,7 @@ def main():
         "rms_3d_m": float(np.sqrt(np.mean(d_3d ** 2))),
         "rms_true_pressure_centre_m": float(np.sqrt(np.mean(d_true ** 2))),
         "points": int(len(E)), "coverage": cover, "end_distance_m": end_dist, "unwinds": len(unw), "unwind_times_s": unw,
+        "gap_crossings": len(gaps), "gap_times_s": gaps,
         "phases": [p["name"] for p in phases],
     }
     fails = []
@@ -228,6 +235,8 @@ def main():
         fails.append("cloud RMS %.5f m > %.5f m" % (res["rms_m"], a.max_rms))
     if not min(cover) >= a.min_coverage:
         fails.append("coverage %.3f < %.3f" % (min(cover), a.min_coverage))
+    if len(gaps) != a.gap_crossings:
+        fails.append("%d gap crossings, expected %d" % (len(gaps), a.gap_crossings))
     if not len(unw) >= a.min_unwinds:
         fails.append("%d unwinds < %d" % (len(unw), a.min_unwinds))
     res["failed"] = fails
@@ -266,7 +275,7 @@ def main():
         fig.tight_layout()
         fig.savefig(os.path.join(a.run, "contour.png"), dpi=110)
     print(json.dumps({k: res[k] for k in ("scene", "status", "closure_m", "end_distance_m", "coverage", "reconstruction", "rms_m",
-                                           "rms_arc_m", "rms_cop_m", "rms_3d_m", "max_m", "points", "unwinds",
+                                           "rms_arc_m", "rms_cop_m", "rms_3d_m", "max_m", "points", "unwinds", "gap_crossings",
                                            "unwind_times_s", "t_done_s")}))
     for f in fails:
         print("FAIL: " + f)

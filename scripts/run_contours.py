@@ -15,9 +15,9 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-# scene, open contour, the RMS bound the check applies (m)
-SCENES = [("ring", False, 0.001), ("rounded_square", False, 0.001), ("s_curve", True, 0.001),
-          ("gap_bars", True, 0.001)]
+# scene, open contour, the RMS bound the check applies (m), gap crossings
+SCENES = [("ring", False, 0.001, 0), ("rounded_square", False, 0.001, 0), ("s_curve", True, 0.001, 0),
+          ("gap_bars", True, 0.001, 1)]
 
 
 def main():
@@ -27,11 +27,12 @@ def main():
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     res = []
-    for name, is_open, rms in SCENES:
+    for name, is_open, rms, gaps in SCENES:
         scene = os.path.join(ROOT, "sim", "scenes", name + ".yaml")
         run = os.path.join(a.out, name)
         subprocess.run([a.sim, "run", scene, "--out", run, "--no-plots"], check=False, stdout=subprocess.DEVNULL)
-        cmd = [sys.executable, os.path.join(HERE, "contour_check.py"), run, scene, "--max-rms", str(rms)]
+        cmd = [sys.executable, os.path.join(HERE, "contour_check.py"), run, scene, "--max-rms", str(rms),
+               "--gap-crossings", str(gaps)]
         if is_open:
             cmd.append("--open")
         rc = subprocess.run(cmd, stdout=subprocess.DEVNULL).returncode
@@ -40,15 +41,16 @@ def main():
         res.append(r)
     with open(os.path.join(a.out, "contours.md"), "w") as f:
         f.write("| scene | status | explore -> done (s) | closure / end (mm) | cloud RMS (mm) | coverage | "
-                "arc-corrected CoP RMS (mm) | raw CoP RMS (mm) | 3-D RMS (mm) | max (mm) | unwinds (at s) | check |\n"
-                "|---|---|---|---|---|---|---|---|---|---|---|---|\n")
+                "arc-corrected CoP RMS (mm) | raw CoP RMS (mm) | 3-D RMS (mm) | max (mm) | unwinds (at s) | gap crossings (at s) | check |\n"
+                "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n")
         for r in res:
             ce = ("end %.1f" % (r["end_distance_m"] * 1e3)) if r["open"] else ("%.1f" % (r["closure_m"] * 1e3))
-            f.write("| %s | %s | %.1f -> %.1f | %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.1f | %d (%s) | %s |\n" % (
+            f.write("| %s | %s | %.1f -> %.1f | %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.1f | %d (%s) | %d (%s) | %s |\n" % (
                 r["scene"], r["status"], r["t_explore_s"], r["t_done_s"] or float("nan"), ce, r["rms_m"] * 1e3,
                 min(r["coverage"]), r["rms_arc_m"] * 1e3, r["rms_cop_m"] * 1e3, r["rms_3d_m"] * 1e3, r["max_m"] * 1e3,
                 r["unwinds"],
-                ", ".join("%.1f" % t for t in r["unwind_times_s"]) or "-",
+                ", ".join("%.1f" % t for t in r["unwind_times_s"]) or "-", r["gap_crossings"],
+                ", ".join("%.1f" % t for t in r["gap_times_s"]) or "-",
                 "pass" if r["rc"] == 0 else "FAIL: " + "; ".join(r["failed"])))
     import matplotlib
     matplotlib.use("Agg")

@@ -353,3 +353,34 @@ TEST(PhaseProgram, WristAndLoopParametersAreChecked) {
   p.phases[1].transitions[0].angle_rad = 2.0;
   EXPECT_TRUE(prog.configure(p).ok());
 }
+
+// `multiple`: contact in two or more separate regions (a gap in the edge
+// under the pad, closed_contour.yaml's cross_gap). It holds for its for_s of
+// Multiple contacts, an edge or a point in between restarts the streak, and
+// neither an edge, a point nor no contact fires it.
+TEST(PhaseProgram, MultipleFiresOnTwoRegionsOnly) {
+  ServoParams p;
+  p.phases.push_back(phaseOn("explore", TransitionEvent::Multiple, "cross_gap", 3));
+  p.phases.push_back(identityPhase("cross_gap", 0, 0));
+  PhaseProgram prog;
+  ASSERT_TRUE(prog.configure(p).ok());
+  prog.enter(prog.current(), 0.0);
+  const int explore = prog.indexOf("explore");
+  double t = 0.0;
+  ContactFeatures f = makeFeatures(0, 0, 0, 0.0002, 0, 0, 0.0, ContactType::Edge);
+  for (ContactType c : {ContactType::Edge, ContactType::Point, ContactType::None}) {
+    f.contact = c;
+    for (int k = 0; k < 10; ++k) EXPECT_EQ(stepOnce(prog, f, Vec6::Zero(), t += kTestPeriod), explore) << static_cast<int>(c);
+  }
+  // Two Multiple cycles, an edge: the streak restarts.
+  f.contact = ContactType::Multiple;
+  EXPECT_EQ(stepOnce(prog, f, Vec6::Zero(), t += kTestPeriod), explore);
+  EXPECT_EQ(stepOnce(prog, f, Vec6::Zero(), t += kTestPeriod), explore);
+  f.contact = ContactType::Edge;
+  EXPECT_EQ(stepOnce(prog, f, Vec6::Zero(), t += kTestPeriod), explore);
+  f.contact = ContactType::Multiple;  // the third in a row fires (as every for_s streak)
+  EXPECT_EQ(stepOnce(prog, f, Vec6::Zero(), t += kTestPeriod), explore);
+  EXPECT_EQ(stepOnce(prog, f, Vec6::Zero(), t += kTestPeriod), explore);
+  EXPECT_EQ(stepOnce(prog, f, Vec6::Zero(), t += kTestPeriod), prog.indexOf("cross_gap"));
+  EXPECT_STREQ(toString(TransitionEvent::Multiple), "multiple");
+}

@@ -23,6 +23,7 @@ const char* toString(TransitionEvent e) {
     case TransitionEvent::WristWound: return "wrist_wound";
     case TransitionEvent::WristUnwound: return "wrist_unwound";
     case TransitionEvent::LoopClosed: return "loop_closed";
+    case TransitionEvent::Multiple: return "multiple";
   }
   return "unknown";
 }
@@ -170,6 +171,7 @@ bool PhaseProgram::evaluate(const ContactFeatures& f, const Vec6& e, double now,
       case TransitionEvent::Contact: cond = contact; break;
       case TransitionEvent::Edge: cond = contact && f.contact == ContactType::Edge; break;
       case TransitionEvent::Point: cond = contact && f.contact == ContactType::Point; break;
+      case TransitionEvent::Multiple: cond = contact && f.contact == ContactType::Multiple; break;
       case TransitionEvent::ContactLost: cond = !contact; break;
       case TransitionEvent::ForceAbove: cond = f.force > t.force_n; break;
       case TransitionEvent::Timeout: cond = now - t_enter_ >= t.timeout_s; break;

@@ -134,8 +134,9 @@ ConfigResult readTransition(const YAML::Node& n, const Where& w, TransitionParam
   std::string on;
   if (!(r = read(n, "on", on, w))) return r;
   const char* const events[] = {"contact",     "edge",    "point",       "aligned",       "contact_lost",
-                                "force_above", "timeout", "wrist_wound", "wrist_unwound", "loop_closed"};
-  constexpr int kEvents = 10;
+                                "force_above", "timeout", "wrist_wound", "wrist_unwound", "loop_closed",
+                                "multiple"};  // the order of TransitionEvent
+  constexpr int kEvents = 11;
   bool found = false;
   for (int i = 0; i < kEvents; ++i)
     if (on == events[i]) {

@@ -46,7 +46,7 @@
 //       terminal: false
 //       max_duration_s: 30               # longer in this phase -> status phase_timeout (fatal)
 //       transitions:
-//         - {on: contact | edge | point | contact_lost, to: NAME, for_s: 0}   # s the condition holds
+//         - {on: contact | edge | point | multiple | contact_lost, to: NAME, for_s: 0}   # s the condition holds
 //         - {on: aligned, to: NAME, for_s: 0.2, tolerance: {alpha_z: 0.02, dzmp_y: 0.0005, ...}}
 //         - {on: force_above, to: NAME, force_n: 20}
 //         - {on: timeout, to: NAME, timeout_s: 30}
