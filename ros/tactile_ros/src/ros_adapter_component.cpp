@@ -84,6 +84,8 @@ class RosAdapter : public tactile::Component {
         .doc("ROS service body (tactile_msgs/SwitchPhase): the servo's switchPhase(request.phase).");
   }
 
+  ~RosAdapter() override { haltActivity(); }  // its event ports outlive its thread (component.hpp)
+
   bool configureHook() override {
     if (!poseFromVector(sensor_mount_, mount_)) {
       RTT::log(RTT::Error) << getName() << ": property sensor_mount must be [x y z qx qy qz qw] with a unit quaternion"

@@ -24,6 +24,7 @@
 #include <string>
 
 #include <rtt/TaskContext.hpp>
+#include <rtt/base/ActivityInterface.hpp>
 
 namespace tactile {
 
@@ -38,6 +39,16 @@ class Component : public RTT::TaskContext {
   bool cleanup() override { return ordered([this] { return RTT::TaskContext::cleanup(); }); }
 
  protected:
+  /// A derived destructor's first statement, for a component whose activity
+  /// runs its own thread: stops it while the derived members (ports, cores)
+  /// still exist. RTT stops a component's activity only in ~TaskContext,
+  /// after the derived destructors ("Ports are probably already destructed
+  /// by user code"), so a port callback queued at unload (a writer
+  /// disconnecting from an event port) could otherwise run on destroyed ports.
+  void haltActivity() noexcept {
+    if (RTT::base::ActivityInterface* a = getActivity()) a->stop();
+  }
+
   /// updateHook()'s first statement: sees what the other hooks wrote; what
   /// this update writes is seen by the next stop()/cleanup()/configure().
   class HookScope {
