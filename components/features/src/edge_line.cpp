@@ -18,9 +18,9 @@ int edgeLinePoints(const TactileFrame& frame, const SensorGeometry& g, const Edg
       load += f;
       moment += f * g.y(r);
     }
-    // Contiguous, 2..max_rows rows, enough load.
-    if (firing < 2 || firing > p.max_rows || last - first + 1 != firing || !(load >= p.min_column_n)) continue;
-    out[static_cast<std::size_t>(n++)] = EdgeLinePoint{g.x(c), moment / load, load};
+    // Contiguous, 2..max_rows rows; a load (fire_n may be 0: zero taxels then count).
+    if (firing < 2 || firing > p.max_rows || last - first + 1 != firing || !(load > 0.0)) continue;
+    out[static_cast<std::size_t>(n++)] = EdgeLinePoint{g.x(c), moment / load};
   }
   return n;
 }

@@ -58,6 +58,8 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
   out.contacts.reserve(out.rows.capacity());
   out.edge_points.reserve(out.rows.capacity() * static_cast<std::size_t>(sc.features.cols));
   const SensorGeometry geometry = sc.features.geometry();
+  EdgeLineParams line_params;
+  line_params.fire_n = sc.features.contact_threshold;  // the features' own firing threshold
   EdgeLinePoints line;
 
   // The signals between the stages (what the RTT ports carry).
@@ -137,7 +139,7 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
         const KDL::Frame T_gs = toFrame(state.flange_g) * sc.servo.sensor_mount;
         const KDL::Vector p = T_gs * KDL::Vector(feats.cop_x, feats.cop_y, 0.0);
         out.contacts.push_back({t, {p.x(), p.y(), p.z()}, acq.contact_point_g, feats.lambda1, ph});
-        const int n = edgeLinePoints(frame, geometry, EdgeLineParams{}, line);
+        const int n = edgeLinePoints(frame, geometry, line_params, line);
         for (int i = 0; i < n && out.edge_points.size() < out.edge_points.capacity(); ++i) {
           const KDL::Vector q = T_gs * KDL::Vector(line[static_cast<std::size_t>(i)].x, line[static_cast<std::size_t>(i)].y, 0.0);
           out.edge_points.push_back({t, {q.x(), q.y(), q.z()}, ph});

@@ -9,12 +9,11 @@
 // to a fraction of the pitch (the load profile across a ridge is symmetric,
 // and so is what the firing threshold cuts off it).
 //
-// A column gives a point when:
-//   * 2 <= n <= max_rows of its taxels fire (>= fire_n), contiguous: one firing
-//     row has no sub-pitch information (its centre, up to half a pitch off),
-//     and a wider run is a part of the edge running ACROSS the column (the
-//     far side of a corner), whose centroid is the middle of that part;
-//   * its load is at least min_column_n.
+// A column gives a point when 2 <= n <= max_rows of its taxels fire (>=
+// fire_n, the features' contact_threshold), contiguous: one firing row has no
+// sub-pitch information (its centre, up to half a pitch off), and a wider run
+// is a part of the edge running ACROSS the column (the far side of a
+// corner), whose centroid is the middle of that part.
 // Points are in {s} (m), on the pad surface (z_s = 0).
 //
 // Real-time: no allocation, no exception; out has room for every column.
@@ -28,14 +27,12 @@
 namespace tactile {
 
 struct EdgeLineParams {
-  double fire_n = 0.2;         ///< N, least force of a firing taxel (the WTS0614's threshold)
-  int max_rows = 3;            ///< most firing rows in a column that still give a point
-  double min_column_n = 0.4;   ///< N, least load of a column (two taxels at the 0.2 N threshold)
+  double fire_n = 0.2;  ///< N, least force of a firing taxel (pass FeatureParams::contact_threshold)
+  int max_rows = 3;     ///< most firing rows in a column that still give a point
 };
 
 struct EdgeLinePoint {
   double x = 0, y = 0;  ///< {s}, m
-  double load = 0;      ///< N, the column's load
 };
 
 using EdgeLinePoints = std::array<EdgeLinePoint, kMaxCols>;
