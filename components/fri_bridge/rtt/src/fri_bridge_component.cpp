@@ -49,6 +49,7 @@ FriBridgeComponent::FriBridgeComponent(const std::string& name)
 
 FriBridgeComponent::~FriBridgeComponent() {
   stop();  // unwatches the socket before its member closes it (no-op when not running)
+  haltActivity();  // its thread, while the ports exist (component.hpp)
 }
 
 namespace {

@@ -54,6 +54,7 @@ ServoComponent::ServoComponent(const std::string& name)
 
 ServoComponent::~ServoComponent() {
   stop();
+  haltActivity();  // its thread, while the ports exist (component.hpp)
   provides()->removeService("scripting");  // its state machines, while the component is whole
 }
 

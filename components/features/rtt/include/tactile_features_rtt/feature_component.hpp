@@ -43,6 +43,7 @@ ConfigResult loadSensorParamFile(const std::string& file, FeatureParams& fp, Cal
 class FeatureComponent : public Component {
  public:
   explicit FeatureComponent(const std::string& name);
+  ~FeatureComponent() override { haltActivity(); }  // stops its thread while its ports exist (component.hpp)
 
   bool configureHook() override;
   bool startHook() override;

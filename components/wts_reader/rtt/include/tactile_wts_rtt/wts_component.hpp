@@ -50,6 +50,7 @@ namespace tactile {
 class WtsComponent : public Component {
  public:
   explicit WtsComponent(const std::string& name);
+  ~WtsComponent() override { haltActivity(); }  // stops its thread while its ports exist (component.hpp)
 
   bool configureHook() override;
   bool startHook() override;

@@ -50,6 +50,7 @@ namespace tactile {
 class LwrSimComponent : public Component {
  public:
   explicit LwrSimComponent(const std::string& name);
+  ~LwrSimComponent() override { haltActivity(); }  // stops its thread while its ports exist (component.hpp)
 
   bool configureHook() override;
   bool startHook() override;

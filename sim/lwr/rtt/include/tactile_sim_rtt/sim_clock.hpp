@@ -50,6 +50,7 @@ namespace tactile {
 class SimClock : public Component {
  public:
   explicit SimClock(const std::string& name);
+  ~SimClock() override { haltActivity(); }  // stops its thread while its ports exist (component.hpp)
 
   bool configureHook() override;
   bool startHook() override;

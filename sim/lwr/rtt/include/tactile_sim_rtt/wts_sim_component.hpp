@@ -50,6 +50,7 @@ namespace tactile {
 class WtsSimComponent : public Component {
  public:
   explicit WtsSimComponent(const std::string& name);
+  ~WtsSimComponent() override { haltActivity(); }  // stops its thread while its ports exist (component.hpp)
 
   bool configureHook() override;
   bool startHook() override;

@@ -39,8 +39,8 @@ class Component : public RTT::TaskContext {
   bool cleanup() override { return ordered([this] { return RTT::TaskContext::cleanup(); }); }
 
  protected:
-  /// A derived destructor's first statement, for a component whose activity
-  /// runs its own thread: stops it while the derived members (ports, cores)
+  /// Every derived destructor's first statement (after its own stop(), if any):
+  /// stops the activity while the derived members (ports, cores)
   /// still exist. RTT stops a component's activity only in ~TaskContext,
   /// after the derived destructors ("Ports are probably already destructed
   /// by user code"), so a port callback queued at unload (a writer
