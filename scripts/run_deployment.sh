@@ -6,7 +6,7 @@
 #
 #   scripts/run_deployment.sh EXPERIMENT [--controller proposed|baseline|no_rotation]
 #     EXPERIMENT: edge_exploration | bent_bar | bent_bar_fused (the force estimate) |
-#       co_manipulation | sphere_table | ring (whole closed contours)
+#       co_manipulation | sphere_table | ring | gap_bars (whole closed contours)
 #     --controller baseline: the Li et al. (RSS 2013) baseline, no_rotation: the
 #       ablation (bent bar only; the servo's .cpf servo_bent_bar_<controller>.cpf,
 #       the same program)
@@ -31,7 +31,7 @@ build="${BUILD:-$root/build}"
 orocos="${OROCOS:-/opt/orocos}"
 py=/usr/bin/python3
 
-usage() { echo "usage: $0 edge_exploration|bent_bar|bent_bar_fused|co_manipulation|sphere_table|ring [--controller proposed|baseline|no_rotation]" >&2; exit 2; }
+usage() { echo "usage: $0 edge_exploration|bent_bar|bent_bar_fused|co_manipulation|sphere_table|ring|gap_bars [--controller proposed|baseline|no_rotation]" >&2; exit 2; }
 [ $# -ge 1 ] || usage
 exp="$1"; shift
 controller=proposed
@@ -47,7 +47,7 @@ case "$exp" in
   bent_bar_fused) servo_cpf=servo_bent_bar_fused.cpf ;;
   co_manipulation) servo_cpf=servo_co_manipulation.cpf ;;
   sphere_table) servo_cpf=servo_edge_exploration.cpf ;;
-  ring) servo_cpf=servo_ring.cpf ;;
+  ring|gap_bars) servo_cpf=servo_closed_contour.cpf ;;
   *) usage ;;
 esac
 case "$controller" in

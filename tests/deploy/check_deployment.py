@@ -65,15 +65,23 @@ elif exp == "co_manipulation":
 elif exp == "sphere_table":
     check(d["status"] == "ok", f"status ok ({d['status']})")
     check(abs(num(d["force_true_mean_n"]) - 5.0) <= 1.0, f"true force mean 5 +- 1 N ({d['force_true_mean_n']})")
-elif exp == "ring":
-    # Whole closed contours: the program lifts off and unwinds the wrist
-    # (twice on the ring) and ends in `done` when the loop closes; the phases
-    # as the headless run's (README "Whole closed contours").
+elif exp in ("ring", "gap_bars"):
+    # Whole closed contours: on the ring the program lifts off and unwinds the
+    # wrist twice and ends in `done` when the loop closes; on the gap bars it
+    # crosses the gap once (cross_gap) and ends past the second bar's end. The
+    # phases as the headless run's, and closed_contour_experiment.osd's own
+    # account of them (README "Whole closed contours").
     check(d["status"] == "ok", f"status ok ({d['status']})")
     names = [p["name"] for p in d["phases"]]
     check(names[-1:] == ["done"], f"ended in done ({names[-1:]})")
     n_unw = sum(1 for n in names if n.startswith("unwind"))
-    check(n_unw == 2, f"two unwindings ({n_unw})")
+    n_gap = sum(1 for n in names if n.startswith("cross_gap"))
+    want = (2, 0, "loop_closed") if exp == "ring" else (0, 1, "contour_end")
+    check((n_unw, n_gap) == want[:2], f"{want[0]} unwindings, {want[1]} gap crossings ({n_unw}, {n_gap})")
+    log = open(f"{deploy_dir}/deployer.log", errors="replace").read()
+    line = f"[ContourExperiment] finished: {want[2]} after {want[0]} unwindings and {want[1]} gap crossings"
+    check(line in log, f"the state machine reports '{line}'")
+    check("at the end: FINISHED" in log, "the state machine at the end: FINISHED")
     hn = [p["name"] for p in h["phases"]]
     check(names == hn, "the phase sequence as tactile_sim's")
     if names == hn:
