@@ -138,6 +138,13 @@ TEST_F(WtsPty, PadSimulatorFramesSurviveTheLinkToNewtons) {
       f.counts[static_cast<std::size_t>(i)] = static_cast<uint16_t>(c > 4095 ? 4095 : c);
     }
   });
+  // The simulator's thread calls the source until TearDown() stops it, after
+  // this body's locals (truth_frame) are gone: drop the source first, on
+  // every way out (ASan: stack-use-after-return).
+  struct DropSource {
+    tactile::wts::SimulatedWts& s;
+    ~DropSource() { s.setSource(nullptr); }
+  } drop_source{sim};
   params.rle = true;
   WtsDriver d;
   ASSERT_TRUE(d.configure(params).ok());
