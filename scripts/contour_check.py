@@ -7,8 +7,12 @@ and RUN/summary.json (phases), and the scene's geometry independently: each
 `bent_bar`'s ridge, its axis polyline raised by its radius along +z_g (the
 contours here lie in horizontal planes, touched from above).
 
-  closure_m   distance from the contact point (CoP) where the exploration
-              started to the last contact point of the run
+  closure_m   the true closure: the distance from the simulator's true
+              contact point (evaluation only) where the exploration started
+              to where the run entered `done` (loop_closed fired there), else
+              to the exploration's last; closure_controller_m the same from
+              the controller's own contact points (the CoP mapped to {g}: its
+              noise, ~1 mm with every sensor effect on, is in it)
   rms_m       RMS distance, in the contour's plane (x_g, y_g), of the
               reconstructed contour points in the exploring phases to the
               ridge: the contact line's points (RUN/edge_points.csv: where
@@ -188,7 +192,9 @@ def main():
     # servo's loop_closed fired on it), else the exploration's last.
     done = [r for r in rows if names.get(int(r["phase"]), "") == "done"]
     last = np.array([float(done[0][k]) for k in ("x", "y", "z")]) if done else P[-1]
-    closure = float(np.linalg.norm(last - start))
+    closure_ctrl = float(np.linalg.norm(last - start))
+    last_true = np.array([float(done[0]["true_" + k]) for k in ("x", "y", "z")]) if done else T[-1]
+    closure = float(np.linalg.norm(last_true - T[0]))
     far = float(np.max(np.linalg.norm(P - start, axis=1)))
     unw = [p["t_enter"] for p in phases if p["name"].startswith("unwind")]
     gaps = [p["t_enter"] for p in phases if p["name"].startswith("cross_gap")]
@@ -208,7 +214,7 @@ def main():
         "t_explore_s": next((p["t_enter"] for p in phases if p["name"] == "explore"), None),
         "t_done_s": next((p["t_enter"] for p in phases if p["name"] == "done"), None),
         "ended_by_loop_closure": phases[-1]["name"] == "done",
-        "closure_m": closure, "farthest_from_start_m": far,
+        "closure_m": closure, "closure_controller_m": closure_ctrl, "farthest_from_start_m": far,
         "rms_m": float(np.sqrt(np.mean(d_edge ** 2))), "max_m": float(np.max(d_edge)),
         "reconstruction": recon,
         "rms_cop_m": float(np.sqrt(np.mean(d_cop ** 2))),
@@ -274,7 +280,7 @@ def main():
         ax[1].legend(fontsize=8)
         fig.tight_layout()
         fig.savefig(os.path.join(a.run, "contour.png"), dpi=110)
-    print(json.dumps({k: res[k] for k in ("scene", "status", "closure_m", "end_distance_m", "coverage", "reconstruction", "rms_m",
+    print(json.dumps({k: res[k] for k in ("scene", "status", "closure_m", "closure_controller_m", "end_distance_m", "coverage", "reconstruction", "rms_m",
                                            "rms_arc_m", "rms_cop_m", "rms_3d_m", "max_m", "points", "unwinds", "gap_crossings",
                                            "unwind_times_s", "t_done_s")}))
     for f in fails:

@@ -5,7 +5,13 @@ each with scripts/contour_check.py and writes OUT/contours.md (the table of
 the README's "Whole closed contours") and OUT/contours.png (the four
 reconstructions over the truth).
 
-usage: run_contours.py [--sim build/bin/tactile_sim] [--out out/contours]
+With --sensor-effects every sensor effect is on (device noise, gain spread,
+calibration error, crosstalk, creep, hysteresis, dead taxels, the WTS transfer
+delay: the levels of scripts/sweep_effects.py); --seeds N runs seeds 1..N
+(the plots: seed 1). The closure is the true one (contour_check.py), the
+controller's own beside it.
+
+usage: run_contours.py [--sim build/bin/tactile_sim] [--out out/contours] [--seeds N] [--sensor-effects]
 """
 import argparse
 import json
@@ -18,35 +24,47 @@ ROOT = os.path.dirname(HERE)
 # scene, open contour, the RMS bound the check applies (m), gap crossings
 SCENES = [("ring", False, 0.001, 0), ("rounded_square", False, 0.001, 0), ("s_curve", True, 0.001, 0),
           ("gap_bars", True, 0.001, 1)]
+# Every sensor effect at its realistic level (scripts/sweep_effects.py's).
+SENSOR_EFFECTS = ["--set", "effects.device_noise=true", "--set", "effects.gain_spread=0.1",
+                  "--set", "effects.calibration_error=0.05", "--set", "effects.crosstalk=0.05",
+                  "--set", "effects.creep={fraction: 0.1, tau_s: 2.0}", "--set", "effects.hysteresis=0.05",
+                  "--set", "effects.dead_taxels=2", "--set", "effects.wts_transfer_delay_s=0.0157"]
 
 
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--sim", default=os.path.join(ROOT, "build", "bin", "tactile_sim"))
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "contours"))
+    ap.add_argument("--seeds", type=int, default=1)
+    ap.add_argument("--sensor-effects", action="store_true")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     res = []
     for name, is_open, rms, gaps in SCENES:
         scene = os.path.join(ROOT, "sim", "scenes", name + ".yaml")
-        run = os.path.join(a.out, name)
-        subprocess.run([a.sim, "run", scene, "--out", run, "--no-plots"], check=False, stdout=subprocess.DEVNULL)
-        cmd = [sys.executable, os.path.join(HERE, "contour_check.py"), run, scene, "--max-rms", str(rms),
-               "--gap-crossings", str(gaps)]
-        if is_open:
-            cmd.append("--open")
-        rc = subprocess.run(cmd, stdout=subprocess.DEVNULL).returncode
-        r = json.load(open(os.path.join(run, "contour.json")))
-        r["open"], r["rc"], r["bound"] = is_open, rc, rms
-        res.append(r)
+        for seed in range(1, a.seeds + 1):
+            run = os.path.join(a.out, name if seed == 1 else "%s_seed%d" % (name, seed))
+            subprocess.run([a.sim, "run", scene, "--out", run, "--no-plots", "--seed", str(seed)]
+                           + (SENSOR_EFFECTS if a.sensor_effects else []), check=False, stdout=subprocess.DEVNULL)
+            cmd = [sys.executable, os.path.join(HERE, "contour_check.py"), run, scene, "--max-rms", str(rms),
+                   "--gap-crossings", str(gaps)]
+            if is_open:
+                cmd.append("--open")
+            if seed != 1:
+                cmd.append("--no-plot")
+            rc = subprocess.run(cmd, stdout=subprocess.DEVNULL).returncode
+            r = json.load(open(os.path.join(run, "contour.json")))
+            r["open"], r["rc"], r["bound"], r["seed"] = is_open, rc, rms, seed
+            res.append(r)
     with open(os.path.join(a.out, "contours.md"), "w") as f:
-        f.write("| scene | status | explore -> done (s) | closure / end (mm) | cloud RMS (mm) | coverage | "
+        f.write("| scene | seed | status | explore -> done (s) | closure, true / controller's (mm) or end (mm) | cloud RMS (mm) | coverage | "
                 "arc-corrected CoP RMS (mm) | raw CoP RMS (mm) | 3-D RMS (mm) | max (mm) | unwinds (at s) | gap crossings (at s) | check |\n"
-                "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n")
+                "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n")
         for r in res:
-            ce = ("end %.1f" % (r["end_distance_m"] * 1e3)) if r["open"] else ("%.1f" % (r["closure_m"] * 1e3))
-            f.write("| %s | %s | %.1f -> %.1f | %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.1f | %d (%s) | %d (%s) | %s |\n" % (
-                r["scene"], r["status"], r["t_explore_s"], r["t_done_s"] or float("nan"), ce, r["rms_m"] * 1e3,
+            ce = ("end %.1f" % (r["end_distance_m"] * 1e3)) if r["open"] else (
+                "%.1f / %.1f" % (r["closure_m"] * 1e3, r["closure_controller_m"] * 1e3))
+            f.write("| %s | %d | %s | %.1f -> %.1f | %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.1f | %d (%s) | %d (%s) | %s |\n" % (
+                r["scene"], r["seed"], r["status"], r["t_explore_s"], r["t_done_s"] or float("nan"), ce, r["rms_m"] * 1e3,
                 min(r["coverage"]), r["rms_arc_m"] * 1e3, r["rms_cop_m"] * 1e3, r["rms_3d_m"] * 1e3, r["max_m"] * 1e3,
                 r["unwinds"],
                 ", ".join("%.1f" % t for t in r["unwind_times_s"]) or "-", r["gap_crossings"],
@@ -56,8 +74,9 @@ def main():
     matplotlib.use("Agg")
     import matplotlib.image as mpimg
     import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(len(res), 1, figsize=(12, 5.5 * len(res)))
-    for k, r in enumerate(res):
+    first = [r for r in res if r["seed"] == 1]
+    fig, ax = plt.subplots(len(first), 1, figsize=(12, 5.5 * len(first)))
+    for k, r in enumerate(first):
         ax[k].imshow(mpimg.imread(os.path.join(a.out, r["scene"], "contour.png")))
         ax[k].axis("off")
     fig.tight_layout()

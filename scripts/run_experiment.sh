@@ -11,7 +11,10 @@
 #   tactile force over edge radii, yaw and bend directions
 #   (scripts/sweep_force.py -> out/force/force.md, ~2 min), and the force
 #   estimate's bound against the image (scripts/sweep_correction.py ->
-#   out/correction/correction.md, ~10 s).
+#   out/correction/correction.md, ~10 s), and the whole closed contours (ring,
+#   rounded square, S-curve, gap bars; scripts/run_contours.py ->
+#   out/contours/contours.md, and with every sensor effect on, seeds 1-3,
+#   out/contours_sensor_effects/contours.md; ~10 s).
 # Results and PNG plots go to out/<scene>/. Then every experiment again as
 # Orocos components under the OCL deployer (scripts/run_deployment.sh: the
 # simulated deployment on tactile::SimClock, the experiment's state machine,
@@ -47,6 +50,9 @@ run bent_bar_fused bent_bar_fused
 /usr/bin/python3 "$root/scripts/compare_controllers.py" --sim "$sim" --out "$out/compare_paper" --paper || echo "  (compare_controllers.py --paper failed)"
 /usr/bin/python3 "$root/scripts/sweep_correction.py" --sim "$sim" --seeds 3 --out "$out/correction" > "$out/correction.log" 2>&1 || echo "  (sweep_correction.py failed: $out/correction.log)"
 /usr/bin/python3 "$root/scripts/sweep_force.py" --seeds 3 --out "$out/force" > "$out/force.log" 2>&1 || echo "  (sweep_force.py failed: $out/force.log)"
+/usr/bin/python3 "$root/scripts/run_contours.py" --sim "$sim" --out "$out/contours" > "$out/contours.log" 2>&1 || echo "  (run_contours.py failed: $out/contours.log)"
+/usr/bin/python3 "$root/scripts/run_contours.py" --sim "$sim" --out "$out/contours_sensor_effects" --seeds 3 --sensor-effects \
+  > "$out/contours_sensor_effects.log" 2>&1 || echo "  (run_contours.py --sensor-effects failed: $out/contours_sensor_effects.log)"
 
 # The same experiments as deployed (the loop that runs on the robot, with the
 # simulated arm and sensor swapped in).
@@ -63,4 +69,6 @@ deploy bent_bar --controller no_rotation
 deploy bent_bar_fused
 deploy co_manipulation
 deploy sphere_table
+deploy ring
+deploy gap_bars
 /usr/bin/python3 "$root/scripts/experiment_report.py" "$out/deploy"

@@ -122,6 +122,59 @@ TEST(FeatureRegions, TwoSeparateContactsAreMultipleNotOneLongEdge) {
   EXPECT_EQ(ex.lastRegionCount(), 1);
 }
 
+TEST(FeatureRegions, AGapSplitsTheLineOnceSilentForTauLnOneOverRegionMinRate) {
+  // A line load slides onto a gap (two collinear bars, README "The gap"):
+  // three columns fall silent at t_off. A silent taxel keeps joining regions
+  // while its firing rate p = exp(-(t - t_off) / censor_tau) (t_off: the
+  // last frame they fired) is at least
+  // region_min_rate, so the line splits into two contacts exactly when
+  // t - t_off first reaches censor_tau ln(1 / region_min_rate) (0.391 s at
+  // 0.1 s and 0.02), to one frame (5 ms); a shorter silence (a dropout,
+  // a sag of the load near the threshold) does not split it. Exact: the
+  // rate recursion is exp(-dt/tau) per frame, so the first multiple frame
+  // is the first k with exp(-k dt / tau) < region_min_rate.
+  for (double rate : {0.02, 0.1}) {
+    FeatureParams p;
+    p.taxel_noise = 0.012;  // the rates run only with a noise model
+    p.region_min_rate = rate;
+    FeatureExtractor ex = configured(p);
+    TactileFrame line = blank();
+    fill(line, 2, 3, 0, 13, 0.3);
+    ContactFeatures out;
+    const double dt = 0.005;
+    double t = 0.0;
+    for (int k = 0; k < 200; ++k, t += dt) {  // 1 s: every rate -> 1
+      line.time_s = t;
+      ex.step(line, out);
+    }
+    ASSERT_EQ(out.contact, ContactType::Edge);
+    TactileFrame gap = line;
+    fill(gap, 2, 3, 6, 8, 0.0);
+    const double t_off = t - dt;  // the last frame the columns fired
+    double first_multiple = -1.0;
+    for (int k = 0; k < 200; ++k, t += dt) {
+      gap.time_s = t;
+      ex.step(gap, out);
+      if (out.contact == ContactType::Multiple && first_multiple < 0.0) first_multiple = t - t_off;
+      if (first_multiple < 0.0) {
+        EXPECT_EQ(out.contact, ContactType::Edge) << "t - t_off " << t - t_off;
+      }
+    }
+    const double expected = p.censor_tau * std::log(1.0 / rate);
+    EXPECT_GE(first_multiple, expected - 1e-9) << "rate " << rate;
+    EXPECT_LT(first_multiple, expected + dt + 1e-9) << "rate " << rate;
+    EXPECT_EQ(out.contact, ContactType::Multiple);
+    EXPECT_EQ(ex.lastRegionCount(), 2);
+  }
+  // Out of range: a configuration error naming the key.
+  FeatureParams bad;
+  bad.region_min_rate = 0.0;
+  FeatureExtractor ex;
+  const ConfigResult r = ex.configure(bad);
+  EXPECT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("region_min_rate"), std::string::npos) << r.message();
+}
+
 // ---------------------------------------------------------------- alpha_z within the noise
 
 TEST(FeatureAlphaNoise, IsotropicContactUnderNoiseIsUndefinedAndHeldNotJumping) {

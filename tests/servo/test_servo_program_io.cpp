@@ -75,7 +75,7 @@ TEST(ServoProgramIo, ShippedProgramsLoadAndConfigure) {
   }
   ASSERT_TRUE(explore && unwind);
   EXPECT_EQ(explore->transitions[0].on, TransitionEvent::LoopClosed);
-  EXPECT_DOUBLE_EQ(explore->transitions[0].radius_m, 0.005);
+  EXPECT_DOUBLE_EQ(explore->transitions[0].radius_m, 0.002);
   EXPECT_EQ(explore->transitions[1].on, TransitionEvent::WristWound);
   EXPECT_NEAR(explore->transitions[1].angle_rad, 150.0 * kPi / 180.0, 1e-12);
   EXPECT_DOUBLE_EQ(unwind->unwind_rate, 0.7);

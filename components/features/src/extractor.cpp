@@ -65,6 +65,8 @@ ConfigResult FeatureExtractor::configure(const FeatureParams& p) {
     return rangeError("features.region_gap", p.region_gap, "must be in [0, 4] (taxels)");
   if (!(p.region_min_force > 0.0) || !std::isfinite(p.region_min_force))
     return rangeError("features.region_min_force", p.region_min_force, "must be finite and > 0 (N)");
+  if (!(p.region_min_rate >= kMinRate) || !(p.region_min_rate <= 0.99))
+    return rangeError("features.region_min_rate", p.region_min_rate, "must be in [0.00135, 0.99]");
   if (!(p.max_taxel_force > 0.0) || !std::isfinite(p.max_taxel_force))
     return rangeError("features.max_taxel_force", p.max_taxel_force, "must be finite and > 0 (N)");
 
@@ -104,7 +106,7 @@ int FeatureExtractor::countRegions(const double* f, int rows, int cols) {
   // above kMinRate) is loaded near t: it joins regions like a firing one, so
   // a line load whose taxels the noise switches off is not "multiple".
   const bool rates = params_.censor_tau > 0.0 && params_.taxel_noise > 0.0;
-  auto on = [&](int j) { return f[j] > t || (rates && fire_rate_[static_cast<std::size_t>(j)] >= kMinRate); };
+  auto on = [&](int j) { return f[j] > t || (rates && fire_rate_[static_cast<std::size_t>(j)] >= params_.region_min_rate); };
   for (int i = 0; i < n; ++i) seen[static_cast<std::size_t>(i)] = 0;
   const int reach = params_.region_gap + 1;
   int regions = 0;

@@ -12,7 +12,7 @@ ConfigResult loadFeatureParams(const YAML::Node& node, const Where& where, Featu
                              {"rows", "cols", "pitch", "c_z", "threshold", "contact_threshold", "edge_ratio",
                               "edge_ratio_exit", "edge_min_length", "alpha_hysteresis_deg", "isotropy_tol",
                               "alpha_max_sigma", "censor_tau", "censor_min_rate", "region_gap", "region_min_force",
-                              "max_taxel_force"});
+                              "region_min_rate", "max_taxel_force"});
   if (!r) return r;
   for (auto rr : {read(node, "rows", p.rows, where), read(node, "cols", p.cols, where),
                   read(node, "pitch", p.pitch, where), read(node, "c_z", p.c_z, where),
@@ -24,6 +24,7 @@ ConfigResult loadFeatureParams(const YAML::Node& node, const Where& where, Featu
                   read(node, "censor_tau", p.censor_tau, where), read(node, "censor_min_rate", p.censor_min_rate, where),
                   read(node, "region_gap", p.region_gap, where),
                   read(node, "region_min_force", p.region_min_force, where),
+                  read(node, "region_min_rate", p.region_min_rate, where),
                   read(node, "max_taxel_force", p.max_taxel_force, where)})
     if (!rr) return rr;
   if (node["alpha_hysteresis_deg"]) {

@@ -47,11 +47,19 @@
 //  * Separate contacts. The firing taxels (> contact_threshold) are grouped
 //    into regions (connected when at most region_gap silent taxels apart,
 //    Chebyshev distance; a silent taxel that fired recently -- firing rate
-//    >= kMinRate, see "Taxels the noise switches off" -- counts as firing).
-//    Two or more regions carrying >= region_min_force each give
+//    >= region_min_rate, see "Taxels the noise switches off" -- counts as
+//    firing). Two or more regions carrying >= region_min_force each give
 //    ContactType::Multiple: their joint moments would make one long
 //    "edge" between them. All moments stay those of the whole image (f is the
 //    total force); alpha_z is undefined; the servo uses no edge Jacobian.
+//    region_min_rate is a time: a taxel that fired steadily and fell silent
+//    stops joining after censor_tau ln(1 / region_min_rate) (0.39 s at 0.1 s
+//    and 0.02). From one image a gap in an edge (the pad over it unloaded)
+//    and a line load sagging below the threshold (the pad still loaded there)
+//    look the same; the sagging taxels fire now and then (noise, the load's
+//    ripple), the gap's never. Larger values find a gap sooner (it must stay
+//    silent that long under the pad: ~0.5 s for a 10 mm gap at 10 mm/s) and
+//    split a sagging line more often (README "The gap").
 //  * Taxels the noise switches off (censoring by the device's firing
 //    threshold t = contact_threshold). A taxel with load f reads 0 below t;
 //    with count noise sigma (taxel_noise) it fires with probability
@@ -75,7 +83,7 @@
 //    is not undone.
 //    Delay: only the estimates lag; a taxel that stops firing is estimated
 //    for censor_tau ln 2 (69 ms at 0.1 s) at most, readings count at once.
-//    A silent taxel with p >= kMinRate also joins contact regions (above).
+//    A silent taxel with p >= region_min_rate also joins contact regions (above).
 //  * Bad values: NaN/Inf -> InvalidInput; a finite value beyond
 //    +-max_taxel_force -> OutOfRange (nothing propagated, history kept);
 //    values below kForceFloor (1e-200 N) -- denormals included -- and
@@ -137,6 +145,10 @@ struct FeatureParams {
   int region_gap = 1;
   /// A region counts as a separate contact when it carries at least this (N), > 0.
   double region_min_force = 0.5;
+  /// A silent taxel joins contact regions while its firing rate is at least
+  /// this, in [kMinRate, 0.99] (see "Separate contacts" above). The default,
+  /// kMinRate, joins anything that fired within ~6.6 censor_tau.
+  double region_min_rate = 0.00135;  // FeatureExtractor::kMinRate
   /// A finite taxel value beyond +-this (N) is not a reading of this sensor:
   /// status OutOfRange, nothing propagated. > 0.
   double max_taxel_force = 1000.0;
