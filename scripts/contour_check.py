@@ -10,9 +10,8 @@ contours here lie in horizontal planes, touched from above).
   closure_m   the true closure: the distance from the simulator's true
               contact point (evaluation only) where the exploration started
               to where the run entered `done` (loop_closed fired there), else
-              to the exploration's last; closure_controller_m the same from
-              the controller's own contact points (the CoP mapped to {g}: its
-              noise, ~1 mm with every sensor effect on, is in it)
+              to the exploration's last; closure_cop_m the same from the
+              logged CoP points (not the servo's loop point, servo.hpp WRIST)
   rms_m       RMS distance, in the contour's plane (x_g, y_g), of the
               reconstructed contour points in the exploring phases to the
               ridge: the contact line's points (RUN/edge_points.csv: where
@@ -32,8 +31,10 @@ contours here lie in horizontal planes, touched from above).
               last object's last vertex (--open: must be <= END_M)
 
 Writes RUN/contour.json and RUN/contour.png; exits 1 when a check fails
-(--max-closure, --max-rms, --min-coverage; defaults: the targets 5 mm and 1 mm,
-and 90 % of each contour covered), 2 on bad input.
+(--max-closure, --max-rms, --min-coverage, --max-force-rms, --min-force-band;
+defaults: the targets 5 mm and 1 mm, 90 % of each contour covered, and the
+true force's RMS error <= 0.4 N and >= 95 % of the time within its band), 2
+on bad input.
 
 usage: contour_check.py RUN SCENE [--max-closure M] [--max-rms M] [--min-coverage F] [--min-unwinds N]
                         [--gap-crossings N] [--no-plot]
@@ -145,6 +146,10 @@ def main():
     ap.add_argument("--open", action="store_true",
                     help="an open contour: instead of the closure, the run must reach the last object's far end "
                          "(the last exploring contact point within END_M of its last vertex)")
+    ap.add_argument("--max-force-rms", type=float, default=0.4,
+                    help="N: the true force's RMS error against the set point while exploring (summary.json)")
+    ap.add_argument("--min-force-band", type=float, default=0.95,
+                    help="least share of the exploring time with the true force within the scene's band (+-0.5 N)")
     ap.add_argument("--no-plot", action="store_true")
     a = ap.parse_args()
     try:
@@ -192,7 +197,7 @@ def main():
     # servo's loop_closed fired on it), else the exploration's last.
     done = [r for r in rows if names.get(int(r["phase"]), "") == "done"]
     last = np.array([float(done[0][k]) for k in ("x", "y", "z")]) if done else P[-1]
-    closure_ctrl = float(np.linalg.norm(last - start))
+    closure_cop = float(np.linalg.norm(last - start))
     last_true = np.array([float(done[0]["true_" + k]) for k in ("x", "y", "z")]) if done else T[-1]
     closure = float(np.linalg.norm(last_true - T[0]))
     far = float(np.max(np.linalg.norm(P - start, axis=1)))
@@ -214,7 +219,7 @@ def main():
         "t_explore_s": next((p["t_enter"] for p in phases if p["name"] == "explore"), None),
         "t_done_s": next((p["t_enter"] for p in phases if p["name"] == "done"), None),
         "ended_by_loop_closure": phases[-1]["name"] == "done",
-        "closure_m": closure, "closure_controller_m": closure_ctrl, "farthest_from_start_m": far,
+        "closure_m": closure, "closure_cop_m": closure_cop, "farthest_from_start_m": far,
         "rms_m": float(np.sqrt(np.mean(d_edge ** 2))), "max_m": float(np.max(d_edge)),
         "reconstruction": recon,
         "rms_cop_m": float(np.sqrt(np.mean(d_cop ** 2))),
@@ -241,6 +246,11 @@ def main():
         fails.append("cloud RMS %.5f m > %.5f m" % (res["rms_m"], a.max_rms))
     if not min(cover) >= a.min_coverage:
         fails.append("coverage %.3f < %.3f" % (min(cover), a.min_coverage))
+    f_rms, f_band = summ.get("force_true_rms_error_n"), summ.get("force_true_in_band_fraction")
+    if f_rms is None or not f_rms <= a.max_force_rms:
+        fails.append("true force RMS error %s N > %.2f N" % (f_rms, a.max_force_rms))
+    if f_band is None or not f_band >= a.min_force_band:
+        fails.append("true force within its band %s < %.2f of the time" % (f_band, a.min_force_band))
     if len(gaps) != a.gap_crossings:
         fails.append("%d gap crossings, expected %d" % (len(gaps), a.gap_crossings))
     if not len(unw) >= a.min_unwinds:
@@ -280,7 +290,7 @@ def main():
         ax[1].legend(fontsize=8)
         fig.tight_layout()
         fig.savefig(os.path.join(a.run, "contour.png"), dpi=110)
-    print(json.dumps({k: res[k] for k in ("scene", "status", "closure_m", "closure_controller_m", "end_distance_m", "coverage", "reconstruction", "rms_m",
+    print(json.dumps({k: res[k] for k in ("scene", "status", "closure_m", "closure_cop_m", "end_distance_m", "coverage", "reconstruction", "rms_m",
                                            "rms_arc_m", "rms_cop_m", "rms_3d_m", "max_m", "points", "unwinds", "gap_crossings",
                                            "unwind_times_s", "t_done_s")}))
     for f in fails:

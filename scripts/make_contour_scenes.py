@@ -84,10 +84,14 @@ def bar(name, pts):
     return "  - name: %s\n    type: bent_bar\n    radius: %.4f\n    vertices: [%s]\n" % (name, RADIUS, v)
 
 
-FOOTER = """effects: {{friction_mu: 0.5}}
+# The program regulates the force estimate (the arm's estimated wrench): the
+# wrench carries the *_fused scenes' error, a constant offset tared in free
+# motion and 0.5 N of noise per axis.
+FOOTER = """effects: {{friction_mu: 0.5, wrench_error: {{bias_n: [1.0, -1.0, 2.0], noise_n: 0.5}}}}
 metrics:
   transient_s: 2.0
-  force_phases: [explore, explore_back]
+  force_phases: [explore, explore_back, cross_gap, cross_gap_back]   # sliding along the contour
+  force_band_n: 0.5                                                # the target: +-0.5 N of the set point
   alignment: {{from: align, to: explore}}
 
 """

@@ -55,16 +55,20 @@ def main():
             rc = subprocess.run(cmd, stdout=subprocess.DEVNULL).returncode
             r = json.load(open(os.path.join(run, "contour.json")))
             r["open"], r["rc"], r["bound"], r["seed"] = is_open, rc, rms, seed
+            sm = json.load(open(os.path.join(run, "summary.json")))
+            r["force"] = (sm.get("force_true_mean_n"), sm.get("force_true_rms_error_n"), sm.get("force_true_in_band_fraction"))
             res.append(r)
     with open(os.path.join(a.out, "contours.md"), "w") as f:
-        f.write("| scene | seed | status | explore -> done (s) | closure, true / controller's (mm) or end (mm) | cloud RMS (mm) | coverage | "
+        f.write("| scene | seed | status | explore -> done (s) | true force mean / RMS error (N) / within +-0.5 N | "
+                "closure (true, mm) or end (mm) | cloud RMS (mm) | coverage | "
                 "arc-corrected CoP RMS (mm) | raw CoP RMS (mm) | 3-D RMS (mm) | max (mm) | unwinds (at s) | gap crossings (at s) | check |\n"
-                "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n")
+                "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n")
         for r in res:
-            ce = ("end %.1f" % (r["end_distance_m"] * 1e3)) if r["open"] else (
-                "%.1f / %.1f" % (r["closure_m"] * 1e3, r["closure_controller_m"] * 1e3))
-            f.write("| %s | %d | %s | %.1f -> %.1f | %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.1f | %d (%s) | %d (%s) | %s |\n" % (
-                r["scene"], r["seed"], r["status"], r["t_explore_s"], r["t_done_s"] or float("nan"), ce, r["rms_m"] * 1e3,
+            ce = ("end %.1f" % (r["end_distance_m"] * 1e3)) if r["open"] else ("%.1f" % (r["closure_m"] * 1e3))
+            fm, fe, fb = (float("nan") if v is None else v for v in r["force"])
+            f.write("| %s | %d | %s | %.1f -> %.1f | %.2f / %.2f / %.0f %% | %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.1f | %d (%s) | %d (%s) | %s |\n" % (
+                r["scene"], r["seed"], r["status"], r["t_explore_s"], r["t_done_s"] or float("nan"), fm, fe, 100 * fb, ce,
+                r["rms_m"] * 1e3,
                 min(r["coverage"]), r["rms_arc_m"] * 1e3, r["rms_cop_m"] * 1e3, r["rms_3d_m"] * 1e3, r["max_m"] * 1e3,
                 r["unwinds"],
                 ", ".join("%.1f" % t for t in r["unwind_times_s"]) or "-", r["gap_crossings"],

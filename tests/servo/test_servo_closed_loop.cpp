@@ -219,3 +219,36 @@ TEST(ServoClosedLoop, BentBarProposedAlignsNoRotationDoesNot) {
     EXPECT_NEAR(in.features.force, 5.0, 0.1);  // both hold the force on this linear plant
   }
 }
+
+// The point loop_closed follows (servo.hpp, WRIST) is where the edge passes
+// the pad's centre, {g}T{e} {e}T{s} (0, CoP_y, 0), from the measured pose: the
+// same place on the contour reads the same whatever CoP_x the image gives
+// (the CoP moves along the pad with the load's distribution), and across the
+// edge it follows CoP_y. Exact: one KDL frame product (1e-12 m).
+TEST(ServoLoopPoint, IsTheEdgeAtThePadCentreNotTheCoP) {
+  const ServoParams p = loadShipped("closed_contour.yaml");
+  KDL::Frame meas(KDL::Rotation::RPY(3.1, 0.05, 0.7), KDL::Vector(0.55, -0.06, 0.375));
+  const KDL::Vector want_centre = meas * p.sensor_mount * KDL::Vector(0.0, 0.0017, 0.0);
+  for (double cop_x : {-0.02, 0.0, 0.013}) {
+    TactileServo core;
+    const ConfigResult r = core.configure(p);
+    ASSERT_TRUE(r.ok()) << r.message();
+    ServoInput in;
+    in.time_s = 0.0;
+    in.flange_measured = toPose(meas);
+    in.features = makeFeatures(0.0, cop_x, 0.0017, 5.0 / 1800.0, cop_x, 0.0017, 0.0);
+    ServoOutput out;
+    core.step(in, 0.01, out);
+    ASSERT_TRUE(core.requestPhase("explore"));  // its loop_closed transition anchors on its first evaluation in contact
+    for (int k = 1; k <= 2; ++k) {
+      in.time_s = in.features.time_s = 0.01 * k;
+      core.step(in, 0.01, out);
+    }
+    ASSERT_STREQ(core.program().name(core.program().current()).data(), "explore");
+    double a[3];
+    ASSERT_TRUE(core.program().loopAnchor(a)) << "cop_x " << cop_x;
+    EXPECT_NEAR(a[0], want_centre.x(), 1e-12) << "cop_x " << cop_x;
+    EXPECT_NEAR(a[1], want_centre.y(), 1e-12) << "cop_x " << cop_x;
+    EXPECT_NEAR(a[2], want_centre.z(), 1e-12) << "cop_x " << cop_x;
+  }
+}

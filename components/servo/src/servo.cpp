@@ -107,7 +107,7 @@ void TactileServo::observePose(const KDL::Frame& meas, const ContactFeatures& f,
   sig.wrist_yaw = wrist_yaw_;
   sig.have_point = PhaseProgram::hasContact(f) && std::isfinite(f.cop_x) && std::isfinite(f.cop_y);
   if (sig.have_point) {
-    const KDL::Vector p = T_gs * KDL::Vector(f.cop_x, f.cop_y, 0.0);
+    const KDL::Vector p = T_gs * KDL::Vector(0.0, f.cop_y, 0.0);  // the edge at the pad's centre (WRIST)
     sig.point[0] = p.x(), sig.point[1] = p.y(), sig.point[2] = p.z();
   }
   program_.observe(sig);

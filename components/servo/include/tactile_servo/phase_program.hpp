@@ -9,8 +9,9 @@
 // c_z, |CoC| below tolerances; optionally low-passed with `filter_s`), contact_lost, force_above, timeout (time in
 // the phase), and from the arm's measured pose (observe()): wrist_wound
 // (|accumulated yaw about z_s| >= angle), wrist_unwound (the yaw has come back
-// by >= angle since the phase was entered) and loop_closed (the contact point
-// in {g}, anchored where a loop_closed transition was first evaluated in
+// by >= angle since the phase was entered) and loop_closed (the caller's loop
+// point in {g}, the servo's: where the edge passes the pad's centre, servo.hpp
+// WRIST; anchored where a loop_closed transition was first evaluated in
 // contact, has gone further than leave_m from the anchor and is back within
 // radius_m; the anchor is kept across phases until reset()). A request (by
 // index) is kept until the caller enters it.

@@ -108,8 +108,15 @@
 // adds a rotation about z_s against the yaw it was entered with, through zero
 // (the phase's wrist_unwound transition says how far): lift off,
 // unwind, come back down, as an operator would (programs/closed_contour.yaml).
-// The contact point for loop_closed is the CoP on the pad, {g}T{e} {e}T{s} (CoP_x, CoP_y, 0),
-// from the measured flange pose.
+// The point loop_closed follows is where the edge passes the pad's centre:
+// {g}T{e} {e}T{s} (0, CoP_y, 0), from the measured flange pose. Along the
+// edge it is the pad's own position (the kinematics, exact); across it the
+// CoP's lateral offset. Not the CoP itself: along the edge the CoP is the
+// centroid of the taxels above the firing threshold, which moves by 1-6 mm
+// against the true pressure centre with the load's distribution along the
+// pad (a tilt, a curve, a corner under it), so the same place on a contour
+// read 3-9 mm apart at the start and at the end of a loop (README "Whole
+// closed contours", Closure).
 //
 // PHASE PROGRAM. Each cycle with valid features, the current phase's
 // transitions are evaluated in their listed order (first to fire wins; a
