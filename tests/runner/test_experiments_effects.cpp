@@ -135,9 +135,9 @@ TEST(ExperimentsWithEveryEffect, ShippedScenesPassTheirCriteria) {
       "creep: {fraction: 0.1, tau_s: 2.0}, hysteresis: 0.05, gain_spread: 0.1, dead_taxels: 2, "
       "calibration_error: 0.05, crosstalk: 0.05, device_noise: true, "
       "wrench_error: {bias_n: [1.0, -1.0, 2.0], noise_n: 0.5}}";
-  // The closed contours regulate Eq. 2's force alone and pass too: their
+  // The closed contours (the force estimate at 6 N) pass too; the
   // force-mismatch watchdog reads the wrench less its tared zero (before, the
-  // estimate's 2 N offset stopped the ring at seed 2).
+  // estimate's 2 N offset stopped the ring at seed 2 on the tactile force).
   for (const char* name : {"edge_exploration.yaml", "bent_bar.yaml", "sphere_table.yaml", "partial_edge.yaml",
                            "short_bar.yaml", "off_centre_load.yaml", "co_manipulation.yaml", "ring.yaml",
                            "rounded_square.yaml", "s_curve.yaml", "gap_bars.yaml"}) {
