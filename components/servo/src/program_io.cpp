@@ -133,10 +133,9 @@ ConfigResult readTransition(const YAML::Node& n, const Where& w, TransitionParam
   if (!r) return r;
   std::string on;
   if (!(r = read(n, "on", on, w))) return r;
-  const char* const events[] = {"contact",     "edge",    "point",       "aligned",       "contact_lost",
-                                "force_above", "timeout", "wrist_wound", "wrist_unwound", "loop_closed",
-                                "multiple"};  // the order of TransitionEvent
-  constexpr int kEvents = 11;
+  constexpr int kEvents = static_cast<int>(kLastTransitionEvent) + 1;
+  const char* events[kEvents];  // the program file's names: toString(TransitionEvent)
+  for (int i = 0; i < kEvents; ++i) events[i] = toString(static_cast<TransitionEvent>(i));
   bool found = false;
   for (int i = 0; i < kEvents; ++i)
     if (on == events[i]) {

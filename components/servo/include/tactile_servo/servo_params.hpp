@@ -54,9 +54,11 @@ enum class TransitionEvent : uint8_t {
   Contact, Edge, Point, Aligned, ContactLost, ForceAbove, Timeout,
   WristWound,    ///< |accumulated yaw of {s} about z_s, from the measured poses| >= angle_rad
   WristUnwound,  ///< the accumulated yaw has come back by >= angle_rad since the phase was entered
-  LoopClosed,    ///< the contact point is back within radius_m of its anchor, after leaving it by > leave_m
+  LoopClosed,    ///< the loop point (servo.hpp, WRIST) is back within radius_m of its anchor, after leaving it by > leave_m
   Multiple       ///< contact in two or more separate regions (ContactType::Multiple): e.g. a gap in the edge under the pad
 };
+constexpr TransitionEvent kLastTransitionEvent = TransitionEvent::Multiple;
+/// The event's name in a program file ("contact", ..., "multiple").
 const char* toString(TransitionEvent e);
 
 /// Tolerance quantities for the `aligned` event. The first six are the rows of
