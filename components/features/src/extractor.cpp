@@ -103,7 +103,7 @@ int FeatureExtractor::countRegions(const double* f, int rows, int cols) {
   const int n = rows * cols;
   const double t = params_.contact_threshold;
   // A silent taxel that fired recently (the sub-threshold estimate's rate
-  // above kMinRate) is loaded near t: it joins regions like a firing one, so
+  // at least region_min_rate) is loaded near t: it joins regions like a firing one, so
   // a line load whose taxels the noise switches off is not "multiple".
   const bool rates = params_.censor_tau > 0.0 && params_.taxel_noise > 0.0;
   auto on = [&](int j) { return f[j] > t || (rates && fire_rate_[static_cast<std::size_t>(j)] >= params_.region_min_rate); };

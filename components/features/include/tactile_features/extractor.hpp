@@ -107,6 +107,11 @@ namespace tactile {
 
 enum class ThresholdMode : uint8_t { Fixed = 0, Otsu = 1 };
 
+/// Firing rate below which a silent taxel is not counted as loaded:
+/// p = Phi(-3), a load t - 3 sigma or less resting on a firing event more
+/// than about censor_tau * ln(1/p) ~ 6.6 censor_tau old.
+constexpr double kMinFiringRate = 0.00135;
+
 struct FeatureParams {
   int rows = kDefaultRows;
   int cols = kDefaultCols;
@@ -148,7 +153,7 @@ struct FeatureParams {
   /// A silent taxel joins contact regions while its firing rate is at least
   /// this, in [kMinRate, 0.99] (see "Separate contacts" above). The default,
   /// kMinRate, joins anything that fired within ~6.6 censor_tau.
-  double region_min_rate = 0.00135;  // FeatureExtractor::kMinRate
+  double region_min_rate = kMinFiringRate;
   /// A finite taxel value beyond +-this (N) is not a reading of this sensor:
   /// status OutOfRange, nothing propagated. > 0.
   double max_taxel_force = 1000.0;
@@ -192,10 +197,7 @@ class FeatureExtractor {
   /// imprecise (and slow on x86), while loads down to 1e-190 N keep their
   /// exact geometry.
   static constexpr double kForceFloor = 1e-200;
-  /// Firing rate below which a silent taxel is not counted as loaded:
-  /// p = Phi(-3), a load t - 3 sigma or less resting on a firing event more
-  /// than about censor_tau * ln(1/p) ~ 6.6 censor_tau old.
-  static constexpr double kMinRate = 0.00135;
+  static constexpr double kMinRate = kMinFiringRate;
 
   /// Taxel centre in {s} (m): SensorGeometry::x(col), y(row), tabulated.
   double taxelX(int col) const { return xs_[static_cast<std::size_t>(col)]; }
