@@ -12,6 +12,8 @@ delay: the levels of scripts/sweep_effects.py); --seeds N runs seeds 1..N
 controller's own beside it.
 
 usage: run_contours.py [--sim build/bin/tactile_sim] [--out out/contours] [--seeds N] [--sensor-effects]
+                       [--scenes ring,rounded_square,s_curve,gap_bars]
+Exits 1 when a run fails its checks.
 """
 import argparse
 import json
@@ -24,11 +26,13 @@ ROOT = os.path.dirname(HERE)
 # scene, open contour, the RMS bound the check applies (m), gap crossings
 SCENES = [("ring", False, 0.001, 0), ("rounded_square", False, 0.001, 0), ("s_curve", True, 0.001, 0),
           ("gap_bars", True, 0.001, 1)]
-# Every sensor effect at its realistic level (scripts/sweep_effects.py's).
-SENSOR_EFFECTS = ["--set", "effects.device_noise=true", "--set", "effects.gain_spread=0.1",
-                  "--set", "effects.calibration_error=0.05", "--set", "effects.crosstalk=0.05",
-                  "--set", "effects.creep={fraction: 0.1, tau_s: 2.0}", "--set", "effects.hysteresis=0.05",
-                  "--set", "effects.dead_taxels=2", "--set", "effects.wts_transfer_delay_s=0.0157"]
+# Every sensor effect at its realistic level: scripts/sweep_effects.py's table.
+sys.path.insert(0, HERE)
+import sweep_effects  # noqa: E402
+
+SENSOR = ["device_noise", "gain_spread", "calibration_error", "crosstalk", "creep", "hysteresis", "dead_taxels",
+          "wts_delay"]
+SENSOR_EFFECTS = [arg for e in SENSOR for arg in sweep_effects.EFFECTS[e][0]]
 
 
 def main():
@@ -37,10 +41,11 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "contours"))
     ap.add_argument("--seeds", type=int, default=1)
     ap.add_argument("--sensor-effects", action="store_true")
+    ap.add_argument("--scenes", default=",".join(s[0] for s in SCENES), help="comma-separated subset")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     res = []
-    for name, is_open, rms, gaps in SCENES:
+    for name, is_open, rms, gaps in (s for s in SCENES if s[0] in a.scenes.split(",")):
         scene = os.path.join(ROOT, "sim", "scenes", name + ".yaml")
         for seed in range(1, a.seeds + 1):
             run = os.path.join(a.out, name if seed == 1 else "%s_seed%d" % (name, seed))
@@ -79,10 +84,10 @@ def main():
     import matplotlib.image as mpimg
     import matplotlib.pyplot as plt
     first = [r for r in res if r["seed"] == 1]
-    fig, ax = plt.subplots(len(first), 1, figsize=(12, 5.5 * len(first)))
+    fig, ax = plt.subplots(len(first), 1, figsize=(12, 5.5 * len(first)), squeeze=False)
     for k, r in enumerate(first):
-        ax[k].imshow(mpimg.imread(os.path.join(a.out, r["scene"], "contour.png")))
-        ax[k].axis("off")
+        ax[k][0].imshow(mpimg.imread(os.path.join(a.out, r["scene"], "contour.png")))
+        ax[k][0].axis("off")
     fig.tight_layout()
     fig.savefig(os.path.join(a.out, "contours.png"), dpi=80)
     print(open(os.path.join(a.out, "contours.md")).read())
