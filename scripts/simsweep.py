@@ -20,7 +20,6 @@ KEY_METRICS = {
     "edge_exploration": ["alignment_time_s", "path_length_m", "force_true_mean_n"],
     "bent_bar": ["force_true_mean_n", "force_true_rms_error_n", "slide_speed_mps"],
     "co_manipulation": ["dzmp_recovery_time_s", "force_true_mean_n", "translation_x_m"],
-    "edge_exploration_fused": ["alignment_time_s", "force_true_rms_error_n", "force_true_in_band_fraction"],
     "bent_bar_fused": ["force_true_rms_error_n", "force_true_in_band_fraction", "slide_speed_mps"],
 }
 FORCE_METRICS = ["force_true_mean_n", "force_true_rms_error_n", "force_true_in_band_fraction"]

@@ -12,15 +12,19 @@ bounded by force_estimate.max_correction_n. The bound trades two things:
   * the image: every newton of correction is a newton less on the taxels, so
     more of them fall below the threshold and the contact features (CoP, the
     contact-point cloud) follow a thinner, broken image.
-For each bound (the paper's tactile-only program, then 1 to 4 N) and seed it
+For each bound (the paper's tactile-only program, then 1 to 4.5 N) and seed it
 runs each scene as shipped (effects, wrench error) and with every simulated
 effect on (scripts/sweep_effects.py's `all`), and reports the true force
-(mean, RMS error, fraction within 5 +- 1 N while sliding), the contact losses,
-the CoP's error against the true pressure centre while sliding (contacts.csv:
-the controller's reconstructed contact point against the simulator's truth,
-from 2 s after the slide starts; mean and 95th percentile) and whether the
-scene's criteria pass. Writes correction.csv, correction.md and
-correction.png into --out; exits 1 when a run writes no summary.
+(mean, RMS error, fraction within the issue's 5 +- 0.5 N while sliding), the
+contact losses, the CoP's error against the true pressure centre while
+sliding (contacts.csv: the controller's reconstructed contact point against
+the simulator's truth, from 2 s after the slide starts; mean and 95th
+percentile), split into its parts along and across the edge (the ridge of
+the scene's bar, in the horizontal plane: contour_check.py), the contact
+line's points (edge_points.csv: what an exploration reconstructs) across the
+edge (RMS) and how many the slide gives per mm, and whether the scene's
+criteria pass. Writes correction.csv, correction.md and correction.png into
+--out; exits 1 when a run writes no summary.
 """
 import concurrent.futures
 import csv
@@ -35,12 +39,14 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import contour_check  # noqa: E402
+import numpy as np  # noqa: E402
 import simsweep  # noqa: E402
 import sweep_effects  # noqa: E402
 
 PROGRAMS = os.path.join(simsweep.ROOT, "components", "servo", "programs")
 SCENES = {"edge_exploration": "edge_exploration", "bent_bar": "bent_bar"}  # scene -> program name
-BOUNDS = [1.0, 1.5, 2.0, 2.5, 3.0, 4.0]
+BOUNDS = [1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 4.5]
 SLIDE_PHASE = "explore"
 
 
@@ -58,23 +64,64 @@ def program_with_bound(name, bound, out):
     return path
 
 
-def cop_errors(run_dir):
-    """|reconstructed contact point - true pressure centre| (m) while sliding:
-    the rows of contacts.csv from 2 s after the slide phase is entered."""
+NO_IMAGE = {"cop": [], "along": [], "across": [], "edge": [], "per_mm": float("nan")}
+
+
+def image_errors(run_dir, scene):
+    """The image's errors while sliding (from 2 s after the slide phase is
+    entered), against the scene's ridge (contour_check.ridges) in the
+    horizontal plane and the simulator's true pressure centre:
+      cop      |reconstructed contact point - true pressure centre| (m), each row of contacts.csv
+      along    its part along the ridge's local tangent (m)
+      across   the CoP's distance to the ridge (m)
+      edge     the contact line's points' distance to the ridge (m; edge_points.csv)
+      per_mm   contact-line points per mm slid."""
     t_slide = None
     with open(os.path.join(run_dir, "timeseries.csv")) as f:
         for r in csv.DictReader(f):
             if r["phase_name"] == SLIDE_PHASE:
                 t_slide = float(r["time"])
                 break
+    out = dict(NO_IMAGE)
     if t_slide is None:
-        return []
-    out = []
+        return out
     with open(os.path.join(run_dir, "contacts.csv")) as f:
-        for r in csv.DictReader(f):
-            if float(r["time"]) >= t_slide + 2.0:
-                out.append(math.dist([float(r[k]) for k in "xyz"], [float(r["true_" + k]) for k in "xyz"]))
+        rows = [r for r in csv.DictReader(f) if float(r["time"]) >= t_slide + 2.0]
+    if not rows:
+        return out
+    lines = [np.c_[v[:, :2], np.zeros(len(v))] for v in contour_check.ridges(simsweep.scene_path(scene))]
+    P = np.array([[float(r[k]) for k in "xyz"] for r in rows])
+    T = np.array([[float(r["true_" + k]) for k in "xyz"] for r in rows])
+    flat = np.c_[P[:, :2], np.zeros(len(P))]
+    out["cop"] = list(np.linalg.norm(P - T, axis=1))
+    out["across"] = list(contour_check.dist_to_polylines(flat, lines))
+    # along the ridge: the error's projection on the nearest segment's tangent
+    best, tang = np.full(len(P), np.inf), np.zeros((len(P), 3))
+    for v in lines:
+        for a, b in zip(v[:-1], v[1:]):
+            ab = b - a
+            t = np.clip(((flat - a) @ ab) / max(ab @ ab, 1e-300), 0.0, 1.0)
+            d = np.linalg.norm(flat - (a + t[:, None] * ab), axis=1)
+            closer = d < best
+            best[closer] = d[closer]
+            tang[closer] = ab / np.linalg.norm(ab)
+    out["along"] = list(np.abs(np.sum((P - T) * tang, axis=1)))
+    with open(os.path.join(run_dir, "edge_points.csv")) as f:
+        E = np.array([[float(r[k]) for k in "xyz"] for r in csv.DictReader(f) if float(r["time"]) >= t_slide + 2.0])
+    if len(E):
+        out["edge"] = list(contour_check.dist_to_polylines(np.c_[E[:, :2], np.zeros(len(E))], lines))
+    slid = float(np.sum(np.linalg.norm(np.diff(P[:, :2], axis=0), axis=1)))
+    out["per_mm"] = len(E) / (slid * 1000.0) if slid > 0 else float("nan")
     return out
+
+
+def p95(v):
+    v = sorted(v)
+    return v[int(0.95 * (len(v) - 1))] if v else float("nan")
+
+
+def rms(v):
+    return math.sqrt(sum(x * x for x in v) / len(v)) if v else float("nan")
 
 
 def one(job):
@@ -83,11 +130,15 @@ def one(job):
     args = ["--seed", str(seed), "--set", "program=" + program]
     if setting == "all":
         args = sweep_effects.effect_args(scene, sweep_effects.ALL) + args  # the wrench error among them
-    s = simsweep.run(scene, d, args)
-    e = cop_errors(d) if s.get("status") != "no_summary" else []
-    e.sort()
-    s["cop_error_mean_m"] = sum(e) / len(e) if e else float("nan")
-    s["cop_error_p95_m"] = e[int(0.95 * (len(e) - 1))] if e else float("nan")
+    s = simsweep.run(scene, d, args + ["--set", "metrics.force_band_n=0.5"])
+    e = image_errors(d, scene) if s.get("status") != "no_summary" else NO_IMAGE
+    s["cop_error_mean_m"] = sum(e["cop"]) / len(e["cop"]) if e["cop"] else float("nan")
+    s["cop_error_p95_m"] = p95(e["cop"])
+    s["cop_along_mean_m"] = sum(e["along"]) / len(e["along"]) if e["along"] else float("nan")
+    s["cop_along_p95_m"] = p95(e["along"])
+    s["cop_across_rms_m"] = rms(e["across"])
+    s["edge_across_rms_m"] = rms(e["edge"])
+    s["edge_points_per_mm"] = e["per_mm"]
     return scene, label, setting, seed, s
 
 
@@ -124,7 +175,8 @@ def main():
             for setting in ("shipped", "all"):
                 runs = [res[(scene, label, setting, s)] for s in range(1, a.seeds + 1)]
                 for key in ("force_true_mean_n", "force_true_rms_error_n", "force_true_in_band_fraction",
-                            "contact_lost_count", "cop_error_mean_m", "cop_error_p95_m"):
+                            "contact_lost_count", "cop_error_mean_m", "cop_error_p95_m", "cop_along_mean_m",
+                            "cop_along_p95_m", "cop_across_rms_m", "edge_across_rms_m", "edge_points_per_mm"):
                     r[f"{setting}_{key}"] = mean([x.get(key) for x in runs])
                 r[f"{setting}_passed"] = sum(1 for x in runs if x.get("criteria_passed") and x.get("returncode") == 0)
             rows.append(r)
@@ -140,15 +192,21 @@ def main():
     with open(os.path.join(a.out, "correction.md"), "w") as f:
         f.write(f"Means over seeds 1-{a.seeds}. `tactile`: the paper's program (Eq. 2 alone, CoP_y 0); "
                 "otherwise the shipped program with force_estimate.max_correction_n = the bound. "
-                "CoP error: reconstructed contact point against the true pressure centre while sliding. "
+                "CoP error: reconstructed contact point against the true pressure centre while sliding, "
+                "and its part along the edge; across: RMS distance to the true ridge (horizontal plane) of the "
+                "CoP and of the contact line's points (what an exploration reconstructs); line points per mm slid. "
                 f"Criteria: seeds passed of {a.seeds}, as shipped / with every effect on.\n\n")
-        f.write("| scene | bound | true force mean (N) | RMS error (N) | within 5 +- 1 N | CoP error mean / p95 (mm) | "
+        f.write("| scene | bound | true force mean (N) | RMS error (N) | within 5 +- 0.5 N | CoP error mean / p95 (mm) | "
+                "along the edge mean / p95 (mm) | across: CoP / line RMS (mm) | line points per mm | "
                 "contact losses | RMS error, all effects (N) | criteria shipped / all |\n")
-        f.write("|---|---|---:|---:|---:|---:|---:|---:|---:|\n")
+        f.write("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n")
         for r in rows:
             f.write(f"| {r['scene']} | {r['bound']} | {f2(r['shipped_force_true_mean_n'])} | "
                     f"{f2(r['shipped_force_true_rms_error_n'])} | {f2(r['shipped_force_true_in_band_fraction'], 100, 1)} % | "
                     f"{f2(r['shipped_cop_error_mean_m'], 1000, 1)} / {f2(r['shipped_cop_error_p95_m'], 1000, 1)} | "
+                    f"{f2(r['shipped_cop_along_mean_m'], 1000, 1)} / {f2(r['shipped_cop_along_p95_m'], 1000, 1)} | "
+                    f"{f2(r['shipped_cop_across_rms_m'], 1000, 2)} / {f2(r['shipped_edge_across_rms_m'], 1000, 2)} | "
+                    f"{f2(r['shipped_edge_points_per_mm'], 1, 1)} | "
                     f"{f2(r['shipped_contact_lost_count'], 1, 1)} | {f2(r['all_force_true_rms_error_n'])} | "
                     f"{r['shipped_passed']} / {r['all_passed']} |\n")
 

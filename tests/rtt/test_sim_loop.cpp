@@ -310,9 +310,9 @@ INSTANTIATE_TEST_SUITE_P(Scenes, SimLoop,
                                            Case{"co_manipulation.yaml", ControllerMode::Proposed},
                                            Case{"sphere_table.yaml", ControllerMode::Proposed},
                                            Case{"partial_edge.yaml", ControllerMode::Baseline},
-                                           // The force estimate on an estimated wrench with its error
-                                           // (bias, noise: the same numbers at the same times).
-                                           Case{"edge_exploration_fused.yaml", ControllerMode::Proposed},
+                                           // The force estimate at its bound on an estimated wrench with
+                                           // its error (bias, noise: the same numbers at the same times).
+                                           Case{"off_centre_load.yaml", ControllerMode::Proposed},
                                            // The physics and timing effects (friction, FRI delay, KRC cycle).
                                            Case{"edge_exploration.yaml", ControllerMode::Proposed,
                                                 "{friction_mu: 0.5, fri_delay_s: 0.002, krc_cycle_s: 0.002}",
