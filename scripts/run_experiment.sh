@@ -49,6 +49,8 @@ run bent_bar_fused bent_bar_fused
 /usr/bin/python3 "$root/scripts/compare_controllers.py" --sim "$sim" --out "$out/compare_paper" --paper || echo "  (compare_controllers.py --paper failed)"
 /usr/bin/python3 "$root/scripts/sweep_correction.py" --sim "$sim" --seeds 3 --out "$out/correction" > "$out/correction.log" 2>&1 || echo "  (sweep_correction.py failed: $out/correction.log)"
 /usr/bin/python3 "$root/scripts/sweep_force.py" --seeds 3 --out "$out/force" > "$out/force.log" 2>&1 || echo "  (sweep_force.py failed: $out/force.log)"
+/usr/bin/python3 "$root/scripts/force_targets.py" --sim "$sim" --seeds 3 --out "$out/force_targets" > "$out/force_targets.log" 2>&1 \
+  || echo "  (force_targets.py: a scene misses the true-force targets or did not run: $out/force_targets.log)"
 /usr/bin/python3 "$root/scripts/run_contours.py" --sim "$sim" --out "$out/contours" > "$out/contours.log" 2>&1 || echo "  (run_contours.py failed: $out/contours.log)"
 /usr/bin/python3 "$root/scripts/run_contours.py" --sim "$sim" --out "$out/contours_sensor_effects" --seeds 3 --sensor-effects \
   > "$out/contours_sensor_effects.log" 2>&1 || echo "  (run_contours.py --sensor-effects failed: $out/contours_sensor_effects.log)"

@@ -298,7 +298,10 @@ TEST(Experiments, EdgeExplorationLiBaselineAlignsOnlyWithTheFilteredTest) {
   EXPECT_LT(p.summary.alignment_time_s, 5.0);
   EXPECT_LT(b.summary.alignment_time_s, 5.0);
   EXPECT_GT(b.summary.path_length_m, 0.15);
-  EXPECT_TRUE(b.summary.criteria_failed.empty());
+  // The paper's program (Eq. 2's force alone) meets the scene's criteria but
+  // the true-force targets, which only the force estimate meets.
+  for (const std::string& c : b.summary.criteria_failed)
+    EXPECT_TRUE(c.rfind("force_true_rms_error_n", 0) == 0 || c.rfind("force_true_in_band_fraction", 0) == 0) << c;
   const RunResult raw = runEdge(ControllerMode::Baseline, 0.0);
   EXPECT_TRUE(std::isfinite(tEnter(raw, "edge_control")));
   EXPECT_FALSE(std::isfinite(tEnter(raw, "explore")));
@@ -318,10 +321,10 @@ TEST(Experiments, CoManipulationRebalancesTheTray) {
   const RunResult r = runScene("co_manipulation.yaml");
   const Summary& s = r.summary;
   EXPECT_EQ(s.status, "ok");
-  // The tray with pad friction: every quasi-static step found its equilibrium
-  // (stick-slip on the rolling tray once made ~1 % of them stop at the
-  // iteration cap with residuals of several N).
+  // The tray with pad friction: every step found its equilibrium (the scene's
+  // tray is dynamic; next test).
   EXPECT_EQ(s.sim_unconverged_steps, 0);
+  EXPECT_EQ(s.sim_unconverged_max_residual, 0.0);
   ASSERT_TRUE(std::isfinite(s.dzmp_recovery_time_s));
   EXPECT_LT(s.dzmp_recovery_time_s, 5.0);
   EXPECT_LT(std::fabs(s.dzmp_final_m), 0.0005);
@@ -332,6 +335,21 @@ TEST(Experiments, CoManipulationRebalancesTheTray) {
   double peak = 0;
   for (const auto& row : r.rows) peak = std::max(peak, std::fabs(row.f.dzmp_y));
   EXPECT_GT(peak, 0.001);
+}
+
+// Why the co-manipulation's tray is dynamic (objects.0.fidelity): with pad
+// friction the rolling tray sticks and slips while the weight moves, and a
+// quasi-static tray stops some steps at the solver's iteration cap (measured
+// 10-70 of 15000, seeds 1-3, residuals up to 0.47 N), which summary.json
+// reports; the dynamic tray settles every step.
+TEST(Experiments, CoManipulationTrayNeedsItsDynamics) {
+  const Summary dyn = test::run(test::loadShipped("co_manipulation.yaml"));
+  const Summary qs = test::run(test::loadShipped("co_manipulation.yaml", {"objects.0.fidelity=quasi_static"}));
+  EXPECT_EQ(dyn.sim_unconverged_steps, 0);
+  EXPECT_GT(qs.sim_unconverged_steps, 0);
+  EXPECT_GT(qs.sim_unconverged_max_residual, 0.0);
+  EXPECT_TRUE(std::isfinite(qs.sim_unconverged_max_residual));
+  EXPECT_EQ(qs.status, "ok");  // isolated steps: the run goes on (100 in a row end it)
 }
 
 // A point contact never becomes an edge: the touch-dependent Jacobian keeps beta = 0.
@@ -433,14 +451,14 @@ TEST(SceneErrors, NameTheFileAndTheField) {
 }
 
 // Every shipped scene declares its pass criteria (metrics.criteria), and the
-// proposed controller meets them; the bent bar's no-DZMP baseline does not.
+// proposed controller with the shipped program meets them; the bent bar's
+// no-DZMP baseline does not.
 TEST(SceneCriteria, ShippedScenesPassTheirCriteria) {
   for (const char* f : {"edge_exploration.yaml", "bent_bar.yaml", "co_manipulation.yaml", "sphere_table.yaml",
                         "partial_edge.yaml", "short_bar.yaml", "off_centre_load.yaml"}) {
-    Scene sc;
-    ASSERT_TRUE(loadScene(kScenes + f, sc).ok()) << f;
+    const Scene sc = test::loadShipped(f);
     EXPECT_GE(sc.metrics.criteria.size(), 1u) << f;
-    const RunResult r = runScene(f);
+    const RunResult r = test::runFull(sc);
     EXPECT_TRUE(r.summary.criteria_failed.empty()) << f << ": " << r.summary.criteria_failed.front();
   }
   // The no_rotation ablation does not pass (stopped by the force-mismatch watchdog).
@@ -551,8 +569,8 @@ TEST(Experiments, ForceEstimatePutsTheTrueForceOnTarget) {
 
   // The edge exploration (pad friction 0.5: stick-slip, a 3 mm edge: more
   // than half of the line load below the threshold) meets both targets on
-  // each of seeds 1-5 (measured: RMS 0.18-0.25 N, within 5 +- 0.5 N
-  // 0.97-0.99 of the sliding time), against 0.8 N RMS for the tactile-only
+  // each of seeds 1-5 (measured: RMS 0.19-0.26 N, within 5 +- 0.5 N
+  // 0.98-0.99 of the sliding time), against 0.8 N RMS for the tactile-only
   // program.
   for (int seed = 1; seed <= 5; ++seed) {
     const RunResult e = test::runFull(test::loadShipped("edge_exploration.yaml", {"seed=" + std::to_string(seed)}));
@@ -570,16 +588,64 @@ TEST(Experiments, ForceEstimatePutsTheTrueForceOnTarget) {
   EXPECT_LT(te.force_true_in_band_fraction, 0.5);
 }
 
+// The scenes that hold a force on a fixed object meet the same targets (RMS
+// error <= 0.4 N, >= 95 % of the scored time within +-0.5 N of the set point)
+// on seeds 1-3: the tray (6 N, the force estimate tared in the approach), the
+// sphere (the edge program's align phase) and the off-centre load (the hold
+// program). Measured: RMS 0.09-0.14 / 0.04-0.06 / 0.07-0.11 N, all 100 % of
+// the time within the band. Each against its control, one change away: the
+// tray on the tactile force alone (the paper's Eq. 2: 0.3 N of the line load
+// below the firing threshold), the sphere and the off-centre load with the
+// force row's integral back in the holding phase (ki 2 /s^2: the overshoot
+// after the first touch decays with the PI's zero, 0.67 /s).
+void setPhaseKi(Scene& sc, const std::string& phase, int axis, double ki) {
+  for (auto& ph : sc.servo.phases)
+    if (ph.name == phase) {
+      ph.ki(axis) = ki;
+      return;
+    }
+  ADD_FAILURE() << "no phase " << phase;
+}
+
+TEST(Experiments, HoldingScenesPutTheTrueForceOnTarget) {
+  for (const char* name : {"co_manipulation.yaml", "sphere_table.yaml", "off_centre_load.yaml"})
+    for (int seed = 1; seed <= 3; ++seed) {
+      const Summary s = test::run(test::loadShipped(name, {"seed=" + std::to_string(seed), "metrics.force_band_n=0.5"}));
+      EXPECT_EQ(s.status, "ok") << name << " seed " << seed;
+      EXPECT_TRUE(s.criteria_failed.empty()) << name << " seed " << seed << ": " << s.criteria_failed.front();
+      EXPECT_LE(s.force_true_rms_error_n, 0.4) << name << " seed " << seed;
+      EXPECT_GE(s.force_true_in_band_fraction, 0.95) << name << " seed " << seed;
+    }
+  Scene tray = test::loadShipped("co_manipulation.yaml", {"metrics.force_band_n=0.5"});
+  ASSERT_TRUE(tray.servo.force_estimate.fused);
+  tray.servo.force_estimate.fused = false;
+  const Summary t = test::run(tray);
+  EXPECT_EQ(t.status, "ok");
+  EXPECT_GT(t.force_true_rms_error_n, 0.4);
+  EXPECT_LT(t.force_true_in_band_fraction, 0.9);
+  // The integral back: more than twice the RMS error and at least 3 % more of
+  // the time out of the band, on seeds 1 and 2 (measured: sphere 0.24 / 0.22 N
+  // against 0.04 / 0.05 N, 92-93 % in the band; off-centre load 0.19 / 0.21 N
+  // against 0.07 / 0.08 N, 96 / 92 %).
+  for (const auto& [name, phase] : {std::pair<const char*, const char*>{"sphere_table.yaml", "align"},
+                                    std::pair<const char*, const char*>{"off_centre_load.yaml", "hold"}})
+    for (const char* seed : {"seed=1", "seed=2"}) {
+      const Scene shipped = test::loadShipped(name, {seed, "metrics.force_band_n=0.5"});
+      Scene with_i = shipped;
+      setPhaseKi(with_i, phase, 2, 2.0);
+      const Summary a = test::run(shipped), b = test::run(with_i);
+      EXPECT_GT(b.force_true_rms_error_n, 2.0 * a.force_true_rms_error_n) << name << " " << seed;
+      EXPECT_LT(b.force_true_in_band_fraction, a.force_true_in_band_fraction - 0.03) << name << " " << seed;
+    }
+}
+
 // The force estimate's bound (force_estimate.max_correction_n): every newton
 // of correction is a newton less on the taxels, so the image thins out. On the
 // edge exploration's 3 mm edge the shipped 4.5 N bound puts the true force on
-// target where 2.5 N leaves it ~0.2 N high; the thinner image costs the CoP's
-// position ALONG the edge (against the simulator's true pressure centre), not
-// the edge's position ACROSS it, which is what the exploration reconstructs
-// (README, "The force estimate's bound"; measured seed 1: the paper's program
-// 0.80 N RMS, CoP along the edge 0.6 mm mean, the contact line 0.22 mm RMS
-// across the ridge; 2.5 N 0.50 N, 0.9 mm, 0.32 mm; 4.5 N 0.25 N, 3.8 mm,
-// 0.34 mm).
+// target where 2.5 N leaves it high on some seeds; the thinner image costs the
+// CoP's position ALONG the edge (against the simulator's true pressure
+// centre), not the edge's position ACROSS it, which is what the exploration
+// reconstructs (README, "The force estimate's bound").
 struct ImageErrors {
   double along_mean = NAN;  ///< m: |CoP - true pressure centre| along the ridge, mean
   double line_rms = NAN;    ///< m: the contact line's points' distance to the ridge, RMS
@@ -618,34 +684,47 @@ ImageErrors imageErrorsWhileSliding(const RunResult& r, const Scene& sc) {
 }
 
 TEST(ShippedPrograms, ForceEstimateBoundTradesTheCoPAlongTheEdge) {
-  Scene paper_sc = test::loadShipped("edge_exploration.yaml",
-                                     {"program=../../components/servo/programs/edge_exploration_tactile.yaml"});
-  Scene shipped_sc = test::loadShipped("edge_exploration.yaml");
+  // Means over seeds 1-3: stick-slip on the 3 mm edge makes single runs
+  // scatter (the 2.5 N bound's RMS error 0.30-0.56 N over the three seeds).
+  struct Mean {
+    double rms = 0, along = 0, line = 0;
+  };
+  auto run3 = [](const Scene& base) {
+    Mean m;
+    for (uint64_t seed = 1; seed <= 3; ++seed) {
+      Scene sc = base;
+      sc.seed = seed;
+      const RunResult r = test::runFull(sc);
+      EXPECT_EQ(r.summary.status, "ok") << "seed " << seed;
+      EXPECT_LT(r.summary.alignment_time_s, 5.0) << "seed " << seed;
+      EXPECT_GE(r.summary.path_length_m, 0.15) << "seed " << seed;
+      const ImageErrors e = imageErrorsWhileSliding(r, sc);
+      m.rms += r.summary.force_true_rms_error_n / 3.0;
+      m.along += e.along_mean / 3.0;
+      m.line += e.line_rms / 3.0;
+    }
+    return m;
+  };
+  const Scene paper_sc = test::loadShipped("edge_exploration.yaml",
+                                           {"program=../../components/servo/programs/edge_exploration_tactile.yaml"});
+  const Scene shipped_sc = test::loadShipped("edge_exploration.yaml");
   Scene narrow_sc = shipped_sc;
   EXPECT_DOUBLE_EQ(shipped_sc.servo.force_estimate.max_correction_n, 4.5);
   narrow_sc.servo.force_estimate.max_correction_n = 2.5;
-  const RunResult paper = test::runFull(paper_sc), shipped = test::runFull(shipped_sc),
-                  narrow = test::runFull(narrow_sc);
-  for (const RunResult* r : {&paper, &shipped, &narrow}) {
-    EXPECT_EQ(r->summary.status, "ok");
-    EXPECT_LT(r->summary.alignment_time_s, 5.0);
-    EXPECT_GE(r->summary.path_length_m, 0.15);
-  }
-  EXPECT_TRUE(shipped.summary.criteria_failed.empty()) << shipped.summary.criteria_failed.front();
+  const Mean paper = run3(paper_sc), shipped = run3(shipped_sc), narrow = run3(narrow_sc);
   // The true force: the larger the bound, the more of the hidden load the
-  // correction takes up.
-  EXPECT_LE(shipped.summary.force_true_rms_error_n, 0.4);
-  EXPECT_LT(shipped.summary.force_true_rms_error_n, 0.7 * narrow.summary.force_true_rms_error_n);
-  EXPECT_LT(narrow.summary.force_true_rms_error_n, 0.8 * paper.summary.force_true_rms_error_n);
+  // correction takes up (measured 0.27 / 0.46 / 0.80 N).
+  EXPECT_LE(shipped.rms, 0.4);
+  EXPECT_LT(shipped.rms, 0.7 * narrow.rms);
+  EXPECT_LT(narrow.rms, 0.8 * paper.rms);
   // The image: along the edge the CoP wanders more with every newton of
-  // correction (more than 1.5 times as far each step)...
-  const ImageErrors ep = imageErrorsWhileSliding(paper, paper_sc), es = imageErrorsWhileSliding(shipped, shipped_sc),
-                    en = imageErrorsWhileSliding(narrow, narrow_sc);
-  EXPECT_LT(ep.along_mean, 0.001);
-  EXPECT_GT(es.along_mean, 1.5 * en.along_mean);
+  // correction (measured 0.7 / 1.0 / 2.0 mm mean)...
+  EXPECT_LT(paper.along, 0.001);
+  EXPECT_GT(shipped.along, 1.5 * narrow.along);
   // ...but the contact line stays on the ridge: within 0.5 mm RMS across it
-  // at every bound (a third of the 1 mm the contours' cloud must meet).
-  EXPECT_LT(ep.line_rms, 0.0005);
-  EXPECT_LT(en.line_rms, 0.0005);
-  EXPECT_LT(es.line_rms, 0.0005);
+  // at every bound (half the 1 mm the contours' cloud must meet; measured
+  // 0.22 / 0.40 / 0.36 mm).
+  EXPECT_LT(paper.line, 0.0005);
+  EXPECT_LT(narrow.line, 0.0005);
+  EXPECT_LT(shipped.line, 0.0005);
 }

@@ -262,9 +262,9 @@ TEST(EstimatedWrench, ErrorModelIsExactAndTheNoiseDependsOnTimeOnly) {
 }
 
 TEST(EstimatedWrench, SceneKeysAreValidatedWithFileKeyAndRange) {
-  const std::string file = TACTILE_SOURCE_DIR "/sim/scenes/co_manipulation.yaml";  // no wrench error
+  const std::string file = TACTILE_SOURCE_DIR "/sim/scenes/co_manipulation.yaml";
   Scene sc;
-  ASSERT_TRUE(loadScene(file, sc).ok());
+  ASSERT_TRUE(loadScene(file, sc, {"effects={friction_mu: 0.5}"}).ok());
   EXPECT_FALSE(sc.wrench_error.any());
   ASSERT_TRUE(loadScene(file, sc, {"effects.wrench_error={bias_n: [1, -1, 2], drift_n_per_m: [0, 0, 1], "
                                    "scale: 0.05, noise_n: 0.5}"})

@@ -25,7 +25,8 @@ ConfigResult ForceEstimator::configure(const ForceEstimateParams& p, const char*
 }
 
 void ForceEstimator::reset() {
-  lp_ = snap_ = tare_ = KDL::Vector::Zero();
+  lp_ = snap_ = snap_prev_ = tare_ = KDL::Vector::Zero();
+  quiet_prev_ = false;
   have_lp_ = false;
   lp_t_ = 0.0;
   n_snap_ = 0;
@@ -46,15 +47,19 @@ double ForceEstimator::step(double f, bool contact, bool fresh, const KDL::Vecto
       have_lp_ = true;
       since_snap_ += dt;
       if (since_snap_ >= p_.tare_hold_s - 1e-9) {
-        // T takes the previous snapshot (samples at least tare_hold_s old)
-        // unless the wrench moved along z_s by more than tare_gate_n since
-        // then: a load building up.
-        // An offset larger than tare_max_n is a load, not a zero: never tared
-        // (the watchdog's no-contact check must still see it).
-        if (n_snap_ > 0 && std::fabs(dot(lp_ - snap_, z_s)) <= p_.tare_gate_n && snap_.Norm() <= p_.tare_max_n) {
-          tare_ = snap_;
+        // T takes the snapshot two intervals back (samples at least
+        // 2 tare_hold_s old) when the wrench moved along z_s by at most
+        // tare_gate_n in each of the two intervals since: a load building up
+        // shows in the second interval even where the low-pass's lag hides
+        // it in the first. An offset larger than tare_max_n is a load, not a
+        // zero: never tared (the watchdog's no-contact check must still see it).
+        const bool quiet = n_snap_ > 0 && std::fabs(dot(lp_ - snap_, z_s)) <= p_.tare_gate_n;
+        if (quiet && quiet_prev_ && snap_prev_.Norm() <= p_.tare_max_n) {
+          tare_ = snap_prev_;
           tared_ = true;
         }
+        quiet_prev_ = quiet;
+        snap_prev_ = snap_;
         snap_ = lp_;
         ++n_snap_;
         since_snap_ = 0.0;

@@ -452,6 +452,7 @@ SimStatus World::stepQuasiStatic(const KDL::Frame& T_cmd, double dt) {
       if ((th.pitch <= -kTrayAngleLimit && rt(0) < 0) || (th.pitch >= kTrayAngleLimit && rt(0) > 0)) rt(0) = 0;
       if ((th.roll <= -kTrayAngleLimit && rt(1) < 0) || (th.roll >= kTrayAngleLimit && rt(1) > 0)) rt(1) = 0;
     }
+    last_residual_ = std::max(re.cwiseAbs().maxCoeff(), rt.cwiseAbs().maxCoeff());
     if (re.cwiseAbs().maxCoeff() < tol && rt.cwiseAbs().maxCoeff() < tol) {
       converged = true;
       break;
@@ -557,6 +558,7 @@ SimStatus World::stepDynamics(const KDL::Frame& T_cmd, double dt) {
   // The shear at the new state; a slip moves the stuck point.
   if (friction_on_) friction(state_.T_gs, tray_, true);
   last_iterations_ = 0;
+  last_residual_ = 0.0;
   return s;
 }
 
@@ -587,6 +589,7 @@ void World::fillState(SimStatus s) {
 
 void World::fillStatus(SimStatus s) {
   state_.solver_iterations = last_iterations_;
+  state_.solver_residual = last_residual_;
   if (contact_.layer_force + contact_.housing_force > params_.force_ceiling) s = worst(s, SimStatus::ForceCeiling);
   state_.status = s;
 }

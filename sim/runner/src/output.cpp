@@ -80,6 +80,7 @@ std::string summaryJson(const Scene& sc, const RunResult& r) {
   o << "  \"fri_max_step_m\": " << num(s.fri_max_step_m) << ",\n";
   o << "  \"fri_max_step_rad\": " << num(s.fri_max_step_rad) << ",\n";
   o << "  \"sim_unconverged_steps\": " << s.sim_unconverged_steps << ",\n";
+  o << "  \"sim_unconverged_max_residual\": " << num(s.sim_unconverged_max_residual) << ",\n";
   o << "  \"criteria_passed\": " << (s.criteria_failed.empty() ? "true" : "false") << ",\n";
   o << "  \"criteria_failed\": [";
   for (std::size_t i = 0; i < s.criteria_failed.size(); ++i) o << (i ? ", " : "") << "\"" << esc(s.criteria_failed[i]) << "\"";

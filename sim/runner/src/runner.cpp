@@ -158,6 +158,8 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
       else applied = state.command_g;  // no packet: the KRC keeps its last set point
     }
     ss = world_.step(applied, dt, state);
+    if (ss == SimStatus::NotConverged)
+      sum.sim_unconverged_max_residual = std::max(sum.sim_unconverged_max_residual, state.solver_residual);
     sched.advance();
     if (sched.fires().wts) world_.acquireForces(forces, acq);  // the image of the next acquisition
     fillTruth(state, acq, truth);

@@ -17,15 +17,20 @@
 //                        dt / (time of samples so far)): a running mean, then a
 //                        first-order low-pass. Every tare_hold_s of such
 //                        samples F_lp is snapshot, and the tare T takes the
-//                        previous snapshot (samples at least tare_hold_s old)
-//                        if F_lp moved along z_s by at most tare_gate_n since
-//                        it; else T is held. So T is the wrench's zero where
+//                        snapshot two intervals back (samples at least
+//                        2 tare_hold_s old) if F_lp moved along z_s by at most
+//                        tare_gate_n in each of the two intervals since it;
+//                        else T is held (one quiet interval is not enough: the
+//                        low-pass lags a ramp, a load rising at 2.6 N/s moves
+//                        it by 0.09 N in its first interval; the two-interval
+//                        rule leaks at most 0.04 N of such a ramp into T,
+//                        one interval 0.23 N). So T is the wrench's zero where
 //                        nothing touched the pad: the load that builds up while
 //                        the pad presses the object but no taxel fires yet
 //                        (below the firing threshold) moves F_lp along z_s and
 //                        holds T instead of being taken for the zero (a load
 //                        that then stays below the threshold, unchanged, for
-//                        two tare_hold_s is taken for it), unless |F_lp| >
+//                        three tare_hold_s is taken for it), unless |F_lp| >
 //                        tare_max_n: a larger offset is a load, never the
 //                        zero (the estimate's offset is a few N; a load on the
 //                        housing with no taxel firing must still reach the
@@ -62,7 +67,7 @@ struct ForceEstimateParams {
   double tare_tau_s = 0.5;         ///< s, (0, 100]: time constant of the wrench's zero without contact
   double tare_gate_n = 0.3;        ///< N, (0, 50]: largest step of the tare along z_s (a load building up: held)
   double tare_max_n = 5.0;         ///< N, (0, 50]: largest offset taken for the zero (|T|; a larger one is a load)
-  double tare_hold_s = 0.2;        ///< s, (0, 10]: age of the samples the tare is taken from
+  double tare_hold_s = 0.2;        ///< s, (0, 10]: interval of the tare's snapshots (T from samples >= 2 of them old)
 };
 
 class ForceEstimator {
@@ -85,7 +90,9 @@ class ForceEstimator {
   ForceEstimateParams p_;
   KDL::Vector lp_ = KDL::Vector::Zero();    // F_lp
   KDL::Vector snap_ = KDL::Vector::Zero();  // F_lp at the last snapshot
-  KDL::Vector tare_ = KDL::Vector::Zero();  // T: the snapshot before it
+  KDL::Vector snap_prev_ = KDL::Vector::Zero();  // F_lp at the snapshot before it
+  KDL::Vector tare_ = KDL::Vector::Zero();       // T
+  bool quiet_prev_ = false;                      // the interval before the last one was within the gate
   bool have_lp_ = false;
   double lp_t_ = 0.0;  // time of the samples in F_lp
   int n_snap_ = 0;

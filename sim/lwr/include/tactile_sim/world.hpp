@@ -121,6 +121,7 @@ struct SimState {
   double tray_pitch = 0.0, tray_roll = 0.0;  ///< rad (roll = the tray angle, about the equilibrium axis)
   double manipulability = 0.0;
   int solver_iterations = 0;         ///< quasi-static Newton iterations used
+  double solver_residual = 0.0;      ///< N, N m: the quasi-static solve's largest residual at its last evaluated iterate
   bool slipping = false;             ///< friction on: the contact slides (|friction| = mu N)
   SimStatus status = SimStatus::NotConfigured;
 };
@@ -197,6 +198,7 @@ class World {
   Vec6 W_ext_ = Vec6::Zero();
   uint32_t acq_seq_ = 0;
   int last_iterations_ = 0;
+  double last_residual_ = 0.0;
   // Quasi-static: the equilibrium is a function of the command and the world;
   // when neither changed since a converged solve, step() only advances time.
   bool qs_valid_ = false;

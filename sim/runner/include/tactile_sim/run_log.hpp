@@ -83,6 +83,7 @@ struct Summary {
   long fri_replies = 0;
   double fri_max_step_m = 0, fri_max_step_rad = 0;
   int sim_unconverged_steps = 0;  ///< physics steps whose quasi-static solve did not converge
+  double sim_unconverged_max_residual = 0.0;  ///< N, N m: the largest residual such a step stopped at (0: none)
   std::vector<std::string> criteria_failed;  ///< scene criteria not met, "metric = v > max"; empty = passed
   int exit_code = 0;  ///< 0 ok, 3 simulator (fatal: NaN, joint limit, singularity, force limit; or its steps or
                       ///< commands refused: sim_step_rejected, sim_invalid_command), 4 servo force ceiling,
