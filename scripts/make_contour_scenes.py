@@ -85,7 +85,7 @@ def bar(name, pts):
 
 
 # The program regulates the force estimate (the arm's estimated wrench): the
-# wrench carries the *_fused scenes' error, a constant offset tared in free
+# wrench carries the shipped scenes' error, a constant offset tared in free
 # motion and 0.5 N of noise per axis.
 FOOTER = """effects: {{friction_mu: 0.5, wrench_error: {{bias_n: [1.0, -1.0, 2.0], noise_n: 0.5}}}}
 metrics:

@@ -232,6 +232,9 @@ int main(int argc, char** argv) {
         std::cerr << "tactile_sim: --fidelity must be quasi_static | dynamics\n";
         return 2;
       }
+      // A dynamic arm integrates a tray anyway: a scene's dynamic tray
+      // (objects[].fidelity) is then no body of its own fidelity.
+      if (scene.world.fidelity == Fidelity::Dynamics) scene.world.tray_dynamics = false;
     } else if (a == "--through-fri") {
       scene.through_fri = true;
       if (scene.fri_file.empty()) scene.fri_file = std::string(TACTILE_SOURCE_DIR) + "/components/fri_bridge/params/fri.yaml";

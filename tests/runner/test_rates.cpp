@@ -70,13 +70,17 @@ void expectRateIndependent(const std::string& scene, const std::vector<Metric>& 
 // Alignment time: the `aligned` transition tests its errors low-passed
 // (filter_s 0.1 s, exact for held inputs: rate-independent); with pad friction
 // on (as shipped) the stick-slip makes one run's time depend on the noise
-// realisation (2.29-2.75 s over seeds 1-5 at 100 Hz), so the metric is the mean
-// over five seeds, the others too.
+// realisation, so the metric is the mean over ten seeds, the others too. With
+// the force estimate at its 4.5 N bound the image is thin while the force
+// rises, and a flicker breaks the 0.2 s `aligned` streak in some runs, which
+// then align ~0.6 s later (at 50 Hz: 1.94-2.70 s over seeds 1-10, at 100 Hz
+// 1.99-2.33 s): the five-seed mean moved by 11 % at 50 Hz, the ten-seed one
+// by 8 % (1 kHz: -2 %).
 TEST(ServoRate, EdgeExplorationKeyMetricsWithin10PercentAt50HzAnd1kHz) {
   expectRateIndependent("edge_exploration.yaml", {{"alignment_time_s", &Summary::alignment_time_s},
                                                   {"path_length_m", &Summary::path_length_m},
                                                   {"force_true_mean_n", &Summary::force_true_mean_n}},
-                        5);
+                        10);
 }
 
 // The shipped program regulates the force estimate: its RMS error is the

@@ -452,7 +452,7 @@ TEST(ServoFuzz, RandomInputsNeverProduceNanOrOversizedSteps) {
           for (double& v : in.flange_measured.q) v = value(1.0);
         }
         if (u01(rng) < 0.002) s.requestPhase(static_cast<int>(u01(rng) * 5));
-        // The arm's estimated wrench (the force estimate's input in *_fused).
+        // The arm's estimated wrench (the force estimate's input, force_estimate: fused).
         in.have_wrench = u01(rng) < 0.9;
         in.wrench.time_s = u01(rng) < 0.05 ? t - 1.0 : t;
         for (int i = 0; i < 6; ++i) in.wrench.w[static_cast<std::size_t>(i)] = value(60.0);
