@@ -3,7 +3,8 @@
 
 usage: sweep_tradeoff.py [--sim build/bin/tactile_sim] [--out out/tradeoff] [--quick]
 
-Runs the three experiments under a grid of settings (physics rate, sub-taxel
+Runs the three experiments, the bent bar to its end cap and the four closed
+contours under a grid of settings (physics rate, sub-taxel
 samples, fidelity, servo rate), and reports, per setting, the wall time per
 simulated second against the error of each scene's key metrics relative to the
 finest setting (dynamics, 2 kHz physics, 8x8 sub-samples, 100 Hz servo).
@@ -23,8 +24,11 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import simsweep  # noqa: E402
 
 ROOT = simsweep.ROOT
-# Scene -> key metrics (summary.json keys) compared with the finest setting.
-SCENES = simsweep.KEY_METRICS
+# Scene -> key metrics (summary.json keys) compared with the finest setting:
+# the experiments', and the whole closed contours' (README "Whole closed
+# contours": the true force on the contour and the path slid round it).
+CONTOUR_METRICS = ["force_true_mean_n", "path_length_m"]
+SCENES = dict(simsweep.KEY_METRICS, **{c: CONTOUR_METRICS for c in ("ring", "rounded_square", "s_curve", "gap_bars")})
 
 FINEST = {"fidelity": "dynamics", "sim": 2000, "subsamples": 8, "servo": 100}
 GRID = [
