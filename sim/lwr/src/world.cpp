@@ -453,7 +453,7 @@ SimStatus World::stepQuasiStatic(const KDL::Frame& T_cmd, double dt) {
       if ((th.roll <= -kTrayAngleLimit && rt(1) < 0) || (th.roll >= kTrayAngleLimit && rt(1) > 0)) rt(1) = 0;
     }
     last_residual_ = std::max(re.cwiseAbs().maxCoeff(), rt.cwiseAbs().maxCoeff());
-    if (re.cwiseAbs().maxCoeff() < tol && rt.cwiseAbs().maxCoeff() < tol) {
+    if (last_residual_ < tol) {
       converged = true;
       break;
     }
