@@ -62,7 +62,7 @@ def fmt(v, digits=2):
     return str(v)
 
 
-BAND_N = 0.5  # N: the true-force target's band (README "The true force on target")
+BAND_N = simsweep.FORCE_BAND_N  # N: the true-force target's band, every scene
 
 
 def load_series(path):
@@ -98,12 +98,10 @@ def main():
     for scene in scenes:
         yaml = os.path.join(ROOT, "sim", "scenes", scene + ".yaml")
         series = {}
-        extra = ["--set", f"metrics.force_band_n={BAND_N}"]  # the true-force target's band, every scene
-        if a.paper:
-            program = os.path.normpath(os.path.join(os.path.dirname(yaml), simsweep.load_scene(scene)["program"]))
-            paper = program[:-len(".yaml")] + "_tactile.yaml"
-            if os.path.exists(paper):
-                extra += ["--set", "program=" + paper]
+        extra = ["--set", f"metrics.force_band_n={BAND_N}"]
+        paper = simsweep.paper_program(scene) if a.paper else None
+        if paper:
+            extra += ["--set", "program=" + paper]
         for c in controllers:
             d = os.path.join(a.out, scene, c)
             rc = subprocess.run([a.sim, "run", yaml, "--controller", c, "--out", d, "--no-plots", *extra],

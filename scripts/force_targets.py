@@ -27,23 +27,14 @@ import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import simsweep  # noqa: E402
 
-RMS_MAX_N = 0.4
-BAND_MIN = 0.95
-BAND_N = 0.5
+RMS_MAX_N = simsweep.FORCE_RMS_MAX_N
+BAND_MIN = simsweep.FORCE_IN_BAND_MIN
+BAND_N = simsweep.FORCE_BAND_N
 DURATION_S = {"bar_loop": 120.0}  # the soak scene: an hour as shipped
-PROGRAMS = os.path.join(simsweep.ROOT, "components", "servo", "programs")
 
 
 def scenes():
     return sorted(simsweep.shipped_scenes() + sorted(simsweep.NOT_EXPERIMENTS))
-
-
-def paper_program(scene):
-    """The scene's program's `*_tactile.yaml` (the paper's), or None."""
-    prog = simsweep.load_scene(scene)["program"]
-    base = os.path.splitext(os.path.basename(prog))[0]
-    path = os.path.join(PROGRAMS, base + "_tactile.yaml")
-    return path if os.path.exists(path) else None
 
 
 def one(job):
@@ -53,7 +44,7 @@ def one(job):
     if scene in DURATION_S:
         args += ["--duration", str(DURATION_S[scene])]
     if label == "paper":
-        args += ["--set", "program=" + paper_program(scene)]
+        args += ["--set", "program=" + simsweep.paper_program(scene)]
     return scene, label, seed, simsweep.run(scene, d, args)
 
 
@@ -75,7 +66,7 @@ def main():
     seeds = max(1, a.seeds)
     names = scenes()
     jobs = [(s, "shipped", k, a.out) for s in names for k in range(1, seeds + 1)]
-    jobs += [(s, "paper", 1, a.out) for s in names if paper_program(s)]
+    jobs += [(s, "paper", 1, a.out) for s in names if simsweep.paper_program(s)]
     res, failed = {}, False
     with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as ex:
         for k, (scene, label, seed, s) in enumerate(ex.map(one, jobs), 1):

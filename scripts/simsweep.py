@@ -41,6 +41,22 @@ def shipped_scenes():
     return sorted(n for n in names if n not in NOT_EXPERIMENTS)
 
 
+# The true-force targets (README "The true force on target"): RMS error and
+# the share of the scored time within +-FORCE_BAND_N of the set point.
+FORCE_BAND_N = 0.5
+FORCE_RMS_MAX_N = 0.4
+FORCE_IN_BAND_MIN = 0.95
+
+
+def paper_program(scene):
+    """The scene's program as the paper has it: the `*_tactile.yaml` beside
+    the scene's program (Eq. 2's force alone, CoP_y 0), or None where there is
+    none (tests/runner/scene_run.hpp's loadPaper() finds it the same way)."""
+    program = os.path.normpath(os.path.join(SCENE_DIR, load_scene(scene)["program"]))
+    paper = program[:-len(".yaml")] + "_tactile.yaml"
+    return paper if os.path.exists(paper) else None
+
+
 def key_metrics(scene):
     return KEY_METRICS.get(scene, FORCE_METRICS)
 

@@ -130,7 +130,7 @@ def one(job):
     args = ["--seed", str(seed), "--set", "program=" + program]
     if setting == "all":
         args = sweep_effects.effect_args(scene, sweep_effects.ALL) + args  # the wrench error among them
-    s = simsweep.run(scene, d, args + ["--set", "metrics.force_band_n=0.5"])
+    s = simsweep.run(scene, d, args + ["--set", f"metrics.force_band_n={simsweep.FORCE_BAND_N}"])
     e = image_errors(d, scene) if s.get("status") != "no_summary" else NO_IMAGE
     s["cop_error_mean_m"] = sum(e["cop"]) / len(e["cop"]) if e["cop"] else float("nan")
     s["cop_error_p95_m"] = p95(e["cop"])

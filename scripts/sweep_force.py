@@ -42,9 +42,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import simsweep  # noqa: E402
 
-BAND = 0.5  # N: the target band around the 5 N set point
-TARGET_RMS = 0.4
-TARGET_IN_BAND = 0.95
+BAND = simsweep.FORCE_BAND_N  # N: the target band around the 5 N set point
+TARGET_RMS = simsweep.FORCE_RMS_MAX_N
+TARGET_IN_BAND = simsweep.FORCE_IN_BAND_MIN
 
 
 def rotate_about(v, c, deg):
