@@ -36,12 +36,22 @@ const char* toString(ServoStatus s) {
     case ServoStatus::Done: return "done";
     case ServoStatus::WaitingForPose: return "waiting_for_pose";
     case ServoStatus::Starting: return "starting";
+    case ServoStatus::WaitingForRobot: return "waiting_for_robot";
     case ServoStatus::ForceCeiling: return "force_ceiling";
     case ServoStatus::InvalidInput: return "invalid_input";
     case ServoStatus::NotConfigured: return "not_configured";
     case ServoStatus::PhaseTimeout: return "phase_timeout";
     case ServoStatus::ArmStalled: return "arm_stalled";
     case ServoStatus::ForceMismatch: return "force_mismatch";
+  }
+  return "unknown";
+}
+
+const char* toString(RobotMode m) {
+  switch (m) {
+    case RobotMode::Off: return "off";
+    case RobotMode::Monitor: return "monitor";
+    case RobotMode::Command: return "command";
   }
   return "unknown";
 }

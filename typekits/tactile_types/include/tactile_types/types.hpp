@@ -133,6 +133,9 @@ enum class ServoStatus : uint8_t {
   Done = 5,            ///< the phase program reached its final phase
   WaitingForPose = 6,  ///< no valid measured pose has arrived yet: no command at all
   Starting = 7,        ///< first valid measured pose: the command is that pose, unchanged
+  WaitingForRobot = 8, ///< the arm cannot be commanded now (RobotState::commandable false: the KRC
+                       ///< in monitor mode, quality below OK, drives off, ...): the command is the
+                       ///< measured pose; integrators, phase timers and the program are frozen
   ForceCeiling = 10,   ///< force ceiling hit: retreating
   InvalidInput = 11,   ///< NaN/Inf pose or dt < 0: holding
   NotConfigured = 12,
@@ -175,6 +178,34 @@ struct Wrench {
   std::array<double, 6> w{};
 };
 
+/// The KRC's FRI interface state (FRI's OFF / MON / CMD).
+enum class RobotMode : uint8_t { Off = 0, Monitor = 1, Command = 2 };
+
+constexpr int kArmJoints = 7;  ///< the LWR 4+
+
+/// What the arm's side says each cycle about the arm (port robot_state of the
+/// FRI bridge and of the simulated arm, the same meaning on both): the KRC's
+/// mode and link quality, whether the arm follows pose commands now, and the
+/// measured joint positions.
+struct RobotState {
+  double time_s = 0.0;              ///< when the state was measured (s), the servo's time base
+  RobotMode mode = RobotMode::Off;  ///< the KRC's interface state
+  int quality = 0;                  ///< FRI link quality: 0 unacceptable, 1 bad, 2 ok, 3 perfect
+  bool power_on = false;            ///< the drives are powered
+  bool cartesian_impedance = false; ///< the KRC runs the Cartesian impedance strategy
+  /// The KRC agrees with the bridge's configuration (fri.yaml): cycle time,
+  /// the KRC's UDP port, control mode. False: the bridge does not command.
+  bool config_ok = true;
+  /// Bring-up dry run: the bridge holds the arm whatever is asked; the servo
+  /// computes and records its commands as if the arm followed.
+  bool dry_run = false;
+  /// The arm follows pose commands now: Command mode, drives on, quality >= ok,
+  /// Cartesian impedance, config_ok, not dry_run.
+  bool commandable = false;
+  int link_status = 0;              ///< fri::BridgeStatus of the last packet (simulated arm: 0, commanding)
+  std::array<double, kArmJoints> q{};  ///< measured joint positions (rad), A1..A7
+};
+
 /// Simulator ground truth (port `truth` of the simulated arm; never read by
 /// the controller): what an ATI Nano17 under the sensor would measure plus
 /// the world state the logs and the summary need.
@@ -193,5 +224,6 @@ struct SimTruth {
 const char* toString(ContactType t);
 const char* toString(FeatureStatus s);
 const char* toString(ServoStatus s);
+const char* toString(RobotMode m);
 
 }  // namespace tactile

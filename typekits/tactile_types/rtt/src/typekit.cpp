@@ -219,12 +219,15 @@ bool TactileTypekit::loadTypes() {
   static const ServoStatus servo_status[] = {ServoStatus::Ok,           ServoStatus::FreeMotion, ServoStatus::Holding,
                                              ServoStatus::ContactLost,  ServoStatus::Limited,    ServoStatus::Done,
                                              ServoStatus::WaitingForPose, ServoStatus::Starting,
+                                             ServoStatus::WaitingForRobot,
                                              ServoStatus::ForceCeiling, ServoStatus::InvalidInput,
                                              ServoStatus::NotConfigured, ServoStatus::PhaseTimeout,
                                              ServoStatus::ArmStalled,   ServoStatus::ForceMismatch};
   repo->addType(new NamedEnumTypeInfo<ContactType, 4>(kContactType, contact_types));
   repo->addType(new NamedEnumTypeInfo<FeatureStatus, 8>(kFeatureStatus, feature_status));
-  repo->addType(new NamedEnumTypeInfo<ServoStatus, 14>(kServoStatus, servo_status));
+  repo->addType(new NamedEnumTypeInfo<ServoStatus, 15>(kServoStatus, servo_status));
+  static const RobotMode robot_modes[] = {RobotMode::Off, RobotMode::Monitor, RobotMode::Command};
+  repo->addType(new NamedEnumTypeInfo<RobotMode, 3>(kRobotMode, robot_modes));
 
   repo->addType(new StructTypeInfo<RawTactileFrame>(kRawTactileFrame));
   repo->addType(new StructTypeInfo<TactileFrame>(kTactileFrame));
@@ -234,6 +237,7 @@ bool TactileTypekit::loadTypes() {
   repo->addType(new StructTypeInfo<PhaseState>(kPhaseState));
   repo->addType(new StructTypeInfo<Wrench>(kWrench));
   repo->addType(new StructTypeInfo<SimTruth>(kSimTruth));
+  repo->addType(new StructTypeInfo<RobotState>(kRobotState));
   return true;
 }
 
@@ -243,6 +247,7 @@ bool TactileTypekit::loadOperators() {
   addEnumOperators<ContactType>(ops);
   addEnumOperators<FeatureStatus>(ops);
   addEnumOperators<ServoStatus>(ops);
+  addEnumOperators<RobotMode>(ops);
   // uint16_t compared with int (a uint16_t right-hand side converts to int)
   const char* names[6] = {"==", "!=", "<", ">", "<=", ">="};
   for (int i = 0; i < 6; ++i) ops->add(RTT::types::newBinaryOperator(names[i], U16IntCmp{i}));

@@ -105,6 +105,20 @@ void serialize(Archive& a, tactile::Wrench& w, const unsigned int) {
 }
 
 template <class Archive>
+void serialize(Archive& a, tactile::RobotState& r, const unsigned int) {
+  a& make_nvp("time_s", r.time_s);
+  a& make_nvp("mode", r.mode);
+  a& make_nvp("quality", r.quality);
+  a& make_nvp("power_on", r.power_on);
+  a& make_nvp("cartesian_impedance", r.cartesian_impedance);
+  a& make_nvp("config_ok", r.config_ok);
+  a& make_nvp("dry_run", r.dry_run);
+  a& make_nvp("commandable", r.commandable);
+  a& make_nvp("link_status", r.link_status);
+  tactile_detail::array(a, "q", r.q);
+}
+
+template <class Archive>
 void serialize(Archive& a, tactile::SimTruth& t, const unsigned int) {
   a& make_nvp("time_s", t.time_s);
   tactile_detail::array(a, "wrench_s", t.wrench_s);
