@@ -40,6 +40,10 @@ ConfigResult SimKrc::configure(const SimKrcParams& p, Plant& plant) {
     return rangeError("sim_krc.period_s", p.period_s, "must be in (0, 0.1] (s)");
   if (!(std::isfinite(p.reply_timeout_s) && p.reply_timeout_s >= 0.0 && p.reply_timeout_s <= 1.0))
     return rangeError("sim_krc.reply_timeout_s", p.reply_timeout_s, "must be in [0, 1] (s)");
+  if (!(std::isfinite(p.msr_sample_time_s) && p.msr_sample_time_s >= 0.0 && p.msr_sample_time_s <= 0.1))
+    return rangeError("sim_krc.msr_sample_time_s", p.msr_sample_time_s, "must be in [0, 0.1] (s; 0 = period_s)");
+  if (!(std::isfinite(p.cmd_sample_time_s) && p.cmd_sample_time_s >= 0.0 && p.cmd_sample_time_s <= 0.1))
+    return rangeError("sim_krc.cmd_sample_time_s", p.cmd_sample_time_s, "must be in [0, 0.1] (s; 0 = period_s)");
   const double probs[] = {p.faults.loss,  p.faults.duplicate, p.faults.reorder, p.faults.late,
                           p.faults.wrong_size, p.faults.wrong_id, p.faults.cmd_loss};
   const char* names[] = {"loss", "duplicate", "reorder", "late", "wrong_size", "wrong_id", "cmd_loss"};
@@ -72,8 +76,9 @@ ConfigResult SimKrc::configure(const SimKrcParams& p, Plant& plant) {
   answer_rate_ = 1.0;
   plant_->reset(p.initial_pose);
   plant_->step(p.initial_pose, 0.0, plant_state_);
-  model_.reset(plant_state_.pose);
+  model_.reset(plant_->holdPose(plant_state_));  // the robot's own set point until a command is taken
   model_.setState(p.initial.state, p.initial.quality, p.initial.power);
+  open_ = p.initial.open;
   msr_ = MsrPacket{};
   t0_ = nowSeconds();
   return ConfigResult::success();
@@ -83,6 +88,8 @@ void SimKrc::buildMeasurement() {
   model_.buildMeasurement(plant_state_, static_cast<double>(stats_.cycles) * params_.period_s, msr_);
   // The transport's statistics (this peer's, not the model's).
   MsrPacket& m = msr_;
+  if (params_.msr_sample_time_s > 0.0) m.intf.desired_msr_sample_time = static_cast<float>(params_.msr_sample_time_s);
+  if (params_.cmd_sample_time_s > 0.0) m.intf.desired_cmd_sample_time = static_cast<float>(params_.cmd_sample_time_s);
   m.intf.stat.answer_rate = static_cast<float>(answer_rate_);
   m.intf.stat.miss_rate = static_cast<float>(1.0 - answer_rate_);
   m.intf.stat.miss_counter = static_cast<uint32_t>(stats_.missed);
@@ -131,10 +138,24 @@ void SimKrc::runCycle() {
   while (next_event_ < params_.schedule.size() && params_.schedule[next_event_].cycle <= stats_.cycles) {
     const StateEvent& e = params_.schedule[next_event_++];
     model_.setState(e.state, e.quality, e.power);
+    open_ = e.open;
   }
-  // 2. plant: outside CMD (or with the drives off) the robot holds where it is.
-  model_.holdUnlessCommanding(plant_state_.pose);
+  // 2. plant: outside CMD (or with the drives off) the robot holds its own set point.
+  model_.holdUnlessCommanding(plant_->holdPose(plant_state_));
   plant_->step(model_.setPoint(), T, plant_state_);
+  if (!open_) {
+    // Closed interface: nothing sent, nothing taken; the cycle keeps its period.
+    if (params_.real_time) {
+      const double deadline = t0_ + double(stats_.cycles + 1) * T;
+      for (double now = nowSeconds(); now < deadline; now = nowSeconds()) {
+        std::size_t rn = 0;
+        socket_.receive(in_.data(), in_.size(), rn, int64_t((deadline - now) * 1e6));  // a stray datagram is dropped
+      }
+    }
+    ++stats_.closed_cycles;
+    ++stats_.cycles;
+    return;
+  }
   // 3. measurement + faults
   buildMeasurement();
   std::size_t n = 0;

@@ -8,8 +8,10 @@
 // Each cycle:
 //   1. apply the scheduled state/quality events of this cycle;
 //   2. advance the plant by one period towards the KRC's current set point
-//      (the last applied command in CMD; the measured pose otherwise: the
-//      robot holds still outside CMD);
+//      (the last applied command in CMD; the plant's holdPose() otherwise,
+//      by default the measured pose: the robot holds still outside CMD);
+//      with the interface closed (StateEvent::open false) steps 3 and 4 are
+//      skipped: nothing is sent, the cycle is paced all the same;
 //   3. send one measurement packet (916 bytes) to 127.0.0.1:remote_port, subject
 //      to the injected faults (loss, duplicate, reorder, late, wrong size or id);
 //   4. wait for the reply whose reflSeqCount is this cycle's sendSeqCount (until
@@ -46,6 +48,15 @@ class Plant {
   virtual ~Plant() = default;
   virtual void reset(const KDL::Frame& initial_pose) = 0;
   virtual void step(const KDL::Frame& commanded, double dt, PlantState& out) = 0;
+  /// The set point the robot's own controller holds while the KRC applies no
+  /// remote command (MON, drives off, CMD before the first command taken):
+  /// the KRL program's set point. The KRC reports it as cmdCartPos and steps
+  /// the plant toward it. Default: the measured pose (a plant whose set point
+  /// is where it stands, e.g. FirstOrderPlant). A plant in contact (the
+  /// simulated world: the arm pressed by its impedance against an object)
+  /// returns its last set point, which differs from the measured pose by the
+  /// contact force over the stiffness, so that the arm stays pressed.
+  virtual KDL::Frame holdPose(const PlantState& measured) const { return measured.pose; }
 };
 
 /// Built-in plant: first-order tracking of the commanded pose with time constant
@@ -68,6 +79,9 @@ struct StateEvent {
   State state = State::Mon;
   Quality quality = Quality::Perfect;
   uint16_t power = 0x7F;
+  /// false: the interface is closed (before friOpen, after friClose): the KRC
+  /// sends nothing, the robot holds (holdPose()).
+  bool open = true;
 };
 
 /// Per-measurement fault probabilities, drawn from a seeded generator.
@@ -93,6 +107,12 @@ struct SimKrcParams {
   double reply_timeout_s = 0.01;         ///< fast mode: how long to wait for a reply (s)
   KDL::Frame initial_pose = KDL::Frame(KDL::Rotation::RPY(3.14159265358979, 0.0, 0.0), KDL::Vector(0.5, 0.0, 0.4));
   ControlStrategy control = ControlStrategy::CartImpedance;
+  /// The sample times the KRC advertises in every measurement
+  /// (desiredMsrSampleTime, desiredCmdSampleTime), s; 0 = period_s. A value
+  /// other than period_s rehearses a KRC whose advertised cycle disagrees with
+  /// its real one (the bridge's rate limiter steps by desiredCmdSampleTime).
+  double msr_sample_time_s = 0.0;
+  double cmd_sample_time_s = 0.0;
   StateEvent initial{};                  ///< state at cycle 0 (its `cycle` is ignored)
   std::vector<StateEvent> schedule;      ///< sorted by cycle
   FaultParams faults{};
@@ -108,6 +128,7 @@ struct SimKrcStats : KrcModelStats {
            inj_cmd_lost = 0;
   uint64_t missed = 0;            ///< cycles without a matching reply
   uint64_t overruns = 0;          ///< real time: host late by > 2 periods, period grid re-anchored
+  uint64_t closed_cycles = 0;     ///< cycles with the interface closed (StateEvent::open false): nothing sent
   double max_latency_s = 0.0;     ///< send -> matching reply
   double sum_latency_s = 0.0;
 };
@@ -141,6 +162,8 @@ class SimKrc {
   const PlantState& plantState() const { return plant_state_; }
   State state() const { return model_.state(); }
   Quality quality() const { return model_.quality(); }
+  uint16_t power() const { return model_.power(); }
+  bool open() const { return open_; }
   const KDL::Frame& setPoint() const { return model_.setPoint(); }
 
  private:
@@ -160,6 +183,7 @@ class SimKrc {
   SimKrcStats stats_{};
   PlantState plant_state_{};
   std::size_t next_event_ = 0;
+  bool open_ = true;  // the interface is open (the KRC sends)
   MsrPacket msr_{};
   std::array<uint8_t, 2048> out_{};
   std::array<uint8_t, 2048> in_{};
