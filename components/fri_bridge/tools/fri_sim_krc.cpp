@@ -9,6 +9,12 @@
 //                     e.g. 0:MON:PERFECT,200:CMD:PERFECT,800:CMD:BAD,900:MON:OK
 //   --loss p --dup p --reorder p --late p --wrong-size p --wrong-id p --cmd-loss p --seed S
 //   --burst CYCLE:N   the measurements of cycles CYCLE .. CYCLE+N-1 are not sent (a burst of N lost packets)
+//   --local-port P    send from 127.0.0.1:P (the KRC's FRI init file's local port; default ephemeral)
+//   --control S       the control strategy the KRC reports: cart (Cartesian impedance, default),
+//                     joint (joint impedance), position, other
+//   --msr-sample-ms T --cmd-sample-ms T
+//                     the sample times the KRC advertises (desiredMsr/CmdSampleTime; default
+//                     --period-ms): a KRC whose advertised cycle disagrees with its real one
 //   --fast            do not sleep; wait for each reply up to --reply-timeout-ms (default 100)
 //   --latency-out F   write one line per cycle to F: "LATENCY_US ON_TIME", the
 //                     reply latency in us (measurement sent -> its reply
@@ -31,7 +37,8 @@ int usage(const std::string& msg) {
   std::fprintf(stderr,
                "fri_sim_krc: %s\nusage: fri_sim_krc --port P [--cycles N] [--period-ms T] [--fast] "
                "[--reply-timeout-ms T] [--latency-out FILE] [--schedule C:STATE:QUALITY[:POWER],...] [--loss p] [--dup p] [--reorder p] "
-               "[--late p] [--wrong-size p] [--wrong-id p] [--cmd-loss p] [--seed S] [--burst CYCLE:N]\n",
+               "[--late p] [--wrong-size p] [--wrong-id p] [--cmd-loss p] [--seed S] [--burst CYCLE:N] [--local-port P] "
+               "[--control cart|joint|position|other] [--msr-sample-ms T] [--cmd-sample-ms T]\n",
                msg.c_str());
   return 1;
 }
@@ -100,6 +107,19 @@ int main(int argc, char** argv) {
         return usage("--burst must be CYCLE:N with N in [1, 1e6]");
       p.faults.burst_start = c;
       p.faults.burst_length = n;
+    } else if (a == "--local-port" && has) {
+      if (!num(1, 65535, v)) return usage("--local-port must be in [1, 65535]");
+      p.local_port = static_cast<uint16_t>(v);
+    } else if (a == "--control" && has) {
+      const std::string c = argv[++i];
+      if (c == "cart") p.control = ControlStrategy::CartImpedance;
+      else if (c == "joint") p.control = ControlStrategy::JointImpedance;
+      else if (c == "position") p.control = ControlStrategy::Position;
+      else if (c == "other") p.control = ControlStrategy::Other;
+      else return usage("--control must be cart, joint, position or other");
+    } else if ((a == "--msr-sample-ms" || a == "--cmd-sample-ms") && has) {
+      if (!num(0.01, 100, v)) return usage(a + " must be in [0.01, 100]");
+      (a == "--msr-sample-ms" ? p.msr_sample_time_s : p.cmd_sample_time_s) = v * 1e-3;
     } else if (a == "--schedule" && has) {
       std::string spec = argv[++i];
       std::size_t pos = 0;

@@ -65,7 +65,7 @@ ConfigResult SimKrc::configure(const SimKrcParams& p, Plant& plant) {
   if (!r) return r;
   UdpParams up;
   up.bind_address = "127.0.0.1";
-  up.port = 0;
+  up.port = p.local_port;  // 0: ephemeral
   r = socket_.open(up);
   if (!r) return r;
   remote_ = loopbackAddress(p.remote_port);  // loopback only, by construction

@@ -102,6 +102,9 @@ struct FaultParams {
 
 struct SimKrcParams {
   uint16_t remote_port = kDefaultPort;  ///< the bridge's port on 127.0.0.1
+  /// The KRC's own UDP source port on 127.0.0.1 (its FRI init file's local
+  /// port, what the bridge's krc_port checks); 0 = ephemeral.
+  uint16_t local_port = 0;
   double period_s = 0.001;               ///< measurement period (s), (0, 0.1]
   bool real_time = true;                 ///< sleep to keep the period; false: run as fast as replies come
   double reply_timeout_s = 0.01;         ///< fast mode: how long to wait for a reply (s)
