@@ -1,0 +1,107 @@
+#!/usr/bin/python3
+"""ctest krc_config_matches_fri_yaml: krc/check_krc_config.py passes on the
+shipped KRC template (krc/TactileServo.src, krc/dlrrc.ini) and fri.yaml, and
+fails, naming the disagreement, on copies with one value changed on one side:
+
+  friOpen(2)                          -> "cycle"
+  fri.cycle_time_s 0.002              -> "cycle"
+  $STIFFNESS.STRATEGY = 30 (joint impedance) before friStart -> "control strategy"
+  a strategy-20 line moved after friStart (the KRC would start in position control)
+                                      -> "control strategy"
+  FRISOCK=49939,0                     -> "port"
+  fri.udp.port 49939                  -> "port"
+  CPSTIFFNESS Z 1000                  -> "cart_stiffness"
+  fri.cart_damping[0] 0.5             -> "cart_damping"
+  friOpen(2), strategy 30 in a comment -> still agrees (exit 0)
+  FRIHOST=rt-pc (not an address)      -> "FRIHOST"
+  fri.yaml without cycle_time_s       -> "no fri.cycle_time_s"
+
+usage: test_krc_config.py SOURCE_DIR WORK_DIR
+"""
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+src_dir, work = sys.argv[1], sys.argv[2]
+checker = os.path.join(src_dir, "krc", "check_krc_config.py")
+krc_dir = os.path.join(src_dir, "krc")
+fri_yaml = os.path.join(src_dir, "components", "fri_bridge", "params", "fri.yaml")
+protocol = os.path.join(src_dir, "components", "fri_bridge", "include", "tactile_fri", "protocol.hpp")
+failures = []
+
+
+def run(krc, fri):
+    p = subprocess.run(["/usr/bin/python3", checker, "--krc", krc, "--fri-yaml", fri, "--protocol", protocol],
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    return p.returncode, p.stdout
+
+
+def copy_case(name):
+    d = os.path.join(work, name)
+    shutil.rmtree(d, ignore_errors=True)
+    os.makedirs(d)
+    for f in ("TactileServo.src", "TactileServo.dat", "dlrrc.ini"):
+        shutil.copy(os.path.join(krc_dir, f), d)
+    shutil.copy(fri_yaml, os.path.join(d, "fri.yaml"))
+    return d
+
+
+def edit(path, old, new, count=1):
+    text = open(path, encoding="latin-1").read()
+    n = len(re.findall(old, text))
+    if n < count:
+        failures.append(f"mutation setup: '{old}' found {n} times in {path}")
+    open(path, "w", encoding="latin-1").write(re.sub(old, new, text, count=count))
+
+
+rc, out = run(krc_dir, fri_yaml)
+print(out)
+if rc != 0:
+    failures.append(f"the shipped files disagree (exit {rc})")
+
+# (name, file, pattern, replacement, expected text on a MISMATCH line)
+cases = [
+    ("friopen_2ms", "TactileServo.src", r"(?m)^TS_RET = friOpen\(1\)", "TS_RET = friOpen(2)", "cycle"),
+    ("yaml_cycle_2ms", "fri.yaml", r"cycle_time_s: 0\.001", "cycle_time_s: 0.002", "cycle"),
+    ("joint_impedance", "TactileServo.src", r"(?m)^\$STIFFNESS\.STRATEGY = 20", "$STIFFNESS.STRATEGY = 30",
+     "control strategy"),
+    ("strategy_after_fristart", "TactileServo.src",
+     r"\$STIFFNESS\.STRATEGY = 20\n\$STIFFNESS\.COMMIT = TRUE\n", "", "control strategy"),
+    ("frisock_49939", "dlrrc.ini", r"FRISOCK=49938", "FRISOCK=49939", "port"),
+    ("yaml_port_49939", "fri.yaml", r"port: 49938", "port: 49939", "port"),
+    ("stiffness_z", "TactileServo.src", r"Z 2000\.0", "Z 1000.0", "cart_stiffness"),
+    ("yaml_damping", "fri.yaml", r"cart_damping: \[0\.7", "cart_damping: [0.5", "cart_damping"),
+    # a comment is not the program: friOpen(2) and strategy 30 in comments change nothing
+    ("comment_only", "TactileServo.src", r"(?m)^; (.*)friOpen\(1\)", r"; \1friOpen(2) $STIFFNESS.STRATEGY = 30", None),
+    ("frihost_name", "dlrrc.ini", r"FRIHOST=[0-9.]+", "FRIHOST=rt-pc", "FRIHOST"),
+    ("yaml_no_cycle", "fri.yaml", r"\n *cycle_time_s:[^\n]*", "", "no fri.cycle_time_s"),
+]
+for name, f, old, new, expect in cases:
+    d = copy_case(name)
+    path = os.path.join(d, f)
+    if name == "strategy_after_fristart":
+        # the strategy-20 lines moved to just after friStart: the KRC would
+        # enter command mode in the strategy before (10, position control)
+        text = open(path, encoding="latin-1").read()
+        block = "$STIFFNESS.STRATEGY = 20\n$STIFFNESS.COMMIT = TRUE\n"
+        if block not in text:
+            failures.append(f"mutation setup: no strategy block in {path}")
+        text = text.replace(block, "", 1)
+        text = re.sub(r"(TS_RET = friStart\(1\.0\)\n)", r"\1" + block.replace("$", r"\$"), text, count=1)
+        open(path, "w", encoding="latin-1").write(text)
+    else:
+        edit(path, old, new)
+    rc, out = run(d, os.path.join(d, "fri.yaml"))
+    bad = [l for l in out.splitlines() if l.startswith("MISMATCH")]
+    ok = (rc == 0 and not bad) if expect is None else (rc == 1 and any(expect in l for l in bad))
+    print(f"{'ok  ' if ok else 'FAIL'} {name}: exit {rc}, {bad[:2]}")
+    if not ok:
+        want = "exit 0" if expect is None else f"exit 1 with a MISMATCH line containing '{expect}'"
+        failures.append(f"{name}: expected {want}, got exit {rc}:\n{out}")
+
+for f in failures:
+    print("FAIL:", f)
+print(f"test_krc_config: {len(cases) + 1} cases, {len(failures)} failures")
+sys.exit(1 if failures else 0)
