@@ -1,22 +1,38 @@
 // wts_sim: a simulated Weiss WTS0614 on a pseudo-terminal.
 //
-//   wts_sim [--link PATH] [--rows 6 --cols 14] [--pattern blob|ramp|zero]
+//   wts_sim [--link PATH] [--rows 6 --cols 14] [--pattern blob|ramp|zero|idle|press]
 //           [--recording FILE.csv] [--bit-flip P] [--drop-byte P] [--truncate P]
 //           [--bad-crc P] [--garbage P] [--stall P] [--stall-ms N] [--seed N]
+//           [--noise S] [--offset N] [--press-after S] [--press-counts N]
+//           [--dead R,C] [--stuck R,C[=COUNTS]] [--noisy R,C[=SIGMA]]
 //           [--duration S]
 //
 // Prints "device: PATH" on stdout (the slave PTY, or the symlink given with
 // --link) and serves the WTS protocol there until SIGINT/SIGTERM or --duration.
 // --pattern blob: a 12-bit Gaussian press whose centre circles over the pad;
-// ramp: counts (r*cols+c)*40 + t; zero: all zero. --recording: one frame per
-// line, rows*cols raw counts in {s} order (what `wts_read --raw` prints), looped.
-// Fault probabilities are per packet (see sim_device.hpp).
+// ramp: counts (r*cols+c)*40 + t; zero: all zero;
+// idle: the pad at no load: each taxel a fixed offset (--offset, default 30
+//   counts, +-10 over the pad) plus Gaussian noise of --noise counts (1 sigma,
+//   default 6: calibration.noise_counts of components/features/params/wts0614.yaml);
+// press: idle, then a whole-pad load (--press-counts added to every taxel,
+//   default 1500) from --press-after seconds of device time on (default 5;
+//   0 = never by time), or at once on SIGUSR1; SIGUSR2 releases it. The
+//   operator's flat-plate press of `wts_check --press`, for scripts.
+// --recording: one frame per line, rows*cols raw counts in {s} order (what
+// `wts_read --raw` prints), looped.
+// Fault probabilities are per packet (see sim_device.hpp). Taxel faults (any
+// pattern; row, col from 0 in {s}; repeatable): --dead R,C always 0; --stuck
+// R,C[=COUNTS] always COUNTS (default 2000); --noisy R,C[=SIGMA] extra Gaussian
+// noise of SIGMA counts (default 60).
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <memory>
+#include <random>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -28,6 +44,23 @@
 namespace {
 volatile std::sig_atomic_t g_stop = 0;
 void onSignal(int) { g_stop = 1; }
+// The press of --pattern press: set by SIGUSR1, cleared by SIGUSR2, read by the device thread.
+std::atomic<int> g_press{-1};  // -1: by time (--press-after), 1: pressed, 0: released
+static_assert(std::atomic<int>::is_always_lock_free, "the signal handler needs a lock-free atomic");
+void onPress(int sig) { g_press.store(sig == SIGUSR1 ? 1 : 0); }
+
+/// "R,C" or "R,C=V" -> row, col (and value, if given).
+bool parseTaxel(const char* s, tactile::wts::TaxelFault& f) {
+  int r = -1, c = -1, n = 0;
+  if (std::sscanf(s, "%d,%d%n", &r, &c, &n) != 2) return false;
+  f.row = r;
+  f.col = c;
+  if (s[n] == '\0') return true;
+  if (s[n] != '=') return false;
+  char* end = nullptr;
+  f.value = std::strtod(s + n + 1, &end);
+  return end != s + n + 1 && *end == '\0';
+}
 
 bool toDouble(const char* s, double& v) {
   char* end = nullptr;
@@ -40,6 +73,7 @@ int main(int argc, char** argv) {
   tactile::wts::SimulatedWts::Params p;
   std::string pattern = "blob", recording;
   double duration = 0.0;
+  double noise = 6.0, offset = 30.0, press_after = 5.0, press_counts = 1500.0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto val = [&](double& v) {
@@ -71,10 +105,33 @@ int main(int argc, char** argv) {
     else if (a == "--stall-ms") { val(v); p.faults.stall_ms = static_cast<int>(v); }
     else if (a == "--seed") { val(v); p.faults.seed = static_cast<uint32_t>(v); }
     else if (a == "--duration") { val(duration); }
+    else if (a == "--noise") { val(noise); }
+    else if (a == "--offset") { val(offset); }
+    else if (a == "--press-after") { val(press_after); }
+    else if (a == "--press-counts") { val(press_counts); }
+    else if ((a == "--dead" || a == "--stuck" || a == "--noisy") && i + 1 < argc) {
+      tactile::wts::TaxelFault f;
+      f.kind = a == "--dead" ? tactile::wts::TaxelFaultKind::Dead
+               : a == "--stuck" ? tactile::wts::TaxelFaultKind::Stuck : tactile::wts::TaxelFaultKind::Noisy;
+      f.value = a == "--stuck" ? 2000.0 : a == "--noisy" ? 60.0 : 0.0;
+      if (!parseTaxel(argv[i + 1], f) || (a == "--dead" && f.value != 0.0)) {
+        std::fprintf(stderr, "wts_sim: %s %s: expected ROW,COL%s\n", a.c_str(), argv[i + 1],
+                     a == "--dead" ? "" : "[=VALUE]");
+        std::exit(2);
+      }
+      ++i;
+      p.taxel_faults.push_back(f);
+    }
     else {
       std::fprintf(stderr, "wts_sim: unknown or incomplete option %s (see the header of wts_sim.cpp)\n", a.c_str());
       return 2;
     }
+  }
+  if (!(noise >= 0.0 && noise <= 1000.0) || !(offset >= 0.0 && offset <= 4095.0) ||
+      !(press_after >= 0.0) || !(press_counts >= 0.0 && press_counts <= 4095.0)) {
+    std::fprintf(stderr, "wts_sim: --noise must be in [0, 1000], --offset and --press-counts in [0, 4095] "
+                         "(counts), --press-after >= 0 (s)\n");
+    return 2;
   }
   const int rows = p.cells.rows, cols = p.cells.cols;
   tactile::wts::SimulatedWts sim;
@@ -129,8 +186,30 @@ int main(int argc, char** argv) {
           f.counts[static_cast<std::size_t>(r * cols + c)] = static_cast<uint16_t>(v);
         }
     });
+  } else if (pattern == "idle" || pattern == "press") {
+    // Per-taxel offsets fixed by the seed, noise from the same seed: one
+    // generator, called from the device thread only (under its lock).
+    struct Noise {
+      std::mt19937 gen;
+      std::normal_distribution<double> normal{0.0, 1.0};
+      std::vector<double> offsets;
+    };
+    auto st = std::make_shared<Noise>();
+    st->gen.seed(p.faults.seed + 7919u);
+    std::uniform_real_distribution<double> spread(-10.0, 10.0);
+    for (int k = 0; k < rows * cols; ++k) st->offsets.push_back(std::max(0.0, offset + spread(st->gen)));
+    const bool press = pattern == "press";
+    sim.setSource([=](uint32_t t_ms, tactile::RawTactileFrame& f) {
+      const int ps = g_press.load();
+      const bool pressed = press && (ps == 1 || (ps == -1 && press_after > 0.0 && t_ms * 1e-3 >= press_after));
+      for (int k = 0; k < rows * cols; ++k) {
+        double v = st->offsets[static_cast<std::size_t>(k)] + noise * st->normal(st->gen) + (pressed ? press_counts : 0.0);
+        v = std::round(v);
+        f.counts[static_cast<std::size_t>(k)] = static_cast<uint16_t>(v < 0.0 ? 0.0 : (v > 4095.0 ? 4095.0 : v));
+      }
+    });
   } else {
-    std::fprintf(stderr, "wts_sim: --pattern = %s: must be blob, ramp or zero\n", pattern.c_str());
+    std::fprintf(stderr, "wts_sim: --pattern = %s: must be blob, ramp, zero, idle or press\n", pattern.c_str());
     return 2;
   }
   std::string why;
@@ -140,6 +219,8 @@ int main(int argc, char** argv) {
   }
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
+  std::signal(SIGUSR1, onPress);
+  std::signal(SIGUSR2, onPress);
   std::printf("device: %s\n", sim.path().c_str());
   std::fflush(stdout);
   const auto t0 = std::chrono::steady_clock::now();

@@ -8,6 +8,7 @@
 
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 
 namespace tactile {
@@ -29,6 +30,35 @@ double SimulatedWts::uniform() {  // xorshift64*
   rng_ ^= rng_ << 25;
   rng_ ^= rng_ >> 27;
   return static_cast<double>((rng_ * 2685821657736338717ULL) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+double SimulatedWts::gaussian() {
+  const double u1 = 1.0 - uniform();  // (0, 1]: log() finite
+  const double u2 = uniform();
+  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * 3.14159265358979323846 * u2);
+}
+
+bool SimulatedWts::checkTaxelFaults(const std::vector<TaxelFault>& faults, std::string* why) const {
+  for (std::size_t i = 0; i < faults.size(); ++i) {
+    const TaxelFault& f = faults[i];
+    const std::string where = "taxel_faults[" + std::to_string(i) + "]";
+    if (f.row < 0 || f.row >= p_.cells.rows || f.col < 0 || f.col >= p_.cells.cols) {
+      if (why)
+        *why = where + ": taxel (" + std::to_string(f.row) + ", " + std::to_string(f.col) + ") is outside the " +
+               std::to_string(p_.cells.rows) + " x " + std::to_string(p_.cells.cols) + " pad (row, col from 0)";
+      return false;
+    }
+    if (f.kind == TaxelFaultKind::Stuck && !(f.value >= 0.0 && f.value <= p_.full_scale)) {
+      if (why) *why = where + ": stuck value " + std::to_string(f.value) + " must be in [0, " +
+                      std::to_string(p_.full_scale) + "] counts";
+      return false;
+    }
+    if (f.kind == TaxelFaultKind::Noisy && !(f.value >= 0.0 && f.value <= 4096.0)) {
+      if (why) *why = where + ": noise " + std::to_string(f.value) + " must be in [0, 4096] counts (1 sigma)";
+      return false;
+    }
+  }
+  return true;
 }
 
 bool SimulatedWts::openPty(std::string* why) {
@@ -89,7 +119,9 @@ bool SimulatedWts::start(const Params& p, std::string* why) {
     if (why) *why = r.message();
     return false;
   }
+  if (!checkTaxelFaults(p.taxel_faults, why)) return false;
   faults_ = p.faults;
+  taxel_faults_ = p.taxel_faults;
   rng_ = p.faults.seed ? p.faults.seed : 1;
   t0_ms_ = steadyMs();
   if (!openPty(why)) return false;
@@ -131,6 +163,13 @@ void SimulatedWts::setFaults(const SimFaults& f) {
   std::lock_guard<std::mutex> lk(mu_);
   faults_ = f;
   rng_ = f.seed ? f.seed : 1;
+}
+
+bool SimulatedWts::setTaxelFaults(const std::vector<TaxelFault>& faults, std::string* why) {
+  if (!checkTaxelFaults(faults, why)) return false;
+  std::lock_guard<std::mutex> lk(mu_);
+  taxel_faults_ = faults;
+  return true;
 }
 
 SimStats SimulatedWts::stats() const {
@@ -248,6 +287,18 @@ void SimulatedWts::sendFrame(uint8_t id, bool with_status) {
     uint16_t c = v > tare ? static_cast<uint16_t>(v - tare) : 0;
     if (c > p_.full_scale) c = p_.full_scale;
     dev[static_cast<std::size_t>(k)] = c;
+  }
+  {
+    std::lock_guard<std::mutex> lk(mu_);  // taxel_faults_ and rng_ are shared with the setters
+    for (const TaxelFault& tf : taxel_faults_) {
+      std::size_t k = map_.toDevice(tf.row * p_.cells.cols + tf.col);
+      double v = dev[k];
+      if (tf.kind == TaxelFaultKind::Dead) v = 0.0;
+      else if (tf.kind == TaxelFaultKind::Stuck) v = tf.value;
+      else v += tf.value * gaussian();
+      v = std::round(v);
+      dev[k] = static_cast<uint16_t>(v < 0.0 ? 0.0 : (v > p_.full_scale ? p_.full_scale : v));
+    }
   }
   const bool rle = rle_.load();
   std::vector<uint8_t> payload(2 + 5 + 2 * static_cast<std::size_t>(n));

@@ -9,7 +9,8 @@
 // Fault injection (per outgoing packet, deterministic seed): bit flips, dropped
 // bytes, truncated packets, wrong CRC, garbage between packets, stalls; plus
 // unplug()/replug() which closes the master (the driver sees a hangup) and
-// creates a new PTY behind the same symlink path.
+// creates a new PTY behind the same symlink path; and taxel faults of the pad
+// itself (TaxelFault: dead, stuck, noisy), applied to every frame's content.
 //
 // Not real-time and not allocation-free (test equipment).
 #pragma once
@@ -39,6 +40,20 @@ struct SimFaults {
   uint32_t seed = 1;
 };
 
+/// A faulty taxel of the simulated pad, at {s} (row, col). Applied to every
+/// frame after the source and the device tare, i.e. to what the host receives:
+///   Dead:  always 0 (a broken trace: the taxel never responds);
+///   Stuck: always `value` counts (a shorted cell or a frozen converter);
+///   Noisy: the source's value plus Gaussian noise of `value` counts (1 sigma),
+///          clamped to [0, full scale].
+enum class TaxelFaultKind : uint8_t { Dead = 0, Stuck = 1, Noisy = 2 };
+struct TaxelFault {
+  int row = 0;
+  int col = 0;
+  TaxelFaultKind kind = TaxelFaultKind::Dead;
+  double value = 0.0;  ///< Stuck: the constant count [0, full scale]; Noisy: 1-sigma counts (>= 0)
+};
+
 struct SimStats {
   uint64_t commands = 0;
   uint64_t frames = 0;
@@ -57,6 +72,7 @@ class SimulatedWts {
     uint16_t full_scale = kFullScale;
     std::string link;             ///< optional symlink to the slave (stable across replug)
     SimFaults faults;
+    std::vector<TaxelFault> taxel_faults;  ///< checked by start() (row/col inside the pad, value range)
   };
 
   SimulatedWts() = default;
@@ -73,6 +89,9 @@ class SimulatedWts {
   void setSource(FrameSource src);
   void setRecording(std::vector<RawTactileFrame> frames);
   void setFaults(const SimFaults& f);
+  /// Replaces the taxel faults; false (and `why`) when one lies outside the pad
+  /// or its value outside its range (the previous faults are kept).
+  bool setTaxelFaults(const std::vector<TaxelFault>& faults, std::string* why = nullptr);
   /// Simulate pulling the USB cable / plugging it back in.
   void unplug();
   bool replug();
@@ -95,6 +114,8 @@ class SimulatedWts {
   void sendPacket(std::vector<uint8_t>& pkt);
   uint32_t nowMs() const;
   double uniform();
+  double gaussian();  ///< standard normal from uniform() (Box-Muller); call with mu_ held
+  bool checkTaxelFaults(const std::vector<TaxelFault>& faults, std::string* why) const;
 
   Params p_;
   CellMap map_;
@@ -103,6 +124,7 @@ class SimulatedWts {
   std::vector<RawTactileFrame> recording_;
   std::size_t rec_index_ = 0;
   SimFaults faults_;
+  std::vector<TaxelFault> taxel_faults_;
   SimStats stats_;
   uint64_t rng_ = 1;
   int master_ = -1;
