@@ -6,7 +6,8 @@
 #
 #   scripts/run_deployment.sh EXPERIMENT [--controller proposed|baseline|no_rotation]
 #     EXPERIMENT: edge_exploration | bent_bar | bent_bar_fused (the force estimate) |
-#       co_manipulation | sphere_table | ring | gap_bars (whole closed contours)
+#       co_manipulation | sphere_table | ring | gap_bars (whole closed contours) |
+#       first_touch (docs/bringup.md step 5)
 #     --controller baseline: the Li et al. (RSS 2013) baseline, no_rotation: the
 #       ablation (bent bar only; the servo's .cpf servo_bent_bar_<controller>.cpf,
 #       the same program)
@@ -31,7 +32,7 @@ build="${BUILD:-$root/build}"
 orocos="${OROCOS:-/opt/orocos}"
 py=/usr/bin/python3
 
-usage() { echo "usage: $0 edge_exploration|bent_bar|bent_bar_fused|co_manipulation|sphere_table|ring|gap_bars [--controller proposed|baseline|no_rotation]" >&2; exit 2; }
+usage() { echo "usage: $0 edge_exploration|bent_bar|bent_bar_fused|co_manipulation|sphere_table|ring|gap_bars|first_touch [--controller proposed|baseline|no_rotation]" >&2; exit 2; }
 [ $# -ge 1 ] || usage
 exp="$1"; shift
 controller=proposed
@@ -48,6 +49,7 @@ case "$exp" in
   co_manipulation) servo_cpf=servo_co_manipulation.cpf ;;
   sphere_table) servo_cpf=servo_edge_exploration.cpf ;;
   ring|gap_bars) servo_cpf=servo_closed_contour.cpf ;;
+  first_touch) servo_cpf=servo_first_touch.cpf ;;
   *) usage ;;
 esac
 case "$controller" in
@@ -72,7 +74,7 @@ rc=0
 (cd "$dep" && RTT_COMPONENT_PATH="$build/lib/orocos:$orocos/lib/orocos" \
    "$deployer" --check -linfo -s "${run}_sim_run.ops" < /dev/null) > "$out/deployer.log" 2>&1 || rc=$?
 cp "$dep/orocos.log" "$out/orocos.log" 2>/dev/null || true
-grep -E "deployment step failed|status at the end|state machine .* at the end|\[(BentBar|CoManipulation|Sphere|Edge|Contour)[A-Za-z]*\]" "$out/deployer.log" | sed 's/^[0-9.]* \[[^]]*\]\[[^]]*\] //' || true
+grep -E "deployment step failed|status at the end|state machine .* at the end|\[(BentBar|CoManipulation|Sphere|Edge|Contour|FirstTouch)[A-Za-z]*\]" "$out/deployer.log" | sed 's/^[0-9.]* \[[^]]*\]\[[^]]*\] //' || true
 if [ ! -s "$report" ]; then
   echo "run_deployment: no report file (deployer exit $rc); see $out/deployer.log" >&2
   exit 1

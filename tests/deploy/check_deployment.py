@@ -87,6 +87,18 @@ elif exp in ("ring", "gap_bars"):
     if names == hn:
         dt = max(abs(num(a["t_enter"]) - num(b["t_enter"])) for a, b in zip(d["phases"], h["phases"]))
         check(dt <= 1e-4 * max(1.0, num(h["sim_time_s"])), f"phase entry times as tactile_sim's (max diff {dt:.3g} s)")
+elif exp == "first_touch":
+    # The first touch (docs/bringup.md step 5): touched, held 2 N, ended in
+    # done by the program itself, never above the 5 N ceiling; the state
+    # machine reports it (first_touch_experiment.osd, reason 2).
+    check(d["status"] == "ok", f"status ok ({d['status']})")
+    names = [p["name"] for p in d["phases"]]
+    check(names == ["approach", "hold", "done"], f"approach, hold, done ({names})")
+    check(num(d["force_true_max_n"]) <= 5.0, f"true force max <= 5 N, the ceiling ({d['force_true_max_n']})")
+    check(abs(num(d["force_true_mean_n"]) - 2.0) <= 0.5, f"true force mean 2 +- 0.5 N ({d['force_true_mean_n']})")
+    log = open(f"{deploy_dir}/deployer.log", errors="replace").read()
+    check("[FirstTouchExperiment] finished: reason 2" in log, "the state machine reports 'finished: reason 2'")
+    check("at the end: FINISHED" in log, "the state machine at the end: FINISHED")
 else:
     sys.exit(f"check_deployment.py: unknown experiment {exp} with controller {controller}")
 

@@ -381,6 +381,7 @@ TEST(ServoComponent, ExperimentStateMachineCyclesDoNotAllocate) {
       {"/co_manipulation.yaml", "/co_manipulation_experiment.osd", "CoManipulationExperiment", "WAIT_BALANCE",
        "BALANCE", false},
       {"/edge_exploration.yaml", "/sphere_table_experiment.osd", "SphereExperiment", "WAIT_ALIGN", "HOLD", true},
+      {"/first_touch.yaml", "/first_touch_experiment.osd", "FirstTouchExperiment", "WAIT_TOUCH", "HOLD", false},
   };
   for (const OsdCase& c : cases) {
     SCOPED_TRACE(c.osd);
