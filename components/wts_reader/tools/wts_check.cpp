@@ -381,9 +381,9 @@ struct Options {
 
 bool interactive(const Options& o) { return !o.no_prompt && ::isatty(0); }
 
-void waitEnter(const Options& o, const char* what) {
+void waitEnter(const Options& o) {
   if (!interactive(o)) return;
-  std::printf("%s Press Enter to start.\n", what);
+  std::printf("Press Enter to start.\n");
   std::fflush(stdout);
   char line[64];
   if (std::fgets(line, sizeof line, stdin) == nullptr) return;
@@ -636,7 +636,7 @@ int main(int argc, char** argv) {
   std::printf("Leave the pad unloaded (nothing touching it) for the next %.0f s%s.\n", o.seconds,
               o.frames > 0 ? fmt(" or %ld frames", o.frames).c_str() : "");
   std::fflush(stdout);
-  waitEnter(o, "");
+  waitEnter(o);
   std::vector<TaxelStats> ts(static_cast<std::size_t>(n));
   RawTactileFrame raw;
   uint64_t frames = 0;
@@ -866,7 +866,7 @@ int main(int argc, char** argv) {
     }
     const int need = std::max(1, static_cast<int>(std::ceil(o.press_fraction * n)));
     std::printf("Press the whole pad now (a flat plate or a palm) and hold it: waiting up to %.0f s for %d of %d "
-                "taxels to rise by at least %.0f counts.\n",
+                "taxels to rise above their no-load level (by %.0f counts or more).\n",
                 o.press_timeout, need, n, o.press_min_rise);
     std::fflush(stdout);
     std::vector<double> max_rise(static_cast<std::size_t>(n), -1e9);

@@ -24,6 +24,7 @@
 // pattern; row, col from 0 in {s}; repeatable): --dead R,C always 0; --stuck
 // R,C[=COUNTS] always COUNTS (default 2000); --noisy R,C[=SIGMA] extra Gaussian
 // noise of SIGMA counts (default 60).
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
