@@ -77,7 +77,7 @@ TEST(FriBridge, ConfigureNamesParameterAndRange) {
   r = b.configure(p);
   EXPECT_NE(r.message().find("fri.cart_damping[4]"), std::string::npos) << r.message();
   p = BridgeParams{};
-  p.nominal_period_s = std::numeric_limits<double>::quiet_NaN();
+  p.cycle_time_s = std::numeric_limits<double>::quiet_NaN();
   EXPECT_FALSE(b.configure(p).ok());
   EXPECT_FALSE(b.configured());
   BridgeOutput out;
@@ -240,6 +240,12 @@ TEST(FriBridge, QualityBelowOkHoldsLastCommand) {
     EXPECT_TRUE(KDL::Equal(h.commanded(), held, 1e-9));
   }
   EXPECT_EQ(h.bridge.stats().holds, 3u);
+  // Back at quality >= OK: the start gate again (the servo held meanwhile at
+  // the measured pose): a desired pose 50 mm away is not followed...
+  EXPECT_EQ(h.send(State::Cmd, Quality::Perfect), BridgeStatus::DesiredFar);
+  EXPECT_TRUE(KDL::Equal(h.commanded(), held, 1e-9));
+  // ...one within a step of the held command is, one limited step at a time.
+  h.setDesired(KDL::Frame(held.M, held.p + KDL::Vector(0.0004, 0.0, 0.0)));
   EXPECT_EQ(h.send(State::Cmd, Quality::Perfect), BridgeStatus::Limited);
   EXPECT_NEAR(dist(held, h.commanded()), 0.05 * kT, kPosTol);
 }
@@ -414,17 +420,121 @@ TEST(FriBridge, InvalidMeasuredPoseNeverBecomesACommand) {
   EXPECT_TRUE(KDL::Equal(h.commanded(), held, 1e-9));
 }
 
-TEST(FriBridge, InvalidKrcSampleTimeFallsBackToNominal) {
-  BridgeParams p;
-  p.nominal_period_s = 0.002;
-  Harness h(p);
+TEST(FriBridge, AKrcAtAnotherCycleIsRefusedInMonitorAndCommand) {
+  // fri.yaml expects 1 ms (friOpen(1)); this KRC runs at 2 ms, then reports
+  // an invalid sample time: named in MON, held in CMD, never followed.
+  Harness h;
+  for (const float krc_T : {0.002f, std::numeric_limits<float>::infinity()}) {
+    h.bridge.reset();
+    h.setDesired(h.measured);
+    std::vector<uint8_t> b = makeMsr(++h.seq, State::Mon, Quality::Perfect, h.measured, 0x7F, krc_T);
+    EXPECT_EQ(h.bridge.stepDatagram(b.data(), b.size(), h.desired, h.now, h.out), BridgeStatus::CycleMismatch);
+    EXPECT_TRUE(h.out.reply);  // the MON echo still goes out
+    EXPECT_TRUE(KDL::Equal(h.commanded(), h.measured, 1e-6));
+    EXPECT_EQ(h.out.mismatch, mismatch::kCycle);
+    EXPECT_FALSE(h.out.robot.config_ok);
+    EXPECT_FALSE(h.out.robot.commandable);
+    h.setDesired(KDL::Frame(h.measured.M, h.measured.p + KDL::Vector(0.0002, 0.0, 0.0)));  // within the gate
+    b = makeMsr(++h.seq, State::Cmd, Quality::Perfect, h.measured, 0x7F, krc_T);
+    EXPECT_EQ(h.bridge.stepDatagram(b.data(), b.size(), h.desired, h.now, h.out), BridgeStatus::CycleMismatch);
+    ASSERT_TRUE(h.out.reply);
+    EXPECT_TRUE(KDL::Equal(h.commanded(), h.measured, 1e-6)) << "followed a desired pose at a foreign cycle";
+    EXPECT_EQ(h.out.robot.mode, RobotMode::Command);
+    EXPECT_FALSE(h.out.robot.commandable);
+  }
+  // The same KRC at the configured cycle: commandable, and it follows.
+  h.bridge.reset();
   h.engage();
-  const KDL::Frame start = h.commanded();
-  h.setDesired(KDL::Frame(h.measured.M, h.measured.p + KDL::Vector(0.1, 0.0, 0.0)));
-  const std::vector<uint8_t> b =
-      makeMsr(++h.seq, State::Cmd, Quality::Perfect, h.measured, 0x7F, std::numeric_limits<float>::infinity());
+  EXPECT_EQ(h.out.mismatch, 0);
+  EXPECT_TRUE(h.out.robot.config_ok);
+  EXPECT_TRUE(h.out.robot.commandable);
+}
+
+TEST(FriBridge, AKrcSendingFromAnotherPortIsRefused) {
+  BridgeParams p;
+  p.krc_port = 49938;
+  Harness h(p);
+  h.bridge.notePeerPort(49938);
+  h.engage();  // the expected port: follows
+  EXPECT_TRUE(h.out.robot.commandable);
+  h.bridge.notePeerPort(50001);
+  EXPECT_EQ(h.send(State::Cmd, Quality::Perfect), BridgeStatus::PortMismatch);
+  EXPECT_EQ(h.out.mismatch, mismatch::kPort);
+  EXPECT_FALSE(h.out.robot.commandable);
+  EXPECT_EQ(h.send(State::Mon, Quality::Perfect), BridgeStatus::PortMismatch);  // named in MON too
+  // krc_port 0 checks nothing.
+  Harness any;
+  any.bridge.notePeerPort(50001);
+  any.engage();
+  EXPECT_EQ(any.out.mismatch, 0);
+}
+
+TEST(FriBridge, AnotherControlStrategyIsNamedInMonitor) {
+  Harness h;
+  std::vector<uint8_t> b = makeMsr(++h.seq, State::Mon, Quality::Perfect, h.measured);
+  putU16(b, kOffControl, 1);  // position control
+  EXPECT_EQ(h.bridge.stepDatagram(b.data(), b.size(), h.desired, h.now, h.out), BridgeStatus::WrongStrategy);
+  EXPECT_EQ(h.out.mismatch, mismatch::kControl);
+  EXPECT_FALSE(h.out.robot.cartesian_impedance);
+  EXPECT_TRUE(KDL::Equal(h.commanded(), h.measured, 1e-6));  // MON: the echo
+}
+
+TEST(FriBridge, DryRunHoldsThePoseWhereCommandWasEntered) {
+  Harness h;
+  h.bridge.setDryRun(true);
+  EXPECT_EQ(h.send(State::Mon, Quality::Perfect), BridgeStatus::Monitor);
+  EXPECT_TRUE(h.out.robot.dry_run);
+  const KDL::Frame entry = h.measured;
+  for (int k = 0; k < 50; ++k) {
+    h.setDesired(KDL::Frame(h.measured.M, h.measured.p + KDL::Vector(0.0001 * k, 0.0, 0.0)));
+    EXPECT_EQ(h.send(State::Cmd, Quality::Perfect), BridgeStatus::DryRun);
+    ASSERT_TRUE(h.out.reply);
+    EXPECT_TRUE(KDL::Equal(h.commanded(), entry, 1e-6));
+    EXPECT_FALSE(h.out.robot.commandable);
+    EXPECT_TRUE(h.out.robot.dry_run);
+  }
+  // The dry run ends: the gate again (the desired pose is 4.9 mm away: refused).
+  h.bridge.setDryRun(false);
+  EXPECT_EQ(h.send(State::Cmd, Quality::Perfect), BridgeStatus::DesiredFar);
+  EXPECT_TRUE(h.out.robot.commandable);
+  h.setDesired(h.measured);
+  EXPECT_EQ(h.send(State::Cmd, Quality::Perfect), BridgeStatus::Commanding);
+}
+
+TEST(FriBridge, RobotStateCarriesModeQualityAndJoints) {
+  Harness h;
+  std::vector<uint8_t> b = makeMsr(++h.seq, State::Mon, Quality::Ok, h.measured);
+  for (int j = 0; j < kNumJoints; ++j) putF32(b, kOffMsrJnt + 4 * std::size_t(j), 0.1f * float(j + 1));
   h.bridge.stepDatagram(b.data(), b.size(), h.desired, h.now, h.out);
-  EXPECT_NEAR(dist(start, h.commanded()), p.max_lin_speed * 0.002, kPosTol);
+  EXPECT_EQ(h.out.robot.mode, RobotMode::Monitor);
+  EXPECT_EQ(h.out.robot.quality, static_cast<int>(Quality::Ok));
+  EXPECT_TRUE(h.out.robot.power_on);
+  EXPECT_FALSE(h.out.robot.commandable);
+  EXPECT_EQ(h.out.robot.link_status, static_cast<int>(BridgeStatus::Monitor));
+  EXPECT_DOUBLE_EQ(h.out.robot.time_s, h.now);
+  for (int j = 0; j < kNumJoints; ++j) EXPECT_NEAR(h.out.robot.q[std::size_t(j)], 0.1 * (j + 1), 1e-7);
+  EXPECT_EQ(h.send(State::Cmd, Quality::Bad), BridgeStatus::QualityLow);
+  EXPECT_FALSE(h.out.robot.commandable);
+  EXPECT_EQ(h.send(State::Cmd, Quality::Ok), BridgeStatus::Commanding);
+  EXPECT_TRUE(h.out.robot.commandable);
+  EXPECT_EQ(h.send(State::Cmd, Quality::Perfect, 0), BridgeStatus::PowerOff);
+  EXPECT_FALSE(h.out.robot.commandable);
+}
+
+TEST(FriBridge, AQualityDropPassesTheStartGateAgain) {
+  // The servo holds the measured pose while the quality is low; the last
+  // command may lie a step away. After the drop the bridge follows only a
+  // desired pose within one step of what it holds.
+  Harness h;
+  h.engage();
+  const auto following = [](BridgeStatus st) { return st == BridgeStatus::Commanding || st == BridgeStatus::Limited; };
+  h.setDesired(KDL::Frame(h.measured.M, h.measured.p + KDL::Vector(0.0003, 0.0, 0.0)));
+  EXPECT_TRUE(following(h.send(State::Cmd, Quality::Perfect)));
+  EXPECT_EQ(h.send(State::Cmd, Quality::Bad), BridgeStatus::QualityLow);
+  h.setDesired(KDL::Frame(h.measured.M, h.measured.p + KDL::Vector(0.01, 0.0, 0.0)));  // far
+  EXPECT_EQ(h.send(State::Cmd, Quality::Perfect), BridgeStatus::DesiredFar);
+  h.setDesired(h.measured);
+  EXPECT_TRUE(following(h.send(State::Cmd, Quality::Perfect)));
 }
 
 TEST(FriBridge, NoHeapAllocationPerCycle) {

@@ -45,6 +45,9 @@ const char* toString(BridgeStatus s) {
     case BridgeStatus::MeasurementInvalid: return "measurement_invalid";
     case BridgeStatus::WrongStrategy: return "wrong_strategy";
     case BridgeStatus::DesiredFar: return "desired_far";
+    case BridgeStatus::CycleMismatch: return "cycle_mismatch";
+    case BridgeStatus::PortMismatch: return "port_mismatch";
+    case BridgeStatus::DryRun: return "dry_run";
     case BridgeStatus::DroppedDuplicate: return "dropped_duplicate";
     case BridgeStatus::DroppedOutOfOrder: return "dropped_out_of_order";
     case BridgeStatus::Malformed: return "malformed";
@@ -63,8 +66,10 @@ ConfigResult FriBridge::configure(const BridgeParams& p) {
     return rangeError("fri.max_lin_speed", p.max_lin_speed, "must be in (0, 2] (m/s)");
   if (!inRange(p.max_rot_speed, 0.0, 3.0))
     return rangeError("fri.max_rot_speed", p.max_rot_speed, "must be in (0, 3] (rad/s)");
-  if (!inRange(p.nominal_period_s, 0.0, 0.1))
-    return rangeError("fri.nominal_period_s", p.nominal_period_s, "must be in (0, 0.1] (s)");
+  if (!inRange(p.cycle_time_s, 0.0, 0.1))
+    return rangeError("fri.cycle_time_s", p.cycle_time_s, "must be in (0, 0.1] (s): the KRC's cycle, friOpen's argument");
+  if (p.krc_port < 0 || p.krc_port > 65535)
+    return rangeError("fri.udp.krc_port", p.krc_port, "must be in [0, 65535] (0 = any)");
   if (!inRange(p.max_desired_age_s, 0.0, 10.0))
     return rangeError("fri.max_desired_age_s", p.max_desired_age_s, "must be in (0, 10] (s)");
   if (!inRange(p.engage_max_trans, 0.0, 0.1))
@@ -152,8 +157,68 @@ BridgeStatus FriBridge::stepDatagram(const uint8_t* data, std::size_t size, cons
   return step(msr_, desired, now_s, out);
 }
 
+bool FriBridge::heldPose(const MsrPacket& msr, KDL::Frame& held) noexcept {
+  if (!validFriPose(msr.data.cmd_cart_pos)) {
+    if (!validFriPose(msr.data.msr_cart_pos)) return false;
+    toFrame(msr.data.msr_cart_pos, held);
+    return true;
+  }
+  toFrame(msr.data.cmd_cart_pos, held);
+  if (validFriPose(msr.data.cmd_cart_pos_fri_offset)) {
+    KDL::Frame offset;
+    toFrame(msr.data.cmd_cart_pos_fri_offset, offset);
+    held = held * offset;
+  }
+  return true;
+}
+
+uint8_t FriBridge::checkConfig(const MsrPacket& msr) const noexcept {
+  // The KRC's cycles are whole milliseconds sent as float seconds: 1e-5 s
+  // tells 1 ms from 2 ms and ignores the float's rounding (1e-10 s).
+  constexpr double kCycleTol = 1e-5;
+  const auto off = [&](float t) {
+    return !(std::fabs(static_cast<double>(t) - params_.cycle_time_s) <= kCycleTol);
+  };
+  uint8_t m = 0;
+  if (off(msr.intf.desired_msr_sample_time) || off(msr.intf.desired_cmd_sample_time)) m |= mismatch::kCycle;
+  if (params_.krc_port != 0 && peer_port_ != 0 && peer_port_ != params_.krc_port) m |= mismatch::kPort;
+  if (msr.robot.control != static_cast<uint16_t>(ControlStrategy::CartImpedance)) m |= mismatch::kControl;
+  return m;
+}
+
+void FriBridge::fillRobotState(const MsrPacket& msr, double now_s, bool msr_valid, BridgeOutput& out) const noexcept {
+  tactile::RobotState& r = out.robot;
+  r.time_s = now_s;
+  const State st = stateOf(msr);
+  r.mode = st == State::Cmd ? RobotMode::Command : (st == State::Mon ? RobotMode::Monitor : RobotMode::Off);
+  r.quality = static_cast<int>(qualityOf(msr));
+  r.power_on = powerOn(msr);
+  r.cartesian_impedance = msr.robot.control == static_cast<uint16_t>(ControlStrategy::CartImpedance);
+  r.config_ok = out.mismatch == 0;
+  r.dry_run = dry_run_;
+  r.commandable = r.mode == RobotMode::Command && r.power_on && qualityOf(msr) >= Quality::Ok &&
+                  r.cartesian_impedance && r.config_ok && !dry_run_ && msr_valid;
+  r.link_status = static_cast<int>(out.status);
+  for (int j = 0; j < kNumJoints && j < kArmJoints; ++j)
+    r.q[static_cast<std::size_t>(j)] = static_cast<double>(msr.data.msr_jnt_pos[j]);
+  KDL::Frame held;
+  if (heldPose(msr, held)) toPose(held, r.setpoint);
+  else r.setpoint = kNoPose;
+}
+
 BridgeStatus FriBridge::step(const MsrPacket& msr, const PoseCommand& desired, double now_s,
                              BridgeOutput& out) noexcept {
+  out.mismatch = 0;
+  out.krc_cycle_s = static_cast<double>(msr.intf.desired_msr_sample_time);
+  const BridgeStatus st = stepPacket(msr, desired, now_s, out);
+  if (st != BridgeStatus::DroppedDuplicate && st != BridgeStatus::DroppedOutOfOrder && st != BridgeStatus::Malformed &&
+      st != BridgeStatus::NotConfigured)
+    fillRobotState(msr, now_s, validFriPose(msr.data.msr_cart_pos), out);
+  return st;
+}
+
+BridgeStatus FriBridge::stepPacket(const MsrPacket& msr, const PoseCommand& desired, double now_s,
+                                   BridgeOutput& out) noexcept {
   out.reply = false;
   out.state_changed = false;
   out.lost_before = 0;
@@ -201,15 +266,26 @@ BridgeStatus FriBridge::step(const MsrPacket& msr, const PoseCommand& desired, d
   last_quality_ = quality;
 
   const bool msr_valid = validFriPose(msr.data.msr_cart_pos);
-  KDL::Frame measured = KDL::Frame::Identity();
-  if (msr_valid) toFrame(msr.data.msr_cart_pos, measured);
+  // What the arm holds outside CMD: the KRC's set point (cmdCartPos, with
+  // cmdCartPosFriOffset where valid), else the measured pose. Echoed there and
+  // where a (re)entry into CMD starts: neither the set point nor a pressing
+  // contact's force jumps.
+  KDL::Frame held = KDL::Frame::Identity();
+  if (msr_valid) heldPose(msr, held);
   const double krc_T = static_cast<double>(msr.intf.desired_cmd_sample_time);
-  const double T = (std::isfinite(krc_T) && krc_T > 0.0 && krc_T <= 0.1) ? krc_T : params_.nominal_period_s;
+  const double T = (std::isfinite(krc_T) && krc_T > 0.0 && krc_T <= 0.1) ? krc_T : params_.cycle_time_s;
+  out.mismatch = checkConfig(msr);
 
   if (state != State::Cmd || !powerOn(msr)) {
-    // MON / OFF / power off: echo the measured pose; (re)entering CMD passes the start gate again.
+    // MON / OFF / power off: echo the held pose; (re)entering CMD passes the start gate again.
     engaged_ = false;
-    if (state != State::Cmd && was_in_cmd_) {
+    if (out.mismatch & mismatch::kCycle) {  // named in MON too: never silent
+      out.status = BridgeStatus::CycleMismatch;
+    } else if (out.mismatch & mismatch::kPort) {
+      out.status = BridgeStatus::PortMismatch;
+    } else if (out.mismatch & mismatch::kControl) {
+      out.status = BridgeStatus::WrongStrategy;
+    } else if (state != State::Cmd && was_in_cmd_) {
       out.status = BridgeStatus::LeftCmd;
     } else if (!powerOn(msr)) {
       out.status = BridgeStatus::PowerOff;
@@ -220,9 +296,9 @@ BridgeStatus FriBridge::step(const MsrPacket& msr, const PoseCommand& desired, d
       have_command_ = false;
       return out.status = BridgeStatus::MeasurementInvalid;
     }
-    limiter_.reset(measured);
+    limiter_.reset(held);
     have_command_ = true;
-    fillReply(msr, measured, out);
+    fillReply(msr, held, out);
     return out.status;
   }
 
@@ -235,14 +311,14 @@ BridgeStatus FriBridge::step(const MsrPacket& msr, const PoseCommand& desired, d
       have_command_ = false;
       return out.status = BridgeStatus::MeasurementInvalid;
     }
-    limiter_.reset(measured);  // should the strategy change to Cartesian, start from here
+    limiter_.reset(held);  // should the strategy change to Cartesian, start from here
     have_command_ = true;
-    fillReply(msr, measured, out, true);
+    fillReply(msr, held, out, true);
     return out.status;
   }
   if (!have_command_) {
     if (!msr_valid) return out.status = BridgeStatus::MeasurementInvalid;
-    limiter_.reset(measured);  // first command ever: start where the robot is
+    limiter_.reset(held);  // first command ever: start where the robot is held
     have_command_ = true;
   } else if (params_.rewind_on_refl && msr.head.refl_seq != send_seq_) {
     // The KRC did not get our latest command(s): continue from the one it holds.
@@ -257,8 +333,15 @@ BridgeStatus FriBridge::step(const MsrPacket& msr, const PoseCommand& desired, d
   const double age = now_s - desired.time_s;
   if (!msr_valid) {
     out.status = BridgeStatus::MeasurementInvalid;
+  } else if (out.mismatch & (mismatch::kCycle | mismatch::kPort)) {
+    out.status = (out.mismatch & mismatch::kCycle) ? BridgeStatus::CycleMismatch : BridgeStatus::PortMismatch;
+    engaged_ = false;
   } else if (quality < Quality::Ok) {
     out.status = BridgeStatus::QualityLow;
+    engaged_ = false;  // the servo held meanwhile: the gate again before following
+  } else if (dry_run_) {
+    out.status = BridgeStatus::DryRun;
+    engaged_ = false;
   } else if (desired.status == ServoStatus::NotConfigured || desired.status == ServoStatus::WaitingForPose ||
              !validPose(desired.pose)) {
     out.status = BridgeStatus::DesiredInvalid;
@@ -271,7 +354,7 @@ BridgeStatus FriBridge::step(const MsrPacket& msr, const PoseCommand& desired, d
     toFrame(desired.pose, target);
     if (!engaged_) {
       // Start gate: follow only a desired pose within one program step of the
-      // pose held now (the measured pose at the start of the session/CMD).
+      // pose held now (the held pose at the start of the session/CMD).
       KDL::Vector axis;
       const KDL::Frame& from = limiter_.current();
       const double d = (target.p - from.p).Norm();

@@ -1,5 +1,9 @@
 #include "tactile_fri/krc_model.hpp"
 
+#include <cstdlib>
+
+#include "tactile_fri/bridge.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -20,6 +24,7 @@ void KrcModel::reset(const KDL::Frame& pose) {
   last_remote_seq_ = last_seen_remote_seq_ = 0;
   have_remote_seq_ = false;
   have_applied_ = false;
+  ever_applied_ = false;
   set_point_ = pose;
   last_applied_ = pose;
   msr_ = MsrPacket{};
@@ -34,7 +39,10 @@ void KrcModel::setState(State state, Quality quality, uint16_t power) {
 }
 
 void KrcModel::holdUnlessCommanding(const KDL::Frame& measured) {
-  if (state_ != State::Cmd || power_ == 0) set_point_ = measured;
+  // Before any command: the arm rests where it is. Afterwards the KRC keeps
+  // the set point it has (friStop, a low quality, the drives braked): a
+  // pressing contact keeps its force.
+  if ((state_ != State::Cmd || power_ == 0) && !ever_applied_) set_point_ = measured;
 }
 
 void KrcModel::buildMeasurement(const PlantState& plant, double t_s, MsrPacket& out) {
@@ -99,26 +107,119 @@ ReplyResult KrcModel::handleReply(const uint8_t* buf, std::size_t n) {
       if (have_applied_) {
         stats_.max_cmd_step_m = std::max(stats_.max_cmd_step_m, (c.p - last_applied_.p).Norm());
         stats_.max_cmd_step_rad = std::max(stats_.max_cmd_step_rad, rotationAngle(last_applied_.M.Inverse() * c.M, axis));
-      } else {
-        KDL::Frame measured;
-        toFrame(msr_.data.msr_cart_pos, measured);
-        stats_.max_entry_offset_m = std::max(stats_.max_entry_offset_m, (c.p - measured.p).Norm());
-        stats_.max_entry_offset_rad = std::max(stats_.max_entry_offset_rad, rotationAngle(measured.M.Inverse() * c.M, axis));
+      } else {  // entering CMD: against the set point the KRC held (cmdCartPos)
+        stats_.max_entry_offset_m = std::max(stats_.max_entry_offset_m, (c.p - set_point_.p).Norm());
+        stats_.max_entry_offset_rad = std::max(stats_.max_entry_offset_rad, rotationAngle(set_point_.M.Inverse() * c.M, axis));
       }
       have_applied_ = true;
+      ever_applied_ = true;
       last_applied_ = c;
       set_point_ = c;
       ++stats_.applied;
     }
   } else {
-    // MON / power off: the remote must echo the measured pose (the one sent this cycle).
-    KDL::Frame measured;
-    toFrame(msr_.data.msr_cart_pos, measured);
+    // MON / power off: the remote must echo the KRC's set point (cmdCartPos, sent this cycle).
+    KDL::Frame held;
+    toFrame(msr_.data.cmd_cart_pos, held);
     KDL::Vector axis;
-    if ((c.p - measured.p).Norm() > 1e-5 || rotationAngle(measured.M.Inverse() * c.M, axis) > 1e-5)
+    if ((c.p - held.p).Norm() > 1e-5 || rotationAngle(held.M.Inverse() * c.M, axis) > 1e-5)
       ++stats_.mon_echo_errors;
   }
   return ReplyResult::Matched;
+}
+
+namespace {
+bool parseQualityWord(const std::string& w, Quality& q) {
+  if (w == "UNACCEPTABLE") q = Quality::Unacceptable;
+  else if (w == "BAD") q = Quality::Bad;
+  else if (w == "OK") q = Quality::Ok;
+  else if (w == "PERFECT") q = Quality::Perfect;
+  else return false;
+  return true;
+}
+}  // namespace
+
+ConfigResult KrcScript::parse(const std::string& spec, const std::string& where) {
+  std::vector<KrcEvent> ev;
+  std::size_t pos = 0;
+  double last_t = 0.0;
+  while (pos < spec.size()) {
+    std::size_t comma = spec.find(',', pos);
+    if (comma == std::string::npos) comma = spec.size();
+    std::string item = spec.substr(pos, comma - pos);
+    pos = comma + 1;
+    item.erase(0, item.find_first_not_of(" \t"));
+    item.erase(item.find_last_not_of(" \t") + 1);
+    if (item.empty()) continue;
+    const std::size_t colon = item.find(':');
+    const auto bad = [&](const std::string& why) {
+      return ConfigResult::failure(where + ": '" + item + "': " + why +
+                                   " (items TIME:WORD, TIME in s increasing, WORD friOpen | friStart | friStop | "
+                                   "friClose | quality=UNACCEPTABLE|BAD|OK|PERFECT | power=off|on)");
+    };
+    if (colon == std::string::npos) return bad("no ':'");
+    char* end = nullptr;
+    const std::string ts = item.substr(0, colon);
+    const double t = std::strtod(ts.c_str(), &end);
+    if (ts.empty() || *end != '\0' || !std::isfinite(t) || t < 0.0) return bad("the time must be a number >= 0 s");
+    if (!ev.empty() && t < last_t) return bad("times must not decrease");
+    last_t = t;
+    const std::string w = item.substr(colon + 1);
+    KrcEvent e;
+    e.t_s = t;
+    if (w == "friOpen") e.kind = KrcEvent::Kind::FriOpen;
+    else if (w == "friStart") e.kind = KrcEvent::Kind::FriStart;
+    else if (w == "friStop") e.kind = KrcEvent::Kind::FriStop;
+    else if (w == "friClose") e.kind = KrcEvent::Kind::FriClose;
+    else if (w.rfind("quality=", 0) == 0) {
+      e.kind = KrcEvent::Kind::Quality;
+      if (!parseQualityWord(w.substr(8), e.quality)) return bad("unknown quality");
+    } else if (w == "power=off" || w == "power=on") {
+      e.kind = KrcEvent::Kind::Power;
+      e.power = w == "power=on";
+    } else {
+      return bad("unknown word");
+    }
+    ev.push_back(e);
+  }
+  if (!ev.empty() && ev.front().kind != KrcEvent::Kind::FriOpen)
+    return ConfigResult::failure(where + ": the script must begin with friOpen (the KRC sends nothing before it)");
+  events_ = ev;
+  return ConfigResult::success();
+}
+
+KrcScript::At KrcScript::at(double t_s) const {
+  At a;
+  if (events_.empty()) {  // command mode from the start
+    a.open = true;
+    a.state = State::Cmd;
+    return a;
+  }
+  for (const KrcEvent& e : events_) {
+    if (e.t_s > t_s) break;
+    switch (e.kind) {
+      case KrcEvent::Kind::FriOpen: a.open = true, a.state = State::Mon; break;
+      case KrcEvent::Kind::FriStart: if (a.open) a.state = State::Cmd; break;  // friStart needs an open link
+      case KrcEvent::Kind::FriStop: if (a.open) a.state = State::Mon; break;
+      case KrcEvent::Kind::FriClose: a.open = false, a.state = State::Off; break;
+      case KrcEvent::Kind::Quality: a.quality = e.quality; break;
+      case KrcEvent::Kind::Power: a.power = e.power; break;
+    }
+  }
+  return a;
+}
+
+void robotStateOf(const KrcScript::At& krc, double t_s, tactile::RobotState& out) {
+  out.time_s = t_s;
+  out.mode = !krc.open || krc.state == State::Off ? RobotMode::Off
+                                                  : (krc.state == State::Cmd ? RobotMode::Command : RobotMode::Monitor);
+  out.quality = static_cast<int>(krc.quality);
+  out.power_on = krc.power;
+  out.cartesian_impedance = true;
+  out.config_ok = true;
+  out.dry_run = false;
+  out.commandable = out.mode == RobotMode::Command && krc.power && krc.quality >= Quality::Ok;
+  out.link_status = static_cast<int>(out.commandable ? BridgeStatus::Commanding : BridgeStatus::Monitor);
 }
 
 }  // namespace fri

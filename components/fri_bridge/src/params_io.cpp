@@ -24,13 +24,13 @@ ConfigResult readSix(const YAML::Node& node, const char* key, std::array<double,
 ConfigResult loadBridgeParams(const YAML::Node& node, const Where& where, BridgeParams& bp, UdpParams& up) {
   if (node) {
     ConfigResult r = checkKeys(node, where,
-                               {"max_lin_speed", "max_rot_speed", "nominal_period_s", "max_desired_age_s",
+                               {"max_lin_speed", "max_rot_speed", "cycle_time_s", "max_desired_age_s",
                                 "engage_max_trans", "engage_max_rot", "resync_after", "rewind_on_refl", "command_impedance", "cart_stiffness",
                                 "cart_damping", "udp"});
     if (!r) return r;
     for (auto rr : {read(node, "max_lin_speed", bp.max_lin_speed, where),
                     read(node, "max_rot_speed", bp.max_rot_speed, where),
-                    read(node, "nominal_period_s", bp.nominal_period_s, where),
+                    read(node, "cycle_time_s", bp.cycle_time_s, where),
                     read(node, "max_desired_age_s", bp.max_desired_age_s, where),
                     read(node, "engage_max_trans", bp.engage_max_trans, where),
                     read(node, "engage_max_rot", bp.engage_max_rot, where),
@@ -42,12 +42,13 @@ ConfigResult loadBridgeParams(const YAML::Node& node, const Where& where, Bridge
       if (!rr) return rr;
     if (const YAML::Node u = node["udp"]) {
       const Where uw = where.child("udp");
-      if (!(r = checkKeys(u, uw, {"bind_address", "port"}))) return r;
+      if (!(r = checkKeys(u, uw, {"bind_address", "port", "krc_port"}))) return r;
       if (!(r = read(u, "bind_address", up.bind_address, uw))) return r;
       int port = up.port;
       if (!(r = read(u, "port", port, uw))) return r;
       if (port < 0 || port > 65535) return rangeError(uw.child("port").str(), port, "must be in [0, 65535]");
       up.port = static_cast<uint16_t>(port);
+      if (!(r = read(u, "krc_port", bp.krc_port, uw))) return r;
     }
   }
   FriBridge scratch;

@@ -27,6 +27,7 @@ void TactileServo::reset() {
   watchdogs_.reset();
   force_est_.reset();
   has_cmd_ = false;
+  waiting_ = false;
 }
 
 bool TactileServo::requestPhase(const char* name) { return requestPhase(phaseIndexOf(name)); }
@@ -82,7 +83,7 @@ ServoStatus TactileServo::applyIncrement(const KDL::Frame& base, Vec6 u_s, doubl
   const bool clipped = safety_.clipWorkspace(base.p, T_ge_new);
   // Commanded motion (not the ceiling's retreat, not held at the workspace
   // box): the measured pose must follow.
-  if (st != ServoStatus::ForceCeiling && !clipped) {
+  if (st != ServoStatus::ForceCeiling && !clipped && !dry_run_) {
     motion_cycle_ = true;
     if (watchdogs_.armStalled(meas_ * law_.sensorMount(), u_s, in_contact_, now))
       return finish(ServoStatus::ArmStalled, now, out);
@@ -127,6 +128,7 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   }
   ++seq_;
   motion_cycle_ = false;
+  dry_run_ = in.dry_run;
   in_contact_ = false;
   const double now = in.time_s;
   const bool time_ok = std::isfinite(now);
@@ -145,13 +147,26 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
     program_.clearPending();
     return finish(ServoStatus::Starting, now, out);
   }
+  // Watchdogs: a latched one holds.
+  if (watchdogs_.latched() != ServoStatus::Ok) return finish(watchdogs_.latched(), now, out);
+  // ROBOT STATE: hold at the measured pose, everything frozen.
+  if (!in.robot_ready && !in.dry_run) {
+    if (pose_ok && time_ok) {
+      KDL::Frame held;  // where the KRC holds the arm; the start gate passes on it
+      cmd_ = toFrame(in.robot_setpoint, held) ? held : meas;
+      observePose(meas, in.features, false);
+    }
+    if (time_ok && std::isfinite(dt) && dt > 0.0) program_.delayEntry(dt);  // the time in the phase stands still
+    waiting_ = true;
+    return finish(ServoStatus::WaitingForRobot, now, out);
+  }
+  waiting_ = false;
   if (time_ok && program_.pending() >= 0) {
     enterPhase(program_.pending(), now);
     program_.clearPending();
   }
   if (time_ok && !program_.entered()) enterPhase(program_.current(), now);
-  // Watchdogs: a latched one holds; a phase longer than its limit latches.
-  if (watchdogs_.latched() != ServoStatus::Ok) return finish(watchdogs_.latched(), now, out);
+  // A phase longer than its limit latches.
   if (time_ok && !program_.terminal(program_.current()) &&
       watchdogs_.phaseTimeout(now - program_.enteredAt(),
                               params_.phases[static_cast<std::size_t>(program_.current())].max_duration_s))

@@ -41,6 +41,14 @@ bool ServoStage::setEstimatedWrench(const Wrench& w) {
   return ok;
 }
 
+bool ServoStage::setRobotState(const RobotState& r) {
+  if (!std::isfinite(r.time_s)) return false;
+  in_.robot_ready = r.commandable;
+  in_.dry_run = r.dry_run;
+  in_.robot_setpoint = validPose(r.setpoint) ? r.setpoint : kNoPose;
+  return true;
+}
+
 bool ServoStage::step(double now, const ContactFeatures& features, ServoOutput& out, ServoStatus& status) {
   in_.time_s = now;
   in_.features = features;

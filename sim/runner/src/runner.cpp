@@ -28,11 +28,15 @@ ConfigResult Runner::configure(const Scene& scene) {
   if (!(r = servo_.configure(sp, 1.0 / scene.rates.servo))) return ConfigResult::failure(scene.program_file + ": " + r.message());
   if (!(r = schedule_.configure(scene.rates, scene.duration))) return ConfigResult::failure(scene.file + ": " + r.message());
   end_.configure(scene.rates);
+  // The KRC's script; through FRI the default passes through monitor mode
+  // for the first 5 ms (friOpen, then friStart before the servo's second cycle).
+  const std::string krc = scene.krc.empty() && scene.through_fri ? "0:friOpen,0.005:friStart" : scene.krc;
+  if (!(r = krc_script_.parse(krc, scene.file + ": krc"))) return r;
   if (scene.through_fri) {
     fri::BridgeParams bp;
     fri::UdpParams up;
     if (!scene.fri_file.empty() && !(r = fri::loadBridgeParamsFile(scene.fri_file, bp, up))) return r;
-    bp.nominal_period_s = 1.0 / scene.rates.sim;
+    bp.cycle_time_s = 1.0 / scene.rates.sim;
     if (!(r = bridge_.configure(bp))) return ConfigResult::failure(scene.file + ": fri: " + r.message());
     fri::KrcModelParams kp;
     kp.period_s = 1.0 / scene.rates.sim;
@@ -95,9 +99,18 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
   sum.fidelity = toString(sc.world.fidelity);
   const long progress_every = std::max(1L, sched.ticks() / 100);
 
+  RobotState robot;  // the arm side's state (what the robot_state port carries)
+  robot.commandable = true;
   while (!sched.finished()) {
     const double t = sched.time();
     const StageFires fi = sched.fires();
+    // The KRC's script: through FRI the bridge reports the robot state from
+    // the packets (friCycle); directly, the same rule from the script.
+    const fri::KrcScript::At krc_now = krc_script_.at(t);
+    if (!sc.through_fri) {
+      fri::robotStateOf(krc_now, t, robot);
+      robot.setpoint = state.command_g;  // the KRC's set point: the last command the arm took
+    }
     // WTS acquisition (Table 2: 140 Hz): the sensor's electronics; the frame
     // reaches the reader at once or, with a transfer delay, when it has arrived.
     if ((fi.wts && response_.acquire(forces, t, raw)) || (response_.delayed() && response_.deliver(t, raw))) {
@@ -115,6 +128,8 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
       Wrench wrench;  // the arm's estimated wrench, as the RTT arm publishes it
       est_wrench.fill(state, wrench);
       servo_.setEstimatedWrench(wrench);
+      for (int j = 0; j < kArmJoints; ++j) robot.q[static_cast<std::size_t>(j)] = state.q(j);
+      servo_.setRobotState(robot);
       if (servo_.step(t, feats, sout, st)) cmd = sout.command.pose;
 
       const int ph = servo_.servo().phaseIndex();
@@ -148,13 +163,14 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
       if ((end = end_.afterServo(st)) != EndReason::None) break;
     }
     // The arm: one physics step toward the latest command.
-    Pose applied = cmd;
+    // Not commandable: the KRC keeps the set point it has.
+    Pose applied = robot.commandable ? cmd : state.command_g;
     if (sc.through_fri) {
       PoseCommand desired = sout.command;
       desired.pose = cmd;
       desired.time_s = t;
       KDL::Frame f;
-      if (friCycle(state, desired, t, f, sum)) applied = toPose(f);
+      if (friCycle(state, krc_now, desired, t, f, robot, sum)) applied = toPose(f);
       else applied = state.command_g;  // no packet: the KRC keeps its last set point
     }
     ss = world_.step(applied, dt, state);
@@ -178,16 +194,18 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
   computeSummary(sc, out);
 }
 
-bool Runner::friCycle(const SimState& st, const PoseCommand& desired, double t, KDL::Frame& applied, Summary& sum) {
+bool Runner::friCycle(const SimState& st, const fri::KrcScript::At& krc_now, const PoseCommand& desired, double t,
+                      KDL::Frame& applied, RobotState& robot, Summary& sum) {
   using namespace fri;
-  // The simulated KRC (tactile::fri::KrcModel, the UDP test peer's model):
-  // MON for the first 5 ms, then CMD at perfect quality under Cartesian
-  // impedance, before the servo's second cycle: the servo's first command is
-  // the measured pose, which passes the bridge's start gate (a servo that
-  // integrated further while the KRC was in MON is refused by the gate:
-  // status desired_far, the arm holds). The world's measured state in the packet.
+  // The simulated KRC (tactile::fri::KrcModel, the UDP test peer's model)
+  // following the scene's KRC script (by default MON for the first 5 ms,
+  // then CMD at perfect quality under Cartesian impedance): the servo holds
+  // at the measured pose while the bridge's robot state is not commandable,
+  // so its command passes the bridge's start gate when it becomes so. The
+  // world's measured state in the packet; a closed link sends nothing.
+  if (!krc_now.open) return false;
   KrcModel& krc = krc_;
-  krc.setState(t < 0.005 ? State::Mon : State::Cmd, Quality::Perfect, 0x7F);
+  krc.setState(krc_now.state, krc_now.quality, krc_now.power ? 0x7F : 0);
   krc.holdUnlessCommanding(st.T_ge);
   PlantState plant;
   for (int j = 0; j < kNumJoints; ++j) plant.q[static_cast<std::size_t>(j)] = st.q(j);
@@ -198,6 +216,7 @@ bool Runner::friCycle(const SimState& st, const PoseCommand& desired, double t, 
   if (encodeMeasurement(m, wire_.data(), wire_.size(), n) != PacketStatus::Ok) return false;
   BridgeOutput out;
   bridge_.stepDatagram(wire_.data(), n, desired, t, out);
+  if (out.status != BridgeStatus::Malformed) robot = out.robot;
   if (out.reply && encodeCommand(out.cmd, wire_.data(), wire_.size(), n) == PacketStatus::Ok)
     krc.handleReply(wire_.data(), n);
   const KrcModelStats& ks = krc.stats();

@@ -1,5 +1,7 @@
 #include "tactile_sim/scene.hpp"
 
+#include "tactile_fri/krc_model.hpp"
+
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -225,7 +227,7 @@ ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std:
   if (!(r = checkKeys(root, w,
                       {"name", "description", "figure", "program", "controller", "features_file", "duration", "seed",
                        "fidelity", "start_in_equilibrium", "rates", "sensor", "arm", "initial_flange", "objects",
-                       "metrics", "through_fri", "fri_file", "effects"})))
+                       "metrics", "through_fri", "fri_file", "krc", "effects"})))
     return r;
   s = Scene{};
   s.file = file;
@@ -393,6 +395,11 @@ ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std:
   std::string fri_file;
   if (!(r = read(root, "fri_file", fri_file, w))) return r;
   s.fri_file = fri_file.empty() ? std::string() : resolve(dir, fri_file);
+  if (!(r = read(root, "krc", s.krc, w))) return r;
+  {
+    fri::KrcScript krc;
+    if (!(r = krc.parse(s.krc, file + ": krc"))) return r;
+  }
 
   if (const YAML::Node n = root["metrics"]) {
     const Where wm = w.child("metrics");

@@ -40,6 +40,9 @@ class DeployGuard : public RTT::TaskContext {
     addProperty("state_machine_file", osd_file_).doc("The experiment's state machine (.osd), loaded into the Servo.");
     addProperty("state_machine", sm_name_).doc("Its instance name (the RootMachine line of the .osd).");
     addProperty("timeout", timeout_).doc("Longest wall-clock wait (s) for the state machine in the run scripts.");
+    addProperty("dry_run", dry_run_)
+        .doc("Robot deployments: a bring-up dry run (robot_loop.ops sets the FRI bridge's dry_run before it "
+             "starts: the bridge holds the arm, the servo computes and records as if it followed).");
     addProperty("report_file", report_file_).doc("File of the OCL::FileReporting time series (empty: no report).");
     addAttribute("ok", ok_);
     addAttribute("steps", steps_);
@@ -84,6 +87,7 @@ class DeployGuard : public RTT::TaskContext {
  private:
   std::string experiment_, servo_cpf_, sim_cpf_, osd_file_, sm_name_, report_file_;
   double timeout_ = 60.0;
+  bool dry_run_ = false;
   bool ok_ = true;
   int steps_ = 0;
   std::string failed_step_;

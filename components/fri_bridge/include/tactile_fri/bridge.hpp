@@ -10,24 +10,47 @@
 //    get, the reply to the newer packet). Gaps count as lost packets.
 //    `resync_after` consecutive "older" packets are taken as a restarted KRC
 //    sequence and accepted.
-//  * MON or OFF state, or drives powered off: the command echoes the measured
-//    Cartesian pose (msrCartPos), so nothing moves and the KRC may switch to
-//    CMD without a jump. The rate limiter is re-seeded from the measured pose.
+//  * MON or OFF state, or drives powered off: the command echoes the pose the
+//    KRC holds the arm at: its set point cmdCartPos (composed with a valid
+//    cmdCartPosFriOffset), or msrCartPos where the KRC sends no valid one. So
+//    nothing moves and the KRC may switch to CMD without a jump; in a pressing
+//    contact the set point lies inside the object (force / stiffness) and the
+//    force is kept. The rate limiter is re-seeded from that pose.
 //  * CMD at quality >= OK: the desired flange pose {g}T{e} goes through the rate
 //    limiter (max translational speed, max rotational speed) and is commanded.
 //  * Start gate: at the start of a session (configure/reset), each time the KRC
 //    (re)enters CMD, and after the desired pose was invalid or stale, the
-//    bridge holds the pose it starts from (the measured pose) and follows the
+//    bridge holds the pose it starts from (the held pose, above) and follows the
 //    desired pose only once that is within one program step of it
 //    (engage_max_trans, engage_max_rot: set them to the servo program's
 //    max_trans_speed / max_rot_speed over one servo cycle). Until then: status DesiredFar, hold. The
 //    first command of a session is never turned into motion away from the
 //    measured pose; the servo's first command is its measured pose.
 //  * CMD at quality < OK, invalid/stale desired pose, invalid measured pose:
-//    HOLD: the last commanded pose is repeated unchanged.
+//    HOLD: the last commanded pose is repeated unchanged; the start gate is
+//    passed again before the desired pose is followed.
 //  * CMD with a control strategy other than Cartesian impedance (position 1,
 //    joint impedance 3): the bridge cannot apply Cartesian poses; it replies a
 //    joint hold (status WrongStrategy) and follows nothing.
+//  * Configuration checks, every accepted packet: the KRC's sample times
+//    (desiredMsrSampleTime, desiredCmdSampleTime: friOpen's cycle) against
+//    cycle_time_s, the KRC's UDP source port against krc_port (when set), the
+//    control strategy against Cartesian impedance. A disagreement is never
+//    silent: it is the status (CycleMismatch, PortMismatch, WrongStrategy),
+//    in MON too (where the reply still echoes the measured pose), and in CMD
+//    the bridge follows nothing (hold; WrongStrategy: joint hold).
+//    BridgeOutput::mismatch has one bit per disagreement.
+//  * Dry run (setDryRun(true), bring-up): in CMD the bridge holds the pose
+//    where CMD was entered, whatever the desired pose (status DryRun); the
+//    robot state says dry_run, so the servo computes and records its commands
+//    as if the arm followed.
+//  * Robot state (BridgeOutput::robot, the component's robot_state port):
+//    per accepted packet, the KRC's mode, quality, drives, strategy, the
+//    configuration check, the dry run, the measured joints and `commandable`:
+//    CMD, drives on, quality >= OK, Cartesian impedance, configuration
+//    agreed, no dry run, a valid measured pose. The servo holds (status
+//    waiting_for_robot) while it is false, and resumes from the measured
+//    pose, which passes the start gate.
 //  * Every reply carries jntPos = cmdJntPos + cmdJntPosFriOffset (the KRC's
 //    current joint set point), used by the KRC only when flag 0x1 is set.
 //  * Leaving CMD: status LeftCmd (sticky while the KRC stays out of CMD) and
@@ -42,7 +65,7 @@
 //
 // Packet loss and reordering - HOLD, never extrapolate: the limiter advances
 // at most v_max * T and w_max * T per reply, where T is the KRC's command
-// sample time (desiredCmdSampleTime, or nominal_period_s when the KRC's value
+// sample time (desiredCmdSampleTime, or cycle_time_s when the KRC's value
 // is not in (0, 0.1] s), whatever time passed since the previous reply. After
 // a gap the KRC has been holding our last command, and the next command is
 // within one limited step of it: no jump, no catch-up. Dropped (stale) packets
@@ -83,7 +106,12 @@ class PoseRateLimiter {
 struct BridgeParams {
   double max_lin_speed = 0.05;      ///< m/s, (0, 2]
   double max_rot_speed = 0.25;      ///< rad/s, (0, 3]
-  double nominal_period_s = 0.001;  ///< s, (0, 0.1]: used when the KRC's desiredCmdSampleTime is not in (0, 0.1]
+  /// s, (0, 0.1]: the KRC's cycle (KRL friOpen's argument). A KRC reporting
+  /// another desiredMsrSampleTime or desiredCmdSampleTime is a CycleMismatch.
+  double cycle_time_s = 0.001;
+  /// The KRC's UDP source port (its FRI init file's local port), [0, 65535];
+  /// 0 = any. Another one is a PortMismatch (see notePeerPort()).
+  int krc_port = 0;
   double max_desired_age_s = 0.1;   ///< s, (0, 10]: older desired poses are not followed (hold)
   int resync_after = 8;             ///< [1, 1000] consecutive old packets accepted as a restarted sequence
   bool rewind_on_refl = true;       ///< step from the command the KRC reflects (see above)
@@ -109,6 +137,9 @@ enum class BridgeStatus : uint8_t {
                        ///< joint hold (flag 0x1, jntPos = cmdJntPos + cmdJntPosFriOffset), nothing else applied
   DesiredFar = 10,     ///< CMD, start gate: the desired pose is more than one program step from the
                        ///< pose the bridge starts from (engage_max_trans/rot): holding that pose
+  CycleMismatch = 11,  ///< the KRC's sample time is not cycle_time_s: MON echo / CMD hold, nothing followed
+  PortMismatch = 12,   ///< the KRC sends from another port than krc_port: MON echo / CMD hold
+  DryRun = 13,         ///< CMD in a dry run: holding the pose where CMD was entered
   DroppedDuplicate = 16,   ///< same sendSeqCount as the last accepted packet: no reply
   DroppedOutOfOrder = 17,  ///< older sendSeqCount: no reply
   Malformed = 18,          ///< decode failed (see packet_status): no reply
@@ -117,6 +148,13 @@ enum class BridgeStatus : uint8_t {
 constexpr uint8_t kBridgeFirstNoReply = 16;
 inline bool producesReply(BridgeStatus s) { return static_cast<uint8_t>(s) < kBridgeFirstNoReply; }
 const char* toString(BridgeStatus s);
+
+/// BridgeOutput::mismatch bits: the KRC disagrees with the configuration.
+namespace mismatch {
+constexpr uint8_t kCycle = 0x1;    ///< sample time != cycle_time_s
+constexpr uint8_t kPort = 0x2;     ///< source port != krc_port
+constexpr uint8_t kControl = 0x4;  ///< control strategy != Cartesian impedance
+}  // namespace mismatch
 
 struct BridgeOutput {
   bool reply = false;  ///< send `cmd` back to the KRC
@@ -128,6 +166,9 @@ struct BridgeOutput {
   bool state_changed = false;    ///< state or quality differs from the previous accepted packet
   uint16_t lost_before = 0;      ///< packets missing between the previous accepted one and this
   KDL::Frame commanded = KDL::Frame::Identity();  ///< {g}T{e} sent (valid when reply)
+  uint8_t mismatch = 0;          ///< mismatch:: bits of this packet (0: the KRC agrees with the configuration)
+  double krc_cycle_s = 0.0;      ///< the KRC's desiredMsrSampleTime of this packet (s)
+  tactile::RobotState robot{};   ///< the robot state of this packet (valid for accepted packets)
 };
 
 struct BridgeStats {
@@ -156,6 +197,13 @@ class FriBridge {
   BridgeStatus stepDatagram(const uint8_t* data, std::size_t size, const PoseCommand& desired, double now_s,
                             BridgeOutput& out) noexcept;
 
+  /// The UDP source port of the datagram about to be stepped (0: unknown,
+  /// not checked). The transport knows it; the core compares it with krc_port.
+  void notePeerPort(uint16_t port) noexcept { peer_port_ = port; }
+  /// Bring-up dry run (see above). Takes effect at the next packet.
+  void setDryRun(bool on) noexcept { dry_run_ = on; }
+  bool dryRun() const noexcept { return dry_run_; }
+
   /// KRL exchange data sent with every command (zero by default).
   void setKrlOut(const KrlData& krl) noexcept { krl_out_ = krl; }
   const BridgeStats& stats() const noexcept { return stats_; }
@@ -166,6 +214,7 @@ class FriBridge {
 
  private:
   void fillReply(const MsrPacket& msr, const KDL::Frame& pose, BridgeOutput& out, bool joint_hold = false) noexcept;
+  BridgeStatus stepPacket(const MsrPacket& msr, const PoseCommand& desired, double now_s, BridgeOutput& out) noexcept;
 
   BridgeParams params_{};
   bool configured_ = false;
@@ -187,6 +236,15 @@ class FriBridge {
   bool have_command_ = false;  // limiter_ holds a pose that was sent
   bool engaged_ = false;       // start gate passed: following the desired pose
   bool was_in_cmd_ = false;    // sticky LeftCmd
+  uint16_t peer_port_ = 0;     // source port of the current datagram (0: unknown)
+  bool dry_run_ = false;
+  /// mismatch:: bits of `msr` against the configuration.
+  uint8_t checkConfig(const MsrPacket& msr) const noexcept;
+  /// The KRC's set point (cmdCartPos composed with a valid cmdCartPosFriOffset),
+  /// else the measured pose; false when neither is valid.
+  static bool heldPose(const MsrPacket& msr, KDL::Frame& held) noexcept;
+  /// out.robot from the packet and this step's status.
+  void fillRobotState(const MsrPacket& msr, double now_s, bool msr_valid, BridgeOutput& out) const noexcept;
 };
 
 }  // namespace fri

@@ -10,7 +10,8 @@
 //   1. setState(): the interface state / quality / drive power of the cycle
 //      (leaving CMD makes the next applied command an "entry" again);
 //   2. holdUnlessCommanding(measured): outside CMD (or with the drives off) the
-//      robot holds still: the set point is the measured pose;
+//      robot holds still: the set point is the measured pose until a command
+//      was applied, the KRC's own set point afterwards;
 //   3. the plant moves toward setPoint();
 //   4. buildMeasurement(): header (sendSeqCount + 1, reflSeqCount = the last
 //      command taken), timestamp (ms of `t`), state, quality, sample times,
@@ -20,17 +21,20 @@
 //      (ignored, as the KRC does); in CMD with the drives on and quality >= OK
 //      a finite Cartesian command (flag 0x10 under Cartesian impedance) becomes
 //      the set point (step statistics, "no pose jump"); in MON the reply must
-//      echo the measured pose.
+//      echo the set point (cmdCartPos).
 #pragma once
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <string>
+#include <vector>
 
 #include <kdl/frames.hpp>
 
 #include "tactile_fri/protocol.hpp"
 #include "tactile_types/config_result.hpp"
+#include "tactile_types/types.hpp"
 
 namespace tactile {
 namespace fri {
@@ -55,14 +59,64 @@ struct KrcModelStats {
   uint64_t flag_errors = 0;       ///< CMD reply without the Cartesian pose flag
   uint64_t nonfinite_commands = 0;
   uint64_t applied = 0;           ///< commands applied (CMD, quality >= OK)
-  uint64_t mon_echo_errors = 0;   ///< MON/power-off replies whose pose differs from the measured one by > 1e-5
+  uint64_t mon_echo_errors = 0;   ///< MON/power-off replies whose pose differs from the KRC's set point (cmdCartPos) by > 1e-5
   double max_cmd_step_m = 0.0;    ///< largest translation between consecutive applied commands
   double max_cmd_step_rad = 0.0;  ///< largest rotation between consecutive applied commands
-  double max_entry_offset_m = 0.0;   ///< first applied command after entering CMD vs the measured pose
+  double max_entry_offset_m = 0.0;   ///< first applied command after entering CMD vs the set point the KRC held
   double max_entry_offset_rad = 0.0;
 };
 
 enum class ReplyResult : uint8_t { Matched = 0, Stale = 1, Malformed = 2 };
+
+/// One step of a KRC's script, at a time (s): KRL's own calls and the link's
+/// changes.
+struct KrcEvent {
+  enum class Kind : uint8_t {
+    FriOpen,   ///< friOpen: the link opens in monitor mode
+    FriStart,  ///< friStart: command mode
+    FriStop,   ///< friStop: back to monitor mode
+    FriClose,  ///< friClose: the KRC stops sending
+    Quality,   ///< the link quality changes (quality=BAD)
+    Power      ///< the drives go off / on (power=off)
+  };
+  double t_s = 0.0;
+  Kind kind = Kind::FriOpen;
+  Quality quality = Quality::Perfect;  ///< Kind::Quality
+  bool power = true;                   ///< Kind::Power
+};
+
+/// A KRC's script over a run: what the KRL program and the link do when,
+/// e.g. "0:friOpen,1.0:friStart,6:quality=BAD,6.3:quality=PERFECT,8:friStop,
+/// 8.5:friStart" (times in s, increasing; words as in KRL: friOpen, friStart,
+/// friStop, friClose; quality=UNACCEPTABLE|BAD|OK|PERFECT; power=off|on).
+/// Before its first event the KRC is silent (closed). The empty script is
+/// "0:friOpen,0:friStart" at perfect quality: command mode from the start.
+/// Used by the simulated KRCs (the headless runner, the simulated arm
+/// component, lab_sim); parse() allocates, at() does not.
+class KrcScript {
+ public:
+  /// Parses `spec`; errors name `where` (file and key), the item and what is valid.
+  ConfigResult parse(const std::string& spec, const std::string& where);
+  /// The KRC at time t: open (sending), interface state, quality, drives.
+  struct At {
+    bool open = false;
+    State state = State::Off;
+    Quality quality = Quality::Perfect;
+    bool power = true;
+  };
+  At at(double t_s) const;
+  bool empty() const { return events_.empty(); }
+  const std::vector<KrcEvent>& events() const { return events_; }
+
+ private:
+  std::vector<KrcEvent> events_;
+};
+
+/// The RobotState a simulated arm behind `krc` reports (the FRI bridge's
+/// rule, bridge.hpp, for a KRC that agrees with the configuration): closed
+/// or OFF -> Off, MON, CMD; commandable in CMD with the drives on and quality
+/// >= OK. Joints are left to the caller.
+void robotStateOf(const KrcScript::At& krc, double t_s, tactile::RobotState& out);
 
 class KrcModel {
  public:
@@ -71,7 +125,9 @@ class KrcModel {
   void reset(const KDL::Frame& pose);
 
   void setState(State state, Quality quality, uint16_t power);
-  /// Outside CMD (or drives off) the set point follows the measured pose.
+  /// Outside CMD (or drives off) the set point follows the measured pose
+  /// until a command was first applied; afterwards the KRC keeps it (friStop,
+  /// a quality drop or braked drives keep a pressing contact's force).
   void holdUnlessCommanding(const KDL::Frame& measured);
   /// The next measurement packet from the measured plant state at time t (s).
   void buildMeasurement(const PlantState& plant, double t_s, MsrPacket& out);
@@ -98,6 +154,7 @@ class KrcModel {
   uint16_t last_seen_remote_seq_ = 0;  // last well-formed command seen (sequence check)
   bool have_remote_seq_ = false;
   bool have_applied_ = false;
+  bool ever_applied_ = false;  // a command was applied since reset(): the set point is the KRC's own
   KDL::Frame set_point_ = KDL::Frame::Identity();
   KDL::Frame last_applied_ = KDL::Frame::Identity();
   MsrPacket msr_{};

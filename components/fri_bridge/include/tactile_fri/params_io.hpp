@@ -3,7 +3,7 @@
 //   fri:
 //     max_lin_speed: 0.05        # m/s, (0, 2]
 //     max_rot_speed: 0.25        # rad/s, (0, 3]
-//     nominal_period_s: 0.001    # s, (0, 0.1]
+//     cycle_time_s: 0.001        # s, (0, 0.1]: the KRC's cycle (friOpen)
 //     max_desired_age_s: 0.1     # s, (0, 10]
 //     engage_max_trans: 0.0005   # m, (0, 0.1]: start gate (see bridge.hpp)
 //     engage_max_rot: 0.00872665 # rad, (0, 0.5]: start gate
@@ -14,7 +14,8 @@
 //     cart_damping: [0.7, 0.7, 0.7, 0.7, 0.7, 0.7]
 //     udp:
 //       bind_address: 0.0.0.0
-//       port: 49938
+//       port: 49938              # [0, 65535], 0 = ephemeral
+//       krc_port: 0              # [0, 65535], the KRC's source port, 0 = any
 #pragma once
 
 #include <string>

@@ -7,6 +7,8 @@
 #include <rtt/extras/SlaveActivity.hpp>
 #include <rtt/os/TimeService.hpp>
 
+#include <arpa/inet.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -19,7 +21,8 @@ FriBridgeComponent::FriBridgeComponent(const std::string& name)
     : Component(name, PreOperational),
       command_in_("pose_command"),
       pose_out_("flange_pose"),
-      wrench_out_("estimated_wrench") {
+      wrench_out_("estimated_wrench"),
+      robot_out_("robot_state") {
   addProperty("param_file", param_file_)
       .doc("YAML file with a `fri:` map (BridgeParams, and `udp:` bind_address/port); read by configure().");
   addProperty("port", port_).doc("UDP port to bind: -1 = fri.udp.port of param_file, 0 = ephemeral (tests), else [1, 65535].");
@@ -31,6 +34,7 @@ FriBridgeComponent::FriBridgeComponent(const std::string& name)
   addAtomicAttribute(*provides(), "fri_state", fri_state_);
   addAtomicAttribute(*provides(), "fri_quality", fri_quality_);
   addAtomicAttribute(*provides(), "krc_silent", krc_silent_);
+  addAtomicAttribute(*provides(), "dry_run", dry_run_);
   addAtomicAttribute(*provides(), "fd_activity", fd_activity_attr_);
   addAtomicAttribute(*provides(), "received", received_);
   addAtomicAttribute(*provides(), "replies", replies_);
@@ -41,6 +45,13 @@ FriBridgeComponent::FriBridgeComponent(const std::string& name)
   addPort(pose_out_).doc("Measured flange pose {g}T{e} (msrCartPos of the KRC), per accepted packet.");
   addPort(wrench_out_).doc("Estimated external TCP wrench w = [Fx Fy Fz Tx Ty Tz] (N, N m) from estExtTcpFT, "
                            "time_s = the TimeService at reception.");
+  addPort(robot_out_).doc("The KRC's state per accepted packet (written before flange_pose): mode, quality, drives, "
+                          "control strategy, config_ok (cycle time, port and control mode agree with fri.yaml), "
+                          "dry_run, commandable (the arm follows pose commands now) and the measured joints.");
+  addOperation("setDryRun", &FriBridgeComponent::setDryRun, this, RTT::ClientThread)
+      .doc("Bring-up dry run on/off (also the attribute dry_run): in CMD the bridge holds the pose where CMD was "
+           "entered whatever the servo asks; robot_state says dry_run, so the servo computes as if the arm followed.")
+      .arg("on", "true: dry run");
   addOperation("lastError", &FriBridgeComponent::lastError, this, RTT::ClientThread)
       .doc("Message of the last failed configure().");
   addOperation("statusName", &FriBridgeComponent::statusName, this, RTT::ClientThread)
@@ -94,6 +105,7 @@ bool FriBridgeComponent::configureHook() {
   pose_out_.setDataSample(measured_);
   wrench_ = Wrench();
   wrench_out_.setDataSample(wrench_);
+  robot_out_.setDataSample(RobotState());
   for (std::atomic<int>* c : {&received_, &replies_, &lost_, &timeouts_, &socket_errors_}) record(*c, 0);
   // Paced by the socket: the KRC's silence is the FileDescriptorActivity's timeout.
   auto* fda = fdActivity();
@@ -202,6 +214,8 @@ void FriBridgeComponent::handleDatagram(fri::UdpStatus us, std::size_t n) {
   const double now = nowS();
   // A truncated datagram is passed as longer than the buffer: the decoder rejects it (TooLong).
   const std::size_t size = us == fri::UdpStatus::Truncated ? rx_.size() + 1 : n;
+  bridge_.setDryRun(dry_run_.load(std::memory_order_acquire));
+  bridge_.notePeerPort(socket_.hasPeer() ? ntohs(socket_.lastPeer().sin_port) : 0);
   const fri::BridgeStatus st = bridge_.stepDatagram(rx_.data(), size, desired_, now, out_);
   if (out_.reply) {
     std::size_t w = 0;
@@ -218,6 +232,7 @@ void FriBridgeComponent::handleDatagram(fri::UdpStatus us, std::size_t n) {
   const fri::MsrPacket& msr = bridge_.lastMeasurement();
   record(fri_state_, static_cast<int>(out_.state));
   record(fri_quality_, static_cast<int>(out_.quality));
+  robot_out_.write(out_.robot);  // before the pose: a servo that sees the pose sees the state too
   if (fri::validFriPose(msr.data.msr_cart_pos)) {
     KDL::Frame f;
     fri::toFrame(msr.data.msr_cart_pos, f);

@@ -73,6 +73,9 @@ class PhaseProgram {
   int current() const { return current_; }
   int initial() const { return initial_; }
   double enteredAt() const { return t_enter_; }
+  /// Moves the entry time on by dt (s): time that does not count as time in
+  /// the phase (the servo holding for the robot: TactileServo ROBOT STATE).
+  void delayEntry(double dt) { t_enter_ += dt; }
   int indexOf(const char* name) const;  ///< -1 if unknown
   const std::array<char, kPhaseNameLen>& name(int index) const { return phases_[static_cast<std::size_t>(index)].name; }
   bool requiresContact(int index) const { return phases_[static_cast<std::size_t>(index)].requires_contact; }

@@ -99,6 +99,24 @@
 //    convention where z_s points into the object
 //    is +z_s here because our z_s points out of the surface at the object.
 //
+// ROBOT STATE (beyond the paper). The KRC starts in monitor mode (KRL
+// friOpen) and is switched to command mode later (friStart); friStop, a drop
+// of the link quality or the drives going off make the arm uncommandable in
+// the middle of a run. While in.robot_ready is false (and no dry run) the
+// servo holds: the command is the pose the arm is held at, the KRC's set
+// point (in.robot_setpoint; the measured pose where it is unknown): in free
+// space the two agree, in a pressing contact the set point lies inside the
+// object by force / stiffness and holding it keeps the force. The bridge's
+// start gate passes on it when commanding becomes possible. The status is
+// WaitingForRobot, and
+// nothing advances: the PI integrators, the phase program (a requested phase
+// switch stays pending), the transitions' timers, the time in the phase (its
+// entry time moves on with the clock: timeouts and max_duration_s count only
+// commandable time), the force estimate and the watchdogs. When it becomes
+// true again the servo goes on from that pose (Eq. 15's x(t-1) := the held
+// set point): no jump, the program where it was. A latched watchdog stays
+// latched. A dry run steps normally.
+//
 // WRIST (beyond the paper). Following a closed contour turns the sensor about
 // z_s without end; the arm's last joint (coaxial with z_s) runs out of range.
 // The servo integrates the rotation of {s} about its own z axis between
@@ -162,6 +180,16 @@ struct ServoInput {
   /// force-mismatch watchdog; unused while have_wrench is false.
   Wrench wrench;
   bool have_wrench = false;
+  /// The arm follows pose commands now (RobotState::commandable of the arm's
+  /// side; true where nothing reports it). While false the servo holds
+  /// (ROBOT STATE below).
+  bool robot_ready = true;
+  /// Where the arm is held while it cannot be commanded (RobotState::setpoint:
+  /// the KRC's set point); kNoPose: unknown, the measured pose is used.
+  Pose robot_setpoint = kNoPose;
+  /// Bring-up dry run (RobotState::dry_run): the servo runs as if the arm
+  /// followed, but the arm is held, so the stall watchdog is off.
+  bool dry_run = false;
 };
 
 struct ServoOutput {
@@ -195,6 +223,8 @@ class TactileServo {
 
   int phaseCount() const { return configured_ ? program_.count() : 0; }
   int phaseIndex() const { return program_.current(); }
+  /// True while holding for the robot (ROBOT STATE).
+  bool waitingForRobot() const { return waiting_; }
   /// rad: rotation of {s} about z_s accumulated from the measured poses since the start (WRIST).
   double wristYaw() const { return wrist_yaw_; }
   int phaseIndexOf(const char* name) const { return program_.indexOf(name); }  ///< -1 if unknown
@@ -232,6 +262,8 @@ class TactileServo {
   bool motion_cycle_ = false;  ///< this cycle commanded motion (the stall watchdog's window)
   bool in_contact_ = false;    ///< this cycle's features report contact (the stall watchdog's axes)
   bool has_cmd_ = false;
+  bool dry_run_ = false;       ///< this cycle is a dry run (no stall watchdog)
+  bool waiting_ = false;       ///< the last cycle held for the robot (ROBOT STATE)
   KDL::Rotation yaw_prev_;     ///< {g}R{s} measured at the previous cycle (the wrist yaw's integration)
   double wrist_yaw_ = 0.0;     ///< rad about z_s accumulated since the start (WRIST)
   /// The pose-derived signals of the phase program (WRIST, loop_closed).

@@ -34,6 +34,11 @@ class ServoStage {
   /// The arm's estimated external wrench ({g} axes, time-stamped), for the
   /// force-mismatch watchdog. Returns false (and ignores it) when not finite.
   bool setEstimatedWrench(const Wrench& w);
+  /// The arm side's state (port robot_state): while it is not commandable
+  /// the servo holds (TactileServo ROBOT STATE). Until one arrives the arm
+  /// counts as commandable (a deployment without the port). Returns false
+  /// (and ignores it) when its time is not finite.
+  bool setRobotState(const RobotState& r);
 
   /// One servo cycle at time `now` (s) on the latest features. Returns true
   /// when `out.command` is a command to send (a valid pose was seen and the

@@ -15,6 +15,7 @@ ServoComponent::ServoComponent(const std::string& name)
       features_in_("features"),
       flange_in_("flange_pose"),
       wrench_in_("estimated_wrench"),
+      robot_in_("robot_state"),
       command_out_("pose_command"),
       phase_out_("phase") {
   addProperty("program_file", program_file_)
@@ -34,6 +35,10 @@ ServoComponent::ServoComponent(const std::string& name)
   addPort(wrench_in_).doc("The arm's estimated external wrench [Fx Fy Fz Tx Ty Tz] ({g} axes; LWR simulator or FRI "
                           "bridge): the force-mismatch watchdog compares its force along z_s with the tactile force. "
                           "Unconnected: that check is off.");
+  addPort(robot_in_).doc("The arm side's state (FRI bridge or LWR simulator): while it is not commandable (the KRC "
+                         "in monitor mode, low link quality, drives off, a configuration mismatch) the servo holds at "
+                         "the measured pose with everything frozen (status waiting_for_robot) and resumes from the "
+                         "measured pose; dry_run: the servo runs, the arm is held. Unconnected: always commandable.");
   addPort(command_out_).doc("Desired flange pose {g}T{e} for the Cartesian impedance controller, with the servo status.");
   addPort(phase_out_).doc("Phase program state: index, name, entry time, status.");
   addOperation("switchPhase", &ServoComponent::switchPhase, this, RTT::ClientThread)
@@ -94,6 +99,7 @@ bool ServoComponent::startHook() {
   // Only data written after this start counts: no pose, no features yet.
   flange_in_.clear();
   wrench_in_.clear();
+  robot_in_.clear();
   features_in_.clear();
   return true;
 }
@@ -124,6 +130,7 @@ void ServoComponent::updateHook() {
   features_in_.read(features_, false);  // keeps the last sample when nothing new
   if (flange_in_.read(pose_, false) != RTT::NoData) stage_.setMeasuredPose(pose_);
   if (wrench_in_.read(wrench_, false) != RTT::NoData) stage_.setEstimatedWrench(wrench_);
+  if (robot_in_.read(robot_, false) != RTT::NoData) stage_.setRobotState(robot_);
   const double now = RTT::os::TimeService::Instance()->secondsSince(0);
   ServoStatus st = ServoStatus::NotConfigured;
   const bool command = stage_.step(now, features_, out_, st);  // holds (no command) until a valid pose arrived

@@ -18,7 +18,8 @@ LwrSimComponent::LwrSimComponent(const std::string& name)
       pose_out_("flange_pose"),
       wrench_out_("estimated_wrench"),
       forces_out_("taxel_forces"),
-      truth_out_("truth") {
+      truth_out_("truth"),
+      robot_out_("robot_state") {
   addProperty("scene_file", scene_file_)
       .doc("Scene YAML (sim/scenes/*.yaml, the headless runner's files): arm, pad, objects, initial flange "
            "pose, rates (physics step, WTS schedule). Read by configure().");
@@ -30,6 +31,9 @@ LwrSimComponent::LwrSimComponent(const std::string& name)
   addPort(pose_out_).doc("Measured flange pose {g}T{e}, after every physics step (and at start).");
   addPort(wrench_out_).doc("Contact wrench on the flange [Fx Fy Fz Tx Ty Tz] (N, N m), {g} axes, flange origin: "
                            "what the KRC's estExtTcpFT estimates. Every physics step.");
+  addPort(robot_out_).doc("The KRC's state as the FRI bridge reports it, after every physics step: the scene's "
+                          "`krc` script (friOpen, friStart, friStop, quality, drives; default: command mode "
+                          "throughout); while not commandable the arm holds where it is. Joints: the arm's.");
   addPort(forces_out_).doc("SIM ONLY, for tactile::WtsSimComponent: true taxel forces (N, {s} layout) before each "
                            "WTS acquisition of the scene's schedule.");
   addPort(truth_out_).doc("SIM ONLY, for logs: ground truth after every physics step (contact wrench, layer and "
@@ -48,7 +52,8 @@ bool LwrSimComponent::configureHook() {
     world_params_ = sim::worldParams(scene);  // seed and physics step (the KRC cycle's and FRI delay's unit)
     record(sim_period_, 1.0 / scene.rates.sim);
     est_wrench_.configure(scene.wrench_error, scene.seed);
-    r = world_.configure(world_params_);
+    r = krc_script_.parse(scene.krc, scene_file_ + ": krc");
+    if (r) r = world_.configure(world_params_);
     if (r) r = schedule_.configure(scene.rates, scene.duration);
     if (!r) r = ConfigResult::failure(scene_file_ + ": " + r.message());
   }
@@ -69,6 +74,7 @@ bool LwrSimComponent::configureHook() {
   wrench_out_.setDataSample(wrench_);
   forces_out_.setDataSample(forces_);
   truth_out_.setDataSample(truth_);
+  robot_out_.setDataSample(robot_);
   return true;
 }
 
@@ -83,6 +89,11 @@ void LwrSimComponent::publish() {
   }
   sim::fillTruth(state_, acq_, truth_);
   truth_out_.write(truth_);
+  // The KRC's state at the arm's time (before the pose: a servo that sees the pose sees the state too).
+  fri::robotStateOf(krc_script_.at(state_.time_s), state_.time_s, robot_);
+  for (int j = 0; j < kArmJoints; ++j) robot_.q[static_cast<std::size_t>(j)] = state_.q(j);
+  robot_.setpoint = state_.command_g;  // the KRC's set point: the last command the arm took
+  robot_out_.write(robot_);
   pose_out_.write(state_.flange_g);
   // Contact wrench on the sensor moved to the flange, {g} axes (the loop's rule, as the runner).
   est_wrench_.fill(state_, wrench_);
@@ -115,7 +126,8 @@ std::string LwrSimComponent::statusName() const {
 void LwrSimComponent::updateHook() {
   const HookScope hook(*this);  // the other hooks' writes before this update (component.hpp)
   if (command_in_.read(cmd_in_, false) == RTT::NewData) cmd_ = cmd_in_.pose;  // World rejects NaN / non-unit
-  const sim::SimStatus st = world_.step(cmd_, sim_period_.load(std::memory_order_relaxed), state_);
+  // Not commandable (robot_ of this time, published last): the KRC keeps the set point it has.
+  const sim::SimStatus st = world_.step(robot_.commandable ? cmd_ : state_.command_g, sim_period_.load(std::memory_order_relaxed), state_);
   record(sim_status_, static_cast<int>(st));
   record(sim_time_, state_.time_s);
   schedule_.advance();

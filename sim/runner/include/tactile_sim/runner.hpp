@@ -53,7 +53,8 @@ class Runner {
  private:
   /// The KRC side of one FRI cycle (tactile::fri::KrcModel): measurement
   /// bytes from the world state, the bridge's reply applied to the KRC's set point.
-  bool friCycle(const SimState& st, const PoseCommand& desired, double t, KDL::Frame& applied, Summary& sum);
+  bool friCycle(const SimState& st, const fri::KrcScript::At& krc_now, const PoseCommand& desired, double t,
+                KDL::Frame& applied, RobotState& robot, Summary& sum);
 
   Scene scene_;
   World world_;             // the arm (physics) and the pad's contact image
@@ -64,6 +65,7 @@ class Runner {
   EndRule end_;
   fri::FriBridge bridge_;
   fri::KrcModel krc_;
+  fri::KrcScript krc_script_;  // the scene's `krc` (the KRC's script)
   std::array<uint8_t, 2048> wire_{};
 };
 

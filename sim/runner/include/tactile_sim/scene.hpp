@@ -43,6 +43,10 @@
 //   through_fri: false                # route every physics-rate command through the FRI
 //                                     # protocol and tactile::fri::FriBridge (bytes on the wire)
 //   fri_file: ../../components/fri_bridge/params/fri.yaml             # bridge parameters (rate limiter...)
+//   krc: "0:friOpen,1:friStart"       # the KRC's script (tactile::fri::KrcScript: friOpen, friStart,
+//                                     # friStop, friClose, quality=.., power=.. at times in s); while the
+//                                     # arm is not commandable it holds still and the servo waits.
+//                                     # Default "": command mode from the start
 //   effects:                          # each off by default; off costs nothing per frame
 //     wts_transfer_delay_s: 0         # s, [0, 1]: the frame sampled at t reaches the reader at t + d
 //                                     # (serial transfer; WTS0614 plain periodic frame 181 B at 115200
@@ -139,6 +143,7 @@ struct Scene {
   SceneMetrics metrics;
   bool through_fri = false;  ///< commands go through FRI packets and the bridge
   std::string fri_file;      ///< bridge parameters (empty: defaults)
+  std::string krc;           ///< the KRC's script (fri::KrcScript; empty: command mode from the start)
   SensorEffects sensor_effects;  ///< `effects:` keys of the sensor (TaxelResponse)
   WrenchErrorParams wrench_error;  ///< effects.wrench_error (the arm's estimated wrench)
 };

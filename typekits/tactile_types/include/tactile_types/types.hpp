@@ -203,6 +203,11 @@ struct RobotState {
   /// Cartesian impedance, config_ok, not dry_run.
   bool commandable = false;
   int link_status = 0;              ///< fri::BridgeStatus of the last packet (simulated arm: 0, commanding)
+  /// The arm's set point {g}T{e}: where the KRC holds it outside command mode
+  /// (FRI's cmdCartPos; the simulator: its held command). In a pressing
+  /// contact it lies inside the object by force / stiffness, the measured
+  /// pose does not: the servo holds this one, so the force is kept.
+  Pose setpoint = kNoPose;
   std::array<double, kArmJoints> q{};  ///< measured joint positions (rad), A1..A7
 };
 

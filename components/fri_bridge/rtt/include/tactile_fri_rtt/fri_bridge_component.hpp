@@ -13,6 +13,12 @@
 //   in   pose_command (/tactile/PoseCommand)  desired {g}T{e} (from the servo)
 //   out  flange_pose  (/tactile/Pose)         measured {g}T{e} (msrCartPos), per accepted packet
 //   out  estimated_wrench (/tactile/Wrench)   estExtTcpFT as w = [Fx Fy Fz Tx Ty Tz] (N, N m), fixed size
+//   out  robot_state (/tactile/RobotState)    per accepted packet, written before flange_pose: the KRC's
+//                                             mode, quality, drives, strategy, the check against fri.yaml
+//                                             (cycle, port, control mode), dry run, `commandable`, joints
+//   attr dry_run (bool)         bring-up dry run: in CMD the bridge holds the pose where CMD was entered;
+//                               the servo computes and records as if the arm followed (set it, or setDryRun)
+//   op   setDryRun(bool)
 //   attr local_port (int)       the bound UDP port (after configure)
 //   attr bridge_status (int)    fri::BridgeStatus of the last packet (see bridge.hpp)
 //   attr fri_state (int), fri_quality (int)  KRC interface state / quality of the last packet
@@ -55,6 +61,7 @@
 #include "tactile_fri/bridge.hpp"
 #include "tactile_fri/udp.hpp"
 #include "tactile_types/types.hpp"
+#include "tactile_types_rtt/atomic_attribute.hpp"
 
 namespace tactile {
 
@@ -70,6 +77,7 @@ class FriBridgeComponent : public Component {
   void cleanupHook() override;
 
   std::string lastError() const { return last_error_; }
+  void setDryRun(bool on) { record(dry_run_, on); }
   std::string statusName() const;
 
  private:
@@ -92,6 +100,7 @@ class FriBridgeComponent : public Component {
   std::atomic<int> bridge_status_{static_cast<int>(fri::BridgeStatus::NotConfigured)};
   std::atomic<int> fri_state_{0}, fri_quality_{0};
   std::atomic<bool> krc_silent_{false};
+  std::atomic<bool> dry_run_{false};
   std::atomic<bool> fd_activity_attr_{false};
   RTT::extras::FileDescriptorActivityInterface* fd_activity_ = nullptr;  // set by startHook while running
   int watched_fd_ = -1;
@@ -103,6 +112,7 @@ class FriBridgeComponent : public Component {
   RTT::InputPort<PoseCommand> command_in_;
   RTT::OutputPort<Pose> pose_out_;
   RTT::OutputPort<Wrench> wrench_out_;
+  RTT::OutputPort<RobotState> robot_out_;
 
   // cores and preallocated buffers
   fri::FriBridge bridge_;

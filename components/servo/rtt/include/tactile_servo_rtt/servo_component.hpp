@@ -14,6 +14,9 @@
 //   in   estimated_wrench (/tactile/Wrench)       the arm's estimated external wrench ({g} axes; LWR
 //                                                 simulator / FRI bridge): the force-mismatch watchdog
 //                                                 (unconnected: that check is off)
+//   in   robot_state (/tactile/RobotState)        the arm side's state (LWR simulator / FRI bridge): not
+//                                                 commandable -> hold, frozen (waiting_for_robot), resume
+//                                                 from the measured pose (unconnected: commandable)
 //   out  pose_command (/tactile/PoseCommand)      desired {g}T{e} (LWR simulator / FRI bridge)
 //   out  phase        (/tactile/PhaseState)       where the phase program is
 //   op   bool switchPhase(string name)  switch phase at the next cycle (false: unknown name)
@@ -83,6 +86,7 @@ class ServoComponent : public Component {
   RTT::InputPort<ContactFeatures> features_in_;
   RTT::InputPort<Pose> flange_in_;
   RTT::InputPort<Wrench> wrench_in_;
+  RTT::InputPort<RobotState> robot_in_;
   RTT::OutputPort<PoseCommand> command_out_;
   RTT::OutputPort<PhaseState> phase_out_;
 
@@ -90,6 +94,7 @@ class ServoComponent : public Component {
   ContactFeatures features_;
   Pose pose_;
   Wrench wrench_;
+  RobotState robot_;
   ServoOutput out_;
   std::atomic<int> requested_phase_{-1};
   std::atomic<int> current_phase_{0};

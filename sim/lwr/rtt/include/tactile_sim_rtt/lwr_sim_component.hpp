@@ -15,6 +15,9 @@
 //   out  flange_pose  (/tactile/Pose)         measured {g}T{e}, after every physics step (and at start)
 //   out  estimated_wrench (/tactile/Wrench)   the contact wrench on the flange, {g} axes at the flange
 //                                             origin (what the KRC's estExtTcpFT estimates), every step
+//   out  robot_state  (/tactile/RobotState)   the KRC's state by the FRI bridge's rule, from the scene's
+//                                             `krc` script (default: command mode throughout); not
+//                                             commandable: the arm holds where it is
 //   out  taxel_forces (/tactile/TactileFrame) SIM ONLY: the true taxel force image (N) for the
 //                                             sensor, before each WTS acquisition of the scene's schedule
 //   out  truth        (/tactile/SimTruth)     SIM ONLY: ground truth for logs (never read by the controller)
@@ -43,6 +46,7 @@
 
 #include "tactile_sim/loop.hpp"
 #include "tactile_sim/world.hpp"
+#include "tactile_fri/krc_model.hpp"
 #include "tactile_types/types.hpp"
 
 namespace tactile {
@@ -79,6 +83,9 @@ class LwrSimComponent : public Component {
   RTT::OutputPort<Wrench> wrench_out_;
   RTT::OutputPort<TactileFrame> forces_out_;
   RTT::OutputPort<SimTruth> truth_out_;
+  RTT::OutputPort<RobotState> robot_out_;
+  fri::KrcScript krc_script_;  // the scene's `krc`
+  RobotState robot_;
 
   // cores and preallocated samples
   sim::World world_;

@@ -116,6 +116,7 @@ void serialize(Archive& a, tactile::RobotState& r, const unsigned int) {
   a& make_nvp("commandable", r.commandable);
   a& make_nvp("link_status", r.link_status);
   tactile_detail::array(a, "q", r.q);
+  a& make_nvp("setpoint", r.setpoint);
 }
 
 template <class Archive>
