@@ -547,14 +547,19 @@ TEST(FriBridge, NoHeapAllocationPerCycle) {
     const Quality q = (i > 1000 && i < 1100) ? Quality::Bad : Quality::Perfect;
     uint16_t seq = static_cast<uint16_t>(i + 1);
     if (i % 50 == 7) seq = static_cast<uint16_t>(i - 3);  // out of order
-    packets.push_back(makeMsr(seq, st, q, h.measured));
+    // A KRC at another cycle (1500-1599) and under position control (1600-1699).
+    packets.push_back(makeMsr(seq, st, q, h.measured, 0x7F, (i >= 1500 && i < 1600) ? 0.002f : float(kT)));
+    if (i >= 1600 && i < 1700) putU16(packets.back(), kOffControl, 1);
   }
   packets.push_back(std::vector<uint8_t>(100, 0xAB));  // malformed
   h.setDesired(target);
   uint8_t wire[kCmdPacketSize];
   std::size_t replies = 0;
   tactile::test::AllocationScope scope;
+  std::size_t k = 0;
   for (const auto& b : packets) {
+    h.bridge.setDryRun(k >= 2000 && k < 2200);  // the dry run's path too
+    h.bridge.notePeerPort(static_cast<uint16_t>(49938 + (k++ % 2)));
     h.bridge.stepDatagram(b.data(), b.size(), h.desired, h.now, h.out);
     if (h.out.reply) {
       std::size_t n = 0;

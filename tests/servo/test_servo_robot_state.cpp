@@ -99,6 +99,28 @@ TEST(ServoRobotState, HoldsAtTheMeasuredPoseWithEverythingFrozen) {
   EXPECT_GT(transDist(l.out.command.pose, from), 0.0) << "it must move again";
 }
 
+TEST(ServoRobotState, HoldsTheKrcSetPointWhereItIsKnown) {
+  // In a pressing contact the KRC's set point lies inside the object by
+  // force / stiffness (here 2.5 mm along z), the measured pose does not: the
+  // servo holds the set point, so the bridge's start gate passes on it and
+  // the force is kept.
+  Loop l(piProgram());
+  for (int k = 0; k < 50; ++k) l.step();
+  l.in.robot_ready = false;
+  const KDL::Frame meas = toFrame(l.in.flange_measured);
+  const KDL::Frame setpoint = meas * KDL::Frame(KDL::Vector(0.0, 0.0, 0.0025));
+  l.in.robot_setpoint = toPose(setpoint);
+  for (int k = 0; k < 20; ++k) {
+    ASSERT_EQ(l.step(), ServoStatus::WaitingForRobot);
+    EXPECT_LT(transDist(l.out.command.pose, l.in.robot_setpoint), 1e-12);
+  }
+  l.in.robot_ready = true;
+  l.in.robot_setpoint = kNoPose;
+  l.step();
+  EXPECT_LE(transDist(l.out.command.pose, toPose(setpoint)), l.s.params().safety.max_trans_speed * 0.01 + 1e-12)
+      << "resumed from the measured pose, not from the held set point";
+}
+
 TEST(ServoRobotState, TimeoutsCountOnlyCommandableTime) {
   // press -> slow after 3 s of commandable time, whatever the pauses between.
   Loop l(piProgram());
