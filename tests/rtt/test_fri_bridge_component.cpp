@@ -103,7 +103,7 @@ struct Rig {
 
 TEST(FriBridgeComponent, InterfaceIsDeclaredAndDocumented) {
   tactile::FriBridgeComponent c("f");
-  for (const char* port : {"pose_command", "flange_pose", "estimated_wrench"}) {
+  for (const char* port : {"pose_command", "flange_pose", "estimated_wrench", "robot_state"}) {
     ASSERT_NE(c.ports()->getPort(port), nullptr) << port;
     EXPECT_FALSE(c.ports()->getPort(port)->getDescription().empty()) << port;
   }

@@ -82,7 +82,7 @@ std::string writeTemp(const std::string& name, const std::string& text) {
 
 TEST(LwrSimComponent, InterfaceIsDeclaredAndDocumented) {
   tactile::LwrSimComponent c("s");
-  for (const char* port : {"pose_command", "flange_pose", "estimated_wrench", "taxel_forces", "truth"}) {
+  for (const char* port : {"pose_command", "flange_pose", "estimated_wrench", "robot_state", "taxel_forces", "truth"}) {
     ASSERT_NE(c.ports()->getPort(port), nullptr) << port;
     EXPECT_FALSE(c.ports()->getPort(port)->getDescription().empty()) << port;
   }
@@ -134,6 +134,39 @@ TEST(LwrSimComponent, ConfigureErrorsNameTheProblem) {
     EXPECT_FALSE(w.configure());
     EXPECT_NE(w.lastError().find("rates.sim"), std::string::npos) << w.lastError();
   }
+  {
+    // A KRC script that does not begin with friOpen: the scene's key named.
+    const std::string bad = writeTemp("bad_krc_scene.yaml",
+                                      "name: bad\nprogram: " TACTILE_PROGRAM_DIR "/edge_exploration.yaml\n"
+                                      "krc: \"1:friStart\"\n");
+    tactile::LwrSimComponent c("s");
+    c.properties()->getPropertyType<std::string>("scene_file")->set(bad);
+    EXPECT_FALSE(c.configure());
+    EXPECT_NE(c.lastError().find("krc"), std::string::npos) << c.lastError();
+    EXPECT_NE(c.lastError().find("friOpen"), std::string::npos) << c.lastError();
+  }
+}
+
+// robot_state, as the FRI bridge's: the shipped scenes' KRC is in command mode
+// throughout; the joints are the arm's, the set point its held command.
+TEST(LwrSimComponent, RobotStateSaysCommandableWithTheArmsJointsAndSetPoint) {
+  Rig rig(kScene);
+  RTT::InputPort<tactile::RobotState> robot_in{"robot_in"};
+  rig.io.ports()->addPort(robot_in);
+  ASSERT_TRUE(rig.comp.ports()->getPort("robot_state")->connectTo(&robot_in));
+  ASSERT_TRUE(rig.comp.configure());
+  ASSERT_TRUE(rig.comp.start());
+  for (int k = 0; k < 10; ++k) ASSERT_TRUE(rig.comp.update());
+  tactile::RobotState r;
+  ASSERT_EQ(robot_in.read(r), RTT::NewData);
+  EXPECT_TRUE(r.commandable);
+  EXPECT_EQ(r.mode, tactile::RobotMode::Command);
+  EXPECT_TRUE(r.config_ok);
+  EXPECT_FALSE(r.dry_run);
+  EXPECT_NEAR(r.time_s, rig.attr<double>("sim_time"), 1e-12);
+  const auto& st = rig.comp.world().state();
+  for (int j = 0; j < tactile::kArmJoints; ++j) EXPECT_DOUBLE_EQ(r.q[std::size_t(j)], st.q(j)) << j;
+  for (int i = 0; i < 3; ++i) EXPECT_DOUBLE_EQ(r.setpoint.p[std::size_t(i)], st.command_g.p[std::size_t(i)]);
 }
 
 // The arm is World::step + World::acquireForces on the loop's schedule, the

@@ -59,7 +59,7 @@ void wireServoTo(RTT::TaskContext& robot) {
 TEST(RobotSwap, SimAndFriExposeTheSameRobotPorts) {
   tactile::LwrSimComponent sim("Robot");
   tactile::FriBridgeComponent fri("Robot");
-  for (const char* name : {"pose_command", "flange_pose", "estimated_wrench"}) {
+  for (const char* name : {"pose_command", "flange_pose", "estimated_wrench", "robot_state"}) {
     RTT::base::PortInterface* a = sim.ports()->getPort(name);
     RTT::base::PortInterface* b = fri.ports()->getPort(name);
     ASSERT_NE(a, nullptr) << name;

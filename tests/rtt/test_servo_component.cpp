@@ -101,7 +101,7 @@ std::vector<double> integralAttribute(tactile::ServoComponent& c) {
 
 TEST(ServoComponent, InterfaceIsDeclaredAndDocumented) {
   tactile::ServoComponent c("s");
-  for (const char* port : {"features", "flange_pose", "estimated_wrench", "pose_command", "phase"}) {
+  for (const char* port : {"features", "flange_pose", "estimated_wrench", "robot_state", "pose_command", "phase"}) {
     ASSERT_NE(c.ports()->getPort(port), nullptr) << port;
     EXPECT_FALSE(c.ports()->getPort(port)->getDescription().empty()) << port;
   }
