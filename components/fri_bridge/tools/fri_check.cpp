@@ -17,12 +17,49 @@
 //   --max-rot-speed W    bridge rate limit (default 0.25 rad/s)
 //   --idle-timeout S     give up when nothing arrives for S seconds (default 10)
 // Exit status: 0 after N cycles, 2 on idle timeout, 1 on usage/configuration errors.
+//
+// MONITOR MODE (bring-up: is the link what fri.yaml says?):
+//
+//   fri_check --monitor --params params/fri.yaml [--seconds S] [--cycles N] [--port P] [--bind ADDR]
+//             [--period-tolerance F] [--max-jitter-ms J] [--max-loss-rate R] [--json FILE]
+//
+// Never commands motion: the bridge runs in its dry run (FriBridge::setDryRun)
+// with no desired pose, so in MON it echoes the measured pose and in CMD it
+// holds the pose where CMD was entered (a joint hold under another strategy).
+// It observes the KRC for S seconds from its first packet (default 5), or
+// until the KRC's sequence counter has covered N packets (lost ones included),
+// and reports, each item PASS / WARN / FAIL with what to do next:
+//   packets     what arrived, from where; malformed datagrams FAIL; the KRC
+//               falling silent before the end FAILs;
+//   cycle time  the KRC's desiredMsrSampleTime / desiredCmdSampleTime (friOpen's
+//               cycle) against fri.cycle_time_s (1e-5 s tolerance, as the
+//               bridge's own check);
+//   krc port    the KRC's UDP source port against fri.udp.krc_port (0 = any:
+//               PASS, with the port to set); more than one sender FAILs;
+//   control     the KRC's control strategy: Cartesian impedance, else FAIL;
+//   period      the measured packet period (host receive times, p50) within
+//               +-period_tolerance (default 0.25) of the KRC's cycle;
+//   jitter      p50 / p99 / max of the inter-arrival times; FAIL when
+//               p99 - p50 > max_jitter_ms (default 0.5 ms: half a 1 ms cycle);
+//   loss        sequence gaps / packets the KRC sent <= max_loss_rate (default
+//               0.001);
+//   order       duplicates and out-of-order packets: any FAILs;
+//   state       MON / CMD (and drives off: WARN) over time;
+//   quality     the KRC's link quality over time: FAIL when it is below OK at the
+//               end or drops below OK after having reached it; WARN when it
+//               started below OK (the KRC rates the link once answers arrive).
+// The timing items (period, jitter) are diagnostics of this host and network,
+// measured with its clock. Exit (monitor mode): 0 every item PASS or WARN, 3 an
+// item FAILed, 2 no packet within --idle-timeout, 1 usage/configuration errors.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include <arpa/inet.h>
 
@@ -42,7 +79,9 @@ double now() {
 int usage(const char* msg) {
   std::fprintf(stderr,
                "fri_check: %s\nusage: fri_check --port P [--cycles N] [--motion hold|circle] [--bind ADDR] "
-               "[--radius M] [--circle-period S] [--max-lin-speed V] [--max-rot-speed W] [--idle-timeout S]\n",
+               "[--radius M] [--circle-period S] [--max-lin-speed V] [--max-rot-speed W] [--idle-timeout S]\n"
+               "       fri_check --monitor --params FILE [--seconds S] [--cycles N] [--port P] [--bind ADDR] "
+               "[--period-tolerance F] [--max-jitter-ms J] [--max-loss-rate R] [--json FILE] [--idle-timeout S]\n",
                msg);
   return 1;
 }
@@ -66,6 +105,463 @@ struct RunningStat {
   double stddev() const { return n > 1 ? std::sqrt(std::max(0.0, sum2 / double(n) - mean() * mean())) : 0.0; }
 };
 
+// ---- monitor mode -------------------------------------------------------------
+
+const char* strategyName(uint16_t c) {
+  switch (static_cast<ControlStrategy>(c)) {
+    case ControlStrategy::Position: return "position";
+    case ControlStrategy::CartImpedance: return "Cartesian impedance";
+    case ControlStrategy::JointImpedance: return "joint impedance";
+    case ControlStrategy::Other: return "other";
+  }
+  return "unknown";
+}
+
+std::string fmt(const char* f, ...) __attribute__((format(printf, 1, 2)));
+std::string fmt(const char* f, ...) {
+  char buf[1024];
+  va_list ap;
+  va_start(ap, f);
+  std::vsnprintf(buf, sizeof buf, f, ap);
+  va_end(ap);
+  return buf;
+}
+
+std::string jsonString(const std::string& s) {
+  std::string o = "\"";
+  for (const char ch : s) {
+    if (ch == '"' || ch == '\\') o += '\\';
+    if (static_cast<unsigned char>(ch) < 0x20) o += fmt("\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(ch)));
+    else o += ch;
+  }
+  return o + "\"";
+}
+
+enum class Verdict { Pass, Warn, Fail };
+const char* toString(Verdict v) { return v == Verdict::Pass ? "PASS" : v == Verdict::Warn ? "WARN" : "FAIL"; }
+
+struct Item {
+  std::string key, label;
+  Verdict verdict = Verdict::Pass;
+  std::string message;
+  std::vector<std::string> next;
+  std::vector<std::pair<std::string, std::string>> json;  ///< extra fields, values already JSON
+};
+
+struct MonitorOptions {
+  double seconds = 5.0;
+  long cycles = 0;  ///< 0: by time only
+  double idle_timeout = 10.0;
+  double period_tolerance = 0.25;
+  double max_jitter_ms = 0.5;
+  double max_loss_rate = 0.001;
+  std::string json_file;
+  std::string params_file;
+};
+
+/// Nearest-rank percentile of a sorted vector (q in [0, 1]).
+double percentile(const std::vector<double>& sorted, double q) {
+  if (sorted.empty()) return 0.0;
+  const std::size_t i = static_cast<std::size_t>(std::ceil(q * static_cast<double>(sorted.size())));
+  return sorted[std::min(sorted.size() - 1, i == 0 ? 0 : i - 1)];
+}
+
+int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams& up) {
+  FriBridge bridge;
+  if (ConfigResult r = bridge.configure(bp); !r) {
+    std::fprintf(stderr, "fri_check: %s\n", r.message().c_str());
+    return 1;
+  }
+  bridge.setDryRun(true);  // CMD: hold the pose where CMD was entered, whatever the desired pose
+  UdpSocket sock;
+  if (ConfigResult r = sock.open(up); !r) {
+    std::fprintf(stderr, "fri_check: %s\n", r.message().c_str());
+    return 1;
+  }
+  const std::string yaml = mo.params_file.empty() ? std::string("the defaults") : mo.params_file;
+  std::printf("fri_check: listening on %s:%u, monitor mode: never commands motion (MON: the measured pose echoed, "
+              "CMD: the pose where CMD was entered held)\n",
+              up.bind_address.c_str(), unsigned(sock.localPort()));
+  std::printf("fri_check: expected from %s: cycle_time_s %g, krc_port %d%s, control Cartesian impedance; observing "
+              "%g s%s\n",
+              yaml.c_str(), bp.cycle_time_s, bp.krc_port, bp.krc_port == 0 ? " (any)" : "", mo.seconds,
+              mo.cycles > 0 ? fmt(" or %ld packets", mo.cycles).c_str() : "");
+  std::fflush(stdout);
+
+  static uint8_t buf[2048];
+  static uint8_t tx[kCmdPacketSize];
+  BridgeOutput out;
+  PoseCommand desired;  // never set: status NotConfigured (a second guard: nothing to follow)
+  std::vector<double> arrivals;
+  arrivals.reserve(static_cast<std::size_t>(std::min(2e6, 2.0 * mo.seconds / bp.cycle_time_s + 1000.0)));
+  uint64_t state_count[3] = {0, 0, 0}, quality_count[4] = {0, 0, 0, 0}, power_off = 0;
+  uint64_t status_count[32] = {};
+  uint64_t strategy_count[5] = {};  // 0..3, 4 = unknown value
+  uint64_t send_errors = 0, truncated = 0;
+  double msr_min = 1e9, msr_max = -1e9, cmd_min = 1e9, cmd_max = -1e9;
+  std::vector<std::pair<std::string, uint16_t>> peers;  // distinct sender address:port
+  bool have_first = false, silent_end = false;
+  double t_first = 0.0, t_last_rx = now();
+  const double t_start = t_last_rx;
+  uint16_t first_seq = 0;
+  bool reached_ok = false, dropped_below_ok = false, started_below_ok = false;
+  Quality worst_after_ok = Quality::Perfect;
+  std::vector<std::string> timeline;
+  MsrPacket last{};
+
+  for (;;) {
+    const double t = now();
+    if (have_first && t - t_first >= mo.seconds) break;
+    if (have_first && mo.cycles > 0 && bridge.stats().accepted > 0 &&
+        seqDelta(first_seq, bridge.lastMeasurement().head.send_seq) + 1 >= mo.cycles)
+      break;
+    std::size_t n = 0;
+    const UdpStatus us = sock.receive(buf, sizeof buf, n, 100000);
+    const double t_rx = now();
+    if (us == UdpStatus::Timeout) {
+      if (!have_first && t_rx - t_start > mo.idle_timeout) {
+        std::printf("%-13s FAIL  no packet from the KRC within %.1f s on %s:%u\n", "[packets]", mo.idle_timeout,
+                    up.bind_address.c_str(), unsigned(sock.localPort()));
+        std::printf("      next: in the KRC's C:\\KRC\\Roboter\\INIT\\dlrrc.ini, FRIHOST = this host's address on the "
+                    "cable to the KRC and FRISOCK = %u,0 (krc/dlrrc.ini; reboot the KRC after a change); the KRL "
+                    "program (krc/TactileServo.src) must have called friOpen; ping both ways; no firewall on UDP "
+                    "%u\n",
+                    unsigned(sock.localPort()), unsigned(sock.localPort()));
+        std::printf("fri_check: no KRC (exit 2)\n");
+        if (!mo.json_file.empty()) {
+          if (FILE* f = std::fopen(mo.json_file.c_str(), "w")) {
+            std::fprintf(f, "{\n  \"tool\": \"fri_check --monitor\",\n  \"exit_code\": 2,\n  \"result\": \"no_krc\"\n}\n");
+            std::fclose(f);
+          }
+        }
+        return 2;
+      }
+      if (have_first && t_rx - t_last_rx > mo.idle_timeout) {
+        silent_end = true;
+        break;
+      }
+      continue;
+    }
+    if (us != UdpStatus::Ok && us != UdpStatus::Truncated) {
+      std::fprintf(stderr, "fri_check: receive: %s (errno %d)\n", toString(us), sock.lastErrno());
+      return 1;
+    }
+    t_last_rx = t_rx;
+    if (us == UdpStatus::Truncated) ++truncated;
+    const sockaddr_in& peer = sock.lastPeer();
+    char addr[INET_ADDRSTRLEN] = "?";
+    inet_ntop(AF_INET, &peer.sin_addr, addr, sizeof addr);
+    const uint16_t peer_port = ntohs(peer.sin_port);
+    bool known = false;
+    for (const auto& pp : peers) known = known || (pp.first == addr && pp.second == peer_port);
+    if (!known) peers.emplace_back(addr, peer_port);
+    bridge.notePeerPort(peer_port);
+    bridge.stepDatagram(buf, us == UdpStatus::Truncated ? sizeof buf + 1 : n, desired, t_rx, out);
+    if (out.reply) {
+      std::size_t w = 0;
+      encodeCommand(out.cmd, tx, sizeof tx, w);
+      if (sock.reply(tx, w) != UdpStatus::Ok) ++send_errors;
+    }
+    ++status_count[static_cast<std::size_t>(out.status) & 31u];
+    if (out.status == BridgeStatus::Malformed || out.status == BridgeStatus::DroppedDuplicate ||
+        out.status == BridgeStatus::DroppedOutOfOrder || out.status == BridgeStatus::NotConfigured)
+      continue;
+    const MsrPacket& msr = bridge.lastMeasurement();
+    last = msr;
+    if (!have_first) {
+      have_first = true;
+      t_first = t_rx;
+      first_seq = msr.head.send_seq;
+    }
+    arrivals.push_back(t_rx);
+    const State st = stateOf(msr);
+    const Quality q = qualityOf(msr);
+    ++state_count[static_cast<std::size_t>(st)];
+    ++quality_count[static_cast<std::size_t>(q)];
+    if (!powerOn(msr)) ++power_off;
+    ++strategy_count[msr.robot.control <= 3 ? msr.robot.control : 4];
+    msr_min = std::min(msr_min, double(msr.intf.desired_msr_sample_time));
+    msr_max = std::max(msr_max, double(msr.intf.desired_msr_sample_time));
+    cmd_min = std::min(cmd_min, double(msr.intf.desired_cmd_sample_time));
+    cmd_max = std::max(cmd_max, double(msr.intf.desired_cmd_sample_time));
+    if (q >= Quality::Ok) reached_ok = true;
+    if (!reached_ok) started_below_ok = true;
+    if (reached_ok && q < Quality::Ok) {
+      dropped_below_ok = true;
+      worst_after_ok = std::min(worst_after_ok, q);
+    }
+    if (out.state_changed) {
+      const std::string line =
+          fmt("t=%7.3f s  packet %llu: state %s quality %s power 0x%02x control %u (%s), sample times msr %.3f ms "
+              "cmd %.3f ms, from %s:%u; bridge %s",
+              t_rx - t_first, static_cast<unsigned long long>(bridge.stats().accepted), toString(st), toString(q),
+              unsigned(msr.robot.power), unsigned(msr.robot.control), strategyName(msr.robot.control),
+              1e3 * double(msr.intf.desired_msr_sample_time), 1e3 * double(msr.intf.desired_cmd_sample_time), addr,
+              unsigned(peer_port), toString(out.status));
+      timeline.push_back(line);
+      std::printf("%s\n", line.c_str());
+      std::fflush(stdout);
+    }
+  }
+
+  // ---- the items
+  const BridgeStats& bs = bridge.stats();
+  const double span = arrivals.size() > 1 ? arrivals.back() - arrivals.front() : 0.0;
+  std::vector<double> ia;
+  for (std::size_t i = 1; i < arrivals.size(); ++i) ia.push_back(arrivals[i] - arrivals[i - 1]);
+  std::sort(ia.begin(), ia.end());
+  const double p50 = percentile(ia, 0.5), p99 = percentile(ia, 0.99), pmax = ia.empty() ? 0.0 : ia.back();
+  const double krc_cycle = double(last.intf.desired_msr_sample_time);
+  std::vector<Item> items;
+  auto item = [&](const char* key, const char* label) -> Item& {
+    items.push_back(Item{key, label, Verdict::Pass, "", {}, {}});
+    return items.back();
+  };
+  auto worsen = [](Item& it, Verdict v) {
+    if (static_cast<int>(v) > static_cast<int>(it.verdict)) it.verdict = v;
+  };
+
+  {
+    Item& it = item("packets", "[packets]");
+    std::string from;
+    for (const auto& pp : peers) from += fmt("%s%s:%u", from.empty() ? "" : ", ", pp.first.c_str(), unsigned(pp.second));
+    it.message = fmt("%llu accepted of %llu datagrams in %.3f s from %s; %llu malformed, %llu replies, %llu send errors",
+                     static_cast<unsigned long long>(bs.accepted), static_cast<unsigned long long>(bs.received), span,
+                     from.c_str(), static_cast<unsigned long long>(bs.malformed),
+                     static_cast<unsigned long long>(bs.replies), static_cast<unsigned long long>(send_errors));
+    if (bs.malformed > 0 || truncated > 0) {
+      worsen(it, Verdict::Fail);
+      it.next.push_back(fmt("%llu datagrams were not FRI measurement packets (916 bytes, id 0x2006): another program "
+                            "sends to this port, or the KRC's FRI version differs",
+                            static_cast<unsigned long long>(bs.malformed + truncated)));
+    }
+    if (silent_end) {
+      worsen(it, Verdict::Fail);
+      it.next.push_back(fmt("the KRC stopped sending after %.3f s (silent for %.1f s): friClose in the KRL program, "
+                            "an error on the KRC (its message window), or the cable",
+                            span, mo.idle_timeout));
+    }
+    if (send_errors > 0) {
+      worsen(it, Verdict::Fail);
+      it.next.push_back("replies could not be sent: the socket's buffer or the route to the KRC");
+    }
+    if (it.verdict == Verdict::Pass) it.next.push_back("the KRC reaches this host; the items below say how well");
+    it.json = {{"accepted", std::to_string(bs.accepted)},   {"received", std::to_string(bs.received)},
+               {"malformed", std::to_string(bs.malformed)}, {"seconds", fmt("%.4f", span)},
+               {"silent_end", silent_end ? "true" : "false"}};
+  }
+  {
+    Item& it = item("cycle_time", "[cycle time]");
+    constexpr double kTol = 1e-5;  // s: the bridge's tolerance (whole ms as float seconds)
+    const bool msr_ok = std::fabs(msr_min - bp.cycle_time_s) <= kTol && std::fabs(msr_max - bp.cycle_time_s) <= kTol;
+    const bool cmd_ok = std::fabs(cmd_min - bp.cycle_time_s) <= kTol && std::fabs(cmd_max - bp.cycle_time_s) <= kTol;
+    it.message = fmt("the KRC's desiredMsrSampleTime %.3f ms, desiredCmdSampleTime %.3f ms%s; fri.cycle_time_s = "
+                     "%g (%.3f ms)",
+                     1e3 * msr_max, 1e3 * cmd_max,
+                     (msr_min != msr_max || cmd_min != cmd_max) ? " (changed during the run)" : "", bp.cycle_time_s,
+                     1e3 * bp.cycle_time_s);
+    if (!msr_ok || !cmd_ok) {
+      worsen(it, Verdict::Fail);
+      const double krc = !msr_ok ? msr_max : cmd_max;
+      it.message += fmt("; %llu packets flagged cycle_mismatch by the bridge",
+                        static_cast<unsigned long long>(status_count[static_cast<int>(BridgeStatus::CycleMismatch)]));
+      it.next.push_back(fmt("the KRC sends every %g ms but %s expects %g ms: call friOpen(%g) in the KRL program or "
+                            "set fri.cycle_time_s: %g (krc/TactileServo.src)",
+                            1e3 * krc, yaml.c_str(), 1e3 * bp.cycle_time_s, std::round(1e3 * bp.cycle_time_s), krc));
+    } else {
+      it.next.push_back("friOpen's cycle is the configured one");
+    }
+    it.json = {{"krc_msr_sample_time_s", fmt("%.6g", msr_max)},
+               {"krc_cmd_sample_time_s", fmt("%.6g", cmd_max)},
+               {"configured_s", fmt("%.6g", bp.cycle_time_s)}};
+  }
+  {
+    Item& it = item("krc_port", "[krc port]");
+    const uint16_t port = peers.empty() ? 0 : peers.front().second;
+    it.message = fmt("the KRC sends from UDP port %u; fri.udp.krc_port = %d%s", unsigned(port), bp.krc_port,
+                     bp.krc_port == 0 ? " (any)" : "");
+    if (peers.size() > 1) {
+      worsen(it, Verdict::Fail);
+      it.next.push_back(fmt("%zu different senders: only the KRC may send to this port; set fri.udp.krc_port to the "
+                            "KRC's port and stop the other sender", peers.size()));
+    }
+    if (bp.krc_port != 0 && port != bp.krc_port) {
+      worsen(it, Verdict::Fail);
+      it.next.push_back(fmt("the KRC sends from port %u but %s expects %d: set fri.udp.krc_port: %u (or 0: any "
+                            "port); if %u is not the KRC, another program sends to this port: stop it",
+                            unsigned(port), yaml.c_str(), bp.krc_port, unsigned(port), unsigned(port)));
+    } else if (bp.krc_port == 0) {
+      it.next.push_back(fmt("fri.udp.krc_port: %u makes the bridge refuse any other sender", unsigned(port)));
+    } else {
+      it.next.push_back("the configured KRC port");
+    }
+    it.json = {{"krc_port", std::to_string(port)}, {"configured", std::to_string(bp.krc_port)},
+               {"senders", std::to_string(peers.size())}};
+  }
+  {
+    Item& it = item("control", "[control]");
+    const uint16_t c = last.robot.control;
+    uint64_t other = 0;
+    for (int k = 0; k < 5; ++k)
+      if (k != static_cast<int>(ControlStrategy::CartImpedance)) other += strategy_count[k];
+    it.message = fmt("the KRC runs %s (control %u)%s; the bridge commands Cartesian poses (Cartesian impedance, 2)",
+                     strategyName(c), unsigned(c), other > 0 && other < bs.accepted ? " (changed during the run)" : "");
+    if (other > 0) {
+      worsen(it, Verdict::Fail);
+      it.next.push_back(fmt("%llu packets in %s: select Cartesian impedance in the KRL program before friStart "
+                            "($STIFFNESS.STRATEGY = 20, $STIFFNESS.COMMIT = TRUE, as krc/TactileServo.src); in CMD the bridge would only "
+                            "hold the joints (status wrong_strategy)",
+                            static_cast<unsigned long long>(other), strategyName(c == 2 ? 0 : c)));
+    } else {
+      it.next.push_back("the strategy the bridge needs");
+    }
+    it.json = {{"control", std::to_string(c)}, {"name", jsonString(strategyName(c))}};
+  }
+  {
+    Item& it = item("period", "[period]");
+    it.message = fmt("packets every %.3f ms (p50 of %zu inter-arrival times, this host's clock); the KRC's cycle "
+                     "%.3f ms, band +-%.0f %%",
+                     1e3 * p50, ia.size(), 1e3 * krc_cycle, 100 * mo.period_tolerance);
+    if (ia.empty() || krc_cycle <= 0.0) {
+      worsen(it, Verdict::Fail);
+      it.next.push_back("too few packets to measure the period: observe longer (--seconds)");
+    } else if (std::fabs(p50 / krc_cycle - 1.0) > mo.period_tolerance) {
+      worsen(it, Verdict::Fail);
+      it.next.push_back(fmt("packets arrive every %.3f ms but the KRC's cycle is %.3f ms: %s", 1e3 * p50,
+                            1e3 * krc_cycle,
+                            p50 > krc_cycle ? "packets are lost or held up on the way (a switch, a shared NIC) or "
+                                              "this host reads late (load, no real-time priority)"
+                                            : "more than one sender, or the KRC sends bursts"));
+    } else {
+      it.next.push_back("the packets come at the KRC's cycle");
+    }
+    it.json = {{"p50_s", fmt("%.6g", p50)}, {"krc_cycle_s", fmt("%.6g", krc_cycle)},
+               {"tolerance", fmt("%g", mo.period_tolerance)}};
+  }
+  {
+    Item& it = item("jitter", "[jitter]");
+    it.message = fmt("inter-arrival p50 %.3f ms, p99 %.3f ms, max %.3f ms; p99 - p50 = %.3f ms (limit %.3f ms)",
+                     1e3 * p50, 1e3 * p99, 1e3 * pmax, 1e3 * (p99 - p50), mo.max_jitter_ms);
+    if (!ia.empty() && 1e3 * (p99 - p50) > mo.max_jitter_ms) {
+      worsen(it, Verdict::Fail);
+      it.next.push_back("this host or the network delays packets: run the bridge on the real-time host "
+                        "(PREEMPT_RT or Xenomai, SCHED_FIFO), a dedicated NIC on a direct cable to the KRC, no power "
+                        "saving (C-states), interrupt coalescing off on that NIC");
+    } else {
+      it.next.push_back("the arrival times are regular enough");
+    }
+    it.json = {{"p50_s", fmt("%.6g", p50)}, {"p99_s", fmt("%.6g", p99)}, {"max_s", fmt("%.6g", pmax)},
+               {"limit_ms", fmt("%g", mo.max_jitter_ms)}};
+  }
+  {
+    Item& it = item("loss", "[loss]");
+    const uint64_t sent = bs.accepted + bs.lost;
+    const double rate = sent ? double(bs.lost) / double(sent) : 0.0;
+    it.message = fmt("%llu lost of %llu the KRC sent (sequence gaps, %.2f %%; limit %.2f %%)",
+                     static_cast<unsigned long long>(bs.lost), static_cast<unsigned long long>(sent), 100 * rate,
+                     100 * mo.max_loss_rate);
+    if (rate > mo.max_loss_rate) {
+      worsen(it, Verdict::Fail);
+      it.next.push_back("measurement packets are lost between the KRC and this host: a direct cable (no switch), "
+                        "a dedicated NIC, a larger socket receive buffer; the KRC's quality drops with them");
+    } else {
+      it.next.push_back("no loss beyond the limit");
+    }
+    it.json = {{"lost", std::to_string(bs.lost)}, {"sent", std::to_string(sent)}, {"rate", fmt("%.6g", rate)},
+               {"limit", fmt("%g", mo.max_loss_rate)}};
+  }
+  {
+    Item& it = item("order", "[order]");
+    it.message = fmt("%llu duplicates, %llu out of order, %llu sequence restarts",
+                     static_cast<unsigned long long>(bs.duplicates), static_cast<unsigned long long>(bs.out_of_order),
+                     static_cast<unsigned long long>(bs.resyncs));
+    if (bs.duplicates + bs.out_of_order > 0) {
+      worsen(it, Verdict::Fail);
+      it.next.push_back("a KRC sends each packet once, in order: a second sender on this port, or a network that "
+                        "duplicates/reorders (a switch or bridge in the path)");
+    } else {
+      it.next.push_back("in order, once each");
+    }
+    it.json = {{"duplicates", std::to_string(bs.duplicates)}, {"out_of_order", std::to_string(bs.out_of_order)}};
+  }
+  {
+    Item& it = item("state", "[state]");
+    const double tot = std::max<double>(1.0, double(bs.accepted));
+    it.message = fmt("MON %.1f %%, CMD %.1f %%, OFF %.1f %% of the packets; drives off in %.1f %%; last %s",
+                     100 * double(state_count[1]) / tot, 100 * double(state_count[2]) / tot, 100 * double(state_count[0]) / tot,
+                     100 * double(power_off) / tot, toString(stateOf(last)));
+    if (state_count[2] > 0)
+      it.message += fmt("; in CMD the bridge held the entry pose (%llu dry_run, %llu other holds)",
+                        static_cast<unsigned long long>(status_count[static_cast<int>(BridgeStatus::DryRun)]),
+                        static_cast<unsigned long long>(state_count[2] -
+                                                        status_count[static_cast<int>(BridgeStatus::DryRun)]));
+    if (power_off > 0) {
+      worsen(it, Verdict::Warn);
+      it.next.push_back("the drives were off: switch them on (the KRC's enabling switch) before friStart");
+    }
+    it.next.push_back(state_count[2] > 0 ? "CMD works: the servo can run (without --monitor the bridge follows it)"
+                                         : "MON: friStart in the KRL program (krc/TactileServo.src) switches to CMD once the servo runs");
+    it.json = {{"mon", std::to_string(state_count[1])}, {"cmd", std::to_string(state_count[2])},
+               {"off", std::to_string(state_count[0])}, {"power_off", std::to_string(power_off)}};
+  }
+  {
+    Item& it = item("quality", "[quality]");
+    const double tot = std::max<double>(1.0, double(bs.accepted));
+    it.message = fmt("PERFECT %.1f %%, OK %.1f %%, BAD %.1f %%, UNACCEPTABLE %.1f %% of the packets; last %s; the "
+                     "KRC's statistics: answer rate %.3f, latency %.3f ms, jitter %.3f ms, %u misses",
+                     100 * double(quality_count[3]) / tot, 100 * double(quality_count[2]) / tot, 100 * double(quality_count[1]) / tot,
+                     100 * double(quality_count[0]) / tot, toString(qualityOf(last)), double(last.intf.stat.answer_rate),
+                     1e3 * double(last.intf.stat.latency), 1e3 * double(last.intf.stat.jitter),
+                     unsigned(last.intf.stat.miss_counter));
+    if (qualityOf(last) < Quality::Ok || dropped_below_ok) {
+      worsen(it, Verdict::Fail);
+      it.next.push_back(fmt("the quality %s %s: the KRC misses or gets late answers: the jitter and loss items; a "
+                            "real-time host; nothing else on the FRI NIC",
+                            dropped_below_ok ? "dropped to" : "is",
+                            toString(dropped_below_ok ? worst_after_ok : qualityOf(last))));
+    } else if (started_below_ok) {
+      worsen(it, Verdict::Warn);
+      it.next.push_back("the quality was below OK at first and rose: the KRC rates the link once answers arrive; "
+                        "wait for PERFECT before friStart");
+    } else {
+      it.next.push_back("the KRC rates the link OK or better throughout");
+    }
+    it.json = {{"perfect", std::to_string(quality_count[3])}, {"ok", std::to_string(quality_count[2])},
+               {"bad", std::to_string(quality_count[1])}, {"unacceptable", std::to_string(quality_count[0])},
+               {"last", jsonString(toString(qualityOf(last)))}};
+  }
+
+  int code = 0;
+  for (const Item& it : items) {
+    std::printf("%-13s %s  %s\n", it.label.c_str(), toString(it.verdict), it.message.c_str());
+    for (const std::string& nx : it.next) std::printf("      next: %s\n", nx.c_str());
+    if (it.verdict == Verdict::Fail) code = 3;
+  }
+  std::printf("fri_check: %s (exit %d)\n", code == 0 ? "every item passed" : "an item failed", code);
+  if (!mo.json_file.empty()) {
+    FILE* f = std::fopen(mo.json_file.c_str(), "w");
+    if (f == nullptr) {
+      std::fprintf(stderr, "fri_check: cannot write %s\n", mo.json_file.c_str());
+      return code == 0 ? 1 : code;
+    }
+    std::fprintf(f, "{\n  \"tool\": \"fri_check --monitor\",\n  \"exit_code\": %d,\n  \"result\": %s", code,
+                 code == 0 ? "\"pass\"" : "\"fail\"");
+    for (const Item& it : items) {
+      std::string next = "[";
+      for (std::size_t i = 0; i < it.next.size(); ++i) next += (i ? ", " : "") + jsonString(it.next[i]);
+      std::fprintf(f, ",\n  %s: {\"verdict\": %s, \"message\": %s, \"next\": %s]", jsonString(it.key).c_str(),
+                   jsonString(toString(it.verdict)).c_str(), jsonString(it.message).c_str(), next.c_str());
+      for (const auto& kv : it.json) std::fprintf(f, ", %s: %s", jsonString(kv.first).c_str(), kv.second.c_str());
+      std::fprintf(f, "}");
+    }
+    std::string tl = "[";
+    for (std::size_t i = 0; i < timeline.size(); ++i) tl += (i ? ", " : "") + jsonString(timeline[i]);
+    std::fprintf(f, ",\n  \"timeline\": %s]\n}\n", tl.c_str());
+    std::fclose(f);
+  }
+  return code;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -75,6 +571,8 @@ int main(int argc, char** argv) {
   UdpParams up;
   BridgeParams bp;
   double radius = 0.01, circle_period = 10.0, idle_timeout = 10.0;
+  bool monitor = false, motion_given = false, cycles_given = false;
+  MonitorOptions mo;
   for (int i = 1; i + 1 < argc; ++i) {  // the parameter file first, so that options override it
     if (std::string(argv[i]) == "--params") {
       if (ConfigResult r = loadBridgeParamsFile(argv[i + 1], bp, up); !r) {
@@ -95,11 +593,28 @@ int main(int argc, char** argv) {
       char* end = nullptr;
       cycles = std::strtol(argv[++i], &end, 10);
       if (*end != '\0' || cycles < 1) return usage("--cycles must be >= 1");
+      cycles_given = true;
     } else if (a == "--motion" && has) {
       motion = argv[++i];
       if (motion != "hold" && motion != "circle") return usage("--motion must be hold or circle");
+      motion_given = true;
     } else if (a == "--params" && has) {
-      ++i;  // loaded above
+      mo.params_file = argv[++i];  // loaded above
+    } else if (a == "--monitor") {
+      monitor = true;
+    } else if (a == "--seconds" && has) {
+      if (!parseDouble(argv[++i], mo.seconds) || mo.seconds <= 0.0 || mo.seconds > 86400.0)
+        return usage("--seconds must be in (0, 86400]");
+    } else if (a == "--period-tolerance" && has) {
+      if (!parseDouble(argv[++i], mo.period_tolerance) || mo.period_tolerance <= 0.0 || mo.period_tolerance > 10.0)
+        return usage("--period-tolerance must be in (0, 10]");
+    } else if (a == "--max-jitter-ms" && has) {
+      if (!parseDouble(argv[++i], mo.max_jitter_ms) || mo.max_jitter_ms < 0.0) return usage("--max-jitter-ms must be >= 0");
+    } else if (a == "--max-loss-rate" && has) {
+      if (!parseDouble(argv[++i], mo.max_loss_rate) || mo.max_loss_rate < 0.0 || mo.max_loss_rate > 1.0)
+        return usage("--max-loss-rate must be in [0, 1]");
+    } else if (a == "--json" && has) {
+      mo.json_file = argv[++i];
     } else if (a == "--bind" && has) {
       up.bind_address = argv[++i];
     } else if (a == "--radius" && has) {
@@ -122,6 +637,12 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) have_params = have_params || std::string(argv[i]) == "--params";
   if (port < 0 && !have_params) return usage("--port (or --params FILE with fri.udp.port) is required");
   if (port >= 0) up.port = static_cast<uint16_t>(port);
+  if (monitor) {
+    if (motion_given) return usage("--monitor never commands motion: no --motion");
+    mo.cycles = cycles_given ? cycles : 0;
+    mo.idle_timeout = idle_timeout;
+    return runMonitor(mo, bp, up);
+  }
 
   FriBridge bridge;
   if (ConfigResult r = bridge.configure(bp); !r) {
@@ -179,7 +700,7 @@ int main(int argc, char** argv) {
     // Motion time base: CMD cycles times the KRC's command period (from the
     // previous packet), so the motion is smooth whatever the host's timing.
     const double krc_T = double(bridge.lastMeasurement().intf.desired_cmd_sample_time);
-    const double T = (krc_T > 0.0 && krc_T <= 0.1) ? krc_T : bp.nominal_period_s;
+    const double T = (krc_T > 0.0 && krc_T <= 0.1) ? krc_T : bp.cycle_time_s;
     const double tc = static_cast<double>(cmd_cycles) * T;
     KDL::Frame target = anchor;
     if (motion == "circle") {
