@@ -834,8 +834,9 @@ int main(int argc, char** argv) {
     for (const TaxelRef& t : stuck)
       names += fmt("%s%s %s %.0f", names.empty() ? "" : ", ", taxelName(t.row, t.col).c_str(), t.what.c_str(), t.value);
     sd.message += "; stuck: " + names;
-    sd.next.push_back("stuck taxel(s): " + names + ": a shorted cell or a damaged pad; mask the taxel (the features "
-                      "see it as a permanent contact) and contact Weiss for a repair");
+    sd.next.push_back("stuck taxel(s): " + names + ": a shorted cell or a damaged pad; the features have no per-taxel "
+                      "mask and read it as a permanent contact: have the pad repaired or replaced (Weiss) before "
+                      "experiments");
   }
   if (!silent.empty()) {
     worsen(sd, Verdict::Warn);
@@ -955,7 +956,8 @@ int main(int argc, char** argv) {
         for (const TaxelRef& t : dead) names += (names.empty() ? "" : ", ") + taxelName(t.row, t.col);
         se.message += "; dead: " + names;
         se.next.push_back("dead taxel(s) " + names + ": never rose while their neighbours did: a broken cell or "
-                          "trace; mask them and contact Weiss for a repair");
+                          "trace; the features bridge one silent taxel inside a contact (wts0614.yaml region_gap) but "
+                          "its force is missing: have the pad repaired or replaced (Weiss)");
       }
       if (!stuck_again.empty()) {
         std::string names;
