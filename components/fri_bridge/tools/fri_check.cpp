@@ -366,7 +366,7 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
       it.message += fmt("; %llu packets flagged cycle_mismatch by the bridge",
                         static_cast<unsigned long long>(status_count[static_cast<int>(BridgeStatus::CycleMismatch)]));
       it.next.push_back(fmt("the KRC sends every %g ms but %s expects %g ms: call friOpen(%g) in the KRL program or "
-                            "set fri.cycle_time_s: %g (krc/TactileServo.src)",
+                            "set fri.cycle_time_s: %g",
                             1e3 * krc, yaml.c_str(), 1e3 * bp.cycle_time_s, std::round(1e3 * bp.cycle_time_s), krc));
     } else {
       it.next.push_back("friOpen's cycle is the configured one");
