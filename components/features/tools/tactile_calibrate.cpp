@@ -243,7 +243,7 @@ int main(int argc, char** argv) {
     for (int c = 0; c < cols; ++c) {
       const std::size_t i = static_cast<std::size_t>(rr * cols + c);
       if (fit.taxel_frames[i] == 0) {
-        std::printf("%6s  ", "-");
+        std::printf("%6s ", "-");
       } else {
         const bool big = fit.taxel_residual[i] > 3.0 * median && median > 0.0;
         flagged += big;
