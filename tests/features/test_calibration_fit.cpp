@@ -474,9 +474,9 @@ TEST(CalibrationFit, TooFewLoadsForTheDegree) {
   EXPECT_NE(t.out.find("2 distinct load(s)"), std::string::npos) << t.out;
   EXPECT_NE(t.out.find("needs at least 4 distinct non-zero loads"), std::string::npos) << t.out;
   // Degree 1 needs 2: the same recording then fits a shared line (the line
-  // through the cubic truth misses by ~10 %: the residual limit relaxed; the
+  // through the cubic truth misses by ~10 %: the residual limits relaxed; the
   // border model would need the ring loaded).
-  t = calibrate("--recording " + csv + params + " --degree 1 --model shared --max-rms-pct 50 --out " +
+  t = calibrate("--recording " + csv + params + " --degree 1 --model shared --max-rms-pct 50 --max-se-pct 50 --out " +
                 test::writeTempFile("few1.yaml", ""));
   EXPECT_EQ(t.code, 0) << t.out;
   t = calibrate("--recording " + csv + params + " --degree 1 --out " + test::writeTempFile("few2.yaml", ""));

@@ -681,9 +681,13 @@ ConfigResult fitCalibration(const CalibrationRecording& rec, const CalibrationPa
       const std::string who = fm == CalibrationModel::PerTaxel ? "taxel " + taxelName(i, cols)
                               : (groupModel == CalibrationModel::Border && isBorder(i, rows, cols)) ? "the border polynomial"
                                                                                                      : "the polynomial";
-      return ConfigResult::failure(F + ": " + who + " fits a slope c1 = " + fmt("%g", c[1]) +
-                                   " N/count at 0 counts (held at 0 by the c1 >= 0 constraint): the light loads do "
-                                   "not fix it: record loads from just above the firing threshold (~0.3 N per taxel)");
+      return ConfigResult::failure(
+          F + ": " + who + " fits a slope c1 = " + fmt("%g", c[1]) + " N/count at 0 counts" +
+          (opt.nonnegative ? " (held there by the c_k >= 0 constraint)" : "") +
+          ", it must be > 0: the loads do not fix the curve near 0 counts (condition " + fmt("%.3g", out.condition) +
+          "). Record loads from just above the firing threshold (~0.3 N per taxel); if each load spreads over many "
+          "taxels (a plate, a palm), the interior and the border carry it alike and trade scale: add loads on single "
+          "taxels (a probe within one taxel), or fit --model shared");
     }
   }
   if (!opt.nonnegative) {

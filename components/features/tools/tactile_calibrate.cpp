@@ -18,7 +18,10 @@
 // RMS in % of the load range), the condition number, the per-taxel residual
 // as a rows x cols grid (mN; '-' never loaded; '*' above 3x the median), and
 // PASS or FAIL with what to do next. PASS needs the residual RMS within
-// --max-rms-pct (default 2 %) of the load range; the file is written only on
+// --max-rms-pct (default 2 %) of the load range and the fitted curves'
+// standard error at the largest count used within --max-se-pct (default
+// 0.5 %) of it (loads that leave coefficients undetermined, e.g. a plate
+// loading the interior and the border alike); the file is written only on
 // PASS, then read back through the project's loader (params_io) and checked.
 // Exit: 0 pass, 1 fit failed or bad recording (nothing written), 2 usage or
 // parameter-file error.
@@ -52,7 +55,7 @@ void usage() {
   std::fprintf(stderr,
                "usage: tactile_calibrate --recording REC.csv [--params FILE.yaml] [--model border|per_taxel|shared]\n"
                "                         [--degree 1..3] [--ridge R=0.001] [--unloaded-max N=0.05]\n"
-               "                         [--max-rms-pct P=2] [--unconstrained] --out CALIB.yaml\n"
+               "                         [--max-rms-pct P=2] [--max-se-pct P=0.5] [--unconstrained] --out CALIB.yaml\n"
                "Fits f_i = c1 n + c2 n^2 + c3 n^3 (tared counts n) so that the taxels add up to f_ref_n per frame.\n"
                "REC.csv: header, then time_s, f_ref_n, raw_0..raw_{rows*cols-1} per frame (docs/calibration.md).\n"
                "Writes the parameter file with its calibration: section replaced. Exit 0 pass, 1 fail, 2 usage.\n");
@@ -93,7 +96,7 @@ int fail(const std::string& why, const std::vector<std::string>& next) {
 int main(int argc, char** argv) {
   std::string recording, params_file, out_file;
   CalibrationFitOptions opt;
-  double max_rms_pct = 2.0;
+  double max_rms_pct = 2.0, max_se_pct = 0.5;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> std::string {
@@ -138,6 +141,8 @@ int main(int argc, char** argv) {
       opt.unloaded_max_n = number(1e-9, 1e3);
     } else if (a == "--max-rms-pct") {
       max_rms_pct = number(0, 100);
+    } else if (a == "--max-se-pct") {
+      max_se_pct = number(0, 100);
     } else if (a == "--unconstrained") {
       opt.nonnegative = false;
     } else if (a == "-h" || a == "--help") {
@@ -261,6 +266,14 @@ int main(int argc, char** argv) {
                  "f_ref_n belongs to its frame (no lag between the reference and the WTS)",
                  "a probe wider than a taxel loses the load its rim puts on taxels below the firing threshold "
                  "(docs/calibration.md): use a probe within one taxel"});
+
+  if (!(100.0 * se_max / fit.load_max <= max_se_pct))
+    return fail(fmt("the fitted curves are poorly determined: standard error up to %.3g mN", 1000.0 * se_max) +
+                    fmt(" = %.3g %% of the load range", 100.0 * se_max / fit.load_max) +
+                    fmt(" at the largest counts, above --max-se-pct %g %%", max_se_pct),
+                {"the loads do not separate the coefficients: record more load levels, loads on single taxels "
+                 "(a probe within one taxel) and on the border taxels",
+                 "or a simpler model: --model shared, a lower --degree"});
 
   // Write: the input file with the calibration section replaced.
   std::vector<std::string> comment = {
