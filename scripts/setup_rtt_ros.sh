@@ -54,10 +54,12 @@ want_stamp="rtt_ros_integration=$commit packages=${PKGS[*]}"
 
 # ---- Debian's ROS 1 ----------------------------------------------------------
 # ros-core-dev: catkin, roscpp, rospy, message generation, the common message
-# packages, rosbag, roslaunch, roscore. rviz is optional (TACTILE_WITH_RVIZ=ON).
+# packages, rosbag, roslaunch, roscore; ros-robot-state-publisher: the arm's
+# TF from the URDF and /tactile/joint_states (launch file, ros_screenshot.sh).
+# rviz is optional (TACTILE_WITH_RVIZ=ON).
 DEB=(ros-core-dev rosbash python3-rospy python3-rosbag libtf2-ros-dev libtf2-msgs-dev
      python3-tf2-ros python3-sensor-msgs python3-geometry-msgs python3-std-msgs
-     libstd-srvs-dev)
+     libstd-srvs-dev ros-robot-state-publisher)
 if [ "${TACTILE_WITH_RVIZ:-OFF}" = "ON" ]; then DEB+=(rviz xvfb x11-apps python3-visualization-msgs); fi
 missing=()
 for p in "${DEB[@]}"; do
