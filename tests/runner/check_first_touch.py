@@ -112,9 +112,11 @@ if mode == "touch":
     check(bool(last) and f_true[last[-1]] > 1.0,
           f"holding at the end: true force {f_true[last[-1]] if last else float('nan'):.3f} N in done")
     tin = [p["t_enter"] for p in summary["phases"]]
-    print(f"     approach {tin[1] - tin[0]:.2f} s, hold {tin[2] - tin[1]:.2f} s, true force in hold: "
-          f"mean {summary['force_true_mean_n']:.3f} N, max {summary['force_true_max_n']:.3f} N, "
-          f"RMS error {summary['force_true_rms_error_n']:.3f} N")
+    num = {k: float("nan") if summary[k] is None else summary[k]
+           for k in ("force_true_mean_n", "force_true_max_n", "force_true_rms_error_n")}
+    print(f"     phases entered at {tin} s; true force while holding (after the transient): "
+          f"mean {num['force_true_mean_n']:.3f} N, max {num['force_true_max_n']:.3f} N, "
+          f"RMS error {num['force_true_rms_error_n']:.3f} N")
 elif mode == "no_object":
     check(phases == ["approach", "no_contact"], f"approach, no_contact ({phases})")
     check(float(np.abs(f_true).max()) == 0.0, f"no force at all (max {np.abs(f_true).max():.3g} N)")
