@@ -106,9 +106,15 @@ TEST(KrcModel, StaleAndMalformedRepliesAreNotApplied) {
   EXPECT_EQ(l.krc.handleReply(l.wire.data(), 10), ReplyResult::Malformed);
   EXPECT_EQ(l.krc.stats().malformed_replies, 1u);
   EXPECT_EQ(l.krc.stats().applied, 1u);
-  // Leaving CMD: the set point follows the measured pose again.
+  // Leaving CMD after a command was applied (friStop): the KRC keeps its set
+  // point, whatever the measured pose (a pressing contact keeps its force).
   l.krc.setState(State::Mon, Quality::Perfect, 0x7F);
+  const KDL::Frame held = l.krc.setPoint();
   const KDL::Frame moved(l.plant.pose.M, l.plant.pose.p + KDL::Vector(0.01, 0, 0));
+  l.krc.holdUnlessCommanding(moved);
+  EXPECT_NEAR((l.krc.setPoint().p - held.p).Norm(), 0.0, 1e-12);
+  // Before any command (a fresh start in MON) the set point is the measured pose.
+  l.krc.reset(held);
   l.krc.holdUnlessCommanding(moved);
   EXPECT_NEAR((l.krc.setPoint().p - moved.p).Norm(), 0.0, 1e-12);
   KrcModelParams bad;
