@@ -1,0 +1,381 @@
+// lab_sim: a simulated lab for rehearsing the robot deployment
+// (deployments/<experiment>_robot.ops) without the arm: a KUKA KRC speaking
+// FRI over UDP on loopback and a Weiss WTS0614 on a pseudo-terminal, both
+// backed by ONE simulated world (the scene's LWR 4+, objects and pad).
+// docs/lab_sim.md: what it simulates, what it does not, a worked example.
+//
+//   lab_sim SCENE.yaml [--fri-port P] [--wts-link PATH] [--krc SCRIPT]
+//           [--period-ms T] [--krc-cycle-ms C] [--msr-sample-ms M] [--cmd-sample-ms M]
+//           [--control cart|joint|position] [--duration S]
+//           [--truth-out FILE.csv] [--truth-period-ms T] [--set KEY.PATH=VALUE ...]
+//
+//   --fri-port P        the FRI bridge's UDP port on 127.0.0.1 (default 49938, fri.yaml's);
+//                       measurements go there and only there (loopback)
+//   --wts-link PATH     symlink to the simulated WTS0614's PTY (as wts_sim --link);
+//                       without it the PTY's own name is printed ("device: PATH")
+//   --krc SCRIPT        the KRC's script in KRL's words, times in s
+//                       (tactile::fri::KrcScript): "0:friOpen,1.0:friStart,
+//                       6.0:quality=BAD,6.3:quality=PERFECT,8.0:friStop,8.5:friStart";
+//                       friOpen -> MON, friStart -> CMD, friStop -> MON, friClose ->
+//                       the KRC stops sending, quality=UNACCEPTABLE|BAD|OK|PERFECT,
+//                       power=off|on (the drives). Default: the scene's `krc`, else
+//                       command mode from the start at PERFECT quality
+//   --period-ms T       the robot's control cycle: one world step (default: the scene's
+//                       1 / rates.sim, 1 ms in every shipped scene)
+//   --krc-cycle-ms C    the FRI cycle (friOpen's): one measurement packet every C ms,
+//                       a whole number of world steps (default T)
+//   --msr-sample-ms M, --cmd-sample-ms M
+//                       the sample times the KRC advertises (desiredMsrSampleTime,
+//                       desiredCmdSampleTime; default C): set them apart from C to
+//                       rehearse a disagreement (the bridge's rate limiter steps by
+//                       desiredCmdSampleTime)
+//   --control S         the KRC's control strategy: cart (Cartesian impedance, the
+//                       default), joint (joint impedance), position; commands are
+//                       applied under cart only
+//   --duration S        stop after S s (default 0: until SIGINT/SIGTERM)
+//   --truth-out FILE    the world's ground truth over time, CSV (columns in
+//                       docs/lab_sim.md): time, KRC state, flange pose, the set
+//                       point the arm followed, true contact force, the wrench
+//                       the KRC reported; never seen by the controller
+//   --truth-period-ms T one truth row every T ms, a whole number of KRC cycles (default 10)
+//   --set K=V           override a scene key before it is read (as tactile_sim run --set)
+//
+// Prints one line per KRC state change and, at the end (duration, SIGINT or
+// SIGTERM), a summary: cycles, replies, lost, the largest step between
+// consecutive applied commands (the "no pose jump" check), the largest offset
+// of the first command after entering CMD, the world's status and the true
+// contact force statistics. Exit: 0, 2 on bad arguments or scene, 1 when a
+// socket or the PTY cannot be opened, 3 when the remote broke the protocol
+// (MON echo, flags, non-finite command), as fri_sim_krc.
+//
+// Test equipment: threads (the KRC's loop in the main thread, the WTS
+// device's thread), sleeps and the wall clock. Not a production library.
+#include <atomic>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "tactile_fri/krc_model.hpp"
+#include "tactile_fri/sim_krc.hpp"
+#include "tactile_lab/krc_schedule.hpp"
+#include "tactile_lab/world_plant.hpp"
+#include "tactile_sim/scene.hpp"
+#include "tactile_types/kdl_pose.hpp"
+#include "tactile_wts/sim_device.hpp"
+
+using namespace tactile;
+
+namespace {
+
+std::atomic<bool> g_stop{false};
+void onSignal(int) { g_stop.store(true); }
+
+int usage(const std::string& msg) {
+  std::fprintf(stderr,
+               "lab_sim: %s\nusage: lab_sim SCENE.yaml [--fri-port P] [--wts-link PATH] [--krc SCRIPT] [--period-ms T]\n"
+               "               [--krc-cycle-ms C] [--msr-sample-ms M] [--cmd-sample-ms M] [--control cart|joint|position]\n"
+               "               [--duration S] [--truth-out FILE.csv] [--truth-period-ms T] [--set KEY.PATH=VALUE ...]\n"
+               "(see the header of sim/lab/lab_sim.cpp or docs/lab_sim.md)\n",
+               msg.c_str());
+  return 2;
+}
+
+bool number(const char* s, double& v) {
+  char* end = nullptr;
+  v = std::strtod(s, &end);
+  return end != s && *end == '\0' && std::isfinite(v);
+}
+
+/// n such that a = n * b (to 1e-6 relative), n >= 1; 0 if none.
+long wholeMultiple(double a, double b) {
+  const double n = a / b;
+  const long r = std::lround(n);
+  return (r >= 1 && std::fabs(n - double(r)) <= 1e-6 * n) ? r : 0;
+}
+
+const char* stateWord(bool open, fri::State s) {
+  if (!open) return "closed";
+  return fri::toString(s);
+}
+
+/// Running mean / sd / min / max.
+struct Stat {
+  uint64_t n = 0;
+  double mean = 0.0, m2 = 0.0, min = 0.0, max = 0.0;
+  void add(double x) {
+    if (n == 0) min = max = x;
+    min = std::min(min, x);
+    max = std::max(max, x);
+    ++n;
+    const double d = x - mean;
+    mean += d / double(n);
+    m2 += d * (x - mean);
+  }
+  double sd() const { return n > 1 ? std::sqrt(m2 / double(n - 1)) : 0.0; }
+};
+
+void printForce(const char* label, const Stat& s, double cycle_s) {
+  if (s.n == 0) {
+    std::printf("lab_sim: true contact force %s: no contact\n", label);
+    return;
+  }
+  std::printf("lab_sim: true contact force %s: %.3f s in contact, mean %.3f N sd %.3f N min %.3f N max %.3f N\n", label,
+              double(s.n) * cycle_s, s.mean, s.sd(), s.min, s.max);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string scene_file, wts_link, truth_out, krc_spec, control = "cart";
+  bool krc_given = false;
+  long fri_port = fri::kDefaultPort;
+  double period_ms = 0.0, krc_cycle_ms = 0.0, msr_sample_ms = 0.0, cmd_sample_ms = 0.0, duration_s = 0.0,
+         truth_period_ms = 10.0;
+  std::vector<std::string> overrides;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const bool has = i + 1 < argc;
+    double v = 0.0;
+    auto num = [&](double lo, double hi, double& out) {
+      if (!number(argv[++i], v) || v < lo || v > hi) return false;
+      out = v;
+      return true;
+    };
+    if (a == "--fri-port" && has) {
+      double p = 0;
+      if (!num(1, 65535, p) || p != std::floor(p)) return usage("--fri-port must be an integer in [1, 65535]");
+      fri_port = long(p);
+    } else if (a == "--wts-link" && has) {
+      wts_link = argv[++i];
+    } else if (a == "--krc" && has) {
+      krc_spec = argv[++i];
+      krc_given = true;
+    } else if (a == "--period-ms" && has) {
+      if (!num(0.1, 10, period_ms)) return usage("--period-ms must be in [0.1, 10] (ms)");
+    } else if (a == "--krc-cycle-ms" && has) {
+      if (!num(0.1, 100, krc_cycle_ms)) return usage("--krc-cycle-ms must be in [0.1, 100] (ms)");
+    } else if (a == "--msr-sample-ms" && has) {
+      if (!num(0.1, 100, msr_sample_ms)) return usage("--msr-sample-ms must be in [0.1, 100] (ms)");
+    } else if (a == "--cmd-sample-ms" && has) {
+      if (!num(0.1, 100, cmd_sample_ms)) return usage("--cmd-sample-ms must be in [0.1, 100] (ms)");
+    } else if (a == "--control" && has) {
+      control = argv[++i];
+      if (control != "cart" && control != "joint" && control != "position")
+        return usage("--control must be cart, joint or position");
+    } else if (a == "--duration" && has) {
+      if (!num(0, 1e7, duration_s)) return usage("--duration must be in [0, 1e7] (s; 0 = until killed)");
+    } else if (a == "--truth-out" && has) {
+      truth_out = argv[++i];
+    } else if (a == "--truth-period-ms" && has) {
+      if (!num(0.1, 1000, truth_period_ms)) return usage("--truth-period-ms must be in [0.1, 1000] (ms)");
+    } else if (a == "--set" && has) {
+      overrides.emplace_back(argv[++i]);
+    } else if (!a.empty() && a[0] != '-' && scene_file.empty()) {
+      scene_file = a;
+    } else {
+      return usage("unknown or incomplete argument '" + a + "'");
+    }
+  }
+  if (scene_file.empty()) return usage("a scene file is required");
+  if (period_ms > 0.0) overrides.push_back("rates.sim=" + std::to_string(1000.0 / period_ms));
+
+  sim::Scene scene;
+  if (ConfigResult r = sim::loadScene(scene_file, scene, overrides); !r) {
+    std::fprintf(stderr, "lab_sim: %s\n", r.message().c_str());
+    return 2;
+  }
+  const double T_world = 1.0 / scene.rates.sim;
+  const double T_krc = krc_cycle_ms > 0.0 ? krc_cycle_ms * 1e-3 : T_world;
+  const long steps_per_cycle = wholeMultiple(T_krc, T_world);
+  if (steps_per_cycle == 0)
+    return usage("--krc-cycle-ms = " + std::to_string(T_krc * 1e3) + " must be a whole number of world steps (" +
+                 std::to_string(T_world * 1e3) + " ms, --period-ms)");
+  const long truth_every = wholeMultiple(truth_period_ms * 1e-3, T_krc);
+  if (truth_every == 0)
+    return usage("--truth-period-ms = " + std::to_string(truth_period_ms) + " must be a whole number of KRC cycles (" +
+                 std::to_string(T_krc * 1e3) + " ms)");
+  if (scene.world.fri_delay_s > 0.0 || scene.world.krc_cycle_s > 0.0)
+    std::fprintf(stderr,
+                 "lab_sim: warning: %s sets effects.fri_delay_s = %g s / krc_cycle_s = %g s: the world delays and holds "
+                 "the set point on top of this KRC's own cycle\n",
+                 scene.file.c_str(), scene.world.fri_delay_s, scene.world.krc_cycle_s);
+
+  fri::KrcScript script;
+  const std::string spec = krc_given ? krc_spec : scene.krc;
+  if (ConfigResult r = script.parse(spec, krc_given ? std::string("--krc") : scene.file + ": krc"); !r) {
+    std::fprintf(stderr, "lab_sim: %s\n", r.message().c_str());
+    return 2;
+  }
+
+  lab::WorldPlant plant;
+  if (ConfigResult r = plant.configure(scene); !r) {
+    std::fprintf(stderr, "lab_sim: %s\n", r.message().c_str());
+    return 2;
+  }
+
+  fri::SimKrcParams kp;
+  kp.remote_port = static_cast<uint16_t>(fri_port);
+  kp.period_s = T_krc;
+  kp.real_time = true;
+  kp.msr_sample_time_s = msr_sample_ms * 1e-3;
+  kp.cmd_sample_time_s = cmd_sample_ms * 1e-3;
+  kp.initial_pose = plant.initialPose();
+  kp.control = control == "cart"    ? fri::ControlStrategy::CartImpedance
+               : control == "joint" ? fri::ControlStrategy::JointImpedance
+                                    : fri::ControlStrategy::Position;
+  std::vector<lab::ScheduledWord> words;
+  lab::scheduleFromScript(script, T_krc, kp.initial, kp.schedule, words);
+
+  // The WTS0614 on a PTY, its frames from the world (the latest acquisition).
+  wts::SimulatedWts wts;
+  wts::SimulatedWts::Params wp;
+  wp.cells.rows = scene.features.rows;
+  wp.cells.cols = scene.features.cols;
+  wp.link = wts_link;
+  wts.setSource([&plant](uint32_t, RawTactileFrame& f) { plant.latestFrame(f); });
+  std::string why;
+  if (!wts.start(wp, &why)) {
+    std::fprintf(stderr, "lab_sim: WTS device: %s\n", why.c_str());
+    return 1;
+  }
+
+  fri::SimKrc krc;
+  if (ConfigResult r = krc.configure(kp, plant); !r) {
+    std::fprintf(stderr, "lab_sim: KRC: %s\n", r.message().c_str());
+    return 1;
+  }
+
+  FILE* truth = nullptr;
+  if (!truth_out.empty()) {
+    truth = std::fopen(truth_out.c_str(), "w");
+    if (truth == nullptr) {
+      std::fprintf(stderr, "lab_sim: cannot write %s\n", truth_out.c_str());
+      return 1;
+    }
+    std::fprintf(truth,
+                 "t,krc_open,krc_state,krc_quality,krc_power,applied,flange_x,flange_y,flange_z,flange_qx,flange_qy,"
+                 "flange_qz,flange_qw,setpoint_x,setpoint_y,setpoint_z,setpoint_qx,setpoint_qy,setpoint_qz,setpoint_qw,"
+                 "force_true,force_layer,housing_force,in_contact,est_fx,est_fy,est_fz,sim_status\n");
+  }
+
+  std::signal(SIGINT, onSignal);
+  std::signal(SIGTERM, onSignal);
+  const KDL::Frame p0 = plant.initialPose();
+  std::printf("lab_sim: scene %s (%s), world step %.3f ms, KRC cycle %.3f ms (advertised msr %.3f ms cmd %.3f ms), "
+              "control %s, FRI -> 127.0.0.1:%ld, WTS %dx%d at %.0f Hz\n",
+              scene.name.c_str(), scene.file.c_str(), T_world * 1e3, T_krc * 1e3,
+              (kp.msr_sample_time_s > 0 ? kp.msr_sample_time_s : T_krc) * 1e3,
+              (kp.cmd_sample_time_s > 0 ? kp.cmd_sample_time_s : T_krc) * 1e3, control.c_str(), fri_port,
+              scene.features.rows, scene.features.cols, scene.rates.wts);
+  std::printf("lab_sim: flange at (%.4f, %.4f, %.4f) m, true contact force %.3f N\n", p0.p.x(), p0.p.y(), p0.p.z(),
+              -plant.state().wrench_s[2]);
+  std::printf("device: %s\n", wts.path().c_str());
+  std::fflush(stdout);
+
+  const uint64_t max_cycles = duration_s > 0.0 ? static_cast<uint64_t>(std::llround(duration_s / T_krc)) : 0;
+  std::size_t next_word = 0;
+  bool was_open = false;
+  fri::State was_state = fri::State::Off;
+  fri::Quality was_quality = fri::Quality::Perfect;
+  uint16_t was_power = 0;
+  bool first = true;
+  Stat force_all, force_cmd;
+  sim::SimStatus last_world_status = sim::SimStatus::Ok;
+  uint64_t first_reply_cycle = 0, missed_before_reply = 0, closed_before_reply = 0;  // lost after the remote first answered
+  bool answered = false;
+  while (!g_stop.load() && (max_cycles == 0 || krc.stats().cycles < max_cycles)) {
+    const uint64_t c = krc.stats().cycles;  // this cycle's index: its scheduled events apply now
+    krc.runCycle();
+    const double t = double(c) * T_krc;
+    if (!answered && krc.stats().replies > 0) {
+      answered = true;
+      first_reply_cycle = c;
+      missed_before_reply = krc.stats().missed;
+      closed_before_reply = krc.stats().closed_cycles;
+      std::printf("t %8.3f s  cycle %llu: first reply from the remote\n", t, static_cast<unsigned long long>(c));
+      std::fflush(stdout);
+    }
+    const bool open = krc.open();
+    const fri::State st = krc.state();
+    const fri::Quality q = krc.quality();
+    const uint16_t pw = krc.power();
+    if (first || open != was_open || st != was_state || q != was_quality || (pw != 0) != (was_power != 0)) {
+      std::string said;
+      while (next_word < words.size() && words[next_word].cycle <= c) {
+        said += (said.empty() ? "" : ", ") + words[next_word].word;
+        ++next_word;
+      }
+      std::printf("t %8.3f s  cycle %llu: %s%sKRC %s quality %s drives %s\n", t, static_cast<unsigned long long>(c),
+                  said.c_str(), said.empty() ? "" : " -> ", stateWord(open, st), fri::toString(q), pw ? "on" : "off");
+      std::fflush(stdout);
+      was_open = open, was_state = st, was_quality = q, was_power = pw;
+      first = false;
+    }
+    while (next_word < words.size() && words[next_word].cycle <= c) ++next_word;  // words that changed nothing
+    const sim::SimState& s = plant.state();
+    if (s.status != last_world_status && (sim::fatal(s.status) || sim::fatal(last_world_status))) {
+      std::printf("t %8.3f s  world: %s\n", t, sim::toString(s.status));
+      std::fflush(stdout);
+    }
+    last_world_status = s.status;
+    const double f_true = -s.wrench_s[2];  // the runner's force_true: normal force on the sensor
+    const bool contact = s.normal_force + s.housing_force > 0.0;
+    if (contact) {
+      force_all.add(f_true);
+      if (open && st == fri::State::Cmd) force_cmd.add(f_true);
+    }
+    if (truth != nullptr && c % static_cast<uint64_t>(truth_every) == 0) {
+      const Pose& fl = s.flange_g;
+      const Pose& sp = s.command_g;
+      const Wrench& w = plant.estimatedWrench();
+      std::fprintf(truth,
+                   "%.6f,%d,%s,%s,%d,%llu,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.6f,%.6f,"
+                   "%.6f,%d,%.6f,%.6f,%.6f,%s\n",
+                   s.time_s, open ? 1 : 0, stateWord(open, st), fri::toString(q), pw ? 1 : 0,
+                   static_cast<unsigned long long>(krc.stats().applied), fl.p[0], fl.p[1], fl.p[2], fl.q[0], fl.q[1],
+                   fl.q[2], fl.q[3], sp.p[0], sp.p[1], sp.p[2], sp.q[0], sp.q[1], sp.q[2], sp.q[3], f_true,
+                   s.normal_force, s.housing_force, contact ? 1 : 0, w.w[0], w.w[1], w.w[2], sim::toString(s.status));
+    }
+  }
+  if (truth != nullptr) std::fclose(truth);
+  const wts::SimStats ws = wts.stats();
+  wts.stop();
+
+  const fri::SimKrcStats& k = krc.stats();
+  const lab::WorldPlantStats& w = plant.stats();
+  std::printf("lab_sim: %s after %.3f s\n", g_stop.load() ? "stopped by a signal" : "duration reached",
+              double(k.cycles) * T_krc);
+  std::printf("lab_sim: KRC cycles %llu sent %llu replies %llu lost %llu (cycles without their reply) closed %llu "
+              "stale %llu malformed %llu overruns %llu applied %llu\n",
+              (unsigned long long)k.cycles, (unsigned long long)k.sent, (unsigned long long)k.replies,
+              (unsigned long long)k.missed, (unsigned long long)k.closed_cycles, (unsigned long long)k.stale_replies,
+              (unsigned long long)k.malformed_replies, (unsigned long long)k.overruns, (unsigned long long)k.applied);
+  if (answered)
+    std::printf("lab_sim: KRC first reply at t %.3f s; since then sent %llu lost %llu\n", double(first_reply_cycle) * T_krc,
+                (unsigned long long)(k.cycles - first_reply_cycle - (k.closed_cycles - closed_before_reply)),
+                (unsigned long long)(k.missed - missed_before_reply));
+  else
+    std::printf("lab_sim: KRC no reply from the remote\n");
+  std::printf("lab_sim: KRC max_step %.6f m %.6f rad (between consecutive applied commands), max_entry_offset "
+              "%.6f m %.6f rad (first command after entering CMD vs the set point the KRC held)\n",
+              k.max_cmd_step_m, k.max_cmd_step_rad, k.max_entry_offset_m, k.max_entry_offset_rad);
+  std::printf("lab_sim: KRC protocol mon_echo_errors %llu flag_errors %llu nonfinite %llu remote_seq_errors %llu; "
+              "latency mean %.1f us max %.1f us\n",
+              (unsigned long long)k.mon_echo_errors, (unsigned long long)k.flag_errors,
+              (unsigned long long)k.nonfinite_commands, (unsigned long long)k.remote_seq_errors,
+              k.replies ? 1e6 * k.sum_latency_s / double(k.replies) : 0.0, 1e6 * k.max_latency_s);
+  std::printf("lab_sim: world steps %llu not_converged %llu invalid_commands %llu fatal %llu%s%s; WTS acquisitions "
+              "%llu frames %llu, device frames sent %llu commands %llu bad_commands %llu\n",
+              (unsigned long long)w.physics_steps, (unsigned long long)w.not_converged,
+              (unsigned long long)w.invalid_commands, (unsigned long long)w.fatal_steps,
+              w.fatal_steps ? " first " : "", w.fatal_steps ? sim::toString(w.first_fatal) : "",
+              (unsigned long long)w.acquisitions, (unsigned long long)w.frames, (unsigned long long)ws.frames,
+              (unsigned long long)ws.commands, (unsigned long long)ws.bad_commands);
+  printForce("(all)", force_all, T_krc);
+  printForce("(in CMD)", force_cmd, T_krc);
+  const bool clean = k.mon_echo_errors == 0 && k.flag_errors == 0 && k.nonfinite_commands == 0;
+  return clean ? 0 : 3;
+}
