@@ -147,7 +147,10 @@ def main():
     ap.add_argument("--fri-yaml", default=os.path.join(ROOT, "components/fri_bridge/params/fri.yaml"))
     ap.add_argument("--protocol", default=os.path.join(ROOT, "components/fri_bridge/include/tactile_fri/protocol.hpp"))
     a = ap.parse_args()
-    src, ini = os.path.join(a.krc, "TactileServo.src"), os.path.join(a.krc, "dlrrc.ini")
+    # paths as given, relative to the working directory when inside it (messages)
+    rel = lambda p: os.path.relpath(p) if not os.path.relpath(p).startswith("..") else p
+    a.fri_yaml, a.protocol = rel(a.fri_yaml), rel(a.protocol)
+    src, ini = rel(os.path.join(a.krc, "TactileServo.src")), rel(os.path.join(a.krc, "dlrrc.ini"))
     failures, oks = [], []
 
     def compare(ok, what):
