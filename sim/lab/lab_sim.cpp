@@ -284,19 +284,28 @@ int main(int argc, char** argv) {
   bool first = true;
   Stat force_all, force_cmd;
   sim::SimStatus last_world_status = sim::SimStatus::Ok;
-  uint64_t first_reply_cycle = 0, missed_before_reply = 0, closed_before_reply = 0;  // lost after the remote first answered
+  // The remote's session: from its first to its last reply (the loss before
+  // and after is the remote not running yet / any more, not lost packets).
+  uint64_t first_reply_cycle = 0, missed_at_first = 0, closed_at_first = 0;
+  uint64_t last_reply_cycle = 0, missed_at_last = 0, closed_at_last = 0, replies_seen = 0;
   bool answered = false;
   while (!g_stop.load() && (max_cycles == 0 || krc.stats().cycles < max_cycles)) {
     const uint64_t c = krc.stats().cycles;  // this cycle's index: its scheduled events apply now
     krc.runCycle();
     const double t = double(c) * T_krc;
-    if (!answered && krc.stats().replies > 0) {
-      answered = true;
-      first_reply_cycle = c;
-      missed_before_reply = krc.stats().missed;
-      closed_before_reply = krc.stats().closed_cycles;
-      std::printf("t %8.3f s  cycle %llu: first reply from the remote\n", t, static_cast<unsigned long long>(c));
-      std::fflush(stdout);
+    if (krc.stats().replies != replies_seen) {
+      replies_seen = krc.stats().replies;
+      if (!answered) {
+        answered = true;
+        first_reply_cycle = c;
+        missed_at_first = krc.stats().missed;
+        closed_at_first = krc.stats().closed_cycles;
+        std::printf("t %8.3f s  cycle %llu: first reply from the remote\n", t, static_cast<unsigned long long>(c));
+        std::fflush(stdout);
+      }
+      last_reply_cycle = c;
+      missed_at_last = krc.stats().missed;
+      closed_at_last = krc.stats().closed_cycles;
     }
     const bool open = krc.open();
     const fri::State st = krc.state();
@@ -354,9 +363,10 @@ int main(int argc, char** argv) {
               (unsigned long long)k.missed, (unsigned long long)k.closed_cycles, (unsigned long long)k.stale_replies,
               (unsigned long long)k.malformed_replies, (unsigned long long)k.overruns, (unsigned long long)k.applied);
   if (answered)
-    std::printf("lab_sim: KRC first reply at t %.3f s; since then sent %llu lost %llu\n", double(first_reply_cycle) * T_krc,
-                (unsigned long long)(k.cycles - first_reply_cycle - (k.closed_cycles - closed_before_reply)),
-                (unsigned long long)(k.missed - missed_before_reply));
+    std::printf("lab_sim: KRC first reply at t %.3f s, last at t %.3f s; between them sent %llu lost %llu\n",
+                double(first_reply_cycle) * T_krc, double(last_reply_cycle) * T_krc,
+                (unsigned long long)(last_reply_cycle + 1 - first_reply_cycle - (closed_at_last - closed_at_first)),
+                (unsigned long long)(missed_at_last - missed_at_first));
   else
     std::printf("lab_sim: KRC no reply from the remote\n");
   std::printf("lab_sim: KRC max_step %.6f m %.6f rad (between consecutive applied commands), max_entry_offset "
