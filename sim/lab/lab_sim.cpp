@@ -190,13 +190,18 @@ int main(int argc, char** argv) {
   const double T_world = 1.0 / scene.rates.sim;
   const double T_krc = krc_cycle_ms > 0.0 ? krc_cycle_ms * 1e-3 : T_world;
   const long steps_per_cycle = wholeMultiple(T_krc, T_world);
-  if (steps_per_cycle == 0)
-    return usage("--krc-cycle-ms = " + std::to_string(T_krc * 1e3) + " must be a whole number of world steps (" +
-                 std::to_string(T_world * 1e3) + " ms, --period-ms)");
+  char msg[200];
+  if (steps_per_cycle == 0) {
+    std::snprintf(msg, sizeof msg, "--krc-cycle-ms = %g must be a whole number of world steps (%g ms, --period-ms)",
+                  T_krc * 1e3, T_world * 1e3);
+    return usage(msg);
+  }
   const long truth_every = wholeMultiple(truth_period_ms * 1e-3, T_krc);
-  if (truth_every == 0)
-    return usage("--truth-period-ms = " + std::to_string(truth_period_ms) + " must be a whole number of KRC cycles (" +
-                 std::to_string(T_krc * 1e3) + " ms)");
+  if (truth_every == 0) {
+    std::snprintf(msg, sizeof msg, "--truth-period-ms = %g must be a whole number of KRC cycles (%g ms)",
+                  truth_period_ms, T_krc * 1e3);
+    return usage(msg);
+  }
   if (scene.world.fri_delay_s > 0.0 || scene.world.krc_cycle_s > 0.0)
     std::fprintf(stderr,
                  "lab_sim: warning: %s sets effects.fri_delay_s = %g s / krc_cycle_s = %g s: the world delays and holds "

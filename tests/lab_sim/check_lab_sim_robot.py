@@ -28,12 +28,16 @@ aligned on the flange's z, which both record (the descent of free_motion).
 """
 import csv
 import json
-import math
 import re
 import sys
 
+import os
+
 import numpy as np
 import yaml
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts"))
+import plot_lab_truth  # noqa: E402
 
 out, lab_rc, dep_rc = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
 scene = yaml.safe_load(open(sys.argv[4]))
@@ -104,38 +108,13 @@ seen = [p for p in order if p in want]
 check(seen[:4] == want, f"phases in order: {' -> '.join(order)}")
 summary = json.load(open(f"{out}/run/summary.json"))
 
-# --- align the time bases on the flange's z ------------------------------------
-head = None
-dat = []
-for ln in open(f"{out}/run/report.dat"):
-    v = ln.split()
-    if not v:
-        continue
-    if head is None:
-        head = {h: i for i, h in enumerate(v)}
-        continue
-    dat.append((float(v[head["TimeStamp"]]), float(v[head["Robot.flange_pose.p.Element2"]])))
-dat = np.array(dat)
+# --- align the time bases on the flange's z (scripts/plot_lab_truth.py) --------
 truth = list(csv.DictReader(open(f"{out}/truth.csv")))
 tt = np.array([float(r["t"]) for r in truth])
-tz = np.array([float(r["flange_z"]) for r in truth])
-z0 = tz[0]
-
-
-def first_below(t, z, dz):
-    i = np.argmax(z < z0 - dz)
-    return t[i] if z[i] < z0 - dz else None
-
-
-a, b = first_below(dat[:, 0], dat[:, 1], 0.002), first_below(tt, tz, 0.002)
-check(a is not None and b is not None, "both records see the free-motion descent (2 mm)")
-if a is not None and b is not None:
-    # Refine: the offset that best maps the reporter's z onto the truth's (1 ms grid, +-0.2 s).
-    span = (dat[:, 0] >= a - 1.0) & (dat[:, 0] <= a + 3.0)
-    best = min((float(np.mean((np.interp(dat[span, 0] + off, tt, tz) - dat[span, 1]) ** 2)), off)
-               for off in np.arange(b - a - 0.2, b - a + 0.2, 0.001))
-    offset = best[1]
-    rms_align = math.sqrt(best[0])
+fit = plot_lab_truth.align_offset(truth, plot_lab_truth.read_report_z(f"{out}/run/report.dat"))
+check(fit is not None, "both records see the free-motion descent (2 mm)")
+if fit is not None:
+    offset, rms_align = fit
     check(rms_align < 5e-4, f"time bases aligned: world t = reporter t + {offset:.3f} s (z residual {rms_align * 1e6:.0f} um)")
     if "explore" in t_enter:
         t0 = t_enter["explore"] + offset + float(scene.get("metrics", {}).get("transient_s", 2.0))
@@ -153,19 +132,18 @@ if a is not None and b is not None:
             lo, hi = criterion("force_true_mean_n", "min"), criterion("force_true_mean_n", "max")
             check(lo <= mean <= hi, f"true force while exploring: mean {mean:.3f} N in [{lo}, {hi}] (target {target} N)")
             check(rms <= EXPLORE_RMS_MAX_N, f"true force RMS error {rms:.3f} N <= {EXPLORE_RMS_MAX_N} N")
-            p = np.array([[float(truth[i][f"flange_{c}"]) for c in "xyz"] for i in np.nonzero(sel)[0]])
             sel_all = (tt >= t_enter["explore"] + offset) & (tt < t1)
             pa = np.array([[float(truth[i][f"flange_{c}"]) for c in "xyz"] for i in np.nonzero(sel_all)[0]])
             path = float(np.sum(np.linalg.norm(np.diff(pa, axis=0), axis=1))) if len(pa) > 1 else 0.0
             need = criterion("path_length_m", "min")
             check(path >= need, f"slid {path * 1e3:.1f} mm along the bar while exploring (>= {need * 1e3:.0f} mm)")
+            tactile = summary.get("force_measured_mean_n")
             print(f"measured: explore from reporter t {t_enter['explore']:.2f} s for {t1 - t_enter['explore'] - offset:.2f} s; "
                   f"true force mean {mean:.3f} N sd {float(np.std(f)):.3f} N min {float(np.min(f)):.3f} "
                   f"max {float(np.max(f)):.3f} N, RMS error {rms:.3f} N, within +-{band} N {inband * 100:.1f} %; "
-                  f"path {path * 1e3:.1f} mm; measured (tactile) force mean {summary.get('force_measured_mean_n')}")
-            if len(p):
-                print(f"measured: phase entries (reporter time) " +
-                      ", ".join(f"{k} {v:.2f} s" for k, v in t_enter.items()))
+                  f"path {path * 1e3:.1f} mm; the tactile force (features) mean "
+                  f"{'%.3f N' % tactile if tactile is not None else '?'}")
+print("measured: phase entries (reporter time) " + ", ".join(f"{k} {v:.2f} s" for k, v in t_enter.items()))
 
 print(f"lab_sim_robot: {len(failures)} check(s) failed" if failures else "lab_sim_robot: all checks passed")
 sys.exit(1 if failures else 0)
