@@ -420,7 +420,8 @@ TEST(ServoComponent, ExperimentStateMachineCyclesDoNotAllocate) {
       EXPECT_EQ(scope.count(), 0u) << "per cycle in " << c.waiting;
     }
     touching = true;  // the program's first phase sees contact -> its working phase
-    for (int k = 0; k < 10; ++k) cycle();
+    // (20 cycles: the first touch enters its hold after 0.1 s of contact)
+    for (int k = 0; k < 20; ++k) cycle();
     ASSERT_EQ(scripting->getStateMachineState(c.machine), c.working) << rig.comp.phaseName();
     {
       tactile::test::AllocationScope scope;
