@@ -1,6 +1,5 @@
 // The simulated world as the robot behind a simulated KRC, and as the source
-// of the simulated WTS0614's frames: lab_sim's core (sim/lab/README in
-// docs/lab_sim.md).
+// of the simulated WTS0614's frames: lab_sim's core (docs/lab_sim.md).
 //
 // WorldPlant implements tactile::fri::Plant over tactile::sim::World (the LWR
 // 4+ under the KRC's Cartesian impedance, Eq. 11, the scene's objects, the
