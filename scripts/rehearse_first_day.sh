@@ -191,6 +191,14 @@ if want 6; then
   rc=0
   run_step 6_edge_exploration "edge exploration" "$root/sim/scenes/edge_exploration.yaml" "$krc" edge_exploration || rc=$?
   [ "$rc" -eq 0 ] && { "$py" "$root/scripts/rehearsal_report.py" check "$out/6_edge_exploration" --start "$t0" --target-force 5.0 || rc=$?; }
+  # The same verdict as a run started in command mode (ctest lab_sim_robot_edge_exploration): the bar's end.
+  if [ "$rc" -eq 0 ]; then
+    if grep -q "finished: program_ended" "$out/6_edge_exploration/run/deployer.log"; then
+      echo "   PASS: the state machine's verdict program_ended (the bar's end), as started in command mode"
+    else
+      echo "   FAIL: the state machine did not end at the bar's end (program_ended)"; rc=1
+    fi
+  fi
   verdict 6 "edge exploration" "$rc" "$out/6_edge_exploration/run_robot.log"
 fi
 

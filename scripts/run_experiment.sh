@@ -19,6 +19,8 @@
 # Orocos components under the OCL deployer (scripts/run_deployment.sh: the
 # simulated deployment on tactile::SimClock, the experiment's state machine,
 # OCL's reporter), into out/deploy/<scene>/, with its own out/deploy/report.md.
+# Last, the first day on the real arm rehearsed against the simulated lab
+# (scripts/rehearse_first_day.sh -> out/rehearsal/).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$root/scripts/setup_deps.sh"
@@ -73,3 +75,12 @@ deploy sphere_table
 deploy ring
 deploy gap_bars
 /usr/bin/python3 "$root/scripts/experiment_report.py" "$out/deploy"
+
+# The first day on the real arm, rehearsed against the simulated lab (the KRC
+# over FRI and the WTS on a PTY: lab_sim): the bring-up tools in order, the dry
+# run, the first touch and the edge exploration through the unchanged robot
+# deployments, the KRC started as KRL starts it and interrupted in the slide
+# (scripts/rehearse_first_day.sh -> out/rehearsal/rehearsal.md, rehearsal.png; ~1.5 min).
+bash "$root/scripts/rehearse_first_day.sh" --out "$out/rehearsal" > "$out/rehearsal.log" 2>&1 \
+  || echo "  (rehearse_first_day.sh: a step failed: $out/rehearsal.log)"
+tail -n 1 "$out/rehearsal.log"
