@@ -128,16 +128,6 @@ ReplyResult KrcModel::handleReply(const uint8_t* buf, std::size_t n) {
   return ReplyResult::Matched;
 }
 
-namespace {
-bool parseQualityWord(const std::string& w, Quality& q) {
-  if (w == "UNACCEPTABLE") q = Quality::Unacceptable;
-  else if (w == "BAD") q = Quality::Bad;
-  else if (w == "OK") q = Quality::Ok;
-  else if (w == "PERFECT") q = Quality::Perfect;
-  else return false;
-  return true;
-}
-}  // namespace
 
 ConfigResult KrcScript::parse(const std::string& spec, const std::string& where) {
   std::vector<KrcEvent> ev;
@@ -173,7 +163,7 @@ ConfigResult KrcScript::parse(const std::string& spec, const std::string& where)
     else if (w == "friClose") e.kind = KrcEvent::Kind::FriClose;
     else if (w.rfind("quality=", 0) == 0) {
       e.kind = KrcEvent::Kind::Quality;
-      if (!parseQualityWord(w.substr(8), e.quality)) return bad("unknown quality");
+      if (!parseQuality(w.substr(8).c_str(), e.quality)) return bad("unknown quality");
     } else if (w == "power=off" || w == "power=on") {
       e.kind = KrcEvent::Kind::Power;
       e.power = w == "power=on";

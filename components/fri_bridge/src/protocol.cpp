@@ -44,6 +44,18 @@ const char* toString(Quality q) {
   return "INVALID";
 }
 
+bool parseState(const char* word, State& out) {
+  for (State s : {State::Off, State::Mon, State::Cmd})
+    if (std::strcmp(word, toString(s)) == 0) return out = s, true;
+  return false;
+}
+
+bool parseQuality(const char* word, Quality& out) {
+  for (Quality q : {Quality::Unacceptable, Quality::Bad, Quality::Ok, Quality::Perfect})
+    if (std::strcmp(word, toString(q)) == 0) return out = q, true;
+  return false;
+}
+
 namespace {
 
 // Common checks on a datagram's length and header, before anything is copied.

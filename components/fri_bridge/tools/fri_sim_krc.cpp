@@ -42,21 +42,6 @@ int usage(const std::string& msg) {
                msg.c_str());
   return 1;
 }
-bool parseState(const std::string& s, State& st) {
-  if (s == "OFF") st = State::Off;
-  else if (s == "MON") st = State::Mon;
-  else if (s == "CMD") st = State::Cmd;
-  else return false;
-  return true;
-}
-bool parseQuality(const std::string& s, Quality& q) {
-  if (s == "UNACCEPTABLE") q = Quality::Unacceptable;
-  else if (s == "BAD") q = Quality::Bad;
-  else if (s == "OK") q = Quality::Ok;
-  else if (s == "PERFECT") q = Quality::Perfect;
-  else return false;
-  return true;
-}
 }  // namespace
 
 int main(int argc, char** argv) {

@@ -216,6 +216,10 @@ enum class PacketStatus : uint8_t {
 const char* toString(PacketStatus s);
 const char* toString(State s);
 const char* toString(Quality q);
+/// The inverses of toString: "OFF" | "MON" | "CMD", "UNACCEPTABLE" | "BAD" |
+/// "OK" | "PERFECT"; false (out unchanged) for any other word.
+bool parseState(const char* word, State& out);
+bool parseQuality(const char* word, Quality& out);
 
 /// Decode a measurement datagram (KRC -> remote). `out` is written only on Ok.
 PacketStatus decodeMeasurement(const uint8_t* data, std::size_t size, MsrPacket& out) noexcept;
