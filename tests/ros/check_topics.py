@@ -19,6 +19,12 @@ Checks (each printed; exit 1 when one fails):
   - phase: every reported (index, entry time) has a message, with the
     program's name of that index;
   - TF resolves lwr_base -> contact while the features report a contact;
+  - /tactile/joint_states (at the adapter's joint_state_period, 100 Hz) names
+    lwr_a1_joint..lwr_a7_joint, and the URDF
+    (ros/tactile_ros/urdf/lwr4plus_wts.urdf, tests/ros/urdf_fk.py) puts
+    lwr_flange where /tactile/flange_pose of the same stamp says the simulated
+    arm is, within FK_POS_TOL / FK_ROT_TOL; /tactile/robot_state says
+    commandable in command mode for most of the run;
   - /tactile/switch_phase refuses an unknown phase and switches to `done`
     (the phase topic then says so).
 """
@@ -28,13 +34,27 @@ import sys
 import threading
 import time
 
+import numpy as np
 import rospy
 import tf2_ros
 import yaml
 from geometry_msgs.msg import PoseStamped, WrenchStamped
-from sensor_msgs.msg import Image
-from tactile_msgs.msg import ContactFeatures, Phase
+from sensor_msgs.msg import Image, JointState
+from tactile_msgs.msg import ContactFeatures, Phase, RobotState
 from tactile_msgs.srv import SwitchPhase
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import urdf_fk  # noqa: E402
+
+URDF = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "ros", "tactile_ros", "urdf",
+                    "lwr4plus_wts.urdf")
+# The simulated arm's flange pose is its forward kinematics of the joints it
+# reports (tactile::sim::LwrArm), which the URDF reproduces to ~1e-15 (ctest
+# urdf_fk); the tolerances of that test.
+FK_POS_TOL = 1e-6  # m
+FK_ROT_TOL = 1e-6  # rad
+JOINT_STATE_RATE = 100.0  # Hz: RosAdapter.joint_state_period 0.01 s
+JOINT_NAMES = ["lwr_a%d_joint" % k for k in range(1, 8)]
 
 failures = []
 
@@ -64,7 +84,8 @@ def main():
     program = yaml.safe_load(open(program_file))
     names = [p["name"] for p in program["phases"]]
     expected = {"image": rates["wts"], "features": rates["wts"], "phase": rates["servo"],
-                "pose_command": rates["servo"], "flange_pose": rates["sim"], "wrench": rates["sim"]}
+                "pose_command": rates["servo"], "flange_pose": rates["sim"], "wrench": rates["sim"],
+                "joint_states": JOINT_STATE_RATE, "robot_state": JOINT_STATE_RATE}
 
     rospy.init_node("tactile_check_topics", anonymous=True, disable_signals=True)
     lock = threading.Lock()
@@ -77,7 +98,8 @@ def main():
         return cb
 
     types = {"image": Image, "features": ContactFeatures, "phase": Phase, "pose_command": PoseStamped,
-             "flange_pose": PoseStamped, "wrench": WrenchStamped}
+             "flange_pose": PoseStamped, "wrench": WrenchStamped, "joint_states": JointState,
+             "robot_state": RobotState}
     subs = [rospy.Subscriber("/tactile/" + k, types[k], keep(k), queue_size=5000) for k in expected]
     tf_buffer = tf2_ros.Buffer(cache_time=rospy.Duration(60))
     tf2_ros.TransformListener(tf_buffer)
@@ -185,6 +207,33 @@ def main():
         if not seen or seen[-1] != m.name:
             seen.append(m.name)
     print("      phases on /tactile/phase: " + " -> ".join(seen))
+    # The joint states through the URDF against the arm's own flange pose.
+    model = urdf_fk.Urdf(URDF)
+    poses = {m.header.stamp: m.pose for _, m in got["flange_pose"]}
+    joints = [m for _, m in got["joint_states"]]
+    names_ok = all(list(m.name) == JOINT_NAMES and len(m.position) == 7 for m in joints)
+    matched, worst_p, worst_r = 0, 0.0, 0.0
+    for m in joints if names_ok else []:
+        p = poses.get(m.header.stamp)
+        if p is None:
+            continue
+        matched += 1
+        t = model.fk("lwr_flange", dict(zip(m.name, m.position)))
+        x, y, z, w = p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w
+        r = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                      [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                      [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+        worst_p = max(worst_p, float(np.linalg.norm(t[:3, 3] - [p.position.x, p.position.y, p.position.z])))
+        worst_r = max(worst_r, urdf_fk.rotation_angle(t[:3, :3].T @ r))
+    check(names_ok and len(joints) > 0 and matched >= 0.9 * len(joints) and worst_p <= FK_POS_TOL
+          and worst_r <= FK_ROT_TOL,
+          "joint_states: names %s; %d of %d matched a flange pose by stamp; URDF FK of the joints vs the flange pose: "
+          "largest %.2g m, %.2g rad" % ("lwr_a1_joint..lwr_a7_joint" if names_ok else "WRONG", matched, len(joints),
+                                        worst_p, worst_r))
+    krc = [m for _, m in got["robot_state"]]
+    commanding = sum(1 for m in krc if m.commandable and m.mode == RobotState.MODE_COMMAND and m.mode_name == "command")
+    check(len(krc) > 0 and commanding >= 0.5 * len(krc),
+          "robot_state: %d of %d messages commandable in command mode" % (commanding, len(krc)))
     check(tf_ok > 0, "TF lwr_base -> contact resolved %d of %d times in contact" % (tf_ok, tf_tries))
     check(switched is not None and seen and seen[-1] == "done",
           "after the service call the phase topic says 'done' (last phase %s)" % (seen[-1] if seen else "none"))

@@ -28,6 +28,15 @@
 // ros_streams.ops; the allocations of those four threads, found by name in
 // /proc/self/task, counted over 8 s after warm-up must be 0, while the
 // adapter's thread (RosAdapter: TF through tf2_ros) is seen allocating.
+//
+// AdapterJointStatePathDoesNotAllocate (ctest test_ros_joint_states): the
+// adapter alone (tests/ros/ops/joint_states.ops), its robot_state input written
+// by this test at the arm's 1 kHz of sample time: /tactile/joint_states carries
+// every tenth sample (joint_state_period 0.01 s), with the URDF's joint names
+// and the written joints bit for bit, /tactile/robot_state the same samples
+// plus a change of the KRC's state at once; the adapter's thread allocates
+// nothing over 1000 samples after warm-up, and is seen allocating when it
+// broadcasts TF (flange poses written afterwards: tf2_ros allocates).
 #include <gtest/gtest.h>
 
 #include <dirent.h>
@@ -36,9 +45,12 @@
 #include <fstream>
 #include <vector>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <string>
@@ -46,6 +58,7 @@
 
 #include <ocl/DeploymentComponent.hpp>
 #include <rtt/Attribute.hpp>
+#include <rtt/OutputPort.hpp>
 #include <rtt/TaskContext.hpp>
 #include <rtt/extras/SlaveActivity.hpp>
 
@@ -53,11 +66,14 @@
 #include <geometry_msgs/WrenchStamped.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Image.h>
+#include <sensor_msgs/JointState.h>
 #include <tactile_msgs/ContactFeatures.h>
 #include <tactile_msgs/Phase.h>
+#include <tactile_msgs/RobotState.h>
 
 #include "alloc_counter.hpp"
 #include "support/rtt_environment.hpp"
+#include "tactile_types/types.hpp"
 #include "tactile_types_rtt/atomic_attribute.hpp"
 
 namespace {
@@ -159,6 +175,10 @@ TEST(RosRealtimeAllocations, SimLoopWithStreamsDoesNotAllocate) {
       "/tactile/wrench", 1000, [&](const geometry_msgs::WrenchStampedConstPtr&) { seen.add("wrench"); });
   auto sub_phase = nh.subscribe<tactile_msgs::Phase>("/tactile/phase", 1000,
                                                      [&](const tactile_msgs::PhaseConstPtr&) { seen.add("phase"); });
+  auto sub_joints = nh.subscribe<sensor_msgs::JointState>(
+      "/tactile/joint_states", 1000, [&](const sensor_msgs::JointStateConstPtr&) { seen.add("joint_states"); });
+  auto sub_krc = nh.subscribe<tactile_msgs::RobotState>(
+      "/tactile/robot_state", 1000, [&](const tactile_msgs::RobotStateConstPtr&) { seen.add("robot_state"); });
   std::this_thread::sleep_for(std::chrono::seconds(1));  // the subscriptions connect
 
   ASSERT_TRUE(robot->start() && clock->start());
@@ -187,7 +207,8 @@ TEST(RosRealtimeAllocations, SimLoopWithStreamsDoesNotAllocate) {
   EXPECT_TRUE(clock->stop());
 
   std::this_thread::sleep_for(std::chrono::milliseconds(500));  // the last messages arrive
-  for (const char* t : {"image", "features", "flange_pose", "pose_command", "wrench", "phase"}) {
+  for (const char* t : {"image", "features", "flange_pose", "pose_command", "wrench", "phase", "joint_states",
+                        "robot_state"}) {
     std::printf("/tactile/%s: %ld messages received\n", t, seen.get(t));
     EXPECT_GT(seen.get(t), 0) << "/tactile/" << t << " carried nothing: the streams were not on";
   }
@@ -201,6 +222,8 @@ TEST(RosRealtimeAllocations, SimLoopWithStreamsDoesNotAllocate) {
   sub_command.shutdown();
   sub_wrench.shutdown();
   sub_phase.shutdown();
+  sub_joints.shutdown();
+  sub_krc.shutdown();
   probe.stop();
   clock->removePeer("Probe");
   clock->properties()->getPropertyType<std::string>("reporter")->set("");
@@ -253,6 +276,8 @@ TEST(RosRealtimeAllocations, RobotLoopWithStreamsDoesNotAllocate) {
       "/tactile/pose_command", 1000, [&](const geometry_msgs::PoseStampedConstPtr&) { seen.add("pose_command"); });
   auto sub_image = nh.subscribe<sensor_msgs::Image>("/tactile/image", 1000,
                                                     [&](const sensor_msgs::ImageConstPtr&) { seen.add("image"); });
+  auto sub_joints = nh.subscribe<sensor_msgs::JointState>(
+      "/tactile/joint_states", 1000, [&](const sensor_msgs::JointStateConstPtr&) { seen.add("joint_states"); });
   // Warm-up: the KRC's packets and the sensor's frames flow, then 2 s more.
   const auto t0 = std::chrono::steady_clock::now();
   while (seen.get("flange_pose") < 1000 || seen.get("image") < 100) {
@@ -264,16 +289,17 @@ TEST(RosRealtimeAllocations, RobotLoopWithStreamsDoesNotAllocate) {
   std::this_thread::sleep_for(std::chrono::seconds(2));
   auto received = [&] { return tactile::readAttribute<int>(*robot->provides(), "received", -1); };
   const int received0 = received();
-  const long msgs0 = seen.get("flange_pose"), cmds0 = seen.get("pose_command"), imgs0 = seen.get("image");
+  const long msgs0 = seen.get("flange_pose"), cmds0 = seen.get("pose_command"), imgs0 = seen.get("image"),
+             joints0 = seen.get("joint_states");
   const auto before = allocationsByThreadName();
   std::this_thread::sleep_for(std::chrono::seconds(8));
   const auto after = allocationsByThreadName();
   const int received1 = received();
   const long msgs = seen.get("flange_pose") - msgs0, cmds = seen.get("pose_command") - cmds0,
-             imgs = seen.get("image") - imgs0;
+             imgs = seen.get("image") - imgs0, joints = seen.get("joint_states") - joints0;
   std::printf("over 8 s: Robot received %d KRC packets; in this process /tactile/flange_pose %ld, pose_command %ld, "
-              "image %ld messages\n",
-              received1 - received0, msgs, cmds, imgs);
+              "image %ld, joint_states %ld messages\n",
+              received1 - received0, msgs, cmds, imgs, joints);
   for (const char* name : {"Robot", "Servo", "Features", "Sensor", "RosAdapter"}) {
     const bool found = before.count(name) && after.count(name);
     const std::size_t delta = found ? after.at(name) - before.at(name) : 0;
@@ -288,9 +314,187 @@ TEST(RosRealtimeAllocations, RobotLoopWithStreamsDoesNotAllocate) {
   EXPECT_GT(received1 - received0, 1000) << "the 1 kHz loop did not run during the window";
   EXPECT_GT(cmds, 100) << "the servo's commands did not reach ROS during the window";
   EXPECT_GT(imgs, 100) << "the sensor's frames did not reach ROS during the window";
+  EXPECT_GT(joints, 100) << "the arm's joint states (Robot.robot_state) did not reach ROS during the window";
   sub_flange.shutdown();
   sub_command.shutdown();
   sub_image.shutdown();
+  sub_joints.shutdown();
+  dc.kickOutAll();
+}
+
+/// Waits (polling every 2 ms) until pred() or max_wall_s: a hung run, not a speed check.
+bool waitFor(const std::function<bool()>& pred, double max_wall_s) {
+  const auto t0 = std::chrono::steady_clock::now();
+  while (!pred()) {
+    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > max_wall_s) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return true;
+}
+
+/// The test's writers of the adapter's inputs (the arm's ports).
+class ArmWriter : public RTT::TaskContext {
+ public:
+  ArmWriter() : RTT::TaskContext("ArmWriter") {
+    addPort(robot_state);
+    addPort(flange_pose);
+    addPort(estimated_wrench);
+  }
+  RTT::OutputPort<tactile::RobotState> robot_state{"robot_state"};
+  RTT::OutputPort<tactile::Pose> flange_pose{"flange_pose"};
+  RTT::OutputPort<tactile::Wrench> estimated_wrench{"estimated_wrench"};
+};
+
+constexpr double kStampOffset = 1000.0;  ///< RosAdapter.stamp_offset in joint_states.ops (s)
+constexpr long kDecimation = 10;         ///< joint_state_period 0.01 s over the 1 kHz samples
+
+/// The arm's sample k (t = k ms): joints from k, the KRC commandable or in monitor mode.
+tactile::RobotState armSample(long k, bool commandable) {
+  tactile::RobotState s;
+  s.time_s = 0.001 * static_cast<double>(k);
+  s.mode = commandable ? tactile::RobotMode::Command : tactile::RobotMode::Monitor;
+  s.quality = commandable ? 3 : 2;
+  s.power_on = true;
+  s.cartesian_impedance = true;
+  s.config_ok = true;
+  s.commandable = commandable;
+  for (std::size_t i = 0; i < s.q.size(); ++i)
+    s.q[i] = 0.3 * std::sin(0.001 * static_cast<double>(k) * static_cast<double>(i + 1)) + 0.1 * static_cast<double>(i);
+  return s;
+}
+
+/// The sample a message came from (its stamp - kStampOffset, in ms).
+long sampleOf(const ros::Time& stamp) { return std::lround((stamp.toSec() - kStampOffset) * 1000.0); }
+
+TEST(RosRealtimeAllocations, AdapterJointStatePathDoesNotAllocate) {
+  OCL::DeploymentComponent dc("Deployer");
+  ASSERT_TRUE(dc.runScript(TACTILE_ROS_TEST_OPS_DIR "/joint_states.ops"));
+  RTT::TaskContext* adapter = dc.getPeer("RosAdapter");
+  ASSERT_NE(adapter, nullptr);
+  ASSERT_TRUE(adapter->isRunning()) << "RosAdapter did not configure or start (its log above says why)";
+  ArmWriter w;
+  const RTT::ConnPolicy cp = RTT::ConnPolicy::buffer(256, RTT::ConnPolicy::LOCK_FREE);
+  ASSERT_TRUE(w.robot_state.connectTo(adapter->ports()->getPort("robot_state"), cp));
+  ASSERT_TRUE(w.flange_pose.connectTo(adapter->ports()->getPort("flange_pose"), cp));
+  ASSERT_TRUE(w.estimated_wrench.connectTo(adapter->ports()->getPort("estimated_wrench"), cp));
+
+  ASSERT_TRUE(ros::isStarted());
+  std::mutex m;
+  std::vector<sensor_msgs::JointState> joints;
+  std::vector<tactile_msgs::RobotState> krc;
+  joints.reserve(4096);
+  krc.reserve(4096);
+  ros::NodeHandle nh;
+  auto sub_joints = nh.subscribe<sensor_msgs::JointState>(
+      "/tactile/joint_states", 10000, [&](const sensor_msgs::JointStateConstPtr& msg) {
+        std::lock_guard<std::mutex> l(m);
+        joints.push_back(*msg);
+      });
+  auto sub_krc = nh.subscribe<tactile_msgs::RobotState>(
+      "/tactile/robot_state", 10000, [&](const tactile_msgs::RobotStateConstPtr& msg) {
+        std::lock_guard<std::mutex> l(m);
+        krc.push_back(*msg);
+      });
+  ASSERT_TRUE(waitFor([&] { return sub_joints.getNumPublishers() > 0 && sub_krc.getNumPublishers() > 0; }, 60.0))
+      << "the adapter's streams never advertised /tactile/joint_states, /tactile/robot_state";
+  auto received = [&](long from) {  // joint-state messages from sample `from` on
+    std::lock_guard<std::mutex> l(m);
+    return std::count_if(joints.begin(), joints.end(),
+                         [&](const sensor_msgs::JointState& j) { return sampleOf(j.header.stamp) >= from; });
+  };
+
+  // Warm-up: a batch of ten samples at a time until messages arrive (the
+  // subscriptions' connections are up), then ten batches more, each waited
+  // for. A batch is written only when the one before was published: the
+  // 256-sample buffer never overflows, no sample is lost.
+  long k = 0;
+  constexpr long kNever = 1L << 40;
+  auto batch = [&](long change_at) {
+    for (long i = 0; i < kDecimation; ++i, ++k) w.robot_state.write(armSample(k, k >= change_at));
+  };
+  ASSERT_TRUE(waitFor([&] {
+    batch(kNever);
+    return waitFor([&] { return received(0) > 0; }, 0.5);
+  }, 60.0)) << "no joint state arrived: the adapter did not publish";
+  for (int b = 0; b < 10; ++b) {
+    batch(kNever);
+    ASSERT_TRUE(waitFor([&] { return received(k - kDecimation) > 0; }, 60.0))
+        << "joint state of sample " << k - kDecimation << " did not arrive";
+  }
+
+  // The measured window: 1000 samples (1 s of the arm), a KRC change mid-period.
+  const long k0 = k;
+  const long change = k0 + 505;
+  constexpr long kSamples = 1000;
+  const auto before = allocationsByThreadName();
+  for (long b = 0; b < kSamples / kDecimation; ++b) {
+    batch(change);
+    ASSERT_TRUE(waitFor([&] { return received(k0) >= b + 1; }, 60.0))
+        << "joint state of sample " << k - kDecimation << " did not arrive";
+  }
+  ASSERT_TRUE(waitFor([&] {
+    std::lock_guard<std::mutex> l(m);
+    return !krc.empty() && sampleOf(krc.back().header.stamp) >= k - kDecimation;
+  }, 60.0));
+  const auto after = allocationsByThreadName();
+  ASSERT_TRUE(before.count("RosAdapter") && after.count("RosAdapter")) << "no thread named RosAdapter";
+  const std::size_t window = after.at("RosAdapter") - before.at("RosAdapter");
+  std::printf("thread RosAdapter: %zu allocations over %ld robot_state samples (%ld joint states published)\n",
+              window, kSamples, kSamples / kDecimation);
+  EXPECT_EQ(window, 0u) << "the adapter's joint-state path allocated";
+
+  // The negative control: flange poses and wrenches make the adapter broadcast
+  // TF through tf2_ros, which allocates in its thread: the counter sees it.
+  tactile::Pose pose;
+  pose.p = {0.5, 0.0, 0.4};
+  pose.q = {1.0, 0.0, 0.0, 0.0};
+  tactile::Wrench wrench;
+  const bool seen = waitFor([&] {
+    pose.p[2] += 1e-4;
+    w.flange_pose.write(pose);
+    w.estimated_wrench.write(wrench);
+    const auto now = allocationsByThreadName();
+    return now.count("RosAdapter") && now.at("RosAdapter") > after.at("RosAdapter");
+  }, 60.0);
+  EXPECT_TRUE(seen) << "the adapter's TF broadcasts are not seen allocating: the counter is blind to its thread";
+
+  // The messages: names, values bit for bit, the rate bound, the KRC's state.
+  EXPECT_TRUE(adapter->stop());
+  sub_joints.shutdown();
+  sub_krc.shutdown();
+  std::lock_guard<std::mutex> l(m);
+  std::vector<long> window_joints, window_krc;
+  for (const auto& j : joints) {
+    const long s = sampleOf(j.header.stamp);
+    ASSERT_EQ(j.name.size(), 7u);
+    for (int i = 0; i < 7; ++i) EXPECT_EQ(j.name[static_cast<std::size_t>(i)], "lwr_a" + std::to_string(i + 1) + "_joint");
+    EXPECT_TRUE(j.velocity.empty() && j.effort.empty());
+    ASSERT_EQ(j.position.size(), 7u);
+    const tactile::RobotState want = armSample(s, false);
+    for (std::size_t i = 0; i < 7; ++i) EXPECT_EQ(j.position[i], want.q[i]) << "sample " << s << " joint " << i;
+    EXPECT_EQ(s % kDecimation, 0) << "a joint state between the decimated samples (sample " << s << ")";
+    if (s >= k0 && s < k0 + kSamples) window_joints.push_back(s);
+  }
+  std::vector<long> want_joints;
+  for (long s = k0; s < k0 + kSamples; s += kDecimation) want_joints.push_back(s);
+  EXPECT_EQ(window_joints, want_joints) << "the window's joint states are not exactly every tenth sample, once each";
+  for (const auto& r : krc) {
+    const long s = sampleOf(r.header.stamp);
+    const bool commandable = s >= change;
+    EXPECT_EQ(r.mode, commandable ? tactile_msgs::RobotState::MODE_COMMAND : tactile_msgs::RobotState::MODE_MONITOR)
+        << "sample " << s;
+    EXPECT_EQ(r.mode_name, commandable ? "command" : "monitor");
+    EXPECT_EQ(r.quality, commandable ? 3 : 2);
+    EXPECT_EQ(r.commandable, commandable);
+    EXPECT_TRUE(r.power_on && r.cartesian_impedance && r.config_ok && !r.dry_run);
+    EXPECT_EQ(r.link_status, 0);
+    if (s >= k0 && s < k0 + kSamples) window_krc.push_back(s);
+  }
+  std::vector<long> want_krc = want_joints;
+  want_krc.insert(std::upper_bound(want_krc.begin(), want_krc.end(), change), change);
+  EXPECT_EQ(window_krc, want_krc) << "/tactile/robot_state: every tenth sample and the change at sample " << change;
+  std::printf("window: samples %ld..%ld, %zu joint states, %zu KRC states (the change at %ld included)\n", k0,
+              k0 + kSamples - 1, window_joints.size(), window_krc.size(), change);
   dc.kickOutAll();
 }
 

@@ -7,8 +7,8 @@ and box visuals, as the URDF specification defines them:
   Rot(r, p, y) = Rz(y) Ry(p) Rx(r)       (fixed axes x, y, z; KDL::Rotation::RPY)
 
 Used by tests/ros/check_urdf.py (the URDF against the simulator's kinematics)
-and tests/ros/check_joint_states.py (the published joint states through the
-URDF against the published flange pose).
+and tests/ros/check_topics.py (the published joint states through the URDF
+against the published flange pose).
 """
 import xml.etree.ElementTree as ET
 

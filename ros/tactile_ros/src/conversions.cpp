@@ -140,6 +140,46 @@ void toPhase(const tactile::PhaseState& p, const ros::Time& stamp, tactile_msgs:
   out.status_name = tactile::toString(p.status);
 }
 
+const std::array<const char*, tactile::kArmJoints> kLwrJointNames{
+    {"lwr_a1_joint", "lwr_a2_joint", "lwr_a3_joint", "lwr_a4_joint", "lwr_a5_joint", "lwr_a6_joint", "lwr_a7_joint"}};
+
+bool initJointState(const std::vector<std::string>& names, sensor_msgs::JointState& out) {
+  if (names.size() != static_cast<std::size_t>(tactile::kArmJoints)) return false;
+  out.name = names;
+  out.position.assign(names.size(), 0.0);
+  out.velocity.clear();
+  out.effort.clear();
+  return true;
+}
+
+bool toJointState(const tactile::RobotState& s, const ros::Time& stamp, sensor_msgs::JointState& out) {
+  if (out.position.size() != s.q.size() || out.name.size() != s.q.size()) return false;
+  for (const double q : s.q)
+    if (!std::isfinite(q)) return false;
+  out.header.stamp = stamp;
+  for (std::size_t i = 0; i < s.q.size(); ++i) out.position[i] = s.q[i];
+  return true;
+}
+
+void toRobotStateMsg(const tactile::RobotState& s, const ros::Time& stamp, tactile_msgs::RobotState& out) {
+  out.header.stamp = stamp;
+  out.mode = static_cast<uint8_t>(s.mode);
+  out.mode_name = tactile::toString(s.mode);
+  out.quality = s.quality;
+  out.power_on = s.power_on;
+  out.cartesian_impedance = s.cartesian_impedance;
+  out.config_ok = s.config_ok;
+  out.dry_run = s.dry_run;
+  out.commandable = s.commandable;
+  out.link_status = s.link_status;
+}
+
+bool sameKrcState(const tactile::RobotState& a, const tactile::RobotState& b) {
+  return a.mode == b.mode && a.quality == b.quality && a.power_on == b.power_on &&
+         a.cartesian_impedance == b.cartesian_impedance && a.config_ok == b.config_ok && a.dry_run == b.dry_run &&
+         a.commandable == b.commandable && a.link_status == b.link_status;
+}
+
 bool inContact(const tactile::ContactFeatures& f) {
   return tactile::usable(f.status) && f.contact != tactile::ContactType::None;
 }

@@ -16,9 +16,16 @@
 //   in   pose_command     (/tactile/PoseCommand)     -> port pose_command_msg geometry_msgs/PoseStamped ({g})
 //   in   estimated_wrench (/tactile/Wrench)          -> port wrench_msg       geometry_msgs/WrenchStamped ({e})
 //   in   phase            (/tactile/PhaseState)      -> port phase_msg        tactile_msgs/Phase
-//   TF   {g} -> {e} (flange_pose), {e} -> {s} (sensor_mount), {s} -> {c} (features, while in contact)
+//   in   robot_state      (/tactile/RobotState)      -> port joint_state_msg  sensor_msgs/JointState (A1..A7, rad)
+//                                                     -> port robot_state_msg  tactile_msgs/RobotState (the KRC's state)
+//        both decimated by the samples' time to joint_state_period (the arm's 1 kHz -> 100 Hz);
+//        robot_state_msg also at once when the KRC's state changes
+//   TF   {g} -> {e} (flange_pose), {e} -> {s} (sensor_mount) unless publish_flange_tf is false (then
+//        robot_state_publisher draws the arm from joint_state_msg and the URDF), {s} -> {c} (features,
+//        while in contact)
 //   op   bool switchPhase(SwitchPhase::Request&, SwitchPhase::Response&)  for rtt_rosservice:
 //        calls switchPhase(name) of the peer named by the property `servo`
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -48,12 +55,15 @@ class RosAdapter : public tactile::Component {
         command_in_("pose_command"),
         wrench_in_("estimated_wrench"),
         phase_in_("phase"),
+        robot_in_("robot_state"),
         image_out_("image_msg"),
         features_out_("features_msg"),
         flange_out_("flange_pose_msg"),
         command_out_("pose_command_msg"),
         wrench_out_("wrench_msg"),
         phase_out_("phase_msg"),
+        joint_state_out_("joint_state_msg"),
+        robot_state_out_("robot_state_msg"),
         servo_switch_("switchPhase") {
     addProperty("base_frame", base_frame_).doc("TF name of {g}, the robot base.");
     addProperty("flange_frame", flange_frame_).doc("TF name of {e}, the flange.");
@@ -67,6 +77,15 @@ class RosAdapter : public tactile::Component {
         .doc("True: stamp_offset is set at the first sample to ROS time now - its time (simulated time -> ROS time).");
     addProperty("servo", servo_name_).doc("Peer whose switchPhase(string) the operation switchPhase calls.");
     addProperty("publish_tf", publish_tf_).doc("Broadcast {g}->{e}->{s}->{c} on /tf.");
+    addProperty("publish_flange_tf", publish_flange_tf_)
+        .doc("With publish_tf: broadcast {g}->{e}->{s} from flange_pose and sensor_mount. False where "
+             "robot_state_publisher publishes the URDF's lwr_base ... lwr_flange -> wts0614 from joint_state_msg "
+             "(two publishers of one frame would make TF jump); the contact frame {c} is broadcast either way.");
+    addProperty("joint_names", joint_names_)
+        .doc("The names of A1..A7 in joint_state_msg (7; default lwr_a1_joint..lwr_a7_joint, the URDF's).");
+    addProperty("joint_state_period", joint_state_period_)
+        .doc("Least time between two joint_state_msg / robot_state_msg samples, by the samples' own time (s; "
+             "0.01: the arm's 1 kHz as 100 Hz; 0: every sample). A change of the KRC's state goes out at once.");
 
     addEventPort(frame_in_).doc("Calibrated frame (N per taxel, {s} layout) from the feature component.");
     addEventPort(features_in_).doc("Contact features in {s} from the feature component.");
@@ -74,12 +93,18 @@ class RosAdapter : public tactile::Component {
     addEventPort(command_in_).doc("Commanded flange pose {g}T{e} from the servo.");
     addEventPort(wrench_in_).doc("The arm's estimated wrench [F T] ({g} axes, flange origin).");
     addEventPort(phase_in_).doc("Phase program state from the servo.");
+    addEventPort(robot_in_).doc("The arm's state (the KRC's mode and quality, the measured joints) from the FRI "
+                                "bridge or the simulated arm, every cycle.");
     addPort(image_out_).doc("The calibrated frame as sensor_msgs/Image (rows x cols, 32FC1, N, row-major; frame_id sensor_frame), to stream.");
     addPort(features_out_).doc("The features as tactile_msgs/ContactFeatures (frame_id sensor_frame), to stream.");
     addPort(flange_out_).doc("The measured flange pose as geometry_msgs/PoseStamped (frame_id base_frame), to stream.");
     addPort(command_out_).doc("The commanded flange pose as geometry_msgs/PoseStamped (frame_id base_frame), to stream.");
     addPort(wrench_out_).doc("The estimated wrench as geometry_msgs/WrenchStamped (in {e}: frame_id flange_frame), to stream.");
     addPort(phase_out_).doc("Phase as tactile_msgs/Phase, to stream.");
+    addPort(joint_state_out_).doc("The measured joints as sensor_msgs/JointState (joint_names, rad; decimated to "
+                                  "joint_state_period), to stream (robot_state_publisher's joint_states).");
+    addPort(robot_state_out_).doc("The KRC's state as tactile_msgs/RobotState (mode, quality, commandable, ...; "
+                                  "decimated, and at once on a change), to stream.");
     addOperation("switchPhase", &RosAdapter::switchPhase, this, RTT::ClientThread)
         .doc("ROS service body (tactile_msgs/SwitchPhase): the servo's switchPhase(request.phase).");
   }
@@ -107,16 +132,32 @@ class RosAdapter : public tactile::Component {
                            << RTT::endlog();
       return false;
     }
-    // The image's size for the streams' buffers (the largest frame).
+    if (!initJointState(joint_names_, joint_state_)) {
+      RTT::log(RTT::Error) << getName() << ": property joint_names must hold " << tactile::kArmJoints
+                           << " names (A1..A7), has " << joint_names_.size() << RTT::endlog();
+      return false;
+    }
+    if (!std::isfinite(joint_state_period_) || joint_state_period_ < 0.0 || joint_state_period_ > 1.0) {
+      RTT::log(RTT::Error) << getName() << ": property joint_state_period = " << joint_state_period_
+                           << " must be in [0, 1] s" << RTT::endlog();
+      return false;
+    }
+    // The samples' sizes for the streams' buffers (the largest frame; the
+    // joint state with its names and positions): a write copies into them.
     sensor_msgs::Image sample;
     sample.data.resize(static_cast<std::size_t>(tactile::kMaxRows) * tactile::kMaxCols * sizeof(float));
     image_out_.setDataSample(sample);
+    joint_state_out_.setDataSample(joint_state_);
+    toRobotStateMsg(tactile::RobotState{}, ros::Time(0), robot_state_msg_);
+    robot_state_out_.setDataSample(robot_state_msg_);
     if (publish_tf_) tf_ = std::make_unique<tf2_ros::TransformBroadcaster>();
     return true;
   }
 
   bool startHook() override {
     offset_set_ = !auto_offset_;
+    joint_decimator_ = Decimator(joint_state_period_);
+    krc_published_ = false;
     return true;
   }
 
@@ -148,7 +189,7 @@ class RosAdapter : public tactile::Component {
       if (flange_in_.read(flange_, false) == RTT::NewData) {
         toPose(flange_, stamp_, base_frame_, flange_msg_);
         flange_out_.write(flange_msg_);
-        if (tf_ && tactile::validPose(flange_)) {
+        if (tf_ && publish_flange_tf_ && tactile::validPose(flange_)) {
           toTransform(flange_, stamp_, base_frame_, flange_frame_, tf_ge_);
           toTransform(mount_, stamp_, flange_frame_, sensor_frame_, tf_es_);
           tf_pair_[0] = tf_ge_;
@@ -163,6 +204,19 @@ class RosAdapter : public tactile::Component {
       if (!stamp(phase_.time_s)) continue;
       toPhase(phase_, stamp_, phase_msg_);
       phase_out_.write(phase_msg_);
+    }
+    // The arm's state at its rate (1 kHz): every sample read, a bounded rate
+    // published; the messages were sized in configureHook (no allocation).
+    while (robot_in_.read(robot_, false) == RTT::NewData) {
+      if (!stamp(robot_.time_s)) continue;
+      const bool due = joint_decimator_.due(robot_.time_s);
+      if (due && toJointState(robot_, stamp_, joint_state_)) joint_state_out_.write(joint_state_);
+      if (due || !krc_published_ || !sameKrcState(robot_, krc_last_)) {
+        toRobotStateMsg(robot_, stamp_, robot_state_msg_);
+        robot_state_out_.write(robot_state_msg_);
+        krc_last_ = robot_;
+        krc_published_ = true;
+      }
     }
   }
 
@@ -194,12 +248,15 @@ class RosAdapter : public tactile::Component {
   RTT::InputPort<tactile::PoseCommand> command_in_;
   RTT::InputPort<tactile::Wrench> wrench_in_;
   RTT::InputPort<tactile::PhaseState> phase_in_;
+  RTT::InputPort<tactile::RobotState> robot_in_;
   RTT::OutputPort<sensor_msgs::Image> image_out_;
   RTT::OutputPort<tactile_msgs::ContactFeatures> features_out_;
   RTT::OutputPort<geometry_msgs::PoseStamped> flange_out_;
   RTT::OutputPort<geometry_msgs::PoseStamped> command_out_;
   RTT::OutputPort<geometry_msgs::WrenchStamped> wrench_out_;
   RTT::OutputPort<tactile_msgs::Phase> phase_out_;
+  RTT::OutputPort<sensor_msgs::JointState> joint_state_out_;
+  RTT::OutputPort<tactile_msgs::RobotState> robot_state_out_;
   RTT::OperationCaller<bool(const std::string&)> servo_switch_;
 
   std::string base_frame_ = "lwr_base";
@@ -212,6 +269,9 @@ class RosAdapter : public tactile::Component {
   bool offset_set_ = false;
   std::string servo_name_;
   bool publish_tf_ = true;
+  bool publish_flange_tf_ = true;
+  std::vector<std::string> joint_names_{kLwrJointNames.begin(), kLwrJointNames.end()};
+  double joint_state_period_ = 0.01;
 
   tactile::Pose mount_;
   tactile::TactileFrame frame_;
@@ -220,12 +280,17 @@ class RosAdapter : public tactile::Component {
   tactile::PoseCommand command_;
   tactile::Wrench wrench_;
   tactile::PhaseState phase_;
+  tactile::RobotState robot_, krc_last_;
+  Decimator joint_decimator_;
+  bool krc_published_ = false;
   ros::Time stamp_;
   sensor_msgs::Image image_;
   tactile_msgs::ContactFeatures features_msg_;
   geometry_msgs::PoseStamped flange_msg_, command_msg_;
   geometry_msgs::WrenchStamped wrench_msg_;
   tactile_msgs::Phase phase_msg_;
+  sensor_msgs::JointState joint_state_;
+  tactile_msgs::RobotState robot_state_msg_;
   geometry_msgs::TransformStamped tf_ge_, tf_es_, tf_sc_;
   std::vector<geometry_msgs::TransformStamped> tf_pair_{2};
   std::unique_ptr<tf2_ros::TransformBroadcaster> tf_;

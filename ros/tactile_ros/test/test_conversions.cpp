@@ -2,8 +2,12 @@
 // ROS master: each message field against the port sample it came from.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
+#include <string>
+#include <vector>
 
 #include "tactile_ros/conversions.hpp"
 
@@ -203,6 +207,149 @@ TEST(RosConversions, PoseFromVector) {
   EXPECT_FALSE(tactile_ros::poseFromVector({0.0, 0.0, 0.03}, p));
   EXPECT_FALSE(tactile_ros::poseFromVector({0.0, 0.0, 0.03, 0.0, 0.0, 0.0, 2.0}, p));
   EXPECT_DOUBLE_EQ(p.p[2], 0.03);  // unchanged on failure
+}
+
+std::vector<std::string> lwrNames() {
+  return {tactile_ros::kLwrJointNames.begin(), tactile_ros::kLwrJointNames.end()};
+}
+
+TEST(RosConversions, JointStateNamesAndPositions) {
+  sensor_msgs::JointState js;
+  EXPECT_FALSE(tactile_ros::initJointState({"a", "b"}, js));
+  EXPECT_TRUE(js.name.empty());
+  ASSERT_TRUE(tactile_ros::initJointState(lwrNames(), js));
+  ASSERT_EQ(js.name.size(), 7u);
+  for (int i = 0; i < 7; ++i) EXPECT_EQ(js.name[static_cast<std::size_t>(i)], "lwr_a" + std::to_string(i + 1) + "_joint");
+  EXPECT_EQ(js.position.size(), 7u);
+  EXPECT_TRUE(js.velocity.empty());
+  EXPECT_TRUE(js.effort.empty());
+  tactile::RobotState s;
+  s.q = {0.1, -0.6, 0.3, 1.4, -0.5, -1.1416, 2.9};
+  const double* before = js.position.data();
+  ASSERT_TRUE(tactile_ros::toJointState(s, ros::Time(2.5), js));
+  EXPECT_EQ(js.position.data(), before);  // written in place, never resized
+  EXPECT_DOUBLE_EQ(js.header.stamp.toSec(), 2.5);
+  for (std::size_t i = 0; i < 7; ++i) EXPECT_EQ(js.position[i], s.q[i]) << i;
+  // A joint that is not finite: nothing written.
+  s.q[3] = std::nan("");
+  EXPECT_FALSE(tactile_ros::toJointState(s, ros::Time(3.0), js));
+  EXPECT_DOUBLE_EQ(js.header.stamp.toSec(), 2.5);
+  EXPECT_EQ(js.position[3], 1.4);
+  // A message not sized by initJointState: refused, not resized.
+  sensor_msgs::JointState empty;
+  s.q[3] = 1.4;
+  EXPECT_FALSE(tactile_ros::toJointState(s, ros::Time(3.0), empty));
+  EXPECT_TRUE(empty.position.empty());
+}
+
+TEST(RosConversions, RobotStateFieldByField) {
+  tactile::RobotState s;
+  s.mode = tactile::RobotMode::Command;
+  s.quality = 3;
+  s.power_on = true;
+  s.cartesian_impedance = true;
+  s.config_ok = false;
+  s.dry_run = true;
+  s.commandable = false;
+  s.link_status = 4;
+  tactile_msgs::RobotState m;
+  tactile_ros::toRobotStateMsg(s, ros::Time(7.0), m);
+  EXPECT_DOUBLE_EQ(m.header.stamp.toSec(), 7.0);
+  EXPECT_EQ(m.mode, tactile_msgs::RobotState::MODE_COMMAND);
+  EXPECT_EQ(m.mode_name, "command");
+  EXPECT_EQ(m.quality, 3);
+  EXPECT_TRUE(m.power_on);
+  EXPECT_TRUE(m.cartesian_impedance);
+  EXPECT_FALSE(m.config_ok);
+  EXPECT_TRUE(m.dry_run);
+  EXPECT_FALSE(m.commandable);
+  EXPECT_EQ(m.link_status, 4);
+  s.mode = tactile::RobotMode::Monitor;
+  tactile_ros::toRobotStateMsg(s, ros::Time(7.0), m);
+  EXPECT_EQ(m.mode, tactile_msgs::RobotState::MODE_MONITOR);
+  EXPECT_EQ(m.mode_name, "monitor");
+  EXPECT_EQ(static_cast<int>(tactile::RobotMode::Off), tactile_msgs::RobotState::MODE_OFF);
+}
+
+TEST(RosConversions, KrcStateComparisonIgnoresTimeAndJoints) {
+  tactile::RobotState a, b;
+  b.time_s = 5.0;
+  b.q[2] = 1.0;
+  EXPECT_TRUE(tactile_ros::sameKrcState(a, b));
+  auto differs = [&](auto change) {
+    tactile::RobotState c = a;
+    change(c);
+    return !tactile_ros::sameKrcState(a, c);
+  };
+  EXPECT_TRUE(differs([](tactile::RobotState& c) { c.mode = tactile::RobotMode::Command; }));
+  EXPECT_TRUE(differs([](tactile::RobotState& c) { c.quality = 2; }));
+  EXPECT_TRUE(differs([](tactile::RobotState& c) { c.power_on = true; }));
+  EXPECT_TRUE(differs([](tactile::RobotState& c) { c.cartesian_impedance = true; }));
+  EXPECT_TRUE(differs([](tactile::RobotState& c) { c.config_ok = false; }));
+  EXPECT_TRUE(differs([](tactile::RobotState& c) { c.dry_run = true; }));
+  EXPECT_TRUE(differs([](tactile::RobotState& c) { c.commandable = true; }));
+  EXPECT_TRUE(differs([](tactile::RobotState& c) { c.link_status = 1; }));
+}
+
+TEST(RosConversions, DecimatorKeepsEveryTenthSampleOfAOneKilohertzStream) {
+  // The simulated arm's time accumulates dt (rounding grows); the KRC's is
+  // k * 0.001 s: both must give exactly every tenth sample at 0.01 s.
+  tactile_ros::Decimator by_sum(0.01), by_index(0.01);
+  double t = 0.0;
+  int due_sum = 0, due_index = 0;
+  for (int k = 0; k < 100000; ++k) {
+    const bool a = by_sum.due(t), b = by_index.due(k * 0.001);
+    EXPECT_EQ(a, k % 10 == 0) << "accumulated time, sample " << k << " t = " << t;
+    EXPECT_EQ(b, k % 10 == 0) << "indexed time, sample " << k;
+    due_sum += a;
+    due_index += b;
+    if (::testing::Test::HasFailure()) break;
+    t += 0.001;
+  }
+  EXPECT_EQ(due_sum, 10000);
+  EXPECT_EQ(due_index, 10000);
+}
+
+TEST(RosConversions, DecimatorKeepsTheRateOfAJitteryStream) {
+  // A 1 kHz stream stamped on arrival: +-0.3 ms of jitter (a fixed
+  // pseudo-random sequence). 100 s of it must give 100 Hz: 10000 samples,
+  // within one (the last slot), none two closer than a period less the jitter.
+  tactile_ros::Decimator d(0.01);
+  uint32_t lcg = 12345u;
+  int due = 0;
+  double last = -1.0, min_gap = 1.0;
+  for (int k = 0; k < 100000; ++k) {
+    lcg = lcg * 1664525u + 1013904223u;
+    const double t = 0.001 * k + 0.0003 * (2.0 * (lcg >> 8) / 16777216.0 - 1.0);
+    if (d.due(t)) {
+      ++due;
+      if (last >= 0.0) min_gap = std::min(min_gap, t - last);
+      last = t;
+    }
+  }
+  EXPECT_GE(due, 9999);
+  EXPECT_LE(due, 10001);
+  EXPECT_GE(min_gap, 0.01 - 0.0006 - 0.001);  // a slot's sample may come up to jitter + one sample late, the next early
+  // The same stream re-anchored after a 50 ms gap: the next sample is due, then every 10 ms again.
+  tactile_ros::Decimator g(0.01);
+  EXPECT_TRUE(g.due(0.0));
+  EXPECT_TRUE(g.due(0.06));
+  EXPECT_FALSE(g.due(0.065));
+  EXPECT_TRUE(g.due(0.07));
+}
+
+TEST(RosConversions, DecimatorRestartsAndPassesAllWithoutAPeriod) {
+  tactile_ros::Decimator d(0.01);
+  EXPECT_TRUE(d.due(5.0));
+  EXPECT_FALSE(d.due(5.004));
+  EXPECT_TRUE(d.due(1.0));  // the time restarted
+  EXPECT_FALSE(d.due(1.009));
+  EXPECT_TRUE(d.due(1.01));
+  d.reset();
+  EXPECT_TRUE(d.due(1.011));
+  tactile_ros::Decimator all(0.0);
+  for (int k = 0; k < 5; ++k) EXPECT_TRUE(all.due(0.001 * k));
+  EXPECT_TRUE(all.due(0.004));  // the same time again
 }
 
 }  // namespace
