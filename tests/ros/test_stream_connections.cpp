@@ -85,6 +85,7 @@ TEST(RosStreamConnections, WritesDoNotAllocateWithTheReaderRunning) {
   expectNoAllocation<tactile::PoseCommand>(true);
   expectNoAllocation<tactile::Wrench>(true);
   expectNoAllocation<tactile::PhaseState>(true);
+  expectNoAllocation<tactile::RobotState>(true);
 }
 
 TEST(RosStreamConnections, WritesDoNotAllocateNorBlockWithTheBufferFull) {
@@ -92,6 +93,7 @@ TEST(RosStreamConnections, WritesDoNotAllocateNorBlockWithTheBufferFull) {
   expectNoAllocation<tactile::ContactFeatures>(false);
   expectNoAllocation<tactile::Wrench>(false);
   expectNoAllocation<tactile::PhaseState>(false);
+  expectNoAllocation<tactile::RobotState>(false);
 }
 
 }  // namespace
