@@ -34,6 +34,8 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+
+#include "tactile_config/cli_args.hpp"
 #include <vector>
 
 #include "tactile_config/yaml_params.hpp"
@@ -97,25 +99,11 @@ int main(int argc, char** argv) {
   std::string recording, params_file, out_file;
   CalibrationFitOptions opt;
   double max_rms_pct = 2.0, max_se_pct = 0.5;
+  const config::CliArgs args("tactile_calibrate", argc, argv);
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::fprintf(stderr, "tactile_calibrate: %s needs a value\n", a.c_str());
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    auto number = [&](double lo, double hi) {
-      const std::string v = value();
-      char* end = nullptr;
-      const double x = std::strtod(v.c_str(), &end);
-      if (end == v.c_str() || *end != '\0' || !(x >= lo && x <= hi)) {
-        std::fprintf(stderr, "tactile_calibrate: %s = '%s': must be a number in [%g, %g]\n", a.c_str(), v.c_str(), lo, hi);
-        std::exit(2);
-      }
-      return x;
-    };
+    auto value = [&]() { return args.value(i); };
+    auto number = [&](double lo, double hi) { return args.number(i, lo, hi); };
     if (a == "--recording") {
       recording = value();
     } else if (a == "--params") {

@@ -45,6 +45,8 @@
 #include <random>
 #include <sstream>
 #include <string>
+
+#include "tactile_config/cli_args.hpp"
 #include <vector>
 
 #include "tactile_config/yaml_params.hpp"
@@ -90,25 +92,11 @@ int main(int argc, char** argv) {
   int repeats = 3, unloaded = 20;
   double radius = 0.0016, ref_noise = 0.0, noise_counts = -1.0, threshold = -1.0, rate = 140.0;
   long seed = 1;
+  const config::CliArgs args("tactile_calibration_record", argc, argv);
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::fprintf(stderr, "tactile_calibration_record: %s needs a value\n", a.c_str());
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    auto number = [&](double lo, double hi) {
-      const std::string v = value();
-      char* end = nullptr;
-      const double x = std::strtod(v.c_str(), &end);
-      if (end == v.c_str() || *end != '\0' || !(x >= lo && x <= hi)) {
-        std::fprintf(stderr, "tactile_calibration_record: %s = '%s': must be in [%g, %g]\n", a.c_str(), v.c_str(), lo, hi);
-        std::exit(2);
-      }
-      return x;
-    };
+    auto value = [&]() { return args.value(i); };
+    auto number = [&](double lo, double hi) { return args.number(i, lo, hi); };
     if (a == "--out") out_file = value();
     else if (a == "--params") params_file = value();
     else if (a == "--spots") spots_arg = value();
