@@ -59,6 +59,8 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+
+#include "tactile_config/cli_args.hpp"
 #include <vector>
 
 #include <arpa/inet.h>
@@ -117,25 +119,9 @@ const char* strategyName(uint16_t c) {
   return "unknown";
 }
 
-std::string fmt(const char* f, ...) __attribute__((format(printf, 1, 2)));
-std::string fmt(const char* f, ...) {
-  char buf[1024];
-  va_list ap;
-  va_start(ap, f);
-  std::vsnprintf(buf, sizeof buf, f, ap);
-  va_end(ap);
-  return buf;
-}
+using config::fmt;
+using config::jsonString;
 
-std::string jsonString(const std::string& s) {
-  std::string o = "\"";
-  for (const char ch : s) {
-    if (ch == '"' || ch == '\\') o += '\\';
-    if (static_cast<unsigned char>(ch) < 0x20) o += fmt("\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(ch)));
-    else o += ch;
-  }
-  return o + "\"";
-}
 
 enum class Verdict { Pass, Warn, Fail };
 const char* toString(Verdict v) { return v == Verdict::Pass ? "PASS" : v == Verdict::Warn ? "WARN" : "FAIL"; }

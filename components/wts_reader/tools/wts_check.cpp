@@ -67,6 +67,8 @@
 #include <set>
 #include <sstream>
 #include <string>
+
+#include "tactile_config/cli_args.hpp"
 #include <vector>
 
 #include "tactile_config/yaml_params.hpp"
@@ -116,33 +118,11 @@ bool toDouble(const char* s, double& v) {
   return end != s && *end == '\0' && std::isfinite(v);
 }
 
-std::string fmt(const char* f, ...) __attribute__((format(printf, 1, 2)));
-std::string fmt(const char* f, ...) {
-  char buf[1024];
-  va_list ap;
-  va_start(ap, f);
-  std::vsnprintf(buf, sizeof buf, f, ap);
-  va_end(ap);
-  return buf;
-}
+using config::fmt;
+using config::jsonString;
 
 std::string taxelName(int r, int c) { return fmt("(row %d, col %d)", r, c); }
 
-std::string jsonString(const std::string& s) {
-  std::string o = "\"";
-  for (const char ch : s) {
-    const auto u = static_cast<unsigned char>(ch);
-    if (ch == '"' || ch == '\\') {
-      o += '\\';
-      o += ch;
-    } else if (u < 0x20) {
-      o += fmt("\\u%04x", u);
-    } else {
-      o += ch;
-    }
-  }
-  return o + "\"";
-}
 
 enum class Verdict { Pass, Warn, Fail, Skip };
 const char* toString(Verdict v) {

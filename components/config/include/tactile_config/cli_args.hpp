@@ -1,8 +1,10 @@
-// Option values of the project's command-line tools: the value after an
-// option, or a number in a range; a missing or bad value ends the tool with
-// exit code 2 (usage) and a message naming the tool, the option and the range.
+// What the project's command-line tools share: option values (the value after
+// an option, or a number in a range; a missing or bad value ends the tool with
+// exit code 2 (usage) and a message naming the tool, the option and the
+// range), printf-style text and JSON strings for their reports.
 #pragma once
 
+#include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -40,6 +42,29 @@ class CliArgs {
   int argc_;
   char** argv_;
 };
+
+/// printf into a std::string (reports; at most 1023 characters).
+inline std::string fmt(const char* f, ...) __attribute__((format(printf, 1, 2)));
+inline std::string fmt(const char* f, ...) {
+  char buf[1024];
+  va_list ap;
+  va_start(ap, f);
+  std::vsnprintf(buf, sizeof buf, f, ap);
+  va_end(ap);
+  return buf;
+}
+
+/// `s` as a JSON string literal (quotes, backslashes and control characters escaped).
+inline std::string jsonString(const std::string& s) {
+  std::string o = "\"";
+  for (const char ch : s) {
+    const auto u = static_cast<unsigned char>(ch);
+    if (ch == '"' || ch == '\\') o += '\\';
+    if (u < 0x20) o += fmt("\\u%04x", static_cast<unsigned>(u));
+    else o += ch;
+  }
+  return o + "\"";
+}
 
 }  // namespace config
 }  // namespace tactile
