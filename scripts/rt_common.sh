@@ -23,6 +23,8 @@ rt_stage_deployments() {
   cp "$root"/deployments/*.ops "$root"/deployments/*.cpf "$root"/deployments/*.osd "$out/deployments/"
   sed -i "s#\.\./#$root/#g" "$out"/deployments/*.cpf
   sed -i "s#<value>/dev/ttyACM0</value>#<value>$out/wts0</value>#" "$out/deployments/wts_reader.cpf"
+  # The experiment registry where the copy's Guard looks (../experiments.yaml), its paths absolute.
+  sed -E "s#^( +(scene|program|file): )([^/\"])#\1$root/\3#" "$root/experiments.yaml" > "$out/experiments.yaml"
 }
 
 # The simulated WTS0614 on the PTY $1/wts0 (a press circling the pad), killed on exit.

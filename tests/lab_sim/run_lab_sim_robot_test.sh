@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # ctest lab_sim_robot_edge_exploration: the UNCHANGED robot deployment
-# (deployments/edge_exploration_robot.ops: the FRI bridge on its
+# (deployments/robot.ops with TACTILE_EXPERIMENT=edge_exploration: the FRI bridge on its
 # FileDescriptorActivity, the WTS reader, features, servo, the experiment's
 # state machine, the reporter) against lab_sim on the edge exploration scene
 # (sim/scenes/edge_exploration.yaml), the KRC in command mode from its first
