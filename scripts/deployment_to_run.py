@@ -6,7 +6,8 @@ directory format, so that scripts/plot_run.py and scripts/experiment_report.py
 read it: timeseries.csv (the columns of sim/runner/src/output.cpp, same
 order) and summary.json.
 
-usage: deployment_to_run.py REPORT.dat OUT_DIR --servo-cpf deployments/servo_x.cpf
+usage: deployment_to_run.py REPORT.dat OUT_DIR (--program components/servo/programs/x.yaml
+                            [--controller-mode MODE] | --servo-cpf x.cpf)
                             [--scene sim/scenes/x.yaml] [--experiment NAME]
                             [--source sim|robot] [--deployer-exit N]
 
@@ -23,8 +24,9 @@ the servo's own time_s (RTT's clock since boot, thousands of seconds) only
 10 ms or worse: the converter takes time from TimeStamp. It writes what it
 has with the runner's %.9g, i.e. it does not add precision.
 
-From the servo's program (the program_file of the servo's .cpf, and its
-controller_mode): the sensor mount {e}T{s} (cmd_*/act_* are the sensor pose
+From the servo's program (--program and --controller-mode: the experiment
+registry's program and controller, experiments.yaml; or the program_file and
+controller_mode of a servo .cpf): the sensor mount {e}T{s} (cmd_*/act_* are the sensor pose
 {g}T{s}, as the runner logs them), c_z and each phase's s_d (the sd_*
 columns). Quantities only the simulator knows (force_true, housing_force,
 moment_*_true, tray_angle_deg, true_c*, u_*, beta, feature_age) are "nan":
@@ -150,7 +152,9 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("report")
     ap.add_argument("out_dir")
-    ap.add_argument("--servo-cpf", required=True)
+    ap.add_argument("--program", default="", help="the servo's program (the registry's program)")
+    ap.add_argument("--controller-mode", default="", help="the registry's controller ('' = the program's)")
+    ap.add_argument("--servo-cpf", default="", help="instead of --program: a servo .cpf (program_file, controller_mode)")
     ap.add_argument("--scene", default="")
     ap.add_argument("--experiment", default="")
     ap.add_argument("--source", default="sim", choices=("sim", "robot"))
@@ -162,11 +166,16 @@ def main():
                          "sim_<status>, as in the runner")
     a = ap.parse_args()
 
-    cpf = read_cpf(a.servo_cpf)
-    if "program_file" not in cpf:
-        fail(f"{a.servo_cpf}: no program_file property")
-    prog_path = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(a.servo_cpf)), cpf["program_file"]))
-    prog = load_program(prog_path, cpf.get("controller_mode", ""))
+    if a.program:
+        prog = load_program(os.path.normpath(os.path.abspath(a.program)), a.controller_mode)
+    elif a.servo_cpf:
+        cpf = read_cpf(a.servo_cpf)
+        if "program_file" not in cpf:
+            fail(f"{a.servo_cpf}: no program_file property")
+        prog_path = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(a.servo_cpf)), cpf["program_file"]))
+        prog = load_program(prog_path, cpf.get("controller_mode", ""))
+    else:
+        fail("--program (the registry's program) or --servo-cpf is needed")
     scene = {}
     if a.scene:
         try:

@@ -17,7 +17,7 @@
 #                  friStart, a quality drop to BAD and back, friStop and
 #                  friStart in the middle of the slide: to the state machine's
 #                  end, its results and plots
-# Steps 3-6 run the UNCHANGED robot deployments (deployments/<experiment>_robot.ops)
+# Steps 3-6 run the UNCHANGED robot deployment (deployments/robot.ops, the registry's experiment)
 # on a copy of deployments/ whose only changes are the bridge's UDP port, the
 # WTS reader's device (the PTY) and, after step 2, the features' parameter
 # file (the fitted calibration). lab_sim (sim/lab) is the KRC over UDP and the
