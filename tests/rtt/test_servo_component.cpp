@@ -234,8 +234,8 @@ TEST(ServoComponent, PhaseIndexOperations) {
 }
 
 // controller_mode overrides the program's controller.mode (the deployments'
-// servo_bent_bar_baseline.cpf selects the Li et al. baseline this way,
-// servo_bent_bar_no_rotation.cpf the ablation).
+// the registry entry bent_bar_baseline selects the Li et al. baseline this way,
+// bent_bar_no_rotation the ablation).
 TEST(ServoComponent, ControllerModeProperty) {
   auto mode = [](const std::string& m) {
     Rig rig(kProgram);
