@@ -31,6 +31,7 @@
 #include <rtt/Service.hpp>
 #include <rtt/TaskContext.hpp>
 #include <rtt/internal/DataSource.hpp>
+#include <rtt/scripting/Scripting.hpp>
 #include <rtt/os/fosi.h>
 #include <yaml-cpp/yaml.h>
 
@@ -134,9 +135,12 @@ class DeployGuard : public RTT::TaskContext {
     addProperty("dry_run", dry_run_)
         .doc("Robot deployments: a bring-up dry run (robot_loop.ops sets the FRI bridge's dry_run before it "
              "starts: the bridge holds the arm, the servo computes and records as if it followed).");
+    addProperty("report_suffix", report_suffix_)
+        .doc("select() sets report_file to <experiment> + report_suffix (default _sim.dat; the robot XML: "
+             "_robot.dat).");
     addProperty("report_file", report_file_)
-        .doc("File of the OCL::FileReporting time series (empty: no report); select() sets <experiment>_sim.dat, "
-             "the robot and ROS entry scripts their own name after it.");
+        .doc("File of the OCL::FileReporting time series (empty: no report); select() sets <experiment> + "
+             "report_suffix, the robot and ROS entry scripts their own name after it.");
     addAttribute("ok", ok_);
     addAttribute("steps", steps_);
     addAttribute("failed_step", failed_step_);
@@ -174,6 +178,55 @@ class DeployGuard : public RTT::TaskContext {
              "True when nothing is selected (no params). False, naming the param, when one is not an "
              "attribute of the loaded machine or its value does not fit its type.")
         .arg("component", "The peer that runs the state machine (Servo).");
+  }
+
+  // The deployer's XML form (deployments/robot.xml, no
+  // script): configure() selects `experiment` (TACTILE_EXPERIMENT) and hands
+  // the entry to the peers listed before them in the XML: a peer with
+  // program_file and controller_mode (the Servo) gets both and, when it has
+  // the scripting service, the state machine loaded (not activated); a peer
+  // with scene_file gets the scene; one with ReportFile (OCL::FileReporting)
+  // the report file. The peers must come after the Guard in the XML (they are
+  // configured in order). False, logged, on an unknown entry or a failed load.
+  bool configureHook() override {
+    if (!select(experiment_)) return false;
+    for (const std::string& name : getPeerList()) {
+      RTT::TaskContext* peer = getPeer(name);
+      RTT::PropertyBag* props = peer->properties();
+      auto* program = props->getPropertyType<std::string>("program_file");
+      auto* mode = props->getPropertyType<std::string>("controller_mode");
+      if (program && mode) {
+        program->set(program_file_);
+        mode->set(controller_mode_);
+        log(name + ".program_file = " + program_file_ + ", controller_mode '" + controller_mode_ + "'");
+        if (peer->provides()->hasService("scripting")) {
+          auto scripting = peer->getProvider<RTT::Scripting>("scripting");
+          // The deployer attaches the peer's activity in the peer's own step,
+          // after this one: silence the scripting service's zero-period
+          // warning for this load only.
+          auto* warn = peer->provides("scripting")->properties()->getPropertyType<bool>("ZeroPeriodWarning");
+          const bool warn_was = warn ? warn->get() : true;
+          if (warn) warn->set(false);
+          const bool loaded = scripting && scripting->loadStateMachines(osd_file_);
+          if (warn) warn->set(warn_was);
+          if (!loaded) {
+            RTT::log(RTT::Error) << "[" << getName() << "] " << name << ": cannot load the state machine file "
+                                 << osd_file_ << " (registry: state_machine.file)" << RTT::endlog();
+            return false;
+          }
+          log(name + ": state machine " + sm_name_ + " loaded from " + osd_file_ + " (not activated)");
+        }
+      }
+      if (auto* scene = props->getPropertyType<std::string>("scene_file")) {
+        scene->set(scene_file_);
+        log(name + ".scene_file = " + scene_file_);
+      }
+      if (auto* report = props->getPropertyType<std::string>("ReportFile")) {
+        report->set(report_file_);
+        log(name + ".ReportFile = " + report_file_);
+      }
+    }
+    return true;
   }
 
   bool step(bool done, const std::string& what) {
@@ -263,6 +316,10 @@ class DeployGuard : public RTT::TaskContext {
   struct Param {
     std::string type, name, value;
   };
+
+  void log(const std::string& what) const {
+    RTT::log(RTT::Info) << "[" << getName() << "] " << what << RTT::endlog();
+  }
 
   bool paramError(const std::string& what) {
     RTT::log(RTT::Error) << "[" << getName() << "] setStateMachineParams: " << what << RTT::endlog();
@@ -367,7 +424,7 @@ class DeployGuard : public RTT::TaskContext {
       sm_name_ = instance;
       timeout_ = timeout;
       robot_ = robot;
-      report_file_ = name + "_sim.dat";
+      report_file_ = name + report_suffix_;
       params_ = params;
     } catch (const YAML::Exception& ex) {
       return key.substr(0, key.size() - 1) + ": " + ex.what() + " (keys: " + joined(kEntryKeys) + ")";
@@ -377,7 +434,7 @@ class DeployGuard : public RTT::TaskContext {
 
   std::string registry_file_ = "../experiments.yaml";
   std::string experiment_, program_file_, controller_mode_, scene_file_;
-  std::string servo_cpf_, sim_cpf_, osd_file_, sm_name_, report_file_;
+  std::string servo_cpf_, sim_cpf_, osd_file_, sm_name_, report_file_, report_suffix_ = "_sim.dat";
   double timeout_ = 60.0;
   bool robot_ = false;
   bool dry_run_ = false;
