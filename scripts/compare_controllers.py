@@ -12,7 +12,7 @@ Runs `tactile_sim run SCENE --controller C` for every shipped scene
                the CoP -> rotation rows, no DZMP (tactile::liJinv);
   no_rotation  ablation: constant diag(1,1,1,0,0,1), never rotates about x_s, y_s.
 Everything else (program, gains, P, safety, scene) is identical. --paper runs
-each scene's program as the paper has it, the `*_tactile.yaml` beside it
+each scene's program as the paper has it, the `*_paper.yaml` beside it
 where there is one (Eq. 2's force alone, CoP_y at 0), instead of the shipped
 program (the force estimate). Writes into
 the output folder compare.csv, compare.md (the table of README.md) and
@@ -84,7 +84,7 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "compare"))
     ap.add_argument("--scenes", default="", help="comma-separated scene names (default: the experiment scenes of sim/scenes)")
     ap.add_argument("--controllers", default=",".join(CONTROLLERS))
-    ap.add_argument("--paper", action="store_true", help="the paper's programs (*_tactile.yaml) where there are")
+    ap.add_argument("--paper", action="store_true", help="the paper's programs (*_paper.yaml) where there are")
     a = ap.parse_args()
 
     shipped = simsweep.shipped_scenes()

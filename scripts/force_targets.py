@@ -5,7 +5,7 @@ usage: force_targets.py [--out out/force_targets] [--jobs N] [--seeds N] [--sim 
 
 Runs each shipped scene (sim/scenes/*.yaml, the soak's bar loop for its first
 120 s) as shipped for seeds 1..N with the band at +-0.5 N
-(metrics.force_band_n), and where the scene's program has a `*_tactile.yaml`
+(metrics.force_band_n), and where the scene's program has a `*_paper.yaml`
 beside it (the paper's program: Eq. 2's force alone, CoP_y 0) that too, on
 seed 1. Scores the true force (the simulated force-torque sensor's) over the
 scene's scored phases (metrics.force_phases; else every contact phase) after
@@ -109,7 +109,7 @@ def main():
         f.write(f"The true force over each shipped scene's scored time, seeds 1-{seeds} (range over seeds; "
                 f"the bar loop's first {DURATION_S['bar_loop']:.0f} s). Targets: RMS error <= {RMS_MAX_N} N and "
                 f">= {100 * BAND_MIN:.0f} % within +-{BAND_N} N of the set point, on every seed. "
-                "The paper's program (`*_tactile.yaml`, Eq. 2's force alone), where the scene's program has one: seed 1.\n\n")
+                "The paper's program (`*_paper.yaml`, Eq. 2's force alone), where the scene's program has one: seed 1.\n\n")
         f.write("| scene | true mean (N) | RMS error (N) | within +-0.5 N (%) | contact losses | met | "
                 "the paper's program: RMS (N) / within (%) |\n|---|---|---|---|---|---|---|\n")
         for r in rows:

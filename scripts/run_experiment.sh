@@ -43,7 +43,7 @@ run bent_bar bent_bar_baseline --controller baseline
 run bent_bar bent_bar_no_rotation --controller no_rotation
 run co_manipulation co_manipulation
 run sphere_table sphere_table
-# The bent bar to its end cap (bent_bar_fused.yaml: bent_bar.yaml's program, ending at the bar's end).
+# The bent bar to its end cap (bent_bar_to_end_cap.yaml: bent_bar.yaml's program, ending at the bar's end).
 run bent_bar_fused bent_bar_fused
 /usr/bin/python3 "$root/scripts/plot_run.py" "$out/bent_bar" --compare "$out/bent_bar_baseline" "$out/bent_bar_no_rotation"
 /usr/bin/python3 "$root/scripts/experiment_report.py" "$out"

@@ -49,11 +49,11 @@ FORCE_IN_BAND_MIN = 0.95
 
 
 def paper_program(scene):
-    """The scene's program as the paper has it: the `*_tactile.yaml` beside
+    """The scene's program as the paper has it: the `*_paper.yaml` beside
     the scene's program (Eq. 2's force alone, CoP_y 0), or None where there is
     none (tests/runner/scene_run.hpp's loadPaper() finds it the same way)."""
     program = os.path.normpath(os.path.join(SCENE_DIR, load_scene(scene)["program"]))
-    paper = program[:-len(".yaml")] + "_tactile.yaml"
+    paper = program[:-len(".yaml")] + "_paper.yaml"
     return paper if os.path.exists(paper) else None
 
 

@@ -151,7 +151,7 @@ def main():
     a = simsweep.parse_sweep_args(__doc__, "correction")
     jobs = []
     for scene, prog in SCENES.items():
-        variants = [("tactile", os.path.join(PROGRAMS, prog + "_tactile.yaml"))]
+        variants = [("tactile", os.path.join(PROGRAMS, prog + "_paper.yaml"))]
         variants += [(f"{b:g}N", program_with_bound(prog, b, a.out)) for b in BOUNDS]
         for label, path in variants:
             for setting in ("shipped", "all"):

@@ -5,7 +5,7 @@ usage: sweep_force.py [--out out/force] [--jobs N] [--seeds N] [--sim PATH]
 
 Runs each geometry of the sweep twice, with the same bar, pose, effects and
 seed:
-  before  the scene with the paper's program (*_tactile.yaml): the servo
+  before  the scene with the paper's program (*_paper.yaml): the servo
           regulates the tactile force (Eq. 2) alone, CoP_y at 0, whose
           taxels below the 0.2 N firing threshold read 0;
   after   the scene and program as shipped (edge_exploration, bent_bar_fused:
@@ -111,7 +111,7 @@ def one(job):
 
 
 # The paper's tactile-only program of each scene (the "before").
-PAPER_PROGRAM = {"edge_exploration": "edge_exploration_tactile.yaml", "bent_bar_fused": "bent_bar_tactile.yaml"}
+PAPER_PROGRAM = {"edge_exploration": "edge_exploration_paper.yaml", "bent_bar_fused": "bent_bar_paper.yaml"}
 
 
 def main():
@@ -154,7 +154,7 @@ def main():
         w.writerows(rows)
     with open(os.path.join(a.out, "force.md"), "w") as f:
         f.write(f"True force while sliding, set point 5 N; mean over seeds 1..{a.seeds}. "
-                f"before: tactile force (the paper, *_tactile.yaml); after: as shipped, the force estimate bounded at 4.5 N.\n\n")
+                f"before: tactile force (the paper, *_paper.yaml); after: as shipped, the force estimate bounded at 4.5 N.\n\n")
         f.write("| case | true mean (N) before / after | RMS error (N) before / after | "
                 "within +-0.5 N before / after | contact losses after | path (m) after | target met |\n")
         f.write("|---|---|---|---|---|---|---|\n")

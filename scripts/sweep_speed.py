@@ -10,11 +10,11 @@ translation limits raised to 0.08 m/s (safety.max_trans_speed and
 u_max_per_s.x/y; the shipped 0.05 m/s would cap the sweep at 50 mm/s), and runs
 the bent bar (sim/scenes/bent_bar_fused.yaml: the bent bar, started 10 mm
 higher, the arm's estimated wrench with its error) with four controllers:
-  proposed, force estimate     bent_bar_fused.yaml (the tactile force corrected
+  proposed, force estimate     bent_bar_to_end_cap.yaml (the tactile force corrected
                                by the arm's wrench, edge on a taxel row)
-  proposed, tactile force      bent_bar_tactile.yaml (the paper)
-  Li et al. baseline, estimate bent_bar_fused.yaml, controller baseline
-  Li et al. baseline, tactile  bent_bar_tactile.yaml, controller baseline
+  proposed, tactile force      bent_bar_paper.yaml (the paper)
+  Li et al. baseline, estimate bent_bar_to_end_cap.yaml, controller baseline
+  Li et al. baseline, tactile  bent_bar_paper.yaml, controller baseline
 Every variant ends at the bar's end cap (transition `point` for 0.2 s, as the
 edge exploration does). Reports, per run, the measured slide speed
 (summary.json slide_speed_mps), the true-force RMS error and maximum (scored
@@ -45,10 +45,10 @@ PROGRAMS = os.path.join(simsweep.ROOT, "components", "servo", "programs")
 GAINS = [0.2, 0.4, 0.8, 1.2, 1.6, 2.0, 2.4, 3.0, 4.0]  # 1/s: 5 .. 100 mm/s commanded at a 25 mm CoP_x error
 LIMIT = 0.08  # m/s
 END_MM = 10.0  # "to the end of the bar": the last contact within 10 mm of its end vertex (the end cap's radius + 5 mm)
-SERIES = [("proposed, force estimate", "bent_bar_fused", "proposed"),
-          ("proposed, tactile force", "bent_bar_tactile", "proposed"),
-          ("Li et al. baseline, force estimate", "bent_bar_fused", "baseline"),
-          ("Li et al. baseline, tactile force", "bent_bar_tactile", "baseline")]
+SERIES = [("proposed, force estimate", "bent_bar_to_end_cap", "proposed"),
+          ("proposed, tactile force", "bent_bar_paper", "proposed"),
+          ("Li et al. baseline, force estimate", "bent_bar_to_end_cap", "baseline"),
+          ("Li et al. baseline, tactile force", "bent_bar_paper", "baseline")]
 END_CAP = {"on": "point", "to": "done", "for_s": 0.2}
 
 

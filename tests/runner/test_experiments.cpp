@@ -21,7 +21,7 @@ namespace {
 using test::kScenes;
 
 // The paper's experiments and its controllers' comparisons run the paper's
-// programs (`*_tactile.yaml`: Eq. 2's force alone, CoP_y at 0; test::loadPaper);
+// programs (`*_paper.yaml`: Eq. 2's force alone, CoP_y at 0; test::loadPaper);
 // the shipped programs add the force estimate (tests at the end of the file).
 RunResult runScene(const std::string& name, ControllerMode mode = ControllerMode::Proposed, Scene* out = nullptr,
                    bool force_mismatch_watchdog = true, const std::vector<std::string>& overrides = {}) {
@@ -560,7 +560,7 @@ TEST(Experiments, ForceEstimatePutsTheTrueForceOnTarget) {
   EXPECT_GE(f.summary.force_true_in_band_fraction, 0.95);
   EXPECT_GE(f.summary.path_length_m, 0.2);
   EXPECT_EQ(f.summary.contact_lost_count, 0);
-  Scene sc = test::loadShipped("bent_bar_fused.yaml", {"program=../../components/servo/programs/bent_bar_tactile.yaml"});
+  Scene sc = test::loadShipped("bent_bar_fused.yaml", {"program=../../components/servo/programs/bent_bar_paper.yaml"});
   const Summary t = test::run(sc);
   EXPECT_EQ(t.status, "ok");
   EXPECT_GT(t.force_true_rms_error_n, 0.5);       // measured 0.66 N: the true force ~0.6 N above 5 N
@@ -582,7 +582,7 @@ TEST(Experiments, ForceEstimatePutsTheTrueForceOnTarget) {
     EXPECT_GE(e.summary.path_length_m, 0.15) << "seed " << seed;
   }
   Scene se = test::loadShipped("edge_exploration.yaml",
-                               {"program=../../components/servo/programs/edge_exploration_tactile.yaml"});
+                               {"program=../../components/servo/programs/edge_exploration_paper.yaml"});
   const Summary te = test::run(se);
   EXPECT_GT(te.force_true_rms_error_n, 0.6);
   EXPECT_LT(te.force_true_in_band_fraction, 0.5);
@@ -706,7 +706,7 @@ TEST(ShippedPrograms, ForceEstimateBoundTradesTheCoPAlongTheEdge) {
     return m;
   };
   const Scene paper_sc = test::loadShipped("edge_exploration.yaml",
-                                           {"program=../../components/servo/programs/edge_exploration_tactile.yaml"});
+                                           {"program=../../components/servo/programs/edge_exploration_paper.yaml"});
   const Scene shipped_sc = test::loadShipped("edge_exploration.yaml");
   Scene narrow_sc = shipped_sc;
   EXPECT_DOUBLE_EQ(shipped_sc.servo.force_estimate.max_correction_n, 4.5);
