@@ -45,7 +45,7 @@ while [ $# -gt 0 ]; do
 done
 for t in "$deployer" "$build/bin/lab_sim" "$build/bin/wts_check" "$build/bin/wts_sim" "$build/bin/fri_check" \
          "$build/bin/tactile_calibrate" "$build/bin/tactile_calibration_record"; do
-  [ -x "$t" ] || { echo "$name: $t missing: build the project first (scripts/build.sh, RTT on)" >&2; exit 1; }
+  [ -x "$t" ] || { echo "$name: $t missing: build the project first (scripts/setup/build.sh, RTT on)" >&2; exit 1; }
 done
 port=49985          # the bridge's UDP port here (fri.yaml's 49938 may be in use on this host)
 start_after=6       # s of monitor mode before friStart: the deployment is up by then

@@ -9,7 +9,7 @@
 # AFTER_S seconds of the run the screen is written to OUT (PNG).
 #   ros_screenshot.sh [OUT] [AFTER_S]   (default ros/doc/rviz_edge_exploration.png, 12)
 # Needs rviz, xvfb and x11-apps (xwd) besides the ROS face (TACTILE_WITH_RVIZ=ON
-# bash scripts/setup_rtt_ros.sh installs them) and robot_state_publisher
+# bash scripts/setup/setup_rtt_ros.sh installs them) and robot_state_publisher
 # (ros-robot-state-publisher, installed with the ROS face); scripts/xwd_to_png.py
 # turns the XWD dump into PNG.
 set -uo pipefail

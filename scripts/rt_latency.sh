@@ -26,7 +26,7 @@
 # missed their tick, replies that never came; a late reply keeps its true latency)
 # and rt_latency.png (histograms), written by scripts/rt_latency_report.py.
 # Needs root (or CAP_SYS_NICE) for SCHED_FIFO; stress-ng and cyclictest
-# (scripts/setup_deps.sh installs them).
+# (scripts/setup/setup_deps.sh installs them).
 # Environment: BUILD (default <repo>/build), OROCOS (default /opt/orocos).
 set -euo pipefail
 name=rt_latency
@@ -36,7 +36,7 @@ dur=${1:-30}
 out="$root/out/rt_latency"
 rt_check_tools
 for t in stress-ng cyclictest chrt setpriv prlimit; do
-  command -v "$t" >/dev/null || { echo "rt_latency: $t missing (scripts/setup_deps.sh)" >&2; exit 1; }
+  command -v "$t" >/dev/null || { echo "rt_latency: $t missing (scripts/setup/setup_deps.sh)" >&2; exit 1; }
 done
 [ "$(id -u)" -eq 0 ] || echo "rt_latency: not root: the fifo_* configurations run without SCHED_FIFO unless rtprio is granted" >&2
 

@@ -23,9 +23,9 @@
 # (scripts/rehearse_first_day.sh -> out/rehearsal/).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-bash "$root/scripts/setup_deps.sh"
-bash "$root/scripts/setup_orocos.sh"
-bash "$root/scripts/build.sh"
+bash "$root/scripts/setup/setup_deps.sh"
+bash "$root/scripts/setup/setup_orocos.sh"
+bash "$root/scripts/setup/build.sh"
 sim="$root/build/bin/tactile_sim"
 out="$root/out"
 mkdir -p "$out"

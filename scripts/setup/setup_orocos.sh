@@ -13,7 +13,7 @@
 # Idempotent: $OROCOS_PREFIX/share/tactile_servo/orocos.stamp names the commits
 # and the target; a second run with the same stamp does nothing.
 # Opt out of the whole RTT layer with TACTILE_WITH_RTT=OFF.
-# Then runs scripts/setup_rtt_ros.sh (ROS 1 and rtt_ros_integration).
+# Then runs scripts/setup/setup_rtt_ros.sh (ROS 1 and rtt_ros_integration).
 #
 # Environment:
 #   OROCOS_PREFIX       install prefix (default /opt/orocos)

@@ -14,7 +14,7 @@
 #
 # Idempotent: $OROCOS_PREFIX/ros/share/tactile_servo/rtt_ros.stamp names the
 # commit and the package list; a second run with the same stamp does nothing.
-# Called by scripts/setup_orocos.sh after Orocos. Opt out with
+# Called by scripts/setup/setup_orocos.sh after Orocos. Opt out with
 # TACTILE_WITH_ROS=OFF (the project then builds without its ROS face).
 #
 # Environment:
@@ -82,7 +82,7 @@ if [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$want_stamp" ] && [ -f "$ros_prefix
   exit 0
 fi
 [ -f "$prefix/lib/cmake/orocos-rtt/orocos-rtt-config.cmake" ] \
-  || { echo "setup_rtt_ros: no Orocos RTT in $prefix (run scripts/setup_orocos.sh first)" >&2; exit 1; }
+  || { echo "setup_rtt_ros: no Orocos RTT in $prefix (run scripts/setup/setup_orocos.sh first)" >&2; exit 1; }
 
 rm -rf "$work"
 mkdir -p "$work/src" "$work/logs"

@@ -3,17 +3,17 @@
 # to CMake.
 #
 # The Orocos RTT layer (components, typekit, deployer tests) is part of the
-# product: scripts/setup_orocos.sh installs Orocos toolchain 2.10 into
+# product: scripts/setup/setup_orocos.sh installs Orocos toolchain 2.10 into
 # $OROCOS_PREFIX (default /opt/orocos), and this script then builds the RTT
 # layer with TACTILE_WITH_RTT=ON (CMake fails if RTT cannot be found).
 # Opt out with TACTILE_WITH_RTT=OFF (cores, simulator and tools only).
 set -euo pipefail
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 jobs="${TACTILE_JOBS:-$(nproc)}"
 orocos="${OROCOS_PREFIX:-/opt/orocos}"
 with_rtt="${TACTILE_WITH_RTT:-ON}"
 args=(-DCMAKE_BUILD_TYPE=Release -DTACTILE_WITH_RTT="$with_rtt")
-# The ROS 1 face (ros/): AUTO builds it where scripts/setup_rtt_ros.sh installed rtt_ros_integration.
+# The ROS 1 face (ros/): AUTO builds it where scripts/setup/setup_rtt_ros.sh installed rtt_ros_integration.
 args+=(-DTACTILE_WITH_ROS="${TACTILE_WITH_ROS:-AUTO}")
 if [ "$with_rtt" != "OFF" ]; then args+=(-DCMAKE_PREFIX_PATH="$orocos"); fi
 if [ -n "${TACTILE_CCACHE:-}" ] && command -v ccache >/dev/null; then
