@@ -63,7 +63,7 @@ ExternalProject_Add(tactile_ros_ws
              -DTACTILE_TYPES_LIBRARY=$<TARGET_FILE:tactile_types>
              -DTACTILE_BUILD_TESTS=${TACTILE_BUILD_TESTS}
              ${_tactile_ros_launcher}
-             # The project's compile and link flags (e.g. scripts/sanitize.sh's
+             # The project's compile and link flags (e.g. scripts/realtime/sanitize.sh's
              # -fsanitize=...): the ROS face links the project's libraries.
              "-DCMAKE_C_FLAGS=${CMAKE_C_FLAGS}" "-DCMAKE_CXX_FLAGS=${CMAKE_CXX_FLAGS}"
              "-DCMAKE_EXE_LINKER_FLAGS=${CMAKE_EXE_LINKER_FLAGS}" "-DCMAKE_SHARED_LINKER_FLAGS=${CMAKE_SHARED_LINKER_FLAGS}"

@@ -32,7 +32,7 @@ set -uo pipefail
 name=rehearse_first_day
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 # root, build, orocos, deployer, rt_stage_deployments, pids + cleanup trap
-source "$root/scripts/rt_common.sh"
+source "$root/scripts/realtime/rt_common.sh"
 py=/usr/bin/python3
 out="$root/out/rehearsal"
 steps="1,2,3,4,5,6"

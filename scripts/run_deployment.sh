@@ -24,7 +24,7 @@
 # digits). One run at a time (the report file and deployments/orocos.log are
 # per directory). A robot run's table is converted by scripts/deployment_to_run.py.
 # Environment: BUILD (default <repo>/build), OROCOS (default /opt/orocos),
-# DEPLOYER (default $OROCOS/bin/deployer-gnulinux; scripts/sanitize.sh sets its
+# DEPLOYER (default $OROCOS/bin/deployer-gnulinux; scripts/realtime/sanitize.sh sets its
 # wrapper), DEPLOY_OUT (default <repo>/out/deploy; the ctests use the build tree).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"

@@ -30,7 +30,7 @@ def scene_path(name):
 
 
 # Scenes that are not experiments: bar_loop is the soak's (an hour long; its
-# turns come from the deployment script scripts/rt_soak_sim.sh, not from the
+# turns come from the deployment script scripts/realtime/rt_soak_sim.sh, not from the
 # program), so the sweeps leave it out.
 NOT_EXPERIMENTS = {"bar_loop"}
 

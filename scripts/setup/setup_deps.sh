@@ -7,7 +7,7 @@ PKGS=(
   libeigen3-dev liborocos-kdl-dev libopencv-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-matplotlib python3-numpy python3-yaml
-  stress-ng rt-tests  # scripts/rt_latency.sh: CPU/memory load, cyclictest
+  stress-ng rt-tests  # scripts/realtime/rt_latency.sh: CPU/memory load, cyclictest
 )
 missing=()
 for p in "${PKGS[@]}"; do

@@ -4,7 +4,7 @@
 # TACTILE_EXPERIMENT=<experiment>, unchanged, against the simulated peers: fri_sim_krc (the KRC over FRI/UDP,
 # fri.yaml's port) and wts_sim (the WTS0614 on a PTY, a press circling the
 # pad), from a staged copy of deployments/ (absolute paths, the PTY in
-# wts_reader.cpf, as scripts/rt_common.sh stages them). check_robot_topics.py
+# wts_reader.cpf, as scripts/realtime/rt_common.sh stages them). check_robot_topics.py
 # subscribes meanwhile and ends the run by switching the servo to `done`
 # through the phase service.
 #   run_robot_ros_test.sh SOURCE_DIR BUILD_DIR OROCOS_PREFIX EXPERIMENT
@@ -13,8 +13,8 @@ src="$1"; build="$2"; orocos="$3"; exp="$4"
 [ -f "$src/deployments/robot_ros.ops" ] || { echo "run_robot_ros_test: no deployments/robot_ros.ops"; exit 2; }
 out="${TACTILE_ROS_TMP:?run inside with_roscore.sh}/robot"
 name=run_robot_ros_test
-# shellcheck source=../../scripts/rt_common.sh
-BUILD="$build" OROCOS="$orocos" source "$src/scripts/rt_common.sh"   # staging, wts_sim, the cleanup of pids
+# shellcheck source=../../scripts/realtime/rt_common.sh
+BUILD="$build" OROCOS="$orocos" source "$src/scripts/realtime/rt_common.sh"   # staging, wts_sim, the cleanup of pids
 rt_stage_deployments "$out"
 cat > "$out/deployments/robot_ros_test.ops" <<'EOF'
 // tests/ros/run_robot_ros_test.sh: the robot ROS variant as shipped, held until

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
-"""Table and histogram of scripts/rt_latency.sh's measurements.
+"""Table and histogram of scripts/realtime/rt_latency.sh's measurements.
 
-    scripts/rt_latency_report.py OUT_DIR
+    scripts/realtime/rt_latency_report.py OUT_DIR
 
 Reads OUT_DIR/<cfg>_krc.txt (one line per KRC cycle: "LATENCY_US ON_TIME";
 the latency from the measurement's departure to its reply's arrival, also for

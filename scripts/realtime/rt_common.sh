@@ -1,11 +1,11 @@
-# Sourced by scripts/rt_latency.sh, scripts/rt_soak.sh and tests/ros/run_robot_*_test.sh: what they do
+# Sourced by scripts/realtime/rt_latency.sh, scripts/realtime/rt_soak.sh and tests/ros/run_robot_*_test.sh: what they do
 # before their own runs. Needs `name` (the script's name for messages) set by the caller.
 # Sets root, build, orocos, deployer; defines rt_check_tools, rt_stage_deployments
 # and rt_start_wts_sim (with the cleanup trap of the background processes in pids).
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 build="${BUILD:-$root/build}"
 orocos="${OROCOS:-/opt/orocos}"
-deployer="${DEPLOYER:-$orocos/bin/deployer-gnulinux}"  # scripts/sanitize.sh: its wrapper
+deployer="${DEPLOYER:-$orocos/bin/deployer-gnulinux}"  # scripts/realtime/sanitize.sh: its wrapper
 
 # The deployer and the two simulated peers must be built.
 rt_check_tools() {

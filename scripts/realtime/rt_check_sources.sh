@@ -7,13 +7,13 @@
 # FileDescriptorActivity timeout or a periodic activity (waiting),
 # rtos_nanosleep (non-hook waits of deployment helpers).
 #
-#   scripts/rt_check_sources.sh            check the repository's RTT layer
-#   scripts/rt_check_sources.sh DIR...     check the C++ files under DIR...
+#   scripts/realtime/rt_check_sources.sh            check the repository's RTT layer
+#   scripts/realtime/rt_check_sources.sh DIR...     check the C++ files under DIR...
 # Prints each offending line (comments stripped) and a count; exit 1 if any.
 # ctest: rt_component_sources (the repository) and rt_component_sources_detects
 # (tests/rt_check/fixture, one planted call of each kind: the check must fail).
 set -u
-here=$(cd "$(dirname "$0")/.." && pwd)
+here=$(cd "$(dirname "$0")/../.." && pwd)
 if [ $# -eq 0 ]; then
   set -- "$here"/components/*/rtt "$here"/sim/*/rtt
 fi

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Latency and jitter of the robot deployment, measured (a benchmark, not a test).
 #
-#   scripts/rt_latency.sh [SECONDS]        default 30 s per configuration
+#   scripts/realtime/rt_latency.sh [SECONDS]        default 30 s per configuration
 #
 # The robot deployment (deployments/robot_loop.ops: FRI bridge, WTS reader,
 # features, servo with the edge exploration program; RealtimeCheck) runs under
@@ -24,13 +24,13 @@
 # cycle: latency in us and 1/0 for on time; "nan 0" = no reply), <cfg>_cyclictest.hist, <cfg>_deployer.log;
 # rt_latency.md (table: p50, p99, p99.9, max, late replies > 1 ms, replies that
 # missed their tick, replies that never came; a late reply keeps its true latency)
-# and rt_latency.png (histograms), written by scripts/rt_latency_report.py.
+# and rt_latency.png (histograms), written by scripts/realtime/rt_latency_report.py.
 # Needs root (or CAP_SYS_NICE) for SCHED_FIFO; stress-ng and cyclictest
 # (scripts/setup/setup_deps.sh installs them).
 # Environment: BUILD (default <repo>/build), OROCOS (default /opt/orocos).
 set -euo pipefail
 name=rt_latency
-# shellcheck source=scripts/rt_common.sh
+# shellcheck source=scripts/realtime/rt_common.sh
 source "$(dirname "${BASH_SOURCE[0]}")/rt_common.sh"
 dur=${1:-30}
 out="$root/out/rt_latency"
@@ -46,7 +46,7 @@ chmod 755 "$out" "$out/deployments"
 # A copy of deployments/ with absolute paths and the simulated sensor's PTY.
 rt_stage_deployments "$out"
 cat > "$out/deployments/rt_latency_bench.ops" <<EOF
-// scripts/rt_latency.sh: the robot deployment (robot_loop.ops), the servo
+// scripts/realtime/rt_latency.sh: the robot deployment (robot_loop.ops), the servo
 // started, held for Guard.timeout s of wall clock, then the deployer exits.
 import("tactile")
 import("ocl")
@@ -97,4 +97,4 @@ for cfg in fifo_idle fifo_load other_idle other_load; do
   grep -h "fri_sim_krc:" "$out/${cfg}_krc.log" | cut -c1-160 || true
   grep -ho "rt_latency: Robot received.*" "$out/${cfg}_deployer.log" | head -1 || true
 done
-/usr/bin/python3 "$root/scripts/rt_latency_report.py" "$out" | tee "$out/rt_latency.md"
+/usr/bin/python3 "$root/scripts/realtime/rt_latency_report.py" "$out" | tee "$out/rt_latency.md"

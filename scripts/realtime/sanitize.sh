@@ -3,7 +3,7 @@
 # OCL deployer running deployments/) under the sanitizers, in separate build
 # directories, with the build and test times reported.
 #
-#   scripts/sanitize.sh [asan|tsan|all] [ctest args...]     default: asan
+#   scripts/realtime/sanitize.sh [asan|tsan|all] [ctest args...]     default: asan
 #
 #   asan  ASan + UBSan (-fsanitize=address,undefined, UBSan not recoverable:
 #         a finding fails its test), build-asan/
@@ -12,19 +12,19 @@
 # Orocos (RTT, OCL, the deployer) is not instrumented: the deployer tests run
 # it through a wrapper that preloads the sanitizer runtime (it must come first
 # in the process). Suppressions, each justified in its file:
-# scripts/sanitizers/lsan.supp, ubsan.supp, tsan.supp.
+# scripts/realtime/sanitizers/lsan.supp, ubsan.supp, tsan.supp.
 # Benchmarks are not built (timing under a sanitizer means nothing).
 # Environment: TACTILE_JOBS (default 2), TACTILE_SAN_BUILD_<MODE> (build dir),
 # TACTILE_SAN_TARGETS (build only these targets, with ctest args selecting
 # their tests, e.g. TACTILE_SAN_TARGETS="test_fri_bridge_component"
-# scripts/sanitize.sh tsan -R FriBridgeComponent; default: everything).
+# scripts/realtime/sanitize.sh tsan -R FriBridgeComponent; default: everything).
 # Exit status non-zero if the build fails or any test fails (any finding).
 set -uo pipefail
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 mode=${1:-asan}
 shift || true
 jobs=${TACTILE_JOBS:-2}
-supp="$root/scripts/sanitizers"
+supp="$root/scripts/realtime/sanitizers"
 export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$root}
 launcher=()
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)

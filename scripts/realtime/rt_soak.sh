@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Soak of the real-time robot path (a long run, not a test; the simulated
-# deployment on a looping scene: scripts/rt_soak_sim.sh): nothing grows,
+# deployment on a looping scene: scripts/realtime/rt_soak_sim.sh): nothing grows,
 # nothing NaNs, nothing is lost over MINUTES of wall clock.
 #
-#   scripts/rt_soak.sh [MINUTES]           default 60 (CI: 2)
+#   scripts/realtime/rt_soak.sh [MINUTES]           default 60 (CI: 2)
 #
 # Runs the robot deployment (deployments/robot_loop.ops: FRI bridge, WTS
 # reader, features, servo with the edge exploration program, RealtimeCheck;
@@ -16,7 +16,7 @@
 # timeouts, socket_errors, bridge_status; Sensor frames, timeouts,
 # read_status; Features frames, last_status; Servo phase, last_status: the
 # ServoStatus number of tactile_types/types.hpp). At the
-# end scripts/rt_soak_report.py prints the per-minute table
+# end scripts/realtime/rt_soak_report.py prints the per-minute table
 # (out/rt_soak/robot/rt_soak.md) and checks, exit status 1 on a failure:
 #   * resident memory after minute 1 grows by less than 1 MiB (memory is
 #     locked, mlockall: a per-cycle allocation would show);
@@ -28,7 +28,7 @@
 # Environment: BUILD (default <repo>/build), OROCOS (default /opt/orocos).
 set -euo pipefail
 name=rt_soak
-# shellcheck source=scripts/rt_common.sh
+# shellcheck source=scripts/realtime/rt_common.sh
 source "$(dirname "${BASH_SOURCE[0]}")/rt_common.sh"
 minutes=${1:-60}
 out="$root/out/rt_soak/robot"  # the sim soak (rt_soak_sim.sh) writes out/rt_soak/sim_*
@@ -40,7 +40,7 @@ mkdir -p "$out/deployments"
 rt_stage_deployments "$out"
 secs=$((minutes * 60))
 cat > "$out/deployments/rt_soak.ops" <<EOF
-// scripts/rt_soak.sh: the robot deployment for $minutes min of wall clock,
+// scripts/realtime/rt_soak.sh: the robot deployment for $minutes min of wall clock,
 // one line of counters per minute ("soak minute N ...").
 import("tactile")
 import("ocl")
@@ -93,5 +93,5 @@ dep_rc=0
 wait "$dep" || dep_rc=$?
 krc_rc=0
 wait "$kpid" || krc_rc=$?
-/usr/bin/python3 "$root/scripts/rt_soak_report.py" "$out" "$minutes" "$dep_rc" | tee "$out/rt_soak.md"
+/usr/bin/python3 "$root/scripts/realtime/rt_soak_report.py" "$out" "$minutes" "$dep_rc" | tee "$out/rt_soak.md"
 exit "${PIPESTATUS[0]}"

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
-"""Per-minute table, plot and checks of scripts/rt_soak_sim.sh.
+"""Per-minute table, plot and checks of scripts/realtime/rt_soak_sim.sh.
 
-    scripts/rt_soak_sim_report.py OUT_DIR MINUTES DEPLOYER_EXIT
+    scripts/realtime/rt_soak_sim_report.py OUT_DIR MINUTES DEPLOYER_EXIT
 
 Reads OUT_DIR/soak.dat (the reporter's table, one row per servo cycle: the
 simulator's truth, Servo.phase, Servo.integral, Servo.last_status),
@@ -100,7 +100,7 @@ end = re.search(r"soak end: clock (\S+) exit_code (\d+) sim_time (\S+) turns (\d
 # The growth bound (kB): 1 MiB; RT_SOAK_RSS_GROWTH_KB overrides it for a
 # sanitizer build, whose allocator holds freed blocks back (ASan's quarantine,
 # to catch a use after free): the deployer's per-minute script strings then
-# add to the resident memory without being a leak (scripts/sanitize.sh).
+# add to the resident memory without being a leak (scripts/realtime/sanitize.sh).
 RSS_GROWTH_KB = int(os.environ.get("RT_SOAK_RSS_GROWTH_KB", "1024"))
 rss = {}
 with open(out + "/rss.txt") as f:

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
-"""Per-minute table and checks of scripts/rt_soak.sh.
+"""Per-minute table and checks of scripts/realtime/rt_soak.sh.
 
-    scripts/rt_soak_report.py OUT_DIR MINUTES DEPLOYER_EXIT
+    scripts/realtime/rt_soak_report.py OUT_DIR MINUTES DEPLOYER_EXIT
 
 Reads OUT_DIR/deployer.log ("soak minute N key value ..." lines of the soak
 script), OUT_DIR/rss.txt ("N rss_kB") and OUT_DIR/krc.log (fri_sim_krc's

@@ -2,7 +2,7 @@
 # Soak of the simulated deployment on a looping scene (a long run, not a
 # test): one hour of wall clock without drift.
 #
-#   scripts/rt_soak_sim.sh [MINUTES]          default 60 (CI: 2, ctest RtSoakSim)
+#   scripts/realtime/rt_soak_sim.sh [MINUTES]          default 60 (CI: 2, ctest RtSoakSim)
 #
 # Runs the simulated deployment (deployments/sim_loop.ops: tactile::SimClock,
 # LwrSimComponent, WtsSimComponent, FeatureComponent, ServoComponent,
@@ -20,13 +20,13 @@
 #   deployer.log one line per minute ("soak minute N": simulated time, ticks,
 #                phase, flange x, turns of the loop, clock and arm status)
 #   rt_soak_sim.md, rt_soak_sim.png   per-minute table and plot, with the checks
-#                of scripts/rt_soak_sim_report.py (exit status 1 on a failure).
+#                of scripts/realtime/rt_soak_sim_report.py (exit status 1 on a failure).
 # Environment: BUILD (default <repo>/build), OROCOS (default /opt/orocos),
 # DEPLOYER (default $OROCOS/bin/deployer-gnulinux; the sanitizer builds: their wrapper),
 # RT_SOAK_OUT (default out/rt_soak/sim_<MINUTES>min), RT_SOAK_REALTIME_FACTOR
 # (default 1: wall clock; 0 = as fast as possible, to try the script out).
 set -euo pipefail
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 build="${BUILD:-$root/build}"
 orocos="${OROCOS:-/opt/orocos}"
 deployer="${DEPLOYER:-$orocos/bin/deployer-gnulinux}"
@@ -60,7 +60,7 @@ cat > "$out/deployments/servo_bar_loop.cpf" <<XML
 </properties>
 XML
 cat > "$out/deployments/rt_soak_sim.ops" <<EOF2
-// scripts/rt_soak_sim.sh: the simulated deployment on the looping bar for
+// scripts/realtime/rt_soak_sim.sh: the simulated deployment on the looping bar for
 // $minutes min of wall clock (Clock.realtime_factor = 1), one line per minute.
 // The loop: this script turns the servo's program between its two sliding
 // phases (Servo.switchPhase, a ClientThread operation applied at the next
@@ -100,7 +100,7 @@ var int started(Guard.verdict())
 Guard.step(runScript("rt_soak_sim_loop.ops"), "rt_soak_sim_loop.ops")
 EOF2
 cat > "$out/deployments/rt_soak_sim_loop.ops" <<EOF2
-// scripts/rt_soak_sim.sh: the loop of rt_soak_sim.ops (see there).
+// scripts/realtime/rt_soak_sim.sh: the loop of rt_soak_sim.ops (see there).
 var int i_out = Servo.phaseIndexOf("slide_out")
 var int i_back = Servo.phaseIndexOf("slide_back")
 if Guard.ok then Guard.step(i_out >= 0 && i_back >= 0, "the program has slide_out and slide_back")
@@ -163,5 +163,5 @@ done
 dep_rc=0
 wait "$dep" || dep_rc=$?
 trap - EXIT
-/usr/bin/python3 "$root/scripts/rt_soak_sim_report.py" "$out" "$minutes" "$dep_rc" | tee "$out/rt_soak_sim.md"
+/usr/bin/python3 "$root/scripts/realtime/rt_soak_sim_report.py" "$out" "$minutes" "$dep_rc" | tee "$out/rt_soak_sim.md"
 exit "${PIPESTATUS[0]}"
