@@ -22,7 +22,7 @@
 # WTS reader's device (the PTY) and, after step 2, the features' parameter
 # file (the fitted calibration). lab_sim (sim/lab) is the KRC over UDP and the
 # WTS on a PTY, both backed by one simulated world; its ground truth (never
-# seen by the controller) checks each step (scripts/rehearsal_report.py).
+# seen by the controller) checks each step (scripts/tools/rehearsal_report.py).
 #
 #   scripts/rehearse_first_day.sh [--out DIR] [--steps 1,2,3,4,5,6]
 # Prints PASS/FAIL per step and what to do next; writes DIR/rehearsal.md and
@@ -169,7 +169,7 @@ if want 4; then
   rc=0
   run_step 4_dry_run "dry run" "$root/sim/lab/scenes/bringup_press.yaml" "0:friOpen,$start_after:friStart" \
     first_touch --dry-run || rc=$?
-  [ "$rc" -eq 0 ] && { "$py" "$root/scripts/rehearsal_report.py" check "$out/4_dry_run" --dry-run --start "$start_after" || rc=$?; }
+  [ "$rc" -eq 0 ] && { "$py" "$root/scripts/tools/rehearsal_report.py" check "$out/4_dry_run" --dry-run --start "$start_after" || rc=$?; }
   verdict 4 "dry run" "$rc" "$out/4_dry_run/run_robot.log; the arm must not move and the commands must"
 fi
 
@@ -179,7 +179,7 @@ if want 5; then
   rc=0
   run_step 5_first_touch "first touch" "$root/sim/scenes/first_touch.yaml" "0:friOpen,$start_after:friStart" \
     first_touch || rc=$?
-  [ "$rc" -eq 0 ] && { "$py" "$root/scripts/rehearsal_report.py" check "$out/5_first_touch" --start "$start_after" --max-force 5.0 || rc=$?; }
+  [ "$rc" -eq 0 ] && { "$py" "$root/scripts/tools/rehearsal_report.py" check "$out/5_first_touch" --start "$start_after" --max-force 5.0 || rc=$?; }
   verdict 5 "first touch" "$rc" "$out/5_first_touch/run_robot.log"
 fi
 
@@ -190,7 +190,7 @@ if want 6; then
   echo "== step 6 edge exploration: the KRC $krc"
   rc=0
   run_step 6_edge_exploration "edge exploration" "$root/sim/scenes/edge_exploration.yaml" "$krc" edge_exploration || rc=$?
-  [ "$rc" -eq 0 ] && { "$py" "$root/scripts/rehearsal_report.py" check "$out/6_edge_exploration" --start "$t0" --target-force 5.0 || rc=$?; }
+  [ "$rc" -eq 0 ] && { "$py" "$root/scripts/tools/rehearsal_report.py" check "$out/6_edge_exploration" --start "$t0" --target-force 5.0 || rc=$?; }
   # The same verdict as a run started in command mode (ctest lab_sim_robot_edge_exploration): the bar's end.
   if [ "$rc" -eq 0 ]; then
     if grep -q "finished: program_ended" "$out/6_edge_exploration/run/deployer.log"; then
@@ -203,7 +203,7 @@ if want 6; then
 fi
 
 printf '%s\n' "${results[@]}" > "$out/steps.txt"
-"$py" "$root/scripts/rehearsal_report.py" report "$out" || true
+"$py" "$root/scripts/tools/rehearsal_report.py" report "$out" || true
 fails=$(grep -c '|FAIL|' "$out/steps.txt")
 if [ "$fails" -eq 0 ]; then
   echo "rehearsal: PASS: every step (${#results[@]}); $out/rehearsal.md, $out/rehearsal.png"

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Runs the whole-contour scenes (sim/scenes/ring, rounded_square, s_curve,
-gap_bars: scripts/make_contour_scenes.py) through the headless runner, checks
-each with scripts/contour_check.py and writes OUT/contours.md (the table of
+gap_bars: scripts/tools/make_contour_scenes.py) through the headless runner, checks
+each with scripts/tools/contour_check.py and writes OUT/contours.md (the table of
 the README's "Whole closed contours") and OUT/contours.png (the four
 reconstructions over the truth).
 
@@ -51,7 +51,7 @@ def main():
             run = os.path.join(a.out, name if seed == 1 else "%s_seed%d" % (name, seed))
             subprocess.run([a.sim, "run", scene, "--out", run, "--no-plots", "--seed", str(seed)]
                            + (SENSOR_EFFECTS if a.sensor_effects else []), check=False, stdout=subprocess.DEVNULL)
-            cmd = [sys.executable, os.path.join(HERE, "contour_check.py"), run, scene, "--max-rms", str(rms),
+            cmd = [sys.executable, os.path.join(HERE, "tools", "contour_check.py"), run, scene, "--max-rms", str(rms),
                    "--gap-crossings", str(gaps)]
             if is_open:
                 cmd.append("--open")

@@ -2,7 +2,7 @@
 # Runs one experiment as Orocos components under the OCL deployer, on the
 # simulated LWR 4+ and WTS0614, headless, and writes what `tactile_sim run`
 # writes for it: out/deploy/<experiment>[_baseline|_no_rotation]/timeseries.csv,
-# summary.json and the PNG plots of scripts/plot_run.py.
+# summary.json and the PNG plots of scripts/tools/plot_run.py.
 #
 #   scripts/run_deployment.sh EXPERIMENT [--controller proposed|baseline|no_rotation]
 #     EXPERIMENT: a name of the experiment registry (experiments.yaml; the
@@ -22,7 +22,7 @@
 # and turned into timeseries.csv and summary.json by `tactile_sim summarize`
 # (the runner's own rows and metrics; the reporter keeps 6 significant
 # digits). One run at a time (the report file and deployments/orocos.log are
-# per directory). A robot run's table is converted by scripts/deployment_to_run.py.
+# per directory). A robot run's table is converted by scripts/tools/deployment_to_run.py.
 # Environment: BUILD (default <repo>/build), OROCOS (default /opt/orocos),
 # DEPLOYER (default $OROCOS/bin/deployer-gnulinux; scripts/realtime/sanitize.sh sets its
 # wrapper), DEPLOY_OUT (default <repo>/out/deploy; the ctests use the build tree).
@@ -102,10 +102,10 @@ src=0
 "$build/bin/tactile_sim" summarize "$scene" "$out/report.dat" --out "$out" --controller "$controller" \
   --status "$status" --exit-code "$exit_code" "${extra[@]}" --no-plots || src=$?
 [ "$src" -le 8 ] || { echo "run_deployment: tactile_sim summarize failed ($src)" >&2; exit 1; }
-"$py" "$root/scripts/plot_run.py" "$out"
+"$py" "$root/scripts/tools/plot_run.py" "$out"
 # Another controller on the bent bar's scene: compared with the proposed one's run.
 if [ "$run" != bent_bar ] && [ "$scene" = "$root/sim/scenes/bent_bar.yaml" ] && [ -f "$root/out/deploy/bent_bar/summary.json" ]; then
-  "$py" "$root/scripts/plot_run.py" "$root/out/deploy/bent_bar" --compare "$out"
+  "$py" "$root/scripts/tools/plot_run.py" "$root/out/deploy/bent_bar" --compare "$out"
 fi
 echo "run_deployment: deployer exit $rc, run status $status; $out/{timeseries.csv,summary.json,*.png}"
 exit "$rc"

@@ -45,8 +45,8 @@ run co_manipulation co_manipulation
 run sphere_table sphere_table
 # The bent bar to its end cap (bent_bar_to_end_cap.yaml: bent_bar.yaml's program, ending at the bar's end).
 run bent_bar_fused bent_bar_fused
-/usr/bin/python3 "$root/scripts/plot_run.py" "$out/bent_bar" --compare "$out/bent_bar_baseline" "$out/bent_bar_no_rotation"
-/usr/bin/python3 "$root/scripts/experiment_report.py" "$out"
+/usr/bin/python3 "$root/scripts/tools/plot_run.py" "$out/bent_bar" --compare "$out/bent_bar_baseline" "$out/bent_bar_no_rotation"
+/usr/bin/python3 "$root/scripts/tools/experiment_report.py" "$out"
 /usr/bin/python3 "$root/scripts/compare_controllers.py" --sim "$sim" --out "$out/compare" || echo "  (compare_controllers.py failed)"
 /usr/bin/python3 "$root/scripts/compare_controllers.py" --sim "$sim" --out "$out/compare_paper" --paper || echo "  (compare_controllers.py --paper failed)"
 /usr/bin/python3 "$root/scripts/sweep_correction.py" --sim "$sim" --seeds 3 --out "$out/correction" > "$out/correction.log" 2>&1 || echo "  (sweep_correction.py failed: $out/correction.log)"
@@ -74,7 +74,7 @@ deploy co_manipulation
 deploy sphere_table
 deploy ring
 deploy gap_bars
-/usr/bin/python3 "$root/scripts/experiment_report.py" "$out/deploy"
+/usr/bin/python3 "$root/scripts/tools/experiment_report.py" "$out/deploy"
 
 # The first day on the real arm, rehearsed against the simulated lab (the KRC
 # over FRI and the WTS on a PTY: lab_sim): the bring-up tools in order, the dry

@@ -117,10 +117,10 @@ if [ ! -s "$dep/$report" ]; then
 fi
 mv "$dep/$report" "$out/report.dat"
 robot_status=$(sed -n 's/.*robot status at the end: \([a-z_]*\).*/\1/p' "$out/deployer.log" | tail -1)
-"$py" "$root/scripts/deployment_to_run.py" "$out/report.dat" "$out" --program "$program" --controller-mode "$controller_mode" \
+"$py" "$root/scripts/tools/deployment_to_run.py" "$out/report.dat" "$out" --program "$program" --controller-mode "$controller_mode" \
   --experiment "$name" --source robot --deployer-exit "$rc" --wall-time "$wall" \
   ${robot_status:+--robot-status "$robot_status"} || { echo "run_robot: the report could not be converted" >&2; exit 1; }
-"$py" "$root/scripts/plot_run.py" "$out" || { echo "run_robot: plotting failed" >&2; exit 1; }
+"$py" "$root/scripts/tools/plot_run.py" "$out" || { echo "run_robot: plotting failed" >&2; exit 1; }
 if [ "$rc" -eq 0 ]; then
   echo "run_robot: PASS: $exp ended FINISHED; $out/{timeseries.csv,summary.json,*.png}"
 else

@@ -22,7 +22,7 @@
 #   OROCOS_SOURCE_DIR   folder holding the archive and SHA256SUMS (optional)
 #   RTT_ROS_BUILD_DIR   scratch folder (default /tmp/tactile-rtt-ros-build)
 #   TACTILE_JOBS        parallel jobs (default: nproc)
-#   TACTILE_WITH_RVIZ=ON            also apt-install rviz, xvfb, x11-apps (scripts/ros_screenshot.sh)
+#   TACTILE_WITH_RVIZ=ON            also apt-install rviz, xvfb, x11-apps (scripts/tools/ros_screenshot.sh)
 set -euo pipefail
 
 main() {

@@ -36,7 +36,7 @@ import os
 import numpy as np
 import yaml
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts"))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "tools"))
 import plot_lab_truth  # noqa: E402
 
 out, lab_rc, dep_rc = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
@@ -108,7 +108,7 @@ seen = [p for p in order if p in want]
 check(seen[:4] == want, f"phases in order: {' -> '.join(order)}")
 summary = json.load(open(f"{out}/run/summary.json"))
 
-# --- align the time bases on the flange's z (scripts/plot_lab_truth.py) --------
+# --- align the time bases on the flange's z (scripts/tools/plot_lab_truth.py) --------
 truth = list(csv.DictReader(open(f"{out}/truth.csv")))
 tt = np.array([float(r["t"]) for r in truth])
 fit = plot_lab_truth.align_offset(truth, plot_lab_truth.read_report_z(f"{out}/run/report.dat"))

@@ -7,7 +7,7 @@
 # packet, to the experiment's end: scripts/run_robot.sh (the unattended
 # robot run: the entry script, then deployments/experiment_finish.ops, which
 # waits for the state machine to reach FINISHED, here at most 240 s, and
-# stops; the reporter's table converted by scripts/deployment_to_run.py).
+# stops; the reporter's table converted by scripts/tools/deployment_to_run.py).
 # The deployment is a staged copy of deployments/ (scripts/realtime/rt_common.sh:
 # absolute paths, the WTS reader on lab_sim's PTY) with the bridge's port
 # set to 49971; nothing else is changed. check_lab_sim_robot.py checks,

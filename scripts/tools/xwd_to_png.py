@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Converts an X window dump (xwd -root of a TrueColor screen, 24 or 32 bits per pixel) to PNG
-with Pillow: scripts/ros_screenshot.sh's capture without ImageMagick.
+with Pillow: scripts/tools/ros_screenshot.sh's capture without ImageMagick.
 
 usage: xwd_to_png.py IN.xwd OUT.png
 """

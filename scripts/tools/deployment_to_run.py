@@ -2,7 +2,7 @@
 """Convert an OCL::FileReporting time series of an experiment deployment
 (deployments/experiment_start.ops: the servo's `phase` and `pose_command`,
 the robot's `flange_pose`, the features) into the headless runner's run
-directory format, so that scripts/plot_run.py and scripts/experiment_report.py
+directory format, so that scripts/tools/plot_run.py and scripts/tools/experiment_report.py
 read it: timeseries.csv (the columns of sim/runner/src/output.cpp, same
 order) and summary.json.
 

@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # Build the FRI libFuzzer target with clang (ASan + UBSan) into build-fuzz-fri
-# and run it. Usage: scripts/fuzz_fri.sh [RUNS] [extra libFuzzer args...]
-#   RUNS defaults to 10000000 (the acceptance run); e.g. scripts/fuzz_fri.sh 100000
+# and run it. Usage: scripts/tools/fuzz_fri.sh [RUNS] [extra libFuzzer args...]
+#   RUNS defaults to 10000000 (the acceptance run); e.g. scripts/tools/fuzz_fri.sh 100000
 # Needs: clang (Debian package "clang"), which ships libFuzzer.
 # Exit status is non-zero on a finding (crash, sanitizer report, invariant trap).
 set -euo pipefail
-ROOT=$(cd "$(dirname "$0")/.." && pwd)
+ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 SRC=${TACTILE_SRC:-$ROOT}
 BUILD=${TACTILE_FUZZ_BUILD:-$ROOT/build-fuzz-fri}
 RUNS=${1:-10000000}

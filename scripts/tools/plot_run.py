@@ -282,7 +282,7 @@ def fig12(run, others):
         c = colors.get(s["controller"], "g")
         if np.any(np.isfinite(ts["force_true"])):
             ax.plot(ts["time"], ts["force_true"], c, label=f"{s['controller']}: true normal force")
-        else:  # a deployment's run (scripts/deployment_to_run.py): only what the taxels measure
+        else:  # a deployment's run (scripts/tools/deployment_to_run.py): only what the taxels measure
             ax.plot(ts["time"], ts["force"], c, label=f"{s['controller']}: measured normal force (taxels)")
     ax.plot(a_ts["time"], a_ts["sd_force"], "k--", lw=0.8, label="desired")
     ax.set_xlabel("time (s)")

@@ -2,7 +2,7 @@
 # Build the WTS libFuzzer targets with clang (ASan + UBSan) into build-fuzz-wts
 # and run each of them.
 #
-#   scripts/fuzz_wts.sh [RUNS] [MAX_SECONDS]      defaults: 10000000 runs, 1800 s guard
+#   scripts/tools/fuzz_wts.sh [RUNS] [MAX_SECONDS]      defaults: 10000000 runs, 1800 s guard
 #
 # Targets (components/wts_reader/fuzz/):
 #   fuzz_wts_parser  arbitrary bytes in arbitrary chunks -> Parser -> FrameDecoder
@@ -12,7 +12,7 @@
 set -euo pipefail
 RUNS=${1:-10000000}
 MAXT=${2:-1800}
-ROOT=$(cd "$(dirname "$0")/.." && pwd)
+ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 SRC=${TACTILE_SRC:-$ROOT}
 BUILD=${TACTILE_FUZZ_BUILD:-$ROOT/build-fuzz-wts}
 command -v clang++ >/dev/null || { echo "fuzz_wts.sh: clang++ not found (apt-get install clang)" >&2; exit 2; }

@@ -10,10 +10,10 @@
 #   ros_screenshot.sh [OUT] [AFTER_S]   (default ros/doc/rviz_edge_exploration.png, 12)
 # Needs rviz, xvfb and x11-apps (xwd) besides the ROS face (TACTILE_WITH_RVIZ=ON
 # bash scripts/setup/setup_rtt_ros.sh installs them) and robot_state_publisher
-# (ros-robot-state-publisher, installed with the ROS face); scripts/xwd_to_png.py
+# (ros-robot-state-publisher, installed with the ROS face); scripts/tools/xwd_to_png.py
 # turns the XWD dump into PNG.
 set -uo pipefail
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 out="${1:-$root/ros/doc/rviz_edge_exploration.png}"
 after="${2:-12}"
 build="${BUILD:-$root/build}"
@@ -59,6 +59,6 @@ sleep 8   # rviz up before the run starts
 setsid bash "$root/ros/tactile_ros/scripts/run_ros_deployment.sh" edge_exploration > "$tmp/deployer.log" 2>&1 & pids+=($!)
 sleep "$after"
 mkdir -p "$(dirname "$out")"
-xwd -root -silent > "$tmp/screen.xwd" && /usr/bin/python3 "$root/scripts/xwd_to_png.py" "$tmp/screen.xwd" "$out" \
+xwd -root -silent > "$tmp/screen.xwd" && /usr/bin/python3 "$root/scripts/tools/xwd_to_png.py" "$tmp/screen.xwd" "$out" \
   || { echo "ros_screenshot: capture failed (logs in $tmp)" >&2; exit 1; }
 echo "ros_screenshot: $out (logs in $tmp)"

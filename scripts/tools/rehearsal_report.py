@@ -76,7 +76,7 @@ def fri_step_limit(root):
 
 
 def check(args):
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     d = args.step_dir
     fails = []
 

@@ -20,7 +20,7 @@ def fmt(v, unit="", scale=1.0, nd=2):
 
 def truth(d, key):
     """d[key] (a ground-truth metric of the simulator); for a deployment's run
-    (scripts/deployment_to_run.py: no ground truth) its measured counterpart,
+    (scripts/tools/deployment_to_run.py: no ground truth) its measured counterpart,
     force_true_* -> force_measured_*, path_length_m -> sensor_path_length_m,
     slide_speed_mps -> sensor_slide_speed_mps."""
     if d.get(key) is not None:
