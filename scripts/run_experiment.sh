@@ -6,13 +6,13 @@
 #   (Sec. 5.2.1, Fig. 12), tray co-manipulation (Sec. 5.3, Fig. 14), and a
 #   sphere (point contact). Then the three controllers on every scene, with the
 #   shipped programs (the force estimate) and with the paper's (Eq. 2's force
-#   alone) (scripts/compare_controllers.py -> out/compare/compare.md and
+#   alone) (scripts/sweeps/compare_controllers.py -> out/compare/compare.md and
 #   out/compare_paper/compare.md, ~10 s each), the force estimate against the
 #   tactile force over edge radii, yaw and bend directions
-#   (scripts/sweep_force.py -> out/force/force.md, ~2 min), and the force
-#   estimate's bound against the image (scripts/sweep_correction.py ->
+#   (scripts/sweeps/sweep_force.py -> out/force/force.md, ~2 min), and the force
+#   estimate's bound against the image (scripts/sweeps/sweep_correction.py ->
 #   out/correction/correction.md, ~10 s), and the whole closed contours (ring,
-#   rounded square, S-curve, gap bars; scripts/run_contours.py ->
+#   rounded square, S-curve, gap bars; scripts/sweeps/run_contours.py ->
 #   out/contours/contours.md, and with every sensor effect on, seeds 1-3,
 #   out/contours_sensor_effects/contours.md; ~10 s).
 # Results and PNG plots go to out/<scene>/. Then every experiment again as
@@ -47,14 +47,14 @@ run sphere_table sphere_table
 run bent_bar_fused bent_bar_fused
 /usr/bin/python3 "$root/scripts/tools/plot_run.py" "$out/bent_bar" --compare "$out/bent_bar_baseline" "$out/bent_bar_no_rotation"
 /usr/bin/python3 "$root/scripts/tools/experiment_report.py" "$out"
-/usr/bin/python3 "$root/scripts/compare_controllers.py" --sim "$sim" --out "$out/compare" || echo "  (compare_controllers.py failed)"
-/usr/bin/python3 "$root/scripts/compare_controllers.py" --sim "$sim" --out "$out/compare_paper" --paper || echo "  (compare_controllers.py --paper failed)"
-/usr/bin/python3 "$root/scripts/sweep_correction.py" --sim "$sim" --seeds 3 --out "$out/correction" > "$out/correction.log" 2>&1 || echo "  (sweep_correction.py failed: $out/correction.log)"
-/usr/bin/python3 "$root/scripts/sweep_force.py" --seeds 3 --out "$out/force" > "$out/force.log" 2>&1 || echo "  (sweep_force.py failed: $out/force.log)"
-/usr/bin/python3 "$root/scripts/force_targets.py" --sim "$sim" --seeds 3 --out "$out/force_targets" > "$out/force_targets.log" 2>&1 \
+/usr/bin/python3 "$root/scripts/sweeps/compare_controllers.py" --sim "$sim" --out "$out/compare" || echo "  (compare_controllers.py failed)"
+/usr/bin/python3 "$root/scripts/sweeps/compare_controllers.py" --sim "$sim" --out "$out/compare_paper" --paper || echo "  (compare_controllers.py --paper failed)"
+/usr/bin/python3 "$root/scripts/sweeps/sweep_correction.py" --sim "$sim" --seeds 3 --out "$out/correction" > "$out/correction.log" 2>&1 || echo "  (sweep_correction.py failed: $out/correction.log)"
+/usr/bin/python3 "$root/scripts/sweeps/sweep_force.py" --seeds 3 --out "$out/force" > "$out/force.log" 2>&1 || echo "  (sweep_force.py failed: $out/force.log)"
+/usr/bin/python3 "$root/scripts/sweeps/force_targets.py" --sim "$sim" --seeds 3 --out "$out/force_targets" > "$out/force_targets.log" 2>&1 \
   || echo "  (force_targets.py: a scene misses the true-force targets or did not run: $out/force_targets.log)"
-/usr/bin/python3 "$root/scripts/run_contours.py" --sim "$sim" --out "$out/contours" > "$out/contours.log" 2>&1 || echo "  (run_contours.py failed: $out/contours.log)"
-/usr/bin/python3 "$root/scripts/run_contours.py" --sim "$sim" --out "$out/contours_sensor_effects" --seeds 3 --sensor-effects \
+/usr/bin/python3 "$root/scripts/sweeps/run_contours.py" --sim "$sim" --out "$out/contours" > "$out/contours.log" 2>&1 || echo "  (run_contours.py failed: $out/contours.log)"
+/usr/bin/python3 "$root/scripts/sweeps/run_contours.py" --sim "$sim" --out "$out/contours_sensor_effects" --seeds 3 --sensor-effects \
   > "$out/contours_sensor_effects.log" 2>&1 || echo "  (run_contours.py --sensor-effects failed: $out/contours_sensor_effects.log)"
 
 # The same experiments as deployed (the loop that runs on the robot, with the

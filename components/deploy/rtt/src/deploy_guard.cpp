@@ -290,7 +290,7 @@ class DeployGuard : public RTT::TaskContext {
       if (p.type == "double") {
         auto* d = RTT::internal::AssignableDataSource<double>::narrow(ds.get());
         if (!d) return paramError(where + p.name + ": not a double in " + sm_name_);
-        d->set(std::stod(p.value));
+        d->set(p.number);
       } else if (p.type == "string") {
         auto* d = RTT::internal::AssignableDataSource<std::string>::narrow(ds.get());
         if (!d) return paramError(where + p.name + ": not a string in " + sm_name_);
@@ -298,11 +298,11 @@ class DeployGuard : public RTT::TaskContext {
       } else if (p.type == "int") {
         auto* d = RTT::internal::AssignableDataSource<int>::narrow(ds.get());
         if (!d) return paramError(where + p.name + ": not an int in " + sm_name_);
-        d->set(std::stoi(p.value));
+        d->set(static_cast<int>(p.number));
       } else if (p.type == "bool") {
         auto* d = RTT::internal::AssignableDataSource<bool>::narrow(ds.get());
         if (!d) return paramError(where + p.name + ": not a bool in " + sm_name_);
-        d->set(p.value == "true");
+        d->set(p.number != 0.0);
       } else {
         return paramError(where + p.name + ": param type " + p.type + " not supported (double, int, bool, string)");
       }
@@ -314,7 +314,8 @@ class DeployGuard : public RTT::TaskContext {
 
  private:
   struct Param {
-    std::string type, name, value;
+    std::string type, name, value;  // value as written in the registry (strings, the log)
+    double number = 0.0;            // double, int and bool params, checked by select()
   };
 
   void log(const std::string& what) const {
@@ -408,11 +409,16 @@ class DeployGuard : public RTT::TaskContext {
           if (!d)
             return key + "state_machine.params." + p + ": not a param of " + type + " in " + osd +
                    " (params: " + joined(declared_names) + ")";
-          const std::string v = kv.second.as<std::string>();
-          if (d->type == "double") kv.second.as<double>();  // throws on a non-number
-          if (d->type == "int") kv.second.as<int>();
-          if (d->type == "bool") kv.second.as<bool>();
-          params.push_back({d->type, p, v});
+          Param param{d->type, p, kv.second.as<std::string>()};
+          try {
+            if (d->type == "double") param.number = kv.second.as<double>();
+            if (d->type == "int") param.number = kv.second.as<int>();
+            if (d->type == "bool") param.number = kv.second.as<bool>() ? 1.0 : 0.0;
+          } catch (const YAML::Exception&) {
+            return key + "state_machine.params." + p + ": '" + param.value + "' is not a " + d->type + " (param " +
+                   d->type + " " + p + " of " + type + ")";
+          }
+          params.push_back(param);
         }
       }
       // Checked: take it.

@@ -7,7 +7,7 @@ reconstructions over the truth).
 
 With --sensor-effects every sensor effect is on (device noise, gain spread,
 calibration error, crosstalk, creep, hysteresis, dead taxels, the WTS transfer
-delay: the levels of scripts/sweep_effects.py); --seeds N runs seeds 1..N
+delay: the levels of scripts/sweeps/sweep_effects.py); --seeds N runs seeds 1..N
 (the plots: seed 1). The closure is the true one (contour_check.py), the
 controller's own beside it.
 
@@ -22,11 +22,11 @@ import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
+ROOT = os.path.dirname(os.path.dirname(HERE))
 # scene, open contour, the RMS bound the check applies (m), gap crossings
 SCENES = [("ring", False, 0.001, 0), ("rounded_square", False, 0.001, 0), ("s_curve", True, 0.001, 0),
           ("gap_bars", True, 0.001, 1)]
-# Every sensor effect at its realistic level: scripts/sweep_effects.py's table.
+# Every sensor effect at its realistic level: scripts/sweeps/sweep_effects.py's table.
 sys.path.insert(0, HERE)
 import sweep_effects  # noqa: E402
 
@@ -51,7 +51,7 @@ def main():
             run = os.path.join(a.out, name if seed == 1 else "%s_seed%d" % (name, seed))
             subprocess.run([a.sim, "run", scene, "--out", run, "--no-plots", "--seed", str(seed)]
                            + (SENSOR_EFFECTS if a.sensor_effects else []), check=False, stdout=subprocess.DEVNULL)
-            cmd = [sys.executable, os.path.join(HERE, "tools", "contour_check.py"), run, scene, "--max-rms", str(rms),
+            cmd = [sys.executable, os.path.join(ROOT, "scripts", "tools", "contour_check.py"), run, scene, "--max-rms", str(rms),
                    "--gap-crossings", str(gaps)]
             if is_open:
                 cmd.append("--open")

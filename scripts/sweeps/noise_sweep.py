@@ -7,7 +7,7 @@ summaries and plots the in-band fraction against the noise (and, with
 --compare, a second set of runs laid out the same way, e.g. made by an older
 build) plus the true force over time at --trace-noise.
 
-  /usr/bin/python3 scripts/noise_sweep.py --bin build/bin/tactile_sim --out runs/noise \
+  /usr/bin/python3 scripts/sweeps/noise_sweep.py --bin build/bin/tactile_sim --out runs/noise \
       [--compare runs/noise_before --compare-label before] [--png runs/noise/noise_sweep.png]
 """
 import argparse
@@ -118,7 +118,7 @@ def main():
     ap.add_argument("--png", help="plot file (default OUT/noise_sweep.png)")
     ap.add_argument("--trace-noise", type=int, default=30)
     a = ap.parse_args()
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     if not a.no_run:
         run_all(a.bin, a.out, SCENES, NOISE, root)
     sets = [(a.label, a.out)] + ([(a.compare_label, a.compare)] if a.compare else [])

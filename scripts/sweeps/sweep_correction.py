@@ -14,7 +14,7 @@ bounded by force_estimate.max_correction_n. The bound trades two things:
     contact-point cloud) follow a thinner, broken image.
 For each bound (the paper's tactile-only program, then 1 to 4.5 N) and seed it
 runs each scene as shipped (effects, wrench error) and with every simulated
-effect on (scripts/sweep_effects.py's `all`), and reports the true force
+effect on (scripts/sweeps/sweep_effects.py's `all`), and reports the true force
 (mean, RMS error, fraction within the issue's 5 +- 0.5 N while sliding), the
 contact losses, the CoP's error against the true pressure centre while
 sliding (contacts.csv: the controller's reconstructed contact point against
@@ -39,7 +39,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "tools"))  # contour_check
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))  # contour_check
 import contour_check  # noqa: E402
 import numpy as np  # noqa: E402
 import simsweep  # noqa: E402

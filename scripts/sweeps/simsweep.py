@@ -11,7 +11,7 @@ import subprocess
 
 import yaml
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 SIM = os.path.join(ROOT, "build", "bin", "tactile_sim")
 SCENE_DIR = os.path.join(ROOT, "sim", "scenes")
 

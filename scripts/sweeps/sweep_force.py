@@ -11,7 +11,7 @@ seed:
   after   the scene and program as shipped (edge_exploration, bent_bar_fused:
           bent_bar's program to the bar's end cap): the tactile force
           corrected by the arm's estimated wrench (force_estimator.hpp) with
-          the correction bounded at 4.5 N (scripts/sweep_correction.py), the
+          the correction bounded at 4.5 N (scripts/sweeps/sweep_correction.py), the
           edge on a taxel row. The estimated wrench carries the scene's
           error (a constant offset, tared in free motion, and 0.5 N of noise
           per axis).

@@ -6,7 +6,7 @@ usage: sweep_rates.py [--sim build/bin/tactile_sim] [--out out/rates] [--jobs N]
 
 Runs every scene in sim/scenes/ at servo rates of 50, 100, 200, 500 and 1000 Hz
 (`tactile_sim run SCENE --servo-rate HZ --no-plots`) and compares each scene's
-key metrics (scripts/sweep_tradeoff.py SCENES; the others: force_true_mean_n)
+key metrics (scripts/sweeps/sweep_tradeoff.py SCENES; the others: force_true_mean_n)
 with the 100 Hz run (the paper's Table 2). The servo's gains, limits and
 delays are per second, so every metric should stay within 10 %. Each value
 is the mean over --seeds runs (seeds 1..N: the noise realisation; with pad
@@ -28,8 +28,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(ROOT, "scripts"))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "scripts", "sweeps"))
 import simsweep  # noqa: E402
 from sweep_tradeoff import SCENES  # noqa: E402
 
