@@ -38,7 +38,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "scripts", "sweeps"))
-import simsweep  # noqa: E402
+import tactile_sweeps as ts  # noqa: E402
 
 CONTROLLERS = ["proposed", "baseline", "no_rotation"]
 LABEL = {"proposed": "proposed (DZMP, Eq. 8)", "baseline": "baseline (Li et al. 2013)",
@@ -62,7 +62,7 @@ def fmt(v, digits=2):
     return str(v)
 
 
-BAND_N = simsweep.FORCE_BAND_N  # N: the true-force target's band, every scene
+BAND_N = ts.FORCE_BAND_N  # N: the true-force target's band, every scene
 
 
 def load_series(path):
@@ -87,7 +87,7 @@ def main():
     ap.add_argument("--paper", action="store_true", help="the paper's programs (*_paper.yaml) where there are")
     a = ap.parse_args()
 
-    shipped = simsweep.shipped_scenes()
+    shipped = ts.shipped_scenes()
     scenes = [s for s in a.scenes.split(",") if s] or (
         [s for s in ORDER if s in shipped] + [s for s in shipped if s not in ORDER])
     controllers = [c for c in a.controllers.split(",") if c]
@@ -99,7 +99,7 @@ def main():
         yaml = os.path.join(ROOT, "sim", "scenes", scene + ".yaml")
         series = {}
         extra = ["--set", f"metrics.force_band_n={BAND_N}"]
-        paper = simsweep.paper_program(scene) if a.paper else None
+        paper = ts.paper_program(scene) if a.paper else None
         if paper:
             extra += ["--set", "program=" + paper]
         for c in controllers:

@@ -25,16 +25,16 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import simsweep  # noqa: E402
+import tactile_sweeps as ts  # noqa: E402
 
-RMS_MAX_N = simsweep.FORCE_RMS_MAX_N
-BAND_MIN = simsweep.FORCE_IN_BAND_MIN
-BAND_N = simsweep.FORCE_BAND_N
+RMS_MAX_N = ts.FORCE_RMS_MAX_N
+BAND_MIN = ts.FORCE_IN_BAND_MIN
+BAND_N = ts.FORCE_BAND_N
 DURATION_S = {"bar_loop": 120.0}  # the soak scene: an hour as shipped
 
 
 def scenes():
-    return sorted(simsweep.shipped_scenes() + sorted(simsweep.NOT_EXPERIMENTS))
+    return sorted(ts.shipped_scenes() + sorted(ts.NOT_EXPERIMENTS))
 
 
 def one(job):
@@ -44,8 +44,8 @@ def one(job):
     if scene in DURATION_S:
         args += ["--duration", str(DURATION_S[scene])]
     if label == "paper":
-        args += ["--set", "program=" + simsweep.paper_program(scene)]
-    return scene, label, seed, simsweep.run(scene, d, args)
+        args += ["--set", "program=" + ts.paper_program(scene)]
+    return scene, label, seed, ts.run.run(scene, d, args)
 
 
 def isnum(v):
@@ -62,11 +62,11 @@ def span(vals, scale=1.0, digits=2):
 
 
 def main():
-    a = simsweep.parse_sweep_args(__doc__, "force_targets")
+    a = ts.parse_args(__doc__, "force_targets")
     seeds = max(1, a.seeds)
     names = scenes()
     jobs = [(s, "shipped", k, a.out) for s in names for k in range(1, seeds + 1)]
-    jobs += [(s, "paper", 1, a.out) for s in names if simsweep.paper_program(s)]
+    jobs += [(s, "paper", 1, a.out) for s in names if ts.paper_program(s)]
     res, failed = {}, False
     with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as ex:
         for k, (scene, label, seed, s) in enumerate(ex.map(one, jobs), 1):

@@ -42,10 +42,10 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))  # contour_check
 import contour_check  # noqa: E402
 import numpy as np  # noqa: E402
-import simsweep  # noqa: E402
+import tactile_sweeps as ts  # noqa: E402
 import sweep_effects  # noqa: E402
 
-PROGRAMS = os.path.join(simsweep.ROOT, "components", "servo", "programs")
+PROGRAMS = os.path.join(ts.ROOT, "components", "servo", "programs")
 SCENES = {"edge_exploration": "edge_exploration", "bent_bar": "bent_bar"}  # scene -> program name
 BOUNDS = [1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 4.5]
 SLIDE_PHASE = "explore"
@@ -90,7 +90,7 @@ def image_errors(run_dir, scene):
         rows = [r for r in csv.DictReader(f) if float(r["time"]) >= t_slide + 2.0]
     if not rows:
         return out
-    lines = [np.c_[v[:, :2], np.zeros(len(v))] for v in contour_check.ridges(simsweep.scene_path(scene))]
+    lines = [np.c_[v[:, :2], np.zeros(len(v))] for v in contour_check.ridges(ts.scene_path(scene))]
     P = np.array([[float(r[k]) for k in "xyz"] for r in rows])
     T = np.array([[float(r["true_" + k]) for k in "xyz"] for r in rows])
     flat = np.c_[P[:, :2], np.zeros(len(P))]
@@ -131,7 +131,7 @@ def one(job):
     args = ["--seed", str(seed), "--set", "program=" + program]
     if setting == "all":
         args = sweep_effects.effect_args(scene, sweep_effects.ALL) + args  # the wrench error among them
-    s = simsweep.run(scene, d, args + ["--set", f"metrics.force_band_n={simsweep.FORCE_BAND_N}"])
+    s = ts.run.run(scene, d, args + ["--set", f"metrics.force_band_n={ts.FORCE_BAND_N}"])
     e = image_errors(d, scene) if s.get("status") != "no_summary" else NO_IMAGE
     s["cop_error_mean_m"] = sum(e["cop"]) / len(e["cop"]) if e["cop"] else float("nan")
     s["cop_error_p95_m"] = p95(e["cop"])
@@ -149,7 +149,7 @@ def mean(vals):
 
 
 def main():
-    a = simsweep.parse_sweep_args(__doc__, "correction")
+    a = ts.parse_args(__doc__, "correction")
     jobs = []
     for scene, prog in SCENES.items():
         variants = [("tactile", os.path.join(PROGRAMS, prog + "_paper.yaml"))]

@@ -11,7 +11,7 @@ For each scene of sim/scenes/ it runs
   * `shipped`: the scene as shipped (the defaults chosen from this sweep),
 and reports per run: the cost (wall time per simulated second over that of
 `none`, the smallest of --reps runs, since the host is shared), each key
-metric (simsweep.KEY_METRICS) with its relative change against `none`, the
+metric (tactile_sweeps.scenes.KEY_METRICS) with its relative change against `none`, the
 scene's criteria (metrics.criteria: passed or what failed) and the status.
 Writes effects.csv, effects.md and effects.png into the output folder.
 """
@@ -26,7 +26,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import simsweep  # noqa: E402
+import tactile_sweeps as ts  # noqa: E402
 
 # Effect -> (tactile_sim arguments at the realistic level, where the level comes from).
 # Scene-specific arguments: "{tray}" is replaced by the tray's index (the row is
@@ -57,7 +57,7 @@ ALL = [e for e in EFFECTS if e != "arm_dynamic"]
 def effect_args(scene, names):
     """tactile_sim arguments for a list of effects on a scene; None when one
     does not apply (a tray effect on a scene without a tray)."""
-    tray = simsweep.tray_index(scene)
+    tray = ts.tray_index(scene)
     args = ["--set", "effects={}"]
     for n in names:
         a = EFFECTS[n][0]
@@ -76,7 +76,7 @@ def run_best(scene, out, args, reps, sim):
     metrics are deterministic for a seed; only the time varies)."""
     best = None
     for _ in range(reps):
-        d = simsweep.run(scene, out, args, sim=sim)
+        d = ts.run.run(scene, out, args, sim=sim)
         if best is None or d.get("wall_time_s", 1e9) < best.get("wall_time_s", 1e9):
             best = d
     return best
@@ -88,15 +88,15 @@ def wall_per_sim(d):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--sim", default=simsweep.SIM)
-    ap.add_argument("--out", default=os.path.join(simsweep.ROOT, "out", "effects"))
+    ap.add_argument("--sim", default=ts.run.SIM)
+    ap.add_argument("--out", default=os.path.join(ts.ROOT, "out", "effects"))
     ap.add_argument("--reps", type=int, default=3)
     ap.add_argument("--scenes", default="", help="comma-separated (default: every shipped scene)")
     ap.add_argument("--effects", default="", help="comma-separated (default: every effect)")
     ap.add_argument("--seed", type=int, default=None, help="the runs' seed (default: each scene's)")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
-    scenes = a.scenes.split(",") if a.scenes else simsweep.shipped_scenes()
+    scenes = a.scenes.split(",") if a.scenes else ts.shipped_scenes()
     effects = a.effects.split(",") if a.effects else list(EFFECTS)
     settings = [("none", [])] + [(e, [e]) for e in effects] + [("all", ALL), ("shipped", None)]
     rows = []
@@ -116,13 +116,13 @@ def main():
             d = run_best(scene, os.path.join(a.out, "runs", f"{scene}_{name}"), args, a.reps, a.sim)
             if name == "none":
                 ref = d
-            metrics = simsweep.key_metrics(scene)
+            metrics = ts.key_metrics(scene)
             rows.append({
                 "scene": scene, "setting": name, "status": d.get("status"), "returncode": d.get("returncode"),
                 "cost": wall_per_sim(d) / wall_per_sim(ref) if ref else float("nan"),
                 "rtf": d.get("real_time_factor", float("nan")),
                 "metrics": {m: d.get(m) for m in metrics},
-                "change": {m: simsweep.rel_err(d.get(m), ref.get(m)) for m in metrics} if ref else {},
+                "change": {m: ts.rel_err(d.get(m), ref.get(m)) for m in metrics} if ref else {},
                 "criteria": "passed" if d.get("criteria_passed") else "; ".join(d.get("criteria_failed", [])) or
                             d.get("error", "failed"),
                 "passed": bool(d.get("criteria_passed")) and d.get("returncode") == 0,
@@ -145,7 +145,7 @@ def main():
           "Cost = wall time per simulated second relative to `none` (smallest of "
           f"{a.reps} runs). Each metric: value (change vs `none`).", ""]
     for scene in scenes:
-        metrics = simsweep.key_metrics(scene)
+        metrics = ts.key_metrics(scene)
         md += [f"## {scene}", "", "| setting | cost | " + " | ".join(metrics) + " | criteria | status |",
                "| --- | --- | " + " | ".join("---" for _ in metrics) + " | --- | --- |"]
         for r in rows:

@@ -40,11 +40,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import simsweep  # noqa: E402
+import tactile_sweeps as ts  # noqa: E402
 
-BAND = simsweep.FORCE_BAND_N  # N: the target band around the 5 N set point
-TARGET_RMS = simsweep.FORCE_RMS_MAX_N
-TARGET_IN_BAND = simsweep.FORCE_IN_BAND_MIN
+BAND = ts.FORCE_BAND_N  # N: the target band around the 5 N set point
+TARGET_RMS = ts.FORCE_RMS_MAX_N
+TARGET_IN_BAND = ts.FORCE_IN_BAND_MIN
 
 
 def rotate_about(v, c, deg):
@@ -56,7 +56,7 @@ def rotate_about(v, c, deg):
 
 def straight_cases():
     """(label, overrides of objects[0]) for the edge exploration's bar."""
-    bar = simsweep.load_scene("edge_exploration")["objects"][0]
+    bar = ts.load_scene("edge_exploration")["objects"][0]
     bar["vertices"] = [[float(x) for x in v] for v in bar["vertices"]]
     out = []
     for r in (0.002, 0.003, 0.005, 0.008):
@@ -77,7 +77,7 @@ def straight_cases():
 
 
 def bent_cases():
-    bar = simsweep.load_scene("bent_bar")["objects"][0]
+    bar = ts.load_scene("bent_bar")["objects"][0]
     bar["vertices"] = [[float(x) for x in v] for v in bar["vertices"]]  # YAML 1.1 reads 9e-05 as a string
     z0 = bar["vertices"][0][2]
     out = []
@@ -100,13 +100,13 @@ def one(job):
     # Both start where the shipped scene starts (its approach is longer, to tare
     # the wrench in free motion; a bar of 8 mm radius would start inside the
     # housing at the bent bar's shipped start).
-    start = simsweep.load_scene(after_scene)["initial_flange"]
+    start = ts.load_scene(after_scene)["initial_flange"]
     paper = "program=../../components/servo/programs/" + PAPER_PROGRAM[after_scene]
     for tag, scene, extra in (("before", before_scene, ["--set", paper]), ("after", after_scene, [])):
         d = os.path.join(out, "runs", f"{label.replace(' ', '_').replace('=', '')}_{tag}_{seed}")
         args = ["--seed", str(seed), "--set", "objects=" + json.dumps([obj]),
                 "--set", f"metrics.force_band_n={BAND}", "--set", "initial_flange=" + json.dumps(start)] + extra
-        res[tag] = simsweep.run(scene, d, args)
+        res[tag] = ts.run.run(scene, d, args)
     return label, seed, res
 
 
@@ -115,7 +115,7 @@ PAPER_PROGRAM = {"edge_exploration": "edge_exploration_paper.yaml", "bent_bar_fu
 
 
 def main():
-    a = simsweep.parse_sweep_args(__doc__, "force")
+    a = ts.parse_args(__doc__, "force")
     cases = [(l, "edge_exploration", "edge_exploration", o) for l, o in straight_cases()]
     cases += [(l, "bent_bar_fused", "bent_bar_fused", o) for l, o in bent_cases()]
     jobs = [(l, b, f, o, s, a.out) for (l, b, f, o) in cases for s in range(1, a.seeds + 1)]

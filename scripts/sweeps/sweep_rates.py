@@ -30,7 +30,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "scripts", "sweeps"))
-import simsweep  # noqa: E402
+import tactile_sweeps as ts  # noqa: E402
 from sweep_tradeoff import SCENES  # noqa: E402
 
 RATES = [50, 100, 200, 500, 1000]
@@ -69,8 +69,8 @@ def main():
     ap.add_argument("--set", action="append", default=[], dest="sets")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
-    names = simsweep.shipped_scenes()
-    scenes = [simsweep.scene_path(n) for n in names]
+    names = ts.shipped_scenes()
+    scenes = [ts.scene_path(n) for n in names]
     seeds = list(range(1, a.seeds + 1))
     one = {}
     with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:

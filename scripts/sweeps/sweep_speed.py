@@ -39,9 +39,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import simsweep  # noqa: E402
+import tactile_sweeps as ts  # noqa: E402
 
-PROGRAMS = os.path.join(simsweep.ROOT, "components", "servo", "programs")
+PROGRAMS = os.path.join(ts.ROOT, "components", "servo", "programs")
 GAINS = [0.2, 0.4, 0.8, 1.2, 1.6, 2.0, 2.4, 3.0, 4.0]  # 1/s: 5 .. 100 mm/s commanded at a 25 mm CoP_x error
 LIMIT = 0.08  # m/s
 END_MM = 10.0  # "to the end of the bar": the last contact within 10 mm of its end vertex (the end cap's radius + 5 mm)
@@ -87,7 +87,7 @@ def variant(program, kp, out):
 def end_distance(run_dir):
     """Evaluation only (the simulator's truth, never the controller's): the
     distance from the last true contact point to the bar's end vertex (m)."""
-    bar_end = [float(v) for v in simsweep.load_scene("bent_bar_fused")["objects"][0]["vertices"][-1]]
+    bar_end = [float(v) for v in ts.load_scene("bent_bar_fused")["objects"][0]["vertices"][-1]]
     last = None
     try:
         with open(os.path.join(run_dir, "timeseries.csv")) as f:
@@ -106,7 +106,7 @@ def one(job):
     d = os.path.join(out, "runs", f"{label.replace(' ', '_').replace(',', '').replace('.', '')}_kp{kp:g}_{seed}")
     # Long enough to reach the end of the bar at the commanded speed (25 mm x kp).
     duration = 3.0 + 1.5 * 0.32 / (0.025 * kp)
-    s = simsweep.run("bent_bar_fused", d, ["--seed", str(seed), "--controller", controller,
+    s = ts.run.run("bent_bar_fused", d, ["--seed", str(seed), "--controller", controller,
                                            "--set", "program=" + program_path, "--set", f"duration={duration:.1f}"])
     s["end_distance_m"] = end_distance(d)
     return label, kp, seed, s
@@ -117,7 +117,7 @@ def num(v):
 
 
 def main():
-    a = simsweep.parse_sweep_args(__doc__, "speed")
+    a = ts.parse_args(__doc__, "speed")
     programs = {(prog, kp): variant(prog, kp, a.out) for _, prog, _ in SERIES for kp in GAINS}
     jobs = [(label, programs[(prog, kp)], ctl, kp, seed, a.out)
             for label, prog, ctl in SERIES for kp in GAINS for seed in range(1, a.seeds + 1)]

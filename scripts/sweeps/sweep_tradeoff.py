@@ -21,14 +21,14 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import simsweep  # noqa: E402
+import tactile_sweeps as ts  # noqa: E402
 
-ROOT = simsweep.ROOT
+ROOT = ts.ROOT
 # Scene -> key metrics (summary.json keys) compared with the finest setting:
 # the experiments', and the whole closed contours' (README "Whole closed
 # contours": the true force on the contour and the path slid round it).
 CONTOUR_METRICS = ["force_true_mean_n", "path_length_m"]
-SCENES = dict(simsweep.KEY_METRICS, **{c: CONTOUR_METRICS for c in ("ring", "rounded_square", "s_curve", "gap_bars")})
+SCENES = dict(ts.scenes.KEY_METRICS, **{c: CONTOUR_METRICS for c in ("ring", "rounded_square", "s_curve", "gap_bars")})
 
 FINEST = {"fidelity": "dynamics", "sim": 2000, "subsamples": 8, "servo": 100}
 GRID = [
@@ -56,10 +56,10 @@ def run(sim, scene, s, out):
             "--servo-rate", str(s["servo"])]
     if s["sim"] < 200:
         args += ["--wts-rate", str(s["sim"]), "--features-rate", str(s["sim"])]
-    return simsweep.run(scene, d, args, sim=sim)
+    return ts.run.run(scene, d, args, sim=sim)
 
 
-rel_err = simsweep.rel_err
+rel_err = ts.rel_err
 
 
 def main():
