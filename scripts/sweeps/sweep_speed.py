@@ -26,7 +26,6 @@ contact loss, to the end of the bar (status ok, ended by `done`).
 Writes speed.csv, speed.md and speed.png into --out.
 """
 import concurrent.futures
-import copy
 import csv
 import math
 import os
@@ -40,6 +39,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import tactile_sweeps as ts  # noqa: E402
+from tactile_sweeps.plot import plt, save  # noqa: E402
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
+import program_yaml  # noqa: E402
 
 PROGRAMS = os.path.join(ts.ROOT, "components", "servo", "programs")
 GAINS = [0.2, 0.4, 0.8, 1.2, 1.6, 2.0, 2.4, 3.0, 4.0]  # 1/s: 5 .. 100 mm/s commanded at a 25 mm CoP_x error
@@ -52,19 +55,8 @@ SERIES = [("proposed, force estimate", "bent_bar_to_end_cap", "proposed"),
 END_CAP = {"on": "point", "to": "done", "for_s": 0.2}
 
 
-class Loader(yaml.SafeLoader):
-    """YAML 1.2 booleans only: the programs' key `on` must stay a string (YAML 1.1 reads it as true)."""
-
-
-Loader.yaml_implicit_resolvers = {k: [r for r in v if r[0] != "tag:yaml.org,2002:bool"]
-                                  for k, v in yaml.SafeLoader.yaml_implicit_resolvers.items()}
-Loader.add_implicit_resolver("tag:yaml.org,2002:bool", __import__("re").compile(r"^(?:true|false)$"), list("tf"))
-
-
 def variant(program, kp, out):
-    with open(os.path.join(PROGRAMS, program + ".yaml")) as f:
-        p = yaml.load(f, Loader=Loader)
-    p = copy.deepcopy(p)
+    p = program_yaml.load(os.path.join(PROGRAMS, program + ".yaml"))  # its `base:` merged: a whole program
     p["safety"]["max_trans_speed"] = LIMIT
     umax = p["phase_defaults"].setdefault("u_max_per_s", {})
     umax["x"] = max(float(umax.get("x", 0.0)), LIMIT)
@@ -123,8 +115,8 @@ def main():
             for label, prog, ctl in SERIES for kp in GAINS for seed in range(1, a.seeds + 1)]
     rows = []
     failed = False
-    with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as ex:
-        for k, (label, kp, seed, s) in enumerate(ex.map(one, jobs), 1):
+    for k, n, (label, kp, seed, s) in ts.pmap(one, jobs, a.jobs):
+        if True:
             if s.get("status") == "no_summary":
                 failed = True
                 print(f"{label} kp {kp}: no summary: {s.get('error', '')[-300:]}", file=sys.stderr)
@@ -136,13 +128,10 @@ def main():
                          "mean_n": num(s.get("force_true_mean_n")), "losses": s.get("contact_lost_count", -1),
                          "path_m": num(s.get("path_length_m")), "end_mm": 1000.0 * num(s.get("end_distance_m"))})
             r = rows[-1]
-            print(f"[{k}/{len(jobs)}] {label} kp {kp:g} seed {seed}: {r['status']}, {r['speed_mm_s']:.1f} mm/s, "
+            print(f"[{k}/{n}] {label} kp {kp:g} seed {seed}: {r['status']}, {r['speed_mm_s']:.1f} mm/s, "
                   f"RMS {r['rms_n']:.2f} N, losses {r['losses']}", flush=True)
     rows.sort(key=lambda r: ([s[0] for s in SERIES].index(r["controller"]), r["kp_x"], r["seed"]))
-    with open(os.path.join(a.out, "speed.csv"), "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
-        w.writeheader()
-        w.writerows(rows)
+    ts.write_csv(os.path.join(a.out, "speed.csv"), rows)
 
     def meets(r):
         return (r["status"] == "ok" and r["ended_done"] and r["end_mm"] <= END_MM and r["speed_mm_s"] >= 40.0
@@ -184,8 +173,7 @@ def main():
     ax[1].set_title("contact losses against speed")
     ax[1].grid(alpha=0.3)
     fig.suptitle("Bent bar: sliding speed against the true force (target: >= 40 mm/s, RMS <= 1 N, no loss)")
-    fig.tight_layout()
-    fig.savefig(os.path.join(a.out, "speed.png"), dpi=110)
+    save(fig, os.path.join(a.out, "speed.png"), dpi=110)
     print(open(os.path.join(a.out, "speed.md")).read())
     return 1 if failed else 0
 

@@ -47,6 +47,9 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import yaml
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import program_yaml  # noqa: E402
+
 COLUMNS = ("time,phase,phase_name,servo_status,contact,feature_status,cmd_x,cmd_y,cmd_z,cmd_roll,cmd_pitch,cmd_yaw,"
            "act_x,act_y,act_z,act_roll,act_pitch,act_yaw,cop_x,cop_y,coc_x,coc_y,dzmp_x,dzmp_y,alpha_z,force,d_z,"
            "lambda1,lambda2,area,sd_cop_x,sd_cop_y,sd_d_z,sd_dzmp_x,sd_dzmp_y,sd_alpha_z,sd_force,force_true,"
@@ -102,9 +105,9 @@ def quat_rot(qx, qy, qz, qw):
 
 def load_program(path, mode_override):
     try:
-        prog = yaml.safe_load(open(path))
-    except (OSError, yaml.YAMLError) as e:
-        fail(f"{path}: {e}")
+        prog = program_yaml.load(path)  # its `base:` merged, as the servo reads it
+    except program_yaml.ProgramError as e:
+        fail(str(e))
     ctl = prog.get("controller", {}) or {}
     c_z = float(ctl.get("c_z", 0.000555556))
     mount = ctl.get("sensor_mount", {}) or {}
