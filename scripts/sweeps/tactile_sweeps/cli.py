@@ -7,12 +7,13 @@ from . import run, scenes
 
 def parser(doc, out_name, jobs=None, seeds=1):
     """--out (default out/<out_name>), --jobs (default: the cores), --seeds
-    (runs seeds 1..N), --sim (the tactile_sim binary); add the sweep's own
-    arguments, then call finish()."""
+    (runs seeds 1..N; seeds=None: a sweep without seeds), --sim (the
+    tactile_sim binary); add the sweep's own arguments, then call finish()."""
     ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--out", default=os.path.join(scenes.ROOT, "out", out_name))
     ap.add_argument("--jobs", type=int, default=jobs or os.cpu_count() or 1)
-    ap.add_argument("--seeds", type=int, default=seeds)
+    if seeds is not None:
+        ap.add_argument("--seeds", type=int, default=seeds)
     ap.add_argument("--sim", default=run.SIM)
     return ap
 
@@ -20,7 +21,7 @@ def parser(doc, out_name, jobs=None, seeds=1):
 def finish(a):
     """Sets the binary for run.run(), makes --out absolute (tactile_sim reads
     relative paths against the scene) and creates it."""
-    run.SIM = a.sim
+    run.SIM = a.sim = a.sim or run.SIM
     a.out = os.path.abspath(a.out)
     os.makedirs(a.out, exist_ok=True)
     return a

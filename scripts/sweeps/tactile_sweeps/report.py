@@ -8,13 +8,16 @@ def isnum(v):
     return isinstance(v, (int, float)) and not isinstance(v, bool)
 
 
-def fmt(v, digits=2, scale=1.0, missing="-"):
+def fmt(v, digits=2, scale=1.0, missing="-", spec=None):
     """A table cell: a float scaled and with `digits` decimals; an int as it
-    is (scale 1); `missing` for None and NaN; anything else as str()."""
+    is (scale 1); `missing` for None and NaN; anything else as str(). spec: a
+    format spec (e.g. ".4g") for every number instead of `digits`."""
     if v is None or (isinstance(v, float) and math.isnan(v)):
         return missing
     if isinstance(v, bool) or not isnum(v):
         return str(v)
+    if spec:
+        return f"{v * scale:{spec}}"
     if isinstance(v, int) and scale == 1.0:
         return str(v)
     return f"{v * scale:.{digits}f}"
