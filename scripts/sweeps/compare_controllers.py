@@ -24,21 +24,17 @@ or wrote no summary.
 """
 import argparse
 import csv
-import json
 import math
 import os
-import subprocess
 import sys
 import time
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-sys.path.insert(0, os.path.join(ROOT, "scripts", "sweeps"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import tactile_sweeps as ts  # noqa: E402
+from tactile_sweeps.plot import plt, save  # noqa: E402
+from tactile_sweeps.report import fmt  # noqa: E402
+
+ROOT = ts.ROOT
 
 CONTROLLERS = ["proposed", "baseline", "no_rotation"]
 LABEL = {"proposed": "proposed (DZMP, Eq. 8)", "baseline": "baseline (Li et al. 2013)",
@@ -52,14 +48,6 @@ ORDER = ["edge_exploration", "bent_bar", "co_manipulation", "sphere_table",
 EXTRA = {"edge_exploration": ("alignment_time_s", "alignment s"),
          "bent_bar": ("slide_speed_mps", "slide m/s"),
          "co_manipulation": ("dzmp_recovery_time_s", "DZMP recovery s")}
-
-
-def fmt(v, digits=2):
-    if v is None or (isinstance(v, float) and math.isnan(v)):
-        return "-"
-    if isinstance(v, float):
-        return f"{v:.{digits}f}"
-    return str(v)
 
 
 BAND_N = ts.FORCE_BAND_N  # N: the true-force target's band, every scene
@@ -96,7 +84,6 @@ def main():
     rows, failed = [], 0
     t0 = time.time()
     for scene in scenes:
-        yaml = os.path.join(ROOT, "sim", "scenes", scene + ".yaml")
         series = {}
         extra = ["--set", f"metrics.force_band_n={BAND_N}"]
         paper = ts.paper_program(scene) if a.paper else None
@@ -104,18 +91,14 @@ def main():
             extra += ["--set", "program=" + paper]
         for c in controllers:
             d = os.path.join(a.out, scene, c)
-            rc = subprocess.run([a.sim, "run", yaml, "--controller", c, "--out", d, "--no-plots", *extra],
-                                stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-            summary = os.path.join(d, "summary.json")
-            if rc.returncode == 2 or not os.path.exists(summary):
-                print(f"compare_controllers: {scene} {c}: exit {rc.returncode}: {rc.stderr.strip()}", file=sys.stderr)
+            s = ts.run.run(scene, d, ["--controller", c, *extra], sim=a.sim)
+            if s["status"] == "no_summary":
+                print(f"compare_controllers: {scene} {c}: exit {s['returncode']}: {s['error']}", file=sys.stderr)
                 failed += 1
                 continue
-            with open(summary) as fh:
-                s = json.load(fh)
             key, _ = EXTRA.get(scene, (None, None))
             rows.append({
-                "scene": scene, "controller": c, "status": s["status"], "exit_code": rc.returncode,
+                "scene": scene, "controller": c, "status": s["status"], "exit_code": s["returncode"],
                 "sim_time_s": s["sim_time_s"],
                 "force_true_mean_n": s["force_true_mean_n"], "force_true_max_n": s["force_true_max_n"],
                 "force_true_rms_error_n": s["force_true_rms_error_n"],
@@ -144,21 +127,15 @@ def main():
             ax2.set_ylabel("flange pitch (deg)")
             ax2.set_xlabel("time (s)")
             ax2.grid(alpha=0.3)
-            fig.tight_layout()
-            fig.savefig(os.path.join(a.out, f"compare_{scene}.png"), dpi=90)
-            plt.close(fig)
+            save(fig, os.path.join(a.out, f"compare_{scene}.png"), dpi=90)
 
     fields = ["scene", "controller", "status", "exit_code", "sim_time_s", "force_true_mean_n", "force_true_max_n",
               "force_true_rms_error_n", "force_true_in_band_s", "force_scored_s", "force_true_in_band_fraction",
               "contact_lost_count", "extra_key", "extra_value"]
-    with open(os.path.join(a.out, "compare.csv"), "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=fields)
-        w.writeheader()
-        for r in rows:
-            w.writerow(r)
+    ts.write_csv(os.path.join(a.out, "compare.csv"), rows, fields)
     with open(os.path.join(a.out, "compare.md"), "w") as fh:
         fh.write("| scene | controller | status | true force mean / max (N) | RMS error (N) | "
-                 "within +-0.5 N (s of scored s) | contact losses | scene metric |\n")
+                 f"within +-{BAND_N:g} N (s of scored s) | contact losses | scene metric |\n")
         fh.write("| --- | --- | --- | --- | --- | --- | --- | --- |\n")
         for r in rows:
             band = (f"{fmt(r['force_true_in_band_s'], 1)} of {fmt(r['force_scored_s'], 1)} "
