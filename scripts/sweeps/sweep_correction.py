@@ -26,26 +26,23 @@ edge (RMS) and how many the slide gives per mm, and whether the scene's
 criteria pass. Writes correction.csv, correction.md and correction.png into
 --out; exits 1 when a run writes no summary.
 """
-import concurrent.futures
 import csv
 import math
 import os
 import re
 import sys
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))  # contour_check
-import contour_check  # noqa: E402
-import numpy as np  # noqa: E402
-import tactile_sweeps as ts  # noqa: E402
 import sweep_effects  # noqa: E402
+import tactile_sweeps as ts  # noqa: E402
+from tactile_sweeps.plot import plt, save  # noqa: E402
 
-PROGRAMS = os.path.join(ts.ROOT, "components", "servo", "programs")
+sys.path.insert(0, ts.TOOLS)
+import contour_check  # noqa: E402
+
+PROGRAMS = ts.PROGRAMS
 SCENES = {"edge_exploration": "edge_exploration", "bent_bar": "bent_bar"}  # scene -> program name
 BOUNDS = [1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 4.5]
 SLIDE_PHASE = "explore"
@@ -143,11 +140,6 @@ def one(job):
     return scene, label, setting, seed, s
 
 
-def mean(vals):
-    vals = [v for v in vals if isinstance(v, (int, float)) and v == v]
-    return sum(vals) / len(vals) if vals else float("nan")
-
-
 def main():
     a = ts.parse_args(__doc__, "correction")
     jobs = []
@@ -159,14 +151,13 @@ def main():
                 for seed in range(1, a.seeds + 1):
                     jobs.append((scene, label, path, setting, seed, a.out))
     res, failed = {}, False
-    with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as ex:
-        for k, (scene, label, setting, seed, s) in enumerate(ex.map(one, jobs), 1):
-            res[(scene, label, setting, seed)] = s
-            if s.get("status") == "no_summary":
-                failed = True
-                print(f"{scene} {label} {setting} seed {seed}: no summary: {s.get('error', '')[-300:]}", file=sys.stderr)
-            print(f"[{k}/{len(jobs)}] {scene} {label} {setting} seed {seed}: RMS {s.get('force_true_rms_error_n')} N, "
-                  f"CoP error {s.get('cop_error_mean_m')} m", flush=True)
+    for k, n, (scene, label, setting, seed, s) in ts.pmap(one, jobs, a.jobs):
+        res[(scene, label, setting, seed)] = s
+        if s.get("status") == "no_summary":
+            failed = True
+            print(f"{scene} {label} {setting} seed {seed}: no summary: {s.get('error', '')[-300:]}", file=sys.stderr)
+        print(f"[{k}/{n}] {scene} {label} {setting} seed {seed}: RMS {s.get('force_true_rms_error_n')} N, "
+              f"CoP error {s.get('cop_error_mean_m')} m", flush=True)
 
     labels = ["tactile"] + [f"{b:g}N" for b in BOUNDS]
     rows = []
@@ -178,17 +169,14 @@ def main():
                 for key in ("force_true_mean_n", "force_true_rms_error_n", "force_true_in_band_fraction",
                             "contact_lost_count", "cop_error_mean_m", "cop_error_p95_m", "cop_along_mean_m",
                             "cop_along_p95_m", "cop_across_rms_m", "edge_across_rms_m", "edge_points_per_mm"):
-                    r[f"{setting}_{key}"] = mean([x.get(key) for x in runs])
+                    r[f"{setting}_{key}"] = ts.mean([x.get(key) for x in runs])
                 r[f"{setting}_passed"] = sum(1 for x in runs if x.get("criteria_passed") and x.get("returncode") == 0)
             rows.append(r)
     os.makedirs(a.out, exist_ok=True)
-    with open(os.path.join(a.out, "correction.csv"), "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    ts.write_csv(os.path.join(a.out, "correction.csv"), rows)
 
-    def f2(v, scale=1.0, digits=2):
-        return "-" if not (isinstance(v, (int, float)) and v == v) else f"{v * scale:.{digits}f}"
+    def f2(v, scale=1.0, digits=2):  # the table's cells: means over seeds (floats)
+        return ts.fmt(v, digits, scale)
 
     with open(os.path.join(a.out, "correction.md"), "w") as f:
         f.write(f"Means over seeds 1-{a.seeds}. `tactile`: the paper's program (Eq. 2 alone, CoP_y 0); "
@@ -197,7 +185,7 @@ def main():
                 "and its part along the edge; across: RMS distance to the true ridge (horizontal plane) of the "
                 "CoP and of the contact line's points (what an exploration reconstructs); line points per mm slid. "
                 f"Criteria: seeds passed of {a.seeds}, as shipped / with every effect on.\n\n")
-        f.write("| scene | bound | true force mean (N) | RMS error (N) | within 5 +- 0.5 N | CoP error mean / p95 (mm) | "
+        f.write(f"| scene | bound | true force mean (N) | RMS error (N) | within 5 +- {ts.FORCE_BAND_N:g} N | CoP error mean / p95 (mm) | "
                 "along the edge mean / p95 (mm) | across: CoP / line RMS (mm) | line points per mm | "
                 "contact losses | RMS error, all effects (N) | criteria shipped / all |\n")
         f.write("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n")
@@ -225,14 +213,13 @@ def main():
                 ax[i][j].plot([p[0] for p in pts], [p[1] for p in pts], marker=marker, label=f"{setting} effects")
                 for x, y, lab in pts:
                     ax[i][j].annotate(lab, (x, y), fontsize=7, xytext=(3, 3), textcoords="offset points")
-            ax[i][j].axhline(0.4, color="grey", ls="--", lw=0.8, label="target RMS 0.4 N")
+            ax[i][j].axhline(ts.FORCE_RMS_MAX_N, color="grey", ls="--", lw=0.8, label=f"target RMS {ts.FORCE_RMS_MAX_N:g} N")
             ax[i][j].set_xlabel(xlabel)
             ax[i][j].set_ylabel("true force RMS error while sliding (N)")
             ax[i][j].set_title(f"{scene}: the correction bound")
             ax[i][j].grid(alpha=0.3)
             ax[i][j].legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(os.path.join(a.out, "correction.png"), dpi=90)
+    save(fig, os.path.join(a.out, "correction.png"), dpi=90)
     print(f"written: {a.out}/correction.csv, correction.md, correction.png")
     return 1 if failed else 0
 
