@@ -26,21 +26,15 @@ fraction of the time within 5 +- 0.5 N (targets: <= 0.4 N, >= 95 %).
 Writes force.csv, force.md (table) and force.png (before/after) into --out;
 exits 1 when a run writes no summary.
 """
-import concurrent.futures
 import copy
-import csv
 import json
 import math
 import os
 import sys
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import tactile_sweeps as ts  # noqa: E402
+from tactile_sweeps.plot import plt, save  # noqa: E402
 
 BAND = ts.FORCE_BAND_N  # N: the target band around the 5 N set point
 TARGET_RMS = ts.FORCE_RMS_MAX_N
@@ -121,20 +115,16 @@ def main():
     jobs = [(l, b, f, o, s, a.out) for (l, b, f, o) in cases for s in range(1, a.seeds + 1)]
     results = {}
     failed = False
-    with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as ex:
-        for k, (label, seed, res) in enumerate(ex.map(one, jobs), 1):
-            results[(label, seed)] = res
-            for tag in ("before", "after"):
-                if res[tag].get("status") == "no_summary":
-                    failed = True
-                    print(f"{label} seed {seed} {tag}: no summary: {res[tag].get('error', '')[-300:]}", file=sys.stderr)
-            print(f"[{k}/{len(jobs)}] {label} seed {seed}: RMS {fmt(res['before'], 'force_true_rms_error_n')} -> "
-                  f"{fmt(res['after'], 'force_true_rms_error_n')} N", flush=True)
+    for k, n, (label, seed, res) in ts.pmap(one, jobs, a.jobs):
+        results[(label, seed)] = res
+        for tag in ("before", "after"):
+            if res[tag].get("status") == "no_summary":
+                failed = True
+                print(f"{label} seed {seed} {tag}: no summary: {res[tag].get('error', '')[-300:]}", file=sys.stderr)
+        print(f"[{k}/{n}] {label} seed {seed}: RMS {rms(res['before'])} -> {rms(res['after'])} N", flush=True)
 
     def mean(label, tag, key):
-        vals = [results[(label, s)][tag].get(key) for s in range(1, a.seeds + 1)]
-        vals = [v for v in vals if isinstance(v, (int, float)) and v == v]
-        return sum(vals) / len(vals) if vals else float("nan")
+        return ts.mean([results[(label, s)][tag].get(key) for s in range(1, a.seeds + 1)])
 
     rows = []
     for (label, _, _, _) in cases:
@@ -148,15 +138,12 @@ def main():
         r["after_meets"] = r["after_force_true_rms_error_n"] <= TARGET_RMS and \
             r["after_force_true_in_band_fraction"] >= TARGET_IN_BAND
         rows.append(r)
-    with open(os.path.join(a.out, "force.csv"), "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
-        w.writeheader()
-        w.writerows(rows)
+    ts.write_csv(os.path.join(a.out, "force.csv"), rows)
     with open(os.path.join(a.out, "force.md"), "w") as f:
         f.write(f"True force while sliding, set point 5 N; mean over seeds 1..{a.seeds}. "
                 f"before: tactile force (the paper, *_paper.yaml); after: as shipped, the force estimate bounded at 4.5 N.\n\n")
         f.write("| case | true mean (N) before / after | RMS error (N) before / after | "
-                "within +-0.5 N before / after | contact losses after | path (m) after | target met |\n")
+                f"within +-{BAND:g} N before / after | contact losses after | path (m) after | target met |\n")
         f.write("|---|---|---|---|---|---|---|\n")
         for r in rows:
             if r["before_status"] != "ok":  # e.g. stopped by a watchdog: its force is not scored
@@ -173,7 +160,7 @@ def main():
     y = list(range(len(rows)))
     labels = [r["case"] for r in rows]
     for i, (key, title, target) in enumerate((("force_true_rms_error_n", "true-force RMS error (N)", TARGET_RMS),
-                                              ("force_true_in_band_fraction", "fraction within 5 +- 0.5 N",
+                                              ("force_true_in_band_fraction", f"fraction within 5 +- {BAND:g} N",
                                                TARGET_IN_BAND))):
         ax[i].barh([v + 0.2 for v in y], [r[f"before_{key}"] for r in rows], 0.4, label="before: tactile force")
         ax[i].barh([v - 0.2 for v in y], [r[f"after_{key}"] for r in rows], 0.4, label="after: force estimate")
@@ -185,15 +172,15 @@ def main():
         ax[i].grid(axis="x", alpha=0.3)
     ax[0].legend(loc="lower right", fontsize=8)
     fig.suptitle(f"True force on target: straight bar (edge exploration) and bent bar, seeds 1..{a.seeds}")
-    fig.tight_layout()
-    fig.savefig(os.path.join(a.out, "force.png"), dpi=110)
+    save(fig, os.path.join(a.out, "force.png"), dpi=110)
     print(open(os.path.join(a.out, "force.md")).read())
     return 1 if failed else 0
 
 
-def fmt(s, key):
-    v = s.get(key)
-    return f"{v:.2f}" if isinstance(v, (int, float)) and v == v else "nan"
+def rms(s):
+    """The run's true-force RMS error for the progress line."""
+    v = s.get("force_true_rms_error_n")
+    return ts.fmt(float(v) if ts.report.isnum(v) else None, 2, missing="nan")
 
 
 if __name__ == "__main__":
