@@ -14,18 +14,12 @@ scored time within +-0.5 N of the set point, on every seed. Writes
 force_targets.csv, force_targets.md and force_targets.png into --out; exits 1
 when a run writes no summary or a scene misses a target.
 """
-import concurrent.futures
-import csv
 import os
 import sys
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import tactile_sweeps as ts  # noqa: E402
+from tactile_sweeps.plot import plt, save  # noqa: E402
 
 RMS_MAX_N = ts.FORCE_RMS_MAX_N
 BAND_MIN = ts.FORCE_IN_BAND_MIN
@@ -68,14 +62,13 @@ def main():
     jobs = [(s, "shipped", k, a.out) for s in names for k in range(1, seeds + 1)]
     jobs += [(s, "paper", 1, a.out) for s in names if ts.paper_program(s)]
     res, failed = {}, False
-    with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as ex:
-        for k, (scene, label, seed, s) in enumerate(ex.map(one, jobs), 1):
-            res[(scene, label, seed)] = s
-            if s.get("status") == "no_summary":
-                failed = True
-                print(f"{scene} {label} seed {seed}: no summary: {s.get('error', '')[-300:]}", file=sys.stderr)
-            print(f"[{k}/{len(jobs)}] {scene} {label} seed {seed}: {s.get('status')}, RMS "
-                  f"{s.get('force_true_rms_error_n')} N, in band {s.get('force_true_in_band_fraction')}", flush=True)
+    for k, n, (scene, label, seed, s) in ts.pmap(one, jobs, a.jobs):
+        res[(scene, label, seed)] = s
+        if s.get("status") == "no_summary":
+            failed = True
+            print(f"{scene} {label} seed {seed}: no summary: {s.get('error', '')[-300:]}", file=sys.stderr)
+        print(f"[{k}/{n}] {scene} {label} seed {seed}: {s.get('status')}, RMS "
+              f"{s.get('force_true_rms_error_n')} N, in band {s.get('force_true_in_band_fraction')}", flush=True)
 
     rows = []
     for scene in names:
@@ -101,16 +94,13 @@ def main():
             "_paper": (p.get("force_true_rms_error_n"), p.get("force_true_in_band_fraction")) if p else None,
         })
     keys = [k for k in rows[0] if not k.startswith("_")]
-    with open(os.path.join(a.out, "force_targets.csv"), "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=keys, extrasaction="ignore")
-        w.writeheader()
-        w.writerows(rows)
+    ts.write_csv(os.path.join(a.out, "force_targets.csv"), rows, keys)
     with open(os.path.join(a.out, "force_targets.md"), "w") as f:
         f.write(f"The true force over each shipped scene's scored time, seeds 1-{seeds} (range over seeds; "
                 f"the bar loop's first {DURATION_S['bar_loop']:.0f} s). Targets: RMS error <= {RMS_MAX_N} N and "
                 f">= {100 * BAND_MIN:.0f} % within +-{BAND_N} N of the set point, on every seed. "
                 "The paper's program (`*_paper.yaml`, Eq. 2's force alone), where the scene's program has one: seed 1.\n\n")
-        f.write("| scene | true mean (N) | RMS error (N) | within +-0.5 N (%) | contact losses | met | "
+        f.write(f"| scene | true mean (N) | RMS error (N) | within +-{BAND_N:g} N (%) | contact losses | met | "
                 "the paper's program: RMS (N) / within (%) |\n|---|---|---|---|---|---|---|\n")
         for r in rows:
             paper = f"{r['paper_rms_error_n']} / {r['paper_in_band_pct']}" if r["paper_rms_error_n"] else ""
@@ -127,13 +117,12 @@ def main():
     ax.axvline(RMS_MAX_N, color="grey", ls="--", lw=0.8)
     ax.axhline(100 * BAND_MIN, color="grey", ls="--", lw=0.8)
     ax.set_xlabel("true force RMS error over the scored time (N)")
-    ax.set_ylabel("scored time within +-0.5 N of the set point (%)")
+    ax.set_ylabel(f"scored time within +-{BAND_N:g} N of the set point (%)")
     ax.set_title(f"Every shipped scene, seeds 1-{seeds} (o); the paper's program, seed 1 (x)\n"
                  "target: left of the dashed line and above it")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, ncol=2, loc="lower left")
-    fig.tight_layout()
-    fig.savefig(os.path.join(a.out, "force_targets.png"), dpi=90)
+    save(fig, os.path.join(a.out, "force_targets.png"), dpi=90)
     print(f"written: {a.out}/force_targets.csv, force_targets.md, force_targets.png")
     return 1 if failed else 0
 
