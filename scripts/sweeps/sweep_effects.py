@@ -20,13 +20,10 @@ import csv
 import os
 import sys
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import tactile_sweeps as ts  # noqa: E402
+from tactile_sweeps.plot import plt  # noqa: E402
 
 # Effect -> (tactile_sim arguments at the realistic level, where the level comes from).
 # Scene-specific arguments: "{tray}" is replaced by the tray's index (the row is
@@ -139,7 +136,7 @@ def main():
                             f'{r["change"].get(m, float("nan")):.4f}', r["criteria"], r["status"], r["returncode"]])
 
     def fmt(v):
-        return "n/a" if v is None or (isinstance(v, float) and v != v) else f"{v:.4g}"
+        return ts.fmt(v, spec=".4g", missing="n/a")
 
     md = ["# Effects: cost and outcome", "",
           "Cost = wall time per simulated second relative to `none` (smallest of "
