@@ -51,8 +51,8 @@ cat > "$out/deployments/rt_latency_bench.ops" <<EOF
 import("tactile")
 import("ocl")
 loadComponent("Guard", "tactile::DeployGuard")
+Guard.step(Guard.select("edge_exploration"), "select edge_exploration (its program) from " + Guard.registry_file)
 Guard.experiment = "rt_latency"
-Guard.servo_cpf = "servo_edge_exploration.cpf"
 Guard.timeout = $dur
 Guard.step(runScript("robot_loop.ops"), "robot_loop.ops")
 var int robot_side_started(Guard.verdict())

@@ -45,8 +45,8 @@ cat > "$out/deployments/rt_soak.ops" <<EOF
 import("tactile")
 import("ocl")
 loadComponent("Guard", "tactile::DeployGuard")
+Guard.step(Guard.select("edge_exploration"), "select edge_exploration (its program) from " + Guard.registry_file)
 Guard.experiment = "rt_soak"
-Guard.servo_cpf = "servo_edge_exploration.cpf"
 Guard.timeout = $secs
 Guard.step(runScript("robot_loop.ops"), "robot_loop.ops")
 var int robot_side_started(Guard.verdict())
