@@ -84,3 +84,8 @@ deploy gap_bars
 bash "$root/scripts/rehearse_first_day.sh" --out "$out/rehearsal" > "$out/rehearsal.log" 2>&1 \
   || echo "  (rehearse_first_day.sh: a step failed: $out/rehearsal.log)"
 tail -n 1 "$out/rehearsal.log"
+
+# The results pages from this run's outputs: docs/results.md,
+# docs/results/results.json (with the commit and the machine), docs/img/ and
+# the README's results table (scripts/tools/results_docs.py).
+/usr/bin/python3 "$root/scripts/tools/results_docs.py" --out "$out" || echo "  (results_docs.py failed)"
