@@ -16,21 +16,16 @@ overrides to every run (e.g. effects.wts_transfer_delay_s=0.0157).
 Writes rates.csv, rates.md and rates.png into the output folder; exits 1 when
 a key metric leaves the 10 % band or a run does not end `ok`.
 """
-import argparse
-import concurrent.futures
 import json
 import os
 import subprocess
 import sys
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "scripts", "sweeps"))
 import tactile_sweeps as ts  # noqa: E402
+from tactile_sweeps.plot import plt  # noqa: E402
 from sweep_tradeoff import SCENES  # noqa: E402
 
 RATES = [50, 100, 200, 500, 1000]
@@ -61,24 +56,17 @@ def rel(v, ref):
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--sim", default=os.path.join(ROOT, "build", "bin", "tactile_sim"))
-    ap.add_argument("--out", default=os.path.join(ROOT, "out", "rates"))
-    ap.add_argument("--jobs", type=int, default=2)
-    ap.add_argument("--seeds", type=int, default=5)
+    ap = ts.cli.parser(__doc__, "rates", jobs=2, seeds=5)
     ap.add_argument("--set", action="append", default=[], dest="sets")
-    a = ap.parse_args()
-    os.makedirs(a.out, exist_ok=True)
+    a = ts.cli.finish(ap.parse_args())
     names = ts.shipped_scenes()
     scenes = [ts.scene_path(n) for n in names]
     seeds = list(range(1, a.seeds + 1))
     one = {}
-    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
-        futs = {ex.submit(run, a.sim, f, hz, sd, a.sets, a.out): (n, hz, sd)
-                for f, n in zip(scenes, names) for hz in RATES for sd in seeds}
-        for i, f in enumerate(concurrent.futures.as_completed(futs)):
-            one[futs[f]] = f.result()
-            sys.stderr.write(f"\r{i + 1}/{len(futs)} runs")
+    grid = [(f, n, hz, sd) for f, n in zip(scenes, names) for hz in RATES for sd in seeds]
+    for k, total, r in ts.pmap(lambda j: (j[1:], run(a.sim, j[0], j[2], j[3], a.sets, a.out)), grid, a.jobs):
+        one[r[0]] = r[1]
+        sys.stderr.write(f"\r{k}/{total} runs")
     sys.stderr.write("\n")
     # Per (scene, rate): each metric's mean over the seeds (None when a seed
     # lacks it), the worst status, the summed contact losses.
