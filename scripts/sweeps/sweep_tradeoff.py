@@ -10,18 +10,13 @@ simulated second against the error of each scene's key metrics relative to the
 finest setting (dynamics, 2 kHz physics, 8x8 sub-samples, 100 Hz servo).
 Writes tradeoff.csv, tradeoff.md and tradeoff.png into the output folder.
 """
-import argparse
-import concurrent.futures
 import os
 import sys
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import tactile_sweeps as ts  # noqa: E402
+from tactile_sweeps.plot import plt  # noqa: E402
 
 ROOT = ts.ROOT
 # Scene -> key metrics (summary.json keys) compared with the finest setting:
@@ -63,22 +58,15 @@ rel_err = ts.rel_err
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--sim", default=os.path.join(ROOT, "build", "bin", "tactile_sim"))
-    ap.add_argument("--out", default=os.path.join(ROOT, "out", "tradeoff"))
+    ap = ts.cli.parser(__doc__, "tradeoff", jobs=1, seeds=None)  # 1 job: the wall times are not shared between runs
     ap.add_argument("--quick", action="store_true", help="three settings only")
-    ap.add_argument("--jobs", type=int, default=1,
-                    help="parallel runs (default 1: the wall times are then not shared between runs)")
-    a = ap.parse_args()
-    os.makedirs(a.out, exist_ok=True)
+    a = ts.cli.finish(ap.parse_args())
     grid = QUICK if a.quick else GRID
     jobs = [(scene, s) for scene in SCENES for s in grid]
     results = {}
-    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
-        futs = {ex.submit(run, a.sim, scene, s, a.out): (scene, label(s)) for scene, s in jobs}
-        for i, f in enumerate(concurrent.futures.as_completed(futs)):
-            results[futs[f]] = f.result()
-            sys.stderr.write(f"\r{i + 1}/{len(jobs)} runs")
+    for k, n, r in ts.pmap(lambda j: ((j[0], label(j[1])), run(a.sim, j[0], j[1], a.out)), jobs, a.jobs):
+        results[r[0]] = r[1]
+        sys.stderr.write(f"\r{k}/{n} runs")
     sys.stderr.write("\n")
     rows = []
     for scene, keys in SCENES.items():
