@@ -25,17 +25,12 @@ contact losses against speed. Target: >= 40 mm/s with RMS error <= 1 N, no
 contact loss, to the end of the bar (status ok, ended by `done`).
 Writes speed.csv, speed.md and speed.png into --out.
 """
-import concurrent.futures
 import csv
 import math
 import os
 import sys
 
-import matplotlib
 import yaml
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import tactile_sweeps as ts  # noqa: E402
