@@ -22,7 +22,9 @@
 // robot_loop.ops, experiment_start.ops, ...): RTT script variables do not
 // cross runScript(). The name reaches an unattended run through the
 // environment (TACTILE_EXPERIMENT, read once when the Guard is constructed)
-// and an operator at the prompt through Guard.select("bent_bar").
+// and an operator at the prompt through Guard.select("bent_bar"). In the
+// deployer's XML form (robot.xml, sim.xml) configure() selects it and hands
+// the entry to its peers.
 //
 // Not on any real-time path: the deployer's own thread calls it while it
 // sets the deployment up (ClientThread operations); select() reads files.
@@ -118,7 +120,7 @@ class DeployGuard : public RTT::TaskContext {
              "baseline, no_rotation (select()).");
     addProperty("scene_file", scene_file_)
         .doc("The simulated world (sim/scenes/*.yaml) from the registry's `scene` (select()); the simulated "
-             "arm, sensor and clock read it (sim_loop.ops).");
+             "arm, sensor and clock read it (sim_loop.ops; sim.xml: configure() gives it to its peers).");
     addProperty("servo_cpf", servo_cpf_)
         .doc("Optional: a Servo property file read after the registry's program and controller, replacing "
              "them (tests' own programs). Empty: none.");
@@ -163,7 +165,7 @@ class DeployGuard : public RTT::TaskContext {
     addOperation("select", &DeployGuard::select, this, RTT::ClientThread)
         .doc("Read the experiment `name` from registry_file and fill experiment, program_file, "
              "controller_mode, scene_file, state_machine_file, state_machine, timeout, robot and "
-             "report_file (<name>_sim.dat); checks that its files exist, its controller and that every "
+             "report_file (<name> + report_suffix); checks that its files exist, its controller and that every "
              "state-machine param is a `param` of the named RootMachine in its .osd. False (nothing "
              "changed) with an error naming the file, the key and the valid values (logged, and in the "
              "attribute select_error). Unattended: TACTILE_EXPERIMENT=<name>; at the prompt: "
@@ -180,9 +182,9 @@ class DeployGuard : public RTT::TaskContext {
         .arg("component", "The peer that runs the state machine (Servo).");
   }
 
-  // The deployer's XML form (deployments/robot.xml, no
-  // script): configure() selects `experiment` (TACTILE_EXPERIMENT) and hands
-  // the entry to the peers listed before them in the XML: a peer with
+  // The deployer's XML form (deployments/robot.xml, sim.xml: no script):
+  // configure() selects `experiment` (TACTILE_EXPERIMENT) and hands the entry
+  // to its peers (the XML's Peers list): a peer with
   // program_file and controller_mode (the Servo) gets both and, when it has
   // the scripting service, the state machine loaded (not activated); a peer
   // with scene_file gets the scene; one with ReportFile (OCL::FileReporting)
