@@ -178,11 +178,35 @@ def experiments(root):
     return keys
 
 
-def ctest_names(build):
-    if not build or not os.path.isdir(build):
-        return None
-    p = subprocess.run(["ctest", "-N"], cwd=build, capture_output=True, text=True)
-    return {m.group(1) for m in re.finditer(r"Test\s+#\d+: (\S+)", p.stdout)}
+def ctest_names(build, root):
+    """The tests the build configured, plus every add_test(NAME ...) of the
+    tree's CMake files and its helpers' first arguments (a test the build leaves out, e.g. with the RTT layer
+    off, still exists); a NAME with ${...} gives its literal prefix."""
+    names, prefixes = set(), set()
+    if build and os.path.isdir(build):
+        p = subprocess.run(["ctest", "-N"], cwd=build, capture_output=True, text=True)
+        names |= {m.group(1) for m in re.finditer(r"Test\s+#\d+: (\S+)", p.stdout)}
+    for f in glob.glob(os.path.join(root, "**", "CMakeLists.txt"), recursive=True) + \
+            glob.glob(os.path.join(root, "cmake", "*.cmake")):
+        if "/build" in f[len(root):]:
+            continue
+        text = open(f, errors="replace").read()
+        # add_test(NAME n ...) and the tree's helpers, e.g. tactile_deployer_test(n ...)
+        for m in re.finditer(r"(?:\badd_test\(\s*NAME\s+|\b[a-z_]+_test\(\s*)([^\s)]+)", text):
+            n = m.group(1)
+            if n == "NAME" or n.startswith("$") and "}" == n[-1:]:
+                continue
+            if "${" in n:
+                if n.index("${") > 0:
+                    prefixes.add(n[:n.index("${")])
+            else:
+                names.add(n)
+    return names, prefixes
+
+
+def is_test(name, tests):
+    names, prefixes = tests
+    return name in names or any(name.startswith(p) for p in prefixes)
 
 
 def yaml_keys(root):
@@ -218,7 +242,7 @@ def check_references(root, build, docroot=None):
     docroot = docroot or root
     err = []
     exps = experiments(root)
-    names = ctest_names(build)
+    tests = ctest_names(build, root)
     ykeys = yaml_keys(root)
     files = tracked_files(root)
     readme = os.path.join(docroot, "README.md")
@@ -252,7 +276,7 @@ def check_references(root, build, docroot=None):
             if m and not m.group(1).startswith(("<", "-")) and m.group(1) not in exps:
                 err.append(f"{rel}: `{tok}`: {m.group(1)} is not an experiment of experiments.yaml")
             m = re.match(r"^ctest (?:-R )?([A-Za-z0-9_]+)$", tok)
-            if m and names is not None and not any(re.search(m.group(1), x) for x in names):
+            if m and not is_test(m.group(1), tests) and not any(re.search(m.group(1), x) for x in tests[0]):
                 err.append(f"{rel}: `{tok}`: no ctest of that name")
             m = re.match(r"^([a-z][a-z0-9_]*(?:\.[a-z][a-z0-9_]*)+)$", tok)
             if m and not tok.endswith(EXTS) and not tok.startswith(("tactile_", "std.")):
@@ -265,10 +289,10 @@ def check_references(root, build, docroot=None):
             if m.group(1) not in exps:
                 err.append(f"{rel}: experiment `{m.group(1)}` is not a key of experiments.yaml")
         for m in re.finditer(r"ctest `([A-Za-z0-9_]+)`", text):
-            if names is not None and m.group(1) not in names:
-                err.append(f"{rel}: ctest `{m.group(1)}`: no test of that name in {build}")
-    if names is None:
-        print(f"references: no build directory ({build}): ctest names not checked")
+            if not is_test(m.group(1), tests):
+                err.append(f"{rel}: ctest `{m.group(1)}`: no test of that name (build or CMake files)")
+    if not (build and os.path.isdir(build)):
+        print(f"references: no build directory ({build}): ctest names from the CMake files only")
     return err
 
 
