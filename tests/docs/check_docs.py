@@ -11,7 +11,8 @@ figures: every table of docs/results.md and the README's results table equal
   compare.csv, the sweeps' csv, contour.json, rehearsal steps) when a run's
   out/ is there (skipped, with the reason printed, when ROOT/out/ holds no run).
 references: every file path, experiment name (experiments.yaml key), ctest
-  name and YAML key the documents name exists; README.md is at most 250 lines.
+  name and YAML key the documents name exists; README.md is at most 250 lines
+  and has the two set-up commands exactly.
 history: no document tells the history of its own making (HISTORY below).
 
 --mutate runs the same check on a copy with one planted error and exits 0
@@ -29,6 +30,7 @@ import sys
 import tempfile
 
 README_MAX_LINES = 250
+README_COMMANDS = ["bash scripts/run_experiment.sh", "bash scripts/run_tests.sh"]
 # results.json keeps SIG = 4 significant digits: a stored figure is within half
 # a unit of the 4th digit of the output's value (relative 5e-4).
 REL_TOL = 5e-4
@@ -249,6 +251,10 @@ def check_references(root, build, docroot=None):
     n = len(open(readme).read().splitlines())
     if n > README_MAX_LINES:
         err.append(f"README.md: {n} lines (at most {README_MAX_LINES})")
+    lines = open(readme).read().splitlines()
+    for cmd in README_COMMANDS:
+        if cmd not in lines:
+            err.append(f"README.md: no line `{cmd}` (the set-up commands, exactly)")
     for doc in docs(docroot):
         text = open(doc).read()
         rel = os.path.relpath(doc, docroot)
@@ -373,9 +379,14 @@ def main():
                    "experiment": "Run `bash scripts/run_deployment.sh no_such_experiment`.\n",
                    "ctest": "Checked by ctest `no_such_test_name`.\n",
                    "yaml": "Set `force_estimate.no_such_key` in the program.\n",
-                   "length": "x\n" * README_MAX_LINES}.get(a.mutate)
-            if add is None:
-                sys.exit(f"--mutate {a.mutate}: path | experiment | ctest | yaml | length")
+                   "length": "x\n" * README_MAX_LINES,
+                   "command": None}.get(a.mutate, "")
+            if a.mutate == "command":
+                text = open(readme).read().replace("\nbash scripts/run_tests.sh\n", "\nbash scripts/run_tests.sh -j2\n")
+                open(readme, "w").write(text)
+                add = ""
+            elif add == "":
+                sys.exit(f"--mutate {a.mutate}: path | experiment | ctest | yaml | length | command")
             open(readme, "a").write(add)
             # the copy holds only the documents: checked against the real tree's files
             err = check_references(root, a.build, docroot=tmp)
