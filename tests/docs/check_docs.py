@@ -2,7 +2,7 @@
 """Checks of README.md and docs/*.md (ctest label docs).
 
   check_docs.py figures    ROOT [--mutate md|readme|json]
-  check_docs.py references ROOT [--build DIR] [--mutate path|experiment|ctest|yaml|length]
+  check_docs.py references ROOT [--build DIR] [--mutate path|experiment|ctest|yaml|length|command]
   check_docs.py history    ROOT [--mutate WORD]
 
 figures: every table of docs/results.md and the README's results table equal
