@@ -227,6 +227,16 @@ class FeatureExtractor {
 
   int countRegions(const double* f, int rows, int cols);
   double subthresholdForce(const double* f, int n, double t, double* img, uint8_t* estimated);
+
+  // The steps of step(), in order (contracts in extractor.cpp).
+  struct RawMoments;
+  void updateFiringRates(const TactileFrame& frame, int n);
+  void buildImage(const double* f, int n, bool add_estimate, double* img, uint8_t* estimated);
+  void accumulateMoments(const double* g, const uint8_t* estimated, double thr, RawMoments& m) const;
+  static void contactGeometry(const RawMoments& m, ContactFeatures& out, Moments& mo);
+  double alphaSigma(const double* g, double m00, double cx, double cy, const Moments& mo) const;
+  bool principalAngle(const RawMoments& m, const ContactFeatures& out, const Moments& mo, double& alpha) const;
+  ContactType classifyContact(const double* f, bool loaded_and_firing, const ContactFeatures& out);
 };
 
 }  // namespace tactile
