@@ -43,7 +43,19 @@ sys.path.insert(0, ts.TOOLS)
 import contour_check  # noqa: E402
 
 PROGRAMS = ts.PROGRAMS
-SCENES = {"edge_exploration": "edge_exploration", "bent_bar": "bent_bar"}  # scene -> program name
+EXPERIMENTS = ["edge_exploration", "bent_bar"]  # registry entries (experiments.yaml): their scene and program
+
+
+def program_name(experiment):
+    """The experiment's program (its registry entry's), as a name of components/servo/programs."""
+    return os.path.splitext(os.path.basename(ts.registry.load()[experiment]["program"]))[0]
+
+
+def scene_of(experiment):
+    return ts.registry.scene_name(ts.registry.load()[experiment])
+
+
+SCENES = {scene_of(e): program_name(e) for e in EXPERIMENTS}  # scene -> program name
 BOUNDS = [1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 4.5]
 SLIDE_PHASE = "explore"
 
