@@ -66,10 +66,10 @@ def criterion(name, key):
 # --- the deployment -----------------------------------------------------------
 log = open(f"{out}/run/deployer.log").read()
 check(dep_rc == 0 and "deployment step failed" not in log, f"every deployment step passed (deployer exit {dep_rc})")
-check(re.search(r"the state machine EdgeExperiment ended in FINISHED", log) is not None,
+check(re.search(r"the state machine TimedPhaseExperiment ended in FINISHED", log) is not None,
       "the experiment's state machine ended in FINISHED")
-m = re.search(r"\[EdgeExperiment\] finished: (\w+)", log)
-print(f"measured: EdgeExperiment result {m.group(1) if m else '?'}")
+m = re.search(r"\[TimedPhaseExperiment\] finished: (\w+)", log)
+print(f"measured: TimedPhaseExperiment result {m.group(1) if m else '?'}")
 
 # --- lab_sim ------------------------------------------------------------------
 lab = open(f"{out}/lab_sim.log").read()
