@@ -43,6 +43,7 @@ while [ $# -gt 0 ]; do
     *) sed -n '2,30p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2 ;;
   esac
 done
+mkdir -p "$out" && out="$(cd "$out" && pwd)"  # absolute: the steps run from other directories
 for t in "$deployer" "$build/bin/lab_sim" "$build/bin/wts_check" "$build/bin/wts_sim" "$build/bin/fri_check" \
          "$build/bin/tactile_calibrate" "$build/bin/tactile_calibration_record"; do
   [ -x "$t" ] || { echo "$name: $t missing: build the project first (scripts/setup/build.sh, RTT on)" >&2; exit 1; }
