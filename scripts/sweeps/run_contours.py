@@ -2,7 +2,7 @@
 """Runs the whole-contour scenes (sim/scenes/ring, rounded_square, s_curve,
 gap_bars: scripts/tools/make_contour_scenes.py) through the headless runner, checks
 each with scripts/tools/contour_check.py and writes OUT/contours.md (the table of
-the README's "Whole closed contours") and OUT/contours.png (the four
+docs/results.md, "Closed contours") and OUT/contours.png (the four
 reconstructions over the truth).
 
 With --sensor-effects every sensor effect is on (device noise, gain spread,

@@ -20,7 +20,7 @@ from tactile_sweeps.plot import plt  # noqa: E402
 
 ROOT = ts.ROOT
 # Scene -> key metrics (summary.json keys) compared with the finest setting:
-# the experiments', and the whole closed contours' (README "Whole closed
+# the experiments', and the whole closed contours' (docs/results.md, "Closed
 # contours": the true force on the contour and the path slid round it).
 CONTOUR_METRICS = ["force_true_mean_n", "path_length_m"]
 SCENES = dict(ts.scenes.KEY_METRICS, **{c: CONTOUR_METRICS for c in ("ring", "rounded_square", "s_curve", "gap_bars")})

@@ -121,7 +121,7 @@ TEST(Experiments, EdgeExplorationThroughFri) {
 // near 5 N while sliding at >= 10 mm/s; without any rotation about x_s/y_s
 // (the no_rotation ablation, the paper's Fig. 12 "baseline" curve) it drifts
 // far. The Li et al. baseline with its CoP -> rotation rows follows the bar as
-// well as the proposed controller here (README, controller comparison).
+// well as the proposed controller here (docs/results.md, "Controllers compared").
 TEST(Experiments, BentBarProposedHoldsTheForceNoRotationDrifts) {
   const RunResult p = runScene("bent_bar.yaml", ControllerMode::Proposed);
   // The ablation's drift, watched to the end: its force-mismatch watchdog off.
@@ -645,7 +645,7 @@ TEST(Experiments, HoldingScenesPutTheTrueForceOnTarget) {
 // target where 2.5 N leaves it high on some seeds; the thinner image costs the
 // CoP's position ALONG the edge (against the simulator's true pressure
 // centre), not the edge's position ACROSS it, which is what the exploration
-// reconstructs (README, "The force estimate's bound").
+// reconstructs (docs/results.md, "The force estimate's bound").
 struct ImageErrors {
   double along_mean = NAN;  ///< m: |CoP - true pressure centre| along the ridge, mean
   double line_rms = NAN;    ///< m: the contact line's points' distance to the ridge, RMS

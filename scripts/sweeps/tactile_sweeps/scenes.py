@@ -11,7 +11,7 @@ PROGRAMS = os.path.join(ROOT, "components", "servo", "programs")
 TOOLS = os.path.join(ROOT, "scripts", "tools")  # contour_check.py, plot_run.py, ...
 SIM = os.path.join(ROOT, "build", "bin", "tactile_sim")
 
-# The true-force targets (README "The true force on target"): RMS error and
+# The true-force targets (docs/simulator.md, "Known bias of the paper's force"): RMS error and
 # the share of the scored time within +-FORCE_BAND_N of the set point. The
 # sweeps that score every scene against these targets pass the band to the
 # runner (--set metrics.force_band_n=FORCE_BAND_N) in place of the scene's

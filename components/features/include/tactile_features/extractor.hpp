@@ -59,7 +59,7 @@
 //    look the same; the sagging taxels fire now and then (noise, the load's
 //    ripple), the gap's never. Larger values find a gap sooner (it must stay
 //    silent that long under the pad: ~0.5 s for a 10 mm gap at 10 mm/s) and
-//    split a sagging line more often (README "The gap").
+//    split a sagging line more often (docs/simulator.md, "A gap under the pad").
 //  * Taxels the noise switches off (censoring by the device's firing
 //    threshold t = contact_threshold). A taxel with load f reads 0 below t;
 //    with count noise sigma (taxel_noise) it fires with probability
@@ -79,7 +79,7 @@
 //    noise-free sensor would, and the noise no longer biases f down.
 //    Taxels below t on average stay 0 while silent, as without noise (when
 //    the noise makes one fire, its reading counts: a small bias up): the
-//    truncation bias of the firing threshold itself (README, "Known bias")
+//    truncation bias of the firing threshold itself (docs/simulator.md, "Known bias of the paper's force")
 //    is not undone.
 //    Delay: only the estimates lag; a taxel that stops firing is estimated
 //    for censor_tau ln 2 (69 ms at 0.1 s) at most, readings count at once.
