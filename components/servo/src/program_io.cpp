@@ -383,7 +383,7 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
   if (const YAML::Node fe = root["force_estimate"]) {
     const Where w = top.child("force_estimate");
     ForceEstimateParams& fp = p.force_estimate;
-    if (!(r = checkKeys(fe, w, {"source", "tau_s", "max_correction_n", "tare_tau_s", "tare_gate_n", "tare_hold_s", "tare_max_n"}))) return r;
+    if (!(r = checkKeys(fe, w, {"source", "tau_s", "max_correction_n", "tare_tau_s", "tare_gate_n", "tare_hold_s", "tare_max_n", "image_margin_n", "firing_threshold_n"}))) return r;
     std::string src;
     if (fe["source"]) {
       if (!(r = read(fe, "source", src, w))) return r;
@@ -393,7 +393,8 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
     }
     for (auto rr : {read(fe, "tau_s", fp.tau_s, w), read(fe, "max_correction_n", fp.max_correction_n, w),
                     read(fe, "tare_tau_s", fp.tare_tau_s, w), read(fe, "tare_gate_n", fp.tare_gate_n, w),
-                    read(fe, "tare_hold_s", fp.tare_hold_s, w), read(fe, "tare_max_n", fp.tare_max_n, w)})
+                    read(fe, "tare_hold_s", fp.tare_hold_s, w), read(fe, "tare_max_n", fp.tare_max_n, w),
+                    read(fe, "image_margin_n", fp.image_margin_n, w), read(fe, "firing_threshold_n", fp.firing_threshold_n, w)})
       if (!rr) return rr;
     ForceEstimator probe;
     if (!(r = probe.configure(fp, w.str().c_str()))) return r;

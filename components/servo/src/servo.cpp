@@ -197,7 +197,7 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   const bool contact = PhaseProgram::hasContact(f);
   const bool wrench_fresh = in.have_wrench && std::fabs(now - in.wrench.time_s) <= params_.safety.stale_timeout;
   const KDL::Vector F(in.wrench.w[0], in.wrench.w[1], in.wrench.w[2]);
-  const double f_hat = force_est_.step(f.force, contact, wrench_fresh, F, z_s, dt);
+  const double f_hat = force_est_.step(f.force, contact, wrench_fresh, F, z_s, dt, f.area);
   // The force the law uses (the tactile force, or f_hat: the correction is
   // bounded, so a wrench beyond it still shows) against the arm's estimated
   // wrench (less its zero) along z_s.
