@@ -361,7 +361,15 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
   if (const YAML::Node wd = root["watchdogs"]) {
     const Where w = top.child("watchdogs");
     WatchdogParams& wp = p.watchdogs;
-    if (!(r = checkKeys(wd, w, {"arm_stall", "force_mismatch"}))) return r;
+    if (!(r = checkKeys(wd, w, {"arm_stall", "force_mismatch", "surface_too_curved"}))) return r;
+    if (const YAML::Node sc = wd["surface_too_curved"]) {
+      const Where wc = w.child("surface_too_curved");
+      if (!(r = checkKeys(sc, wc, {"tau_s", "excess_n", "max_extent_m", "max_tactile_share"}))) return r;
+      for (auto rr : {read(sc, "tau_s", wp.curved_tau_s, wc), read(sc, "excess_n", wp.curved_excess_n, wc),
+                      read(sc, "max_extent_m", wp.curved_max_extent_m, wc),
+                      read(sc, "max_tactile_share", wp.curved_max_tactile_share, wc)})
+        if (!rr) return rr;
+    }
     if (const YAML::Node st = wd["arm_stall"]) {
       const Where ws = w.child("arm_stall");
       if (!(r = checkKeys(st, ws, {"window_s", "min_distance", "min_angle_deg", "min_fraction"}))) return r;

@@ -205,6 +205,17 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   for (int i = 0; i < 3; ++i) w_tared.w[static_cast<std::size_t>(i)] -= force_est_.tare()(i);
   if (watchdogs_.forceMismatch(f_hat, contact, in.have_wrench, w_tared, z_s, now, dt, params_.safety.stale_timeout))
     return finish(ServoStatus::ForceMismatch, now, out);
+  {
+    // The surface curves more tightly than the pad (watchdog.hpp): the
+    // wrench well above the set point the law holds, the image shrunk.
+    const int phc = program_.current();
+    const double f_d = params_.phases[static_cast<std::size_t>(phc)].s_d(kZ) / law_.c_z();
+    const bool regulated = program_.requiresContact(phc) && f_d > 0.0;
+    const double f_w = std::fabs(dot(F - force_est_.tare(), z_s));
+    const double extent = std::sqrt(12.0 * std::max(0.0, f.lambda1));  // a uniform line's length
+    if (watchdogs_.surfaceTooCurved(f_w, f_d, regulated, contact, f.force, extent, wrench_fresh, dt))
+      return finish(ServoStatus::SurfaceTooCurved, now, out);
+  }
   ContactFeatures fc = in.features;
   fc.d_z += law_.c_z() * (f_hat - f.force);  // Eq. 2: d_z = C_z f
   fc.force = f_hat;

@@ -168,6 +168,15 @@ struct WatchdogParams {
   double mismatch_tolerance_n = 4.0;             ///< N, > 0
   double mismatch_tolerance_rel = 0.3;           ///< [0, 1]
   double mismatch_no_contact_n = 10.0;           ///< N, > 0
+  /// Surface too curved (ServoWatchdogs::surfaceTooCurved): the arm's wrench
+  /// along z_s, low-passed with tau_s, above the phase's force set point by
+  /// more than excess_n while the image spans at most max_extent_m, or its
+  /// taxels carry at most max_tactile_share of the wrench, or no taxel fires:
+  /// the load has moved to the pad's ends or its housing.
+  double curved_tau_s = 0.0;                     ///< s, [0, 10], 0 = off
+  double curved_excess_n = 1.2;                  ///< N, (0, 1e4]
+  double curved_max_extent_m = 0.0238;           ///< m, (0, 1]: half the pad's 47.6 mm by default
+  double curved_max_tactile_share = 0.5;         ///< [0, 1]: the tactile force's share of the wrench's
 };
 
 struct ServoParams {

@@ -87,7 +87,7 @@ struct Summary {
   std::vector<std::string> criteria_failed;  ///< scene criteria not met, "metric = v > max"; empty = passed
   int exit_code = 0;  ///< 0 ok, 3 simulator (fatal: NaN, joint limit, singularity, force limit; or its steps or
                       ///< commands refused: sim_step_rejected, sim_invalid_command), 4 servo force ceiling,
-                      ///< 5/6/7 a servo watchdog (phase_timeout, arm_stalled, force_mismatch)
+                      ///< 5/6/7 a servo watchdog (phase_timeout, arm_stalled, force_mismatch), 8 surface_too_curved
 };
 
 /// The summary metric called `name` in summary.json (the numeric ones), false
