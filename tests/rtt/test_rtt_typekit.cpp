@@ -362,6 +362,7 @@ TEST(RttTypekit, ScriptOperatorsOnEnumsAndUint16) {
   EXPECT_EQ(apply("==", tactile::ServoStatus::PhaseTimeout, std::string("phase_timeout")), 1);
   EXPECT_EQ(apply("==", tactile::ServoStatus::ArmStalled, std::string("arm_stalled")), 1);
   EXPECT_EQ(apply("==", tactile::ServoStatus::ForceMismatch, std::string("force_mismatch")), 1);
+  EXPECT_EQ(apply("==", tactile::ServoStatus::SurfaceTooCurved, std::string("surface_too_curved")), 1);
   EXPECT_EQ(apply("==", tactile::ServoStatus::ForceMismatch, 15), 1);
   EXPECT_EQ(apply("==", uint16_t{3}, 3), 1);
   EXPECT_EQ(apply(">", uint16_t{3}, 5), 0);
