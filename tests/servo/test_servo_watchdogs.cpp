@@ -291,3 +291,41 @@ TEST(ServoWatchdogs, SurfaceTooCurvedWhenTheWrenchExceedsTheSetPointOffTheImage)
   EXPECT_DOUBLE_EQ(loadShipped("bent_bar_fused.yaml").watchdogs.curved_tau_s, 0.05);
   EXPECT_DOUBLE_EQ(loadShipped("bent_bar.yaml").watchdogs.curved_tau_s, 0.0);
 }
+
+// The first reaction (surface_too_curved.lift_n): while the image is short and
+// the low-passed excess is above lift_n, curvedLift() is that excess (the law
+// then holds f_d + it); 0 with a long image carrying its share, below lift_n,
+// or with lift_n 0.
+TEST(ServoWatchdogs, SurfaceTooCurvedLiftsByTheExcessBeforeItStops) {
+  ServoParams p = freeMotion();
+  p.watchdogs.curved_tau_s = 0.05;
+  p.watchdogs.curved_excess_n = 1.2;
+  p.watchdogs.curved_lift_n = 0.4;
+  ServoWatchdogs w;
+  ASSERT_TRUE(w.configure(p).ok());
+  ASSERT_FALSE(w.surfaceTooCurved(5.0, 5.0, true, true, 5.0, 0.04, true, 0.01));
+  EXPECT_EQ(w.curvedLift(), 0.0);
+  // 1 N of excess, the image a quarter of the pad: the filter settles at 1 N
+  // (below excess_n: no stop) and the lift follows it once above 0.4 N.
+  double lift = 0.0;
+  for (int k = 0; k < 100; ++k) {
+    ASSERT_FALSE(w.surfaceTooCurved(6.0, 5.0, true, true, 1.0, 0.012, true, 0.01)) << k;
+    lift = w.curvedLift();
+    if (k == 0) EXPECT_EQ(lift, 0.0);  // 1 - exp(-0.2) of 1 N = 0.18 N < 0.4 N
+  }
+  EXPECT_NEAR(lift, 1.0, 1e-6);  // 1 s = 20 tau
+  // A long image carrying its share: no lift.
+  ASSERT_FALSE(w.surfaceTooCurved(6.0, 5.0, true, true, 4.0, 0.04, true, 0.01));
+  EXPECT_EQ(w.curvedLift(), 0.0);
+  // lift_n 0: off.
+  p.watchdogs.curved_lift_n = 0.0;
+  ServoWatchdogs off;
+  ASSERT_TRUE(off.configure(p).ok());
+  for (int k = 0; k < 100; ++k) ASSERT_FALSE(off.surfaceTooCurved(6.0, 5.0, true, true, 1.0, 0.012, true, 0.01));
+  EXPECT_EQ(off.curvedLift(), 0.0);
+  // Range, naming the key.
+  p.watchdogs.curved_lift_n = -1.0;
+  TactileServo s;
+  EXPECT_NE(s.configure(p).message().find("watchdogs.surface_too_curved.lift_n"), std::string::npos);
+  EXPECT_DOUBLE_EQ(loadShipped("bent_bar_fused.yaml").watchdogs.curved_lift_n, 0.4);
+}

@@ -364,10 +364,11 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
     if (!(r = checkKeys(wd, w, {"arm_stall", "force_mismatch", "surface_too_curved"}))) return r;
     if (const YAML::Node sc = wd["surface_too_curved"]) {
       const Where wc = w.child("surface_too_curved");
-      if (!(r = checkKeys(sc, wc, {"tau_s", "excess_n", "max_extent_m", "max_tactile_share"}))) return r;
+      if (!(r = checkKeys(sc, wc, {"tau_s", "excess_n", "max_extent_m", "max_tactile_share", "lift_n"}))) return r;
       for (auto rr : {read(sc, "tau_s", wp.curved_tau_s, wc), read(sc, "excess_n", wp.curved_excess_n, wc),
                       read(sc, "max_extent_m", wp.curved_max_extent_m, wc),
-                      read(sc, "max_tactile_share", wp.curved_max_tactile_share, wc)})
+                      read(sc, "max_tactile_share", wp.curved_max_tactile_share, wc),
+                      read(sc, "lift_n", wp.curved_lift_n, wc)})
         if (!rr) return rr;
     }
     if (const YAML::Node st = wd["arm_stall"]) {

@@ -198,6 +198,7 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   const bool wrench_fresh = in.have_wrench && std::fabs(now - in.wrench.time_s) <= params_.safety.stale_timeout;
   const KDL::Vector F(in.wrench.w[0], in.wrench.w[1], in.wrench.w[2]);
   const double f_hat = force_est_.step(f.force, contact, wrench_fresh, F, z_s, dt, f.area);
+  double f_law = f_hat;  // the force the law holds at its set point
   // The force the law uses (the tactile force, or f_hat: the correction is
   // bounded, so a wrench beyond it still shows) against the arm's estimated
   // wrench (less its zero) along z_s.
@@ -215,11 +216,14 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
     const double extent = std::sqrt(12.0 * std::max(0.0, f.lambda1));  // a uniform line's length
     if (watchdogs_.surfaceTooCurved(f_w, f_d, regulated, contact, f.force, extent, wrench_fresh, dt))
       return finish(ServoStatus::SurfaceTooCurved, now, out);
+    // The first reaction: lift by the load the taxels miss (0 unless configured).
+    const double lift = watchdogs_.curvedLift();
+    if (lift > 0.0) f_law = std::max(f_hat, f_d + lift);
   }
   ContactFeatures fc = in.features;
-  fc.d_z += law_.c_z() * (f_hat - f.force);  // Eq. 2: d_z = C_z f
-  fc.force = f_hat;
-  out.force = f_hat;
+  fc.d_z += law_.c_z() * (f_law - f.force);  // Eq. 2: d_z = C_z f
+  fc.force = f_law;
+  out.force = f_law;
 
   // Eq. 7-8 and the phase program.
   uint8_t beta = 0;

@@ -177,6 +177,10 @@ struct WatchdogParams {
   double curved_excess_n = 1.2;                  ///< N, (0, 1e4]
   double curved_max_extent_m = 0.0238;           ///< m, (0, 1]: half the pad's 47.6 mm by default
   double curved_max_tactile_share = 0.5;         ///< [0, 1]: the tactile force's share of the wrench's
+  /// The first reaction: while the image is short and the low-passed excess
+  /// is above lift_n, the law regulates f_d + the excess instead of f_hat
+  /// (the larger of the two): it lifts the pad by the load the taxels miss.
+  double curved_lift_n = 0.0;                    ///< N, [0, 1e4], 0 = off
 };
 
 struct ServoParams {

@@ -84,6 +84,11 @@ class ServoWatchdogs {
   /// the filter is held).
   bool surfaceTooCurved(double f_w, double f_d, bool regulated, bool contact, double f, double extent_m,
                         bool fresh, double dt);
+  /// The first reaction's excess (N): the low-passed f_w - f_d while the image
+  /// is short and it is above surface_too_curved.lift_n, else 0.
+  double curvedLift() const {
+    return p_.curved_lift_n > 0.0 && curved_have_ && curved_short_ && curved_lp_ > p_.curved_lift_n ? curved_lp_ : 0.0;
+  }
 
  private:
   bool latch(ServoStatus s) {
@@ -99,6 +104,7 @@ class ServoWatchdogs {
   double mismatch_s_ = 0.0;
   double curved_lp_ = 0.0;  // low-passed f_w - f_d
   bool curved_have_ = false;
+  bool curved_short_ = false;  // the image short (or gone) on the last cycle
 };
 
 }  // namespace tactile
