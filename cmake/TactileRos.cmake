@@ -1,6 +1,6 @@
 # The ROS 1 face (ros/): built only where the RTT layer is on, Debian's catkin
 # and roscore are installed and rtt_ros_integration is in
-# TACTILE_ROS_PREFIX (default <Orocos prefix>/ros, scripts/setup_rtt_ros.sh).
+# TACTILE_ROS_PREFIX (default <Orocos prefix>/ros, scripts/setup/setup_rtt_ros.sh).
 # ros/ is a catkin workspace of its own (tactile_msgs, rtt_tactile_msgs,
 # tactile_ros), configured and built as an external project into
 # <build>/ros (devel space <build>/ros/devel) after tactile_types.
@@ -23,7 +23,7 @@ if(NOT TACTILE_ROSCORE)
   list(APPEND _tactile_ros_missing "roscore (Debian package ros-core-dev)")
 endif()
 if(NOT EXISTS "${TACTILE_ROS_PREFIX_DIR}/share/rtt_roscomm/cmake/rtt_roscommConfig.cmake")
-  list(APPEND _tactile_ros_missing "rtt_ros_integration in ${TACTILE_ROS_PREFIX_DIR} (scripts/setup_rtt_ros.sh)")
+  list(APPEND _tactile_ros_missing "rtt_ros_integration in ${TACTILE_ROS_PREFIX_DIR} (scripts/setup/setup_rtt_ros.sh)")
 endif()
 if(_tactile_ros_missing)
   string(REPLACE ";" ", " _tactile_ros_missing "${_tactile_ros_missing}")
@@ -63,7 +63,7 @@ ExternalProject_Add(tactile_ros_ws
              -DTACTILE_TYPES_LIBRARY=$<TARGET_FILE:tactile_types>
              -DTACTILE_BUILD_TESTS=${TACTILE_BUILD_TESTS}
              ${_tactile_ros_launcher}
-             # The project's compile and link flags (e.g. scripts/sanitize.sh's
+             # The project's compile and link flags (e.g. scripts/realtime/sanitize.sh's
              # -fsanitize=...): the ROS face links the project's libraries.
              "-DCMAKE_C_FLAGS=${CMAKE_C_FLAGS}" "-DCMAKE_CXX_FLAGS=${CMAKE_CXX_FLAGS}"
              "-DCMAKE_EXE_LINKER_FLAGS=${CMAKE_EXE_LINKER_FLAGS}" "-DCMAKE_SHARED_LINKER_FLAGS=${CMAKE_SHARED_LINKER_FLAGS}"

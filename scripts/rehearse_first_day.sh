@@ -17,12 +17,12 @@
 #                  friStart, a quality drop to BAD and back, friStop and
 #                  friStart in the middle of the slide: to the state machine's
 #                  end, its results and plots
-# Steps 3-6 run the UNCHANGED robot deployments (deployments/<experiment>_robot.ops)
+# Steps 3-6 run the UNCHANGED robot deployment (deployments/robot.ops, the registry's experiment)
 # on a copy of deployments/ whose only changes are the bridge's UDP port, the
 # WTS reader's device (the PTY) and, after step 2, the features' parameter
 # file (the fitted calibration). lab_sim (sim/lab) is the KRC over UDP and the
 # WTS on a PTY, both backed by one simulated world; its ground truth (never
-# seen by the controller) checks each step (scripts/rehearsal_report.py).
+# seen by the controller) checks each step (scripts/tools/rehearsal_report.py).
 #
 #   scripts/rehearse_first_day.sh [--out DIR] [--steps 1,2,3,4,5,6]
 # Prints PASS/FAIL per step and what to do next; writes DIR/rehearsal.md and
@@ -32,7 +32,7 @@ set -uo pipefail
 name=rehearse_first_day
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 # root, build, orocos, deployer, rt_stage_deployments, pids + cleanup trap
-source "$root/scripts/rt_common.sh"
+source "$root/scripts/realtime/rt_common.sh"
 py=/usr/bin/python3
 out="$root/out/rehearsal"
 steps="1,2,3,4,5,6"
@@ -43,9 +43,10 @@ while [ $# -gt 0 ]; do
     *) sed -n '2,30p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2 ;;
   esac
 done
+mkdir -p "$out" && out="$(cd "$out" && pwd)"  # absolute: the steps run from other directories
 for t in "$deployer" "$build/bin/lab_sim" "$build/bin/wts_check" "$build/bin/wts_sim" "$build/bin/fri_check" \
          "$build/bin/tactile_calibrate" "$build/bin/tactile_calibration_record"; do
-  [ -x "$t" ] || { echo "$name: $t missing: build the project first (scripts/build.sh, RTT on)" >&2; exit 1; }
+  [ -x "$t" ] || { echo "$name: $t missing: build the project first (scripts/setup/build.sh, RTT on)" >&2; exit 1; }
 done
 port=49985          # the bridge's UDP port here (fri.yaml's 49938 may be in use on this host)
 start_after=6       # s of monitor mode before friStart: the deployment is up by then
@@ -169,7 +170,7 @@ if want 4; then
   rc=0
   run_step 4_dry_run "dry run" "$root/sim/lab/scenes/bringup_press.yaml" "0:friOpen,$start_after:friStart" \
     first_touch --dry-run || rc=$?
-  [ "$rc" -eq 0 ] && { "$py" "$root/scripts/rehearsal_report.py" check "$out/4_dry_run" --dry-run --start "$start_after" || rc=$?; }
+  [ "$rc" -eq 0 ] && { "$py" "$root/scripts/tools/rehearsal_report.py" check "$out/4_dry_run" --dry-run --start "$start_after" || rc=$?; }
   verdict 4 "dry run" "$rc" "$out/4_dry_run/run_robot.log; the arm must not move and the commands must"
 fi
 
@@ -179,7 +180,7 @@ if want 5; then
   rc=0
   run_step 5_first_touch "first touch" "$root/sim/scenes/first_touch.yaml" "0:friOpen,$start_after:friStart" \
     first_touch || rc=$?
-  [ "$rc" -eq 0 ] && { "$py" "$root/scripts/rehearsal_report.py" check "$out/5_first_touch" --start "$start_after" --max-force 5.0 || rc=$?; }
+  [ "$rc" -eq 0 ] && { "$py" "$root/scripts/tools/rehearsal_report.py" check "$out/5_first_touch" --start "$start_after" --max-force 5.0 || rc=$?; }
   verdict 5 "first touch" "$rc" "$out/5_first_touch/run_robot.log"
 fi
 
@@ -190,7 +191,7 @@ if want 6; then
   echo "== step 6 edge exploration: the KRC $krc"
   rc=0
   run_step 6_edge_exploration "edge exploration" "$root/sim/scenes/edge_exploration.yaml" "$krc" edge_exploration || rc=$?
-  [ "$rc" -eq 0 ] && { "$py" "$root/scripts/rehearsal_report.py" check "$out/6_edge_exploration" --start "$t0" --target-force 5.0 || rc=$?; }
+  [ "$rc" -eq 0 ] && { "$py" "$root/scripts/tools/rehearsal_report.py" check "$out/6_edge_exploration" --start "$t0" --target-force 5.0 || rc=$?; }
   # The same verdict as a run started in command mode (ctest lab_sim_robot_edge_exploration): the bar's end.
   if [ "$rc" -eq 0 ]; then
     if grep -q "finished: program_ended" "$out/6_edge_exploration/run/deployer.log"; then
@@ -203,7 +204,7 @@ if want 6; then
 fi
 
 printf '%s\n' "${results[@]}" > "$out/steps.txt"
-"$py" "$root/scripts/rehearsal_report.py" report "$out" || true
+"$py" "$root/scripts/tools/rehearsal_report.py" report "$out" || true
 fails=$(grep -c '|FAIL|' "$out/steps.txt")
 if [ "$fails" -eq 0 ]; then
   echo "rehearsal: PASS: every step (${#results[@]}); $out/rehearsal.md, $out/rehearsal.png"

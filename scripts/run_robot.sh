@@ -6,9 +6,8 @@
 #
 #   scripts/run_robot.sh EXPERIMENT [--dry-run] [--timeout S] [--out DIR]
 #                        [--deployments DIR] [--ros]
-#     EXPERIMENT   one of deployments/<experiment>_robot.ops: edge_exploration,
-#                  bent_bar, bent_bar_fused, bent_bar_baseline, co_manipulation,
-#                  sphere_table, first_touch
+#     EXPERIMENT   an entry of the experiment registry (experiments.yaml) with
+#                  robot: true (listed below)
 #     --dry-run    the FRI bridge holds the arm in command mode whatever the
 #                  servo asks; the servo computes and records its commands as if
 #                  the arm followed (bring-up, docs/bringup.md step 4)
@@ -17,10 +16,11 @@
 #     --out DIR    where the run goes (default out/robot/<experiment>[_dry_run])
 #     --deployments DIR  the deployment folder (default deployments/; the
 #                  rehearsal passes a copy rewired to the simulated peers)
-#     --ros        <experiment>_robot_ros.ops (ROS topics for rviz) instead
+#     --ros        robot_ros.ops (ROS topics for rviz) instead of robot.ops
 #
-# It runs the interactive entry <experiment>_robot.ops unchanged, with
-# Guard.timeout and Guard.dry_run set after its own Guard lines, then
+# It runs the interactive entry deployments/robot.ops unchanged with
+# TACTILE_EXPERIMENT=EXPERIMENT, with Guard.registry_file (this tree's
+# experiments.yaml), Guard.timeout and Guard.dry_run set around its own Guard lines, then
 # experiment_finish.ops (waits for FINISHED or FAILED, stops every
 # component), under `deployer-gnulinux --check` so that the deployer exits when
 # the script ends: 0 when the state machine ended FINISHED, 255 after a failed
@@ -38,7 +38,21 @@ build="${BUILD:-$root/build}"
 orocos="${OROCOS:-/opt/orocos}"
 py=/usr/bin/python3
 
-usage() { sed -n '6,21p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+registry="$root/experiments.yaml"
+# The registry's robot experiments (no argument), or one field ($1 entry, $2 key).
+registry_get() {
+  "$py" - "$registry" "$@" <<'PY'
+import sys, yaml
+entries = yaml.safe_load(open(sys.argv[1]))["experiments"]
+if len(sys.argv) == 2:
+    print(" ".join(n for n, e in entries.items() if e.get("robot")))
+else:
+    v = entries[sys.argv[2]][sys.argv[3]]
+    print("" if v is None else v)
+PY
+}
+usage() { sed -n '6,19p' "$0" | sed 's/^# \{0,1\}//' >&2
+          echo "  robot experiments (experiments.yaml): $(registry_get)" >&2; exit 2; }
 [ $# -ge 1 ] || usage
 exp="$1"; shift
 dry=false
@@ -57,8 +71,13 @@ while [ $# -gt 0 ]; do
   esac
 done
 case "$timeout" in ''|*[!0-9.]*) echo "run_robot: --timeout must be a number of seconds" >&2; exit 2 ;; esac
-entry="$dep/${exp}_${suffix}.ops"
-[ -f "$entry" ] || { echo "run_robot: no $entry (experiments: $(cd "$dep" && ls *_robot.ops | sed 's/_robot.ops//' | tr '\n' ' '))" >&2; exit 2; }
+robot_names="$(registry_get)"
+case " $robot_names " in
+  *" $exp "*) ;;
+  *) echo "run_robot: no robot experiment $exp in $registry (robot: true: $robot_names)" >&2; exit 2 ;;
+esac
+entry="$dep/$suffix.ops"
+[ -f "$entry" ] || { echo "run_robot: no $entry" >&2; exit 2; }
 grep -q '^Guard.report_file = ' "$entry" || { echo "run_robot: $entry sets no Guard.report_file" >&2; exit 1; }
 deployer="${DEPLOYER:-$orocos/bin/deployer-gnulinux}"
 [ -x "$deployer" ] || { echo "run_robot: no OCL deployer at $deployer" >&2; exit 1; }
@@ -66,14 +85,16 @@ deployer="${DEPLOYER:-$orocos/bin/deployer-gnulinux}"
 name="$exp"; [ "$dry" = true ] && name="${exp}_dry_run"
 out="${out:-$root/out/robot/$name}"
 mkdir -p "$out"
-report=$(sed -n 's/^Guard.report_file = "\(.*\)"/\1/p' "$entry")
-servo_cpf=$(sed -n 's/^Guard.servo_cpf = "\(.*\)"/\1/p' "$entry")
+report="${exp}_$suffix.dat"  # the entry's Guard.report_file
+program="$root/$(registry_get "$exp" program)"
+controller_mode="$(registry_get "$exp" controller)"
 rm -f "$dep/$report"
 
 # The entry, with this run's settings after its own Guard lines, then the finish.
 gen="$dep/.run_robot_${exp}_$$.ops"
 trap 'rm -f "$gen"' EXIT
-sed "/^Guard.report_file = /a Guard.timeout = $timeout\nGuard.dry_run = $dry" "$entry" > "$gen"
+sed -e "/^loadComponent(\"Guard\"/a Guard.registry_file = \"$registry\"" \
+    -e "/^Guard.report_file = /a Guard.timeout = $timeout\nGuard.dry_run = $dry" "$entry" > "$gen"
 cat >> "$gen" <<'EOF'
 Guard.step(runScript("experiment_finish.ops"), "experiment_finish.ops")
 var int experiment_finished(Guard.verdict())
@@ -82,7 +103,7 @@ EOF
 echo "run_robot: $exp ($(basename "$entry"), dry run $dry, timeout $timeout s) -> $out"
 t0=$(date +%s%N)
 rc=0
-(cd "$dep" && RTT_COMPONENT_PATH="$build/lib/orocos:$orocos/lib/orocos" \
+(cd "$dep" && TACTILE_EXPERIMENT="$exp" RTT_COMPONENT_PATH="$build/lib/orocos:$orocos/lib/orocos" \
    "$deployer" --check -linfo -s "$(basename "$gen")" < /dev/null) > "$out/deployer.log" 2>&1 || rc=$?
 ms=$(( ($(date +%s%N) - t0) / 1000000 ))
 wall="$((ms / 1000)).$(printf %03d $((ms % 1000)))"
@@ -96,10 +117,10 @@ if [ ! -s "$dep/$report" ]; then
 fi
 mv "$dep/$report" "$out/report.dat"
 robot_status=$(sed -n 's/.*robot status at the end: \([a-z_]*\).*/\1/p' "$out/deployer.log" | tail -1)
-"$py" "$root/scripts/deployment_to_run.py" "$out/report.dat" "$out" --servo-cpf "$dep/$servo_cpf" \
+"$py" "$root/scripts/tools/deployment_to_run.py" "$out/report.dat" "$out" --program "$program" --controller-mode "$controller_mode" \
   --experiment "$name" --source robot --deployer-exit "$rc" --wall-time "$wall" \
   ${robot_status:+--robot-status "$robot_status"} || { echo "run_robot: the report could not be converted" >&2; exit 1; }
-"$py" "$root/scripts/plot_run.py" "$out" || { echo "run_robot: plotting failed" >&2; exit 1; }
+"$py" "$root/scripts/tools/plot_run.py" "$out" || { echo "run_robot: plotting failed" >&2; exit 1; }
 if [ "$rc" -eq 0 ]; then
   echo "run_robot: PASS: $exp ended FINISHED; $out/{timeseries.csv,summary.json,*.png}"
 else

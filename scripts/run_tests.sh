@@ -5,10 +5,10 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 t0=$SECONDS
-bash "$root/scripts/setup_deps.sh"
-bash "$root/scripts/setup_orocos.sh"
+bash "$root/scripts/setup/setup_deps.sh"
+bash "$root/scripts/setup/setup_orocos.sh"
 echo "run_tests: set-up took $((SECONDS - t0)) s"
-bash "$root/scripts/build.sh"
+bash "$root/scripts/setup/build.sh"
 echo "run_tests: set-up and build took $((SECONDS - t0)) s"
 cd "$root/build"
 if [ "${TACTILE_WITH_RTT:-ON}" != "OFF" ]; then
@@ -21,7 +21,7 @@ if [ "${TACTILE_WITH_RTT:-ON}" != "OFF" ]; then
 fi
 n_ros=$(ctest -N -L ROS | sed -n 's/^Total Tests: //p')
 if [ "${n_ros:-0}" -eq 0 ]; then
-  echo "run_tests: ROS tests skipped: the ROS face is not built (TACTILE_WITH_ROS=${TACTILE_WITH_ROS:-AUTO}; scripts/setup_rtt_ros.sh)"
+  echo "run_tests: ROS tests skipped: the ROS face is not built (TACTILE_WITH_ROS=${TACTILE_WITH_ROS:-AUTO}; scripts/setup/setup_rtt_ros.sh)"
 else
   echo "run_tests: $n_ros ROS tests configured"
 fi

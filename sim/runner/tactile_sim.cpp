@@ -23,7 +23,7 @@
 // status, exit_code, sim_time).
 //
 // Writes DIR/timeseries.csv, summary.json, snapshots.csv, contacts.csv and the
-// PNG plots (scripts/plot_run.py, Debian's /usr/bin/python3). A progress bar is
+// PNG plots (scripts/tools/plot_run.py, Debian's /usr/bin/python3). A progress bar is
 // drawn on a terminal, nothing otherwise. Exit code: 0 ok, 2 bad scene or
 // arguments, 3 the simulation went unstable (NaN, joint limit, singularity,
 // force limit) or refused its steps or commands (sim_step_rejected,
@@ -95,7 +95,7 @@ int mkdirs(const std::string& dir) {
 
 int plot(const std::string& out_dir) {
   const char* script_env = std::getenv("TACTILE_PLOT_SCRIPT");
-  const std::string script = script_env ? script_env : std::string(TACTILE_SOURCE_DIR) + "/scripts/plot_run.py";
+  const std::string script = script_env ? script_env : std::string(TACTILE_SOURCE_DIR) + "/scripts/tools/plot_run.py";
   const std::string cmd = "/usr/bin/python3 '" + script + "' '" + out_dir + "'";
   const int rc = std::system(cmd.c_str());
   if (rc != 0) std::cerr << "tactile_sim: plotting failed (" << cmd << ")\n";

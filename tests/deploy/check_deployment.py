@@ -40,13 +40,13 @@ if exp == "edge_exploration":
     check(abs(num(d["force_true_mean_n"]) - 5.0) <= 1.0, f"true force mean 5 +- 1 N ({d['force_true_mean_n']})")
 elif exp == "bent_bar" and controller in ("proposed", "baseline"):
     # The Li et al. baseline (CoP -> rotation rows) follows the bent bar too:
-    # the same criteria as the proposed controller (README, controller comparison).
+    # the same criteria as the proposed controller (docs/results.md, "Controllers compared").
     check(d["status"] == "ok", f"status ok ({d['status']})")
     check(abs(num(d["force_true_mean_n"]) - 5.0) <= 1.0, f"true force mean 5 +- 1 N ({d['force_true_mean_n']})")
     check(num(d["force_true_max_n"]) <= 6.0, f"true force max <= 6 N ({d['force_true_max_n']})")
     check(num(d["path_length_m"]) >= 0.2, f"slid >= 0.2 m ({d['path_length_m']})")
 elif exp == "bent_bar_fused":
-    # The force estimate: the true force on target (README, "The true force on target").
+    # The force estimate: the true force on target (docs/simulator.md, "Known bias of the paper's force").
     check(d["status"] == "ok", f"status ok ({d['status']})")
     check(num(d["force_true_rms_error_n"]) <= 0.4, f"true force RMS error <= 0.4 N ({d['force_true_rms_error_n']})")
     check(num(d["force_true_in_band_fraction"]) >= 0.95,
@@ -70,7 +70,7 @@ elif exp in ("ring", "gap_bars"):
     # wrist twice and ends in `done` when the loop closes; on the gap bars it
     # crosses the gap once (cross_gap) and ends past the second bar's end. The
     # phases as the headless run's, and closed_contour_experiment.osd's own
-    # account of them (README "Whole closed contours").
+    # account of them (docs/results.md, "Closed contours").
     check(d["status"] == "ok", f"status ok ({d['status']})")
     names = [p["name"] for p in d["phases"]]
     check(names[-1:] == ["done"], f"ended in done ({names[-1:]})")

@@ -123,7 +123,7 @@ TEST(FeatureRegions, TwoSeparateContactsAreMultipleNotOneLongEdge) {
 }
 
 TEST(FeatureRegions, AGapSplitsTheLineOnceSilentForTauLnOneOverRegionMinRate) {
-  // A line load slides onto a gap (two collinear bars, README "The gap"):
+  // A line load slides onto a gap (two collinear bars, docs/simulator.md, "A gap under the pad"):
   // three columns fall silent at t_off. A silent taxel keeps joining regions
   // while its firing rate p = exp(-(t - t_off) / censor_tau) (t_off: the
   // last frame they fired) is at least

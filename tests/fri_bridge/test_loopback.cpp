@@ -347,7 +347,7 @@ TEST(FriUdp, FdForAnEventLoopZeroTimeoutReceiveAndDiscardPending) {
   EXPECT_EQ(a.fd(), -1);
 }
 
-// The latency record of the simulated KRC (scripts/rt_latency.sh): a reply
+// The latency record of the simulated KRC (scripts/realtime/rt_latency.sh): a reply
 // that misses its cycle is ignored by the KRC (stale, the cycle counts as
 // missed), but its true latency is entered in its cycle's sample, marked not
 // on time; a measurement never answered stays NaN. Single-threaded: the KRC

@@ -36,7 +36,7 @@ import os
 import numpy as np
 import yaml
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts"))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "tools"))
 import plot_lab_truth  # noqa: E402
 
 out, lab_rc, dep_rc = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
@@ -66,10 +66,10 @@ def criterion(name, key):
 # --- the deployment -----------------------------------------------------------
 log = open(f"{out}/run/deployer.log").read()
 check(dep_rc == 0 and "deployment step failed" not in log, f"every deployment step passed (deployer exit {dep_rc})")
-check(re.search(r"the state machine EdgeExperiment ended in FINISHED", log) is not None,
+check(re.search(r"the state machine TimedPhaseExperiment ended in FINISHED", log) is not None,
       "the experiment's state machine ended in FINISHED")
-m = re.search(r"\[EdgeExperiment\] finished: (\w+)", log)
-print(f"measured: EdgeExperiment result {m.group(1) if m else '?'}")
+m = re.search(r"\[TimedPhaseExperiment\] finished: (\w+)", log)
+print(f"measured: TimedPhaseExperiment result {m.group(1) if m else '?'}")
 
 # --- lab_sim ------------------------------------------------------------------
 lab = open(f"{out}/lab_sim.log").read()
@@ -108,7 +108,7 @@ seen = [p for p in order if p in want]
 check(seen[:4] == want, f"phases in order: {' -> '.join(order)}")
 summary = json.load(open(f"{out}/run/summary.json"))
 
-# --- align the time bases on the flange's z (scripts/plot_lab_truth.py) --------
+# --- align the time bases on the flange's z (scripts/tools/plot_lab_truth.py) --------
 truth = list(csv.DictReader(open(f"{out}/truth.csv")))
 tt = np.array([float(r["t"]) for r in truth])
 fit = plot_lab_truth.align_offset(truth, plot_lab_truth.read_report_z(f"{out}/run/report.dat"))

@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
 # ctest lab_sim_robot_edge_exploration: the UNCHANGED robot deployment
-# (deployments/edge_exploration_robot.ops: the FRI bridge on its
+# (deployments/robot.ops with TACTILE_EXPERIMENT=edge_exploration: the FRI bridge on its
 # FileDescriptorActivity, the WTS reader, features, servo, the experiment's
 # state machine, the reporter) against lab_sim on the edge exploration scene
 # (sim/scenes/edge_exploration.yaml), the KRC in command mode from its first
 # packet, to the experiment's end: scripts/run_robot.sh (the unattended
 # robot run: the entry script, then deployments/experiment_finish.ops, which
 # waits for the state machine to reach FINISHED, here at most 240 s, and
-# stops; the reporter's table converted by scripts/deployment_to_run.py).
-# The deployment is a staged copy of deployments/ (scripts/rt_common.sh:
+# stops; the reporter's table converted by scripts/tools/deployment_to_run.py).
+# The deployment is a staged copy of deployments/ (scripts/realtime/rt_common.sh:
 # absolute paths, the WTS reader on lab_sim's PTY) with the bridge's port
 # set to 49971; nothing else is changed. check_lab_sim_robot.py checks,
 # from it and lab_sim's truth CSV, that the edge was explored (phases reached,
@@ -20,7 +20,7 @@ set -uo pipefail
 name=lab_sim_robot_edge_exploration
 export BUILD="$2"
 # root, build, orocos, deployer, rt_stage_deployments, pids + cleanup trap
-source "$1/scripts/rt_common.sh"
+source "$1/scripts/realtime/rt_common.sh"
 for t in "$deployer" "$build/bin/lab_sim"; do
   [ -x "$t" ] || { echo "$name: $t missing" >&2; exit 1; }
 done

@@ -29,7 +29,7 @@ elseif(MODE STREQUAL "consumer")
   if(LAUNCHER)
     list(APPEND args -DCMAKE_CXX_COMPILER_LAUNCHER=${LAUNCHER})
   endif()
-  # The project's own compile and link flags (scripts/sanitize.sh: the installed
+  # The project's own compile and link flags (scripts/realtime/sanitize.sh: the installed
   # static libraries are instrumented, and a consumer must link the runtime).
   if(CXX_FLAGS)
     list(APPEND args "-DCMAKE_CXX_FLAGS=${CXX_FLAGS}")

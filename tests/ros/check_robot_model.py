@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """ctest ros_robot_model, the ROS side: the arm drawn from the URDF, as the
 launch file (ros/tactile_ros/launch/edge_exploration_sim.launch) and
-scripts/ros_screenshot.sh run it: robot_state_publisher on the URDF and
+scripts/tools/ros_screenshot.sh run it: robot_state_publisher on the URDF and
 /tactile/joint_states, the adapter's lwr_base -> lwr_flange -> wts0614 off
 (/RosAdapter/publish_flange_tf false), while the simulated edge exploration
 runs (tests/ros/run_robot_model_test.sh).

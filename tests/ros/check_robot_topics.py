@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """ctest ros_robot_streams, the ROS side: subscribes to the topics of
 deployments/ros_streams.ops while the robot deployment's ROS variant
-(deployments/edge_exploration_robot_ros.ops) runs against the simulated KRC
+(deployments/robot_ros.ops, TACTILE_EXPERIMENT=edge_exploration) runs against the simulated KRC
 (fri_sim_krc, FRI over UDP) and the simulated WTS0614 (wts_sim on a PTY).
 
 usage: check_robot_topics.py READY_FILE WINDOW_S

@@ -1,47 +1,51 @@
 #!/usr/bin/python3
-"""ctest ros_variants_complete: every deployment has its ROS variant, and the
-variant deploys the same thing.
+"""ctest ros_variants_complete: every deployment entry script has its ROS
+variant, and the variant deploys the same thing.
 
-For each deployments/<experiment>_sim_run.ops there must be
-<experiment>_sim_ros.ops, for each <experiment>_robot.ops an
-<experiment>_robot_ros.ops; the variant must set the same Guard properties
-(servo_cpf, sim_cpf, state_machine_file, state_machine, experiment) as the
-non-ROS script and run the shared ROS start (ros_sim_start.ops or
-ros_robot_start.ops), which ros_sim_streams and ros_robot_streams_* run.
+deployments/sim_run.ops has sim_ros.ops, robot.ops has robot_ros.ops; the
+variant must select the experiment as the non-ROS script does (the same
+Guard.select / Guard.step lines before its start: the registry's entry from
+TACTILE_EXPERIMENT), set no per-experiment file itself, and run the shared ROS
+start (ros_sim_start.ops or ros_robot_start.ops), which ros_sim_streams and
+ros_robot_streams_* run.
 
     check_ros_variants.py DEPLOYMENTS_DIR
 """
-import glob
 import os
 import re
 import sys
 
-SAME = ("experiment", "servo_cpf", "sim_cpf", "state_machine_file", "state_machine")
+# Per-experiment settings come from the registry (Guard.select): an entry script sets none.
+PER_EXPERIMENT = ("servo_cpf", "sim_cpf", "state_machine_file", "state_machine", "program_file", "scene_file")
 
 
-def guard(path):
+def selection(path):
+    """The entry's lines that select the experiment (Guard.select and its checks)."""
     text = open(path).read()
-    return dict(re.findall(r'^Guard\.(\w+) = (.*)$', text, re.M)), text
+    return [ln for ln in text.splitlines() if ln.startswith(("Guard.step(Guard.select", "if Guard.ok then Guard.step(Guard.robot"))], text
 
 
 def main():
     d = sys.argv[1]
     failures, checked = [], 0
-    pairs = []
-    for base in sorted(glob.glob(os.path.join(d, "*_sim_run.ops"))):
-        pairs.append((base, base[: -len("_sim_run.ops")] + "_sim_ros.ops", "ros_sim_start.ops"))
-    for base in sorted(glob.glob(os.path.join(d, "*_robot.ops"))):
-        pairs.append((base, base[: -len("_robot.ops")] + "_robot_ros.ops", "ros_robot_start.ops"))
+    pairs = [(os.path.join(d, "sim_run.ops"), os.path.join(d, "sim_ros.ops"), "ros_sim_start.ops"),
+             (os.path.join(d, "robot.ops"), os.path.join(d, "robot_ros.ops"), "ros_robot_start.ops")]
     for base, ros, start in pairs:
         name = os.path.basename(ros)
+        if not os.path.exists(base):
+            failures.append(f"no entry script {os.path.basename(base)}")
+            continue
         if not os.path.exists(ros):
             failures.append(f"{os.path.basename(base)} has no ROS variant {name}")
             continue
-        g_base, _ = guard(base)
-        g_ros, text = guard(ros)
-        for k in SAME:
-            if g_base.get(k) != g_ros.get(k):
-                failures.append(f"{name}: Guard.{k} = {g_ros.get(k)} but {os.path.basename(base)} has {g_base.get(k)}")
+        sel_base, text_base = selection(base)
+        sel_ros, text = selection(ros)
+        if not sel_base or sel_base != sel_ros:
+            failures.append(f"{name} selects {sel_ros} but {os.path.basename(base)} {sel_base}")
+        for t, n in ((text_base, os.path.basename(base)), (text, name)):
+            for k in re.findall(r'^Guard\.(\w+) = ', t, re.M):
+                if k in PER_EXPERIMENT:
+                    failures.append(f"{n} sets Guard.{k} itself (the registry's entry gives it)")
         if f'runScript("{start}")' not in text:
             failures.append(f"{name} does not run {start}")
         checked += 1

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # ctest test_ros_rt_allocations_robot (run inside tests/ros/with_roscore.sh):
 # stages deployments/ (absolute paths, the simulated WTS's PTY in
-# wts_reader.cpf: scripts/rt_common.sh), starts wts_sim on the PTY and
+# wts_reader.cpf: scripts/realtime/rt_common.sh), starts wts_sim on the PTY and
 # fri_sim_krc on fri.yaml's port, and runs the test binary's robot case in
 # that folder (TACTILE_STAGED_DEPLOYMENTS).
 #   run_robot_alloc_test.sh SOURCE_DIR BUILD_DIR TEST_BINARY
@@ -9,8 +9,8 @@ set -o pipefail
 src="$1"; build="$2"; binary="$3"
 out="${TACTILE_ROS_TMP:?run inside with_roscore.sh}/robot_alloc"
 name=run_robot_alloc_test
-# shellcheck source=../../scripts/rt_common.sh
-BUILD="$build" source "$src/scripts/rt_common.sh"   # staging, wts_sim, the cleanup of pids
+# shellcheck source=../../scripts/realtime/rt_common.sh
+BUILD="$build" source "$src/scripts/realtime/rt_common.sh"   # staging, wts_sim, the cleanup of pids
 rt_stage_deployments "$out"
 rt_start_wts_sim "$out"
 # The KRC sends from now on (its first packets meet no bridge yet: lost, as at a real start-up);

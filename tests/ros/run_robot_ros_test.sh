@@ -1,25 +1,25 @@
 #!/usr/bin/env bash
 # ctest ros_robot_streams_<experiment> (run inside tests/ros/with_roscore.sh):
-# the ROS variant of a robot deployment, deployments/<experiment>_robot_ros.ops,
-# unchanged, against the simulated peers: fri_sim_krc (the KRC over FRI/UDP,
+# the ROS variant of the robot deployment, deployments/robot_ros.ops with
+# TACTILE_EXPERIMENT=<experiment>, unchanged, against the simulated peers: fri_sim_krc (the KRC over FRI/UDP,
 # fri.yaml's port) and wts_sim (the WTS0614 on a PTY, a press circling the
 # pad), from a staged copy of deployments/ (absolute paths, the PTY in
-# wts_reader.cpf, as scripts/rt_common.sh stages them). check_robot_topics.py
+# wts_reader.cpf, as scripts/realtime/rt_common.sh stages them). check_robot_topics.py
 # subscribes meanwhile and ends the run by switching the servo to `done`
 # through the phase service.
 #   run_robot_ros_test.sh SOURCE_DIR BUILD_DIR OROCOS_PREFIX EXPERIMENT
 set -o pipefail
 src="$1"; build="$2"; orocos="$3"; exp="$4"
-[ -f "$src/deployments/${exp}_robot_ros.ops" ] || { echo "run_robot_ros_test: no deployments/${exp}_robot_ros.ops"; exit 2; }
+[ -f "$src/deployments/robot_ros.ops" ] || { echo "run_robot_ros_test: no deployments/robot_ros.ops"; exit 2; }
 out="${TACTILE_ROS_TMP:?run inside with_roscore.sh}/robot"
 name=run_robot_ros_test
-# shellcheck source=../../scripts/rt_common.sh
-BUILD="$build" OROCOS="$orocos" source "$src/scripts/rt_common.sh"   # staging, wts_sim, the cleanup of pids
+# shellcheck source=../../scripts/realtime/rt_common.sh
+BUILD="$build" OROCOS="$orocos" source "$src/scripts/realtime/rt_common.sh"   # staging, wts_sim, the cleanup of pids
 rt_stage_deployments "$out"
 cat > "$out/deployments/robot_ros_test.ops" <<'EOF'
 // tests/ros/run_robot_ros_test.sh: the robot ROS variant as shipped, held until
 // the checker switches the servo to `done` (or Guard.timeout s), then stopped.
-runScript("EXPERIMENT_robot_ros.ops")
+runScript("robot_ros.ops")
 Guard.timeout = 150.0
 var double waited = 0.0
 while Guard.ok && waited < Guard.timeout && Servo.phaseName() != "done" {
@@ -30,7 +30,6 @@ Guard.step(true, "robot_ros: phase " + Servo.phaseName() + " after " + waited + 
 Guard.step(stopComponents(), "stop all components")
 var int robot_ros_finished(Guard.verdict())
 EOF
-sed -i "s#EXPERIMENT_robot_ros#${exp}_robot_ros#" "$out/deployments/robot_ros_test.ops"
 
 rt_start_wts_sim "$out"
 
@@ -39,7 +38,7 @@ report="$out/deployments/robot_ros_param_${exp}.dat"
 rm -f "$report"
 rosparam set /Guard/report_file "$report" || { echo "run_robot_ros_test: rosparam set failed"; exit 1; }
 cd "$out/deployments" || exit 1
-"${DEPLOYER:-$orocos/bin/deployer-gnulinux}" --check -linfo -s robot_ros_test.ops < /dev/null > "$out/deployer.log" 2>&1 &
+TACTILE_EXPERIMENT="$exp" "${DEPLOYER:-$orocos/bin/deployer-gnulinux}" --check -linfo -s robot_ros_test.ops < /dev/null > "$out/deployer.log" 2>&1 &
 dep=$!
 cd - > /dev/null || exit 1
 pids+=($dep)

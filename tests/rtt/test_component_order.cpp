@@ -5,7 +5,7 @@
 // components (a configured core, a loaded scene).
 //
 // In a plain build this checks the values. Under ThreadSanitizer
-// (scripts/sanitize.sh tsan) it also checks the ordering: without the edge
+// (scripts/realtime/sanitize.sh tsan) it also checks the ordering: without the edge
 // that tactile::Component adds, RTT 2.10 publishes the task state through a
 // plain enum and every cycle below is a reported data race, which fails the
 // test (TSAN_OPTIONS exitcode). Checked by hand: with Component's acquire()

@@ -1,4 +1,5 @@
-// The edge exploration state machine (deployments/edge_exploration_experiment.osd)
+// The timed-phase state machine (deployments/timed_phase_experiment.osd: edge
+// exploration, bent bar, sphere on a table, co-manipulation)
 // runs in the servo's real-time thread: its `run` programs and `transitions`
 // execute every cycle, so they must not build strings (string literals, `+` on
 // strings, operations returning strings such as phaseName()) or print. Only
@@ -14,7 +15,7 @@
 
 namespace {
 
-const std::string kOsd = TACTILE_DEPLOYMENTS_DIR "/edge_exploration_experiment.osd";
+const std::string kOsd = TACTILE_DEPLOYMENTS_DIR "/timed_phase_experiment.osd";
 
 // The file without // comments (they may quote anything).
 std::string code(const std::string& path) {
@@ -67,10 +68,10 @@ void expectNoStrings(const std::vector<Block>& bs) {
   }
 }
 
-TEST(EdgeExperimentOsd, RunAndTransitionsBuildNoStringsAndDoNotPrint) {
+TEST(TimedPhaseExperimentOsd, RunAndTransitionsBuildNoStringsAndDoNotPrint) {
   const std::string text = code(kOsd);
   const std::vector<Block> run = blocks(text, "run"), tr = blocks(text, "transitions");
-  EXPECT_GE(run.size(), 3u);  // WAIT_EXPLORE, EXPLORE, STOP_MOTION
+  EXPECT_GE(run.size(), 3u);  // WAIT_PHASE, IN_PHASE, STOP_MOTION
   EXPECT_GE(tr.size(), 3u);
   expectNoStrings(run);
   expectNoStrings(tr);

@@ -234,8 +234,8 @@ TEST(ServoComponent, PhaseIndexOperations) {
 }
 
 // controller_mode overrides the program's controller.mode (the deployments'
-// servo_bent_bar_baseline.cpf selects the Li et al. baseline this way,
-// servo_bent_bar_no_rotation.cpf the ablation).
+// the registry entry bent_bar_baseline selects the Li et al. baseline this way,
+// bent_bar_no_rotation the ablation).
 TEST(ServoComponent, ControllerModeProperty) {
   auto mode = [](const std::string& m) {
     Rig rig(kProgram);
@@ -368,6 +368,7 @@ struct OsdCase {
   const char* waiting;  ///< the state waiting for the program's working phase
   const char* working;  ///< the state while the program is in that phase
   bool point;           ///< the touch is a point (the sphere), else an edge
+  const char* phase;    ///< timed_phase_experiment.osd's phase_name (its registry param), else nullptr
 };
 
 TEST(ServoComponent, ExperimentStateMachineCyclesDoNotAllocate) {
@@ -377,11 +378,14 @@ TEST(ServoComponent, ExperimentStateMachineCyclesDoNotAllocate) {
   ASSERT_TRUE(loader->loadTypekits(TACTILE_RTT_OWN_PACKAGE_DIR));
   ASSERT_TRUE(loader->loadTypekits(TACTILE_RTT_PACKAGE_DIR));     // /tactile/PhaseState
   const OsdCase cases[] = {
-      {"/bent_bar.yaml", "/bent_bar_experiment.osd", "BentBarExperiment", "WAIT_EXPLORE", "EXPLORE", false},
-      {"/co_manipulation.yaml", "/co_manipulation_experiment.osd", "CoManipulationExperiment", "WAIT_BALANCE",
-       "BALANCE", false},
-      {"/edge_exploration.yaml", "/sphere_table_experiment.osd", "SphereExperiment", "WAIT_ALIGN", "HOLD", true},
-      {"/first_touch.yaml", "/first_touch_experiment.osd", "FirstTouchExperiment", "WAIT_TOUCH", "HOLD", false},
+      {"/bent_bar.yaml", "/timed_phase_experiment.osd", "TimedPhaseExperiment", "WAIT_PHASE", "IN_PHASE", false,
+       "explore"},
+      {"/co_manipulation.yaml", "/timed_phase_experiment.osd", "TimedPhaseExperiment", "WAIT_PHASE", "IN_PHASE",
+       false, "balance"},
+      {"/edge_exploration.yaml", "/timed_phase_experiment.osd", "TimedPhaseExperiment", "WAIT_PHASE", "IN_PHASE",
+       true, "align"},
+      {"/first_touch.yaml", "/first_touch_experiment.osd", "FirstTouchExperiment", "WAIT_TOUCH", "HOLD", false,
+       nullptr},
   };
   for (const OsdCase& c : cases) {
     SCOPED_TRACE(c.osd);
@@ -411,6 +415,14 @@ TEST(ServoComponent, ExperimentStateMachineCyclesDoNotAllocate) {
     };
     cycle();
     ASSERT_TRUE(scripting->activateStateMachine(c.machine));
+    cycle();  // activate() done (it sets the RootMachine line's params) before a param is set
+    if (c.phase) {
+      RTT::base::AttributeBase* a = rig.comp.provides()->getService(c.machine)->getAttribute("phase_name");
+      ASSERT_NE(a, nullptr);
+      auto* d = RTT::internal::AssignableDataSource<std::string>::narrow(a->getDataSource().get());
+      ASSERT_NE(d, nullptr);
+      d->set(c.phase);
+    }
     ASSERT_TRUE(scripting->startStateMachine(c.machine));
     for (int k = 0; k < 3; ++k) cycle();  // INIT -> waiting (its entry prints)
     ASSERT_EQ(scripting->getStateMachineState(c.machine), c.waiting);

@@ -25,13 +25,13 @@ inline Scene loadShipped(const std::string& name, const std::vector<std::string>
 }
 
 /// A shipped scene with the paper's program in place of the shipped one: the
-/// `*_tactile.yaml` beside it (Eq. 2's force alone, CoP_y at 0), for the tests
+/// `*_paper.yaml` beside it (Eq. 2's force alone, CoP_y at 0), for the tests
 /// of the paper's own comparisons; the scene's program when it has none.
 inline Scene loadPaper(const std::string& name, std::vector<std::string> overrides = {}) {
   const Scene shipped = loadShipped(name);
   std::string program = shipped.program_file;
   const std::string ext = ".yaml";
-  if (program.size() > ext.size()) program = program.substr(0, program.size() - ext.size()) + "_tactile.yaml";
+  if (program.size() > ext.size()) program = program.substr(0, program.size() - ext.size()) + "_paper.yaml";
   if (std::ifstream(program).good()) overrides.insert(overrides.begin(), "program=" + program);
   return loadShipped(name, overrides);
 }

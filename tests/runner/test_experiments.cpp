@@ -21,7 +21,7 @@ namespace {
 using test::kScenes;
 
 // The paper's experiments and its controllers' comparisons run the paper's
-// programs (`*_tactile.yaml`: Eq. 2's force alone, CoP_y at 0; test::loadPaper);
+// programs (`*_paper.yaml`: Eq. 2's force alone, CoP_y at 0; test::loadPaper);
 // the shipped programs add the force estimate (tests at the end of the file).
 RunResult runScene(const std::string& name, ControllerMode mode = ControllerMode::Proposed, Scene* out = nullptr,
                    bool force_mismatch_watchdog = true, const std::vector<std::string>& overrides = {}) {
@@ -121,7 +121,7 @@ TEST(Experiments, EdgeExplorationThroughFri) {
 // near 5 N while sliding at >= 10 mm/s; without any rotation about x_s/y_s
 // (the no_rotation ablation, the paper's Fig. 12 "baseline" curve) it drifts
 // far. The Li et al. baseline with its CoP -> rotation rows follows the bar as
-// well as the proposed controller here (README, controller comparison).
+// well as the proposed controller here (docs/results.md, "Controllers compared").
 TEST(Experiments, BentBarProposedHoldsTheForceNoRotationDrifts) {
   const RunResult p = runScene("bent_bar.yaml", ControllerMode::Proposed);
   // The ablation's drift, watched to the end: its force-mismatch watchdog off.
@@ -560,7 +560,7 @@ TEST(Experiments, ForceEstimatePutsTheTrueForceOnTarget) {
   EXPECT_GE(f.summary.force_true_in_band_fraction, 0.95);
   EXPECT_GE(f.summary.path_length_m, 0.2);
   EXPECT_EQ(f.summary.contact_lost_count, 0);
-  Scene sc = test::loadShipped("bent_bar_fused.yaml", {"program=../../components/servo/programs/bent_bar_tactile.yaml"});
+  Scene sc = test::loadShipped("bent_bar_fused.yaml", {"program=../../components/servo/programs/bent_bar_paper.yaml"});
   const Summary t = test::run(sc);
   EXPECT_EQ(t.status, "ok");
   EXPECT_GT(t.force_true_rms_error_n, 0.5);       // measured 0.66 N: the true force ~0.6 N above 5 N
@@ -582,7 +582,7 @@ TEST(Experiments, ForceEstimatePutsTheTrueForceOnTarget) {
     EXPECT_GE(e.summary.path_length_m, 0.15) << "seed " << seed;
   }
   Scene se = test::loadShipped("edge_exploration.yaml",
-                               {"program=../../components/servo/programs/edge_exploration_tactile.yaml"});
+                               {"program=../../components/servo/programs/edge_exploration_paper.yaml"});
   const Summary te = test::run(se);
   EXPECT_GT(te.force_true_rms_error_n, 0.6);
   EXPECT_LT(te.force_true_in_band_fraction, 0.5);
@@ -645,7 +645,7 @@ TEST(Experiments, HoldingScenesPutTheTrueForceOnTarget) {
 // target where 2.5 N leaves it high on some seeds; the thinner image costs the
 // CoP's position ALONG the edge (against the simulator's true pressure
 // centre), not the edge's position ACROSS it, which is what the exploration
-// reconstructs (README, "The force estimate's bound").
+// reconstructs (docs/results.md, "The force estimate's bound").
 struct ImageErrors {
   double along_mean = NAN;  ///< m: |CoP - true pressure centre| along the ridge, mean
   double line_rms = NAN;    ///< m: the contact line's points' distance to the ridge, RMS
@@ -706,7 +706,7 @@ TEST(ShippedPrograms, ForceEstimateBoundTradesTheCoPAlongTheEdge) {
     return m;
   };
   const Scene paper_sc = test::loadShipped("edge_exploration.yaml",
-                                           {"program=../../components/servo/programs/edge_exploration_tactile.yaml"});
+                                           {"program=../../components/servo/programs/edge_exploration_paper.yaml"});
   const Scene shipped_sc = test::loadShipped("edge_exploration.yaml");
   // The bound's trade-off, without the image's margin (force_estimate.image_margin_n:
   // it keeps load above the firing threshold on the image, see below).

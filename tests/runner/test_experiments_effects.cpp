@@ -119,7 +119,7 @@ TEST(ExperimentsWithRealisticDelays, ShippedScenesPassTheirCriteria) {
 }
 
 // Every simulated effect of the hardware at once, at the levels of
-// scripts/sweep_effects.py (`all`): the delays, pad friction, creep,
+// scripts/sweeps/sweep_effects.py (`all`): the delays, pad friction, creep,
 // hysteresis, per-taxel gain spread, two dead taxels, calibration error,
 // crosstalk, the device's noise level, the arm's wrench error and the dynamic
 // tray. Each experiment scene passes its own criteria (metrics.criteria) for

@@ -1,8 +1,8 @@
 // Servo rate independence: the servo's gains, limits and delays are per second
 // (Eq. 13 as a rate, transitions held for seconds), so the experiments' key
 // metrics at a 50 Hz and a 1 kHz servo stay within 10 % of those at the
-// paper's 100 Hz (Table 2). Key metrics as in scripts/sweep_tradeoff.py and
-// scripts/sweep_rates.py (which measures the whole 50 Hz .. 1 kHz table).
+// paper's 100 Hz (Table 2). Key metrics as in scripts/sweeps/sweep_tradeoff.py and
+// scripts/sweeps/sweep_rates.py (which measures the whole 50 Hz .. 1 kHz table).
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -443,7 +443,7 @@ TEST(WtsAlloc, ParseAndDecodeDoNotAllocate) {
   EXPECT_EQ(frames, 40);
 }
 
-// ---- fuzz smoke (the real libFuzzer run is scripts/fuzz_wts.sh) -----------------
+// ---- fuzz smoke (the real libFuzzer run is scripts/tools/fuzz_wts.sh) -----------------
 
 TEST(WtsFuzzSmoke, RandomAndMutatedBytesNeverBreakTheParser) {
   FrameDecoder d;

@@ -183,87 +183,97 @@ double FeatureExtractor::otsuThreshold(const double* values, int n) {
   return thr;
 }
 
-FeatureStatus FeatureExtractor::step(const TactileFrame& frame, ContactFeatures& out) {
-  auto fail = [&](FeatureStatus s) {
-    const double t = frame.time_s;
-    const uint32_t q = frame.seq;
-    out = ContactFeatures{};
-    out.time_s = std::isfinite(t) ? t : 0.0;
-    out.seq = q;
-    out.status = s;
-    return s;
-  };
-  if (!configured_) return fail(FeatureStatus::NotConfigured);
-  if (frame.rows != params_.rows || frame.cols != params_.cols) return fail(FeatureStatus::BadDimensions);
+namespace {
+// A failed frame: every numeric field zero, the frame's time (0 if not finite)
+// and seq kept, status s; returns s.
+FeatureStatus failFrame(const TactileFrame& frame, FeatureStatus s, ContactFeatures& out) {
+  const double t = frame.time_s;
+  const uint32_t q = frame.seq;
+  out = ContactFeatures{};
+  out.time_s = std::isfinite(t) ? t : 0.0;
+  out.seq = q;
+  out.status = s;
+  return s;
+}
 
-  const int rows = params_.rows, cols = params_.cols;
-  const int n = rows * cols;
-  const double* f = frame.force.data();
-
-  // Validation pass: NaN/Inf, and finite values beyond the sensor's range.
+// Validation pass over n readings: InvalidInput on NaN/Inf, OutOfRange beyond
+// max_force (huge but finite), else Ok; fmax = the largest reading above
+// kForceFloor (0 if none).
+FeatureStatus validateReadings(const double* f, int n, double max_force, double& fmax) {
   bool finite = true;
-  double absmax = 0.0, fmax = 0.0;
+  double absmax = 0.0;
+  fmax = 0.0;
   for (int i = 0; i < n; ++i) {
     finite = finite && std::isfinite(f[i]);
     const double mag = std::fabs(f[i]);
     absmax = mag > absmax ? mag : absmax;
-    fmax = f[i] > fmax && f[i] > kForceFloor ? f[i] : fmax;
+    fmax = f[i] > fmax && f[i] > FeatureExtractor::kForceFloor ? f[i] : fmax;
   }
-  if (!finite) return fail(FeatureStatus::InvalidInput);  // NaN/Inf input
-  if (absmax > params_.max_taxel_force) return fail(FeatureStatus::OutOfRange);  // huge but finite
-  const bool firing = fmax > params_.contact_threshold;
+  if (!finite) return FeatureStatus::InvalidInput;  // NaN/Inf input
+  if (absmax > max_force) return FeatureStatus::OutOfRange;  // huge but finite
+  return FeatureStatus::Ok;
+}
 
-  // Firing rates of the sub-threshold estimate (time constant censor_tau in
-  // frame time). The first frame after reset, and a frame whose time stamp
-  // does not advance (no time base: nothing to average over), restart the
-  // average at the current firing state: no estimate rests on them.
-  const bool censor = params_.censor_tau > 0.0 && params_.taxel_noise > 0.0;
-  if (censor) {
-    double a = 1.0;
-    if (have_time_) {
-      const double dt = frame.time_s - last_time_;
-      a = (dt > 0.0 && std::isfinite(dt)) ? 1.0 - std::exp(-dt / params_.censor_tau) : 1.0;
-    }
-    if (std::isfinite(frame.time_s) && (!have_time_ || frame.time_s > last_time_)) {
-      last_time_ = frame.time_s;
-      have_time_ = true;
-    }
-    for (int i = 0; i < n; ++i) {
-      double& pr = fire_rate_[static_cast<std::size_t>(i)];
-      pr += a * ((f[i] > kForceFloor ? 1.0 : 0.0) - pr);
-    }
+// The frame's status once its features are valid: NoContact, Saturated or Ok.
+FeatureStatus frameStatus(ContactType type, const TactileFrame& frame) {
+  if (type == ContactType::None) return FeatureStatus::NoContact;
+  if (frame.saturated_count > 0) return FeatureStatus::Saturated;
+  return FeatureStatus::Ok;
+}
+}  // namespace
+
+// Raw moments up to second order (Eq. B.1) and the binarised image's sums.
+struct FeatureExtractor::RawMoments {
+  double m00 = 0, m10 = 0, m01 = 0, m20 = 0, m11 = 0, m02 = 0;
+  double bx = 0, by = 0;  ///< sums of the in-contact taxels' x and y (CoC)
+  int area = 0;           ///< taxels in contact
+  int loaded = 0;         ///< taxels carrying force (the moments' support)
+};
+
+// Firing rates of the sub-threshold estimate (time constant censor_tau in
+// frame time). The first frame after reset, and a frame whose time stamp
+// does not advance (no time base: nothing to average over), restart the
+// average at the current firing state: no estimate rests on them.
+void FeatureExtractor::updateFiringRates(const TactileFrame& frame, int n) {
+  const double* f = frame.force.data();
+  double a = 1.0;
+  if (have_time_) {
+    const double dt = frame.time_s - last_time_;
+    a = (dt > 0.0 && std::isfinite(dt)) ? 1.0 - std::exp(-dt / params_.censor_tau) : 1.0;
   }
-
-  // The image the moments are taken of: the readings (negative values and
-  // values below kForceFloor, denormals included, are 0) plus, while a taxel
-  // fires, the censored-model load of the silent taxels that fire at a rate
-  // >= censor_min_rate (header: "Taxels the noise switches off").
-  std::array<double, kMaxTaxels> img;
-  std::array<uint8_t, kMaxTaxels> estimated;
+  if (std::isfinite(frame.time_s) && (!have_time_ || frame.time_s > last_time_)) {
+    last_time_ = frame.time_s;
+    have_time_ = true;
+  }
   for (int i = 0; i < n; ++i) {
-    img[static_cast<std::size_t>(i)] = f[i] > kForceFloor ? f[i] : 0.0;
-    estimated[static_cast<std::size_t>(i)] = 0;
+    double& pr = fire_rate_[static_cast<std::size_t>(i)];
+    pr += a * ((f[i] > kForceFloor ? 1.0 : 0.0) - pr);
+  }
+}
+
+// The image the moments are taken of: the readings (negative values and
+// values below kForceFloor, denormals included, are 0) plus, while a taxel
+// fires, the censored-model load of the silent taxels that fire at a rate
+// >= censor_min_rate (header: "Taxels the noise switches off"), flagged in
+// `estimated`. Sets last_subthreshold_.
+void FeatureExtractor::buildImage(const double* f, int n, bool add_estimate, double* img, uint8_t* estimated) {
+  for (int i = 0; i < n; ++i) {
+    img[i] = f[i] > kForceFloor ? f[i] : 0.0;
+    estimated[i] = 0;
   }
   last_subthreshold_ = 0.0;
-  if (censor && firing)
-    last_subthreshold_ = subthresholdForce(f, n, params_.contact_threshold, img.data(), estimated.data());
-  const double* g = img.data();
+  if (add_estimate) last_subthreshold_ = subthresholdForce(f, n, params_.contact_threshold, img, estimated);
+}
 
-  // Binarisation threshold (fixed or Otsu).
-  double thr = params_.threshold;
-  if (params_.threshold_mode == ThresholdMode::Otsu) thr = otsuThreshold(g, n);
-
-  // One pass: raw moments up to second order (Eq. B.1) and the binarised
-  // image (CoC; an estimated taxel is in contact). Row sums keep the
-  // multiplications per taxel low.
-  double m00 = 0, m10 = 0, m01 = 0, m20 = 0, m11 = 0, m02 = 0;
-  double bx = 0, by = 0;
-  int area = 0;
-  int loaded = 0;  // taxels carrying force (the moments' support)
+// One pass: raw moments up to second order of image g (Eq. B.1) and the
+// image binarised at thr (CoC; an estimated taxel is in contact). Row sums
+// keep the multiplications per taxel low.
+void FeatureExtractor::accumulateMoments(const double* g, const uint8_t* estimated, double thr, RawMoments& m) const {
+  const int rows = params_.rows, cols = params_.cols;
   for (int r = 0; r < rows; ++r) {
     const double y = ys_[static_cast<std::size_t>(r)];
     const double* row = g + r * cols;
-    const uint8_t* est = estimated.data() + r * cols;
+    const uint8_t* est = estimated + r * cols;
     double s0 = 0, s1 = 0, s2 = 0, sb = 0;
     int cnt = 0;
     for (int c = 0; c < cols; ++c) {
@@ -274,127 +284,177 @@ FeatureStatus FeatureExtractor::step(const TactileFrame& frame, ContactFeatures&
       s2 += x * x * v;
       const bool on = v > thr || est[c] != 0;
       cnt += on;
-      loaded += v > 0.0;
+      m.loaded += v > 0.0;
       sb += on ? x : 0.0;
     }
-    m00 += s0;
-    m10 += s1;
-    m01 += y * s0;
-    m20 += s2;
-    m11 += y * s1;
-    m02 += y * y * s0;
-    bx += sb;
-    by += y * cnt;
-    area += cnt;
+    m.m00 += s0;
+    m.m10 += s1;
+    m.m01 += y * s0;
+    m.m20 += s2;
+    m.m11 += y * s1;
+    m.m02 += y * y * s0;
+    m.bx += sb;
+    m.by += y * cnt;
+    m.area += cnt;
   }
+}
+
+// CoP, CoC, DZMP and the covariance's eigenvalues of a loaded frame
+// (m.m00 > kForceFloor) into out, the central moments into mo.
+void FeatureExtractor::contactGeometry(const RawMoments& m, ContactFeatures& out, Moments& mo) {
+  const double cx = m.m10 / m.m00, cy = m.m01 / m.m00;  // Eq. B.2, B.3
+  // Second central moments normalised by M00 (pressure-weighted covariance).
+  // Positions are O(1e-2 m), so the cancellation in m20/m00 - cx^2 costs
+  // ~1e-16 * 1e-4 m^2: far below any eigenvalue that matters.
+  mo.mu20 = std::max(0.0, m.m20 / m.m00 - cx * cx);
+  mo.mu11 = m.m11 / m.m00 - cx * cy;
+  mo.mu02 = std::max(0.0, m.m02 / m.m00 - cy * cy);
+  out.cop_x = cx;
+  out.cop_y = cy;
+  if (m.area > 0) {
+    out.coc_x = m.bx / m.area;
+    out.coc_y = m.by / m.area;
+  } else {
+    out.coc_x = cx;
+    out.coc_y = cy;
+  }
+  // Eq. 3: DZMP_x = CoP_y - CoC_y, DZMP_y = CoP_x - CoC_x.
+  out.dzmp_x = out.cop_y - out.coc_y;
+  out.dzmp_y = out.cop_x - out.coc_x;
+
+  // PCA of the 2x2 covariance (Eq. B.4, B.5), closed form.
+  const double a = mo.mu20, b = mo.mu11, c = mo.mu02;
+  const double mean = 0.5 * (a + c);
+  const double half = 0.5 * (a - c);
+  const double rad = std::sqrt(half * half + b * b);
+  double l1 = mean + rad;
+  double l2 = mean - rad;
+  if (l2 < 0.0) l2 = 0.0;  // rounding on a rank-1 covariance
+  out.lambda1 = l1;
+  out.lambda2 = l2;
+}
+
+// 1-sigma noise of alpha_z (header: "alpha_z within the noise") for image g
+// with mass m00 and centroid (cx, cy), central moments mo: +inf when the
+// covariance is isotropic (lambda1 = lambda2), 0 without taxel noise.
+double FeatureExtractor::alphaSigma(const double* g, double m00, double cx, double cy, const Moments& mo) const {
+  const int rows = params_.rows, cols = params_.cols;
+  const double a = mo.mu20, b = mo.mu11, c = mo.mu02;
+  const double gx = a - c, gy = 2.0 * b;
+  const double gn = std::sqrt(gx * gx + gy * gy);  // = lambda1 - lambda2
+  if (!(gn > 0.0)) return std::numeric_limits<double>::infinity();
+  double s = 0.0;
+  if (params_.taxel_noise > 0.0) {
+    const double nx = -gy / gn, ny = gx / gn;
+    for (int r = 0; r < rows; ++r) {
+      const double dy = ys_[static_cast<std::size_t>(r)] - cy;
+      for (int cc = 0; cc < cols; ++cc) {
+        if (!(g[r * cols + cc] > 0.0)) continue;
+        const double dx = xs_[static_cast<std::size_t>(cc)] - cx;
+        const double un = (dx * dx - dy * dy) * nx + 2.0 * dx * dy * ny;
+        s += un * un;
+      }
+    }
+  }
+  return params_.taxel_noise * std::sqrt(s) / (2.0 * m00 * gn);
+}
+
+// The principal-axis angle of a loaded frame into alpha (the previous angle
+// when it is not defined); true when defined: two or more loaded taxels, an
+// anisotropic covariance and last_alpha_sigma_ <= alpha_max_sigma.
+bool FeatureExtractor::principalAngle(const RawMoments& m, const ContactFeatures& out, const Moments& mo,
+                                      double& alpha) const {
+  alpha = alpha_prev_;
+  const double l1 = out.lambda1, l2 = out.lambda2;
+  // One loaded taxel has no direction: its covariance is zero up to
+  // rounding (lambda1 ~ 1e-20 m^2) and the noise model, which scales with the
+  // spread, cannot see that; the angle would be rounding noise.
+  if (!(m.loaded >= 2 && l1 > 0.0 && (l1 - l2) > params_.isotropy_tol * (l1 + l2) &&
+        last_alpha_sigma_ <= params_.alpha_max_sigma))
+    return false;
+  // Principal axis angle from x_s; 0.5*atan2 lies in (-pi/2, pi/2].
+  const double wrapped = 0.5 * std::atan2(2.0 * mo.mu11, mo.mu20 - mo.mu02);
+  alpha = wrapped;
+  // Branch hysteresis near +-pi/2 (see header): keep the representative
+  // closest to the previous angle while it stays inside the band.
+  const double h = params_.alpha_hysteresis;
+  if (h > 0.0) {
+    double best = wrapped;
+    for (double cand : {wrapped - kPi, wrapped + kPi})
+      if (std::fabs(cand - alpha_prev_) < std::fabs(best - alpha_prev_)) best = cand;
+    if (std::fabs(best) <= 0.5 * kPi + h) alpha = best;
+  }
+  return true;
+}
+
+// Contact detection and type (Sec. 3.3, Eq. 5) with hysteresis from the
+// previous frame's type: None unless loaded and firing. Sets last_regions_.
+ContactType FeatureExtractor::classifyContact(const double* f, bool loaded_and_firing, const ContactFeatures& out) {
+  last_regions_ = 0;
+  if (!loaded_and_firing) return ContactType::None;
+  last_regions_ = countRegions(f, params_.rows, params_.cols);
+  const double l1 = out.lambda1, l2 = out.lambda2;
+  const double ratio = type_prev_ == ContactType::Edge ? params_.edge_ratio_exit : params_.edge_ratio;
+  const bool long_enough = 12.0 * l1 >= params_.edge_min_length * params_.edge_min_length;
+  if (last_regions_ >= 2) return ContactType::Multiple;
+  return (l1 > 0.0 && l1 >= ratio * l2 && long_enough) ? ContactType::Edge : ContactType::Point;
+}
+
+FeatureStatus FeatureExtractor::step(const TactileFrame& frame, ContactFeatures& out) {
+  if (!configured_) return failFrame(frame, FeatureStatus::NotConfigured, out);
+  if (frame.rows != params_.rows || frame.cols != params_.cols)
+    return failFrame(frame, FeatureStatus::BadDimensions, out);
+
+  const int n = params_.rows * params_.cols;
+  const double* f = frame.force.data();
+
+  double fmax = 0.0;
+  const FeatureStatus valid = validateReadings(f, n, params_.max_taxel_force, fmax);
+  if (valid != FeatureStatus::Ok) return failFrame(frame, valid, out);
+  const bool firing = fmax > params_.contact_threshold;
+
+  const bool censor = params_.censor_tau > 0.0 && params_.taxel_noise > 0.0;
+  if (censor) updateFiringRates(frame, n);
+
+  std::array<double, kMaxTaxels> img;
+  std::array<uint8_t, kMaxTaxels> estimated;
+  buildImage(f, n, censor && firing, img.data(), estimated.data());
+  const double* g = img.data();
+
+  // Binarisation threshold (fixed or Otsu).
+  double thr = params_.threshold;
+  if (params_.threshold_mode == ThresholdMode::Otsu) thr = otsuThreshold(g, n);
+
+  RawMoments m;
+  accumulateMoments(g, estimated.data(), thr, m);
   last_threshold_ = thr;
-  if (!std::isfinite(m00) || !std::isfinite(m20 + m02 + m11))
-    return fail(FeatureStatus::OutOfRange);  // overflow of finite inputs (max_taxel_force too large)
-  const bool has_mass = m00 > kForceFloor;
+  if (!std::isfinite(m.m00) || !std::isfinite(m.m20 + m.m02 + m.m11))
+    return failFrame(frame, FeatureStatus::OutOfRange, out);  // overflow of finite inputs (max_taxel_force too large)
+  const bool has_mass = m.m00 > kForceFloor;
 
   out = ContactFeatures{};
   out.time_s = frame.time_s;
   out.seq = frame.seq;
-  out.force = m00;                  // f = sum of taxel forces (with the sub-threshold estimate)
-  out.d_z = params_.c_z * m00;      // Eq. 2: dz = C_z * f_z
+  out.force = m.m00;                // f = sum of taxel forces (with the sub-threshold estimate)
+  out.d_z = params_.c_z * m.m00;    // Eq. 2: dz = C_z * f_z
   out.max_taxel = fmax;
-  out.area = static_cast<uint16_t>(area);
+  out.area = static_cast<uint16_t>(m.area);
 
   Moments mo;
-  mo.m00 = m00;
-  mo.m10 = m10;
-  mo.m01 = m01;
+  mo.m00 = m.m00;
+  mo.m10 = m.m10;
+  mo.m01 = m.m01;
   bool alpha_ok = false;
   double alpha_new = alpha_prev_;
   last_alpha_sigma_ = std::numeric_limits<double>::infinity();
   if (has_mass) {
-    const double cx = m10 / m00, cy = m01 / m00;  // Eq. B.2, B.3
-    // Second central moments normalised by M00 (pressure-weighted covariance).
-    // Positions are O(1e-2 m), so the cancellation in m20/m00 - cx^2 costs
-    // ~1e-16 * 1e-4 m^2: far below any eigenvalue that matters.
-    mo.mu20 = std::max(0.0, m20 / m00 - cx * cx);
-    mo.mu11 = m11 / m00 - cx * cy;
-    mo.mu02 = std::max(0.0, m02 / m00 - cy * cy);
-    out.cop_x = cx;
-    out.cop_y = cy;
-    if (area > 0) {
-      out.coc_x = bx / area;
-      out.coc_y = by / area;
-    } else {
-      out.coc_x = cx;
-      out.coc_y = cy;
-    }
-    // Eq. 3: DZMP_x = CoP_y - CoC_y, DZMP_y = CoP_x - CoC_x.
-    out.dzmp_x = out.cop_y - out.coc_y;
-    out.dzmp_y = out.cop_x - out.coc_x;
-
-    // PCA of the 2x2 covariance (Eq. B.4, B.5), closed form.
-    const double a = mo.mu20, b = mo.mu11, c = mo.mu02;
-    const double mean = 0.5 * (a + c);
-    const double half = 0.5 * (a - c);
-    const double rad = std::sqrt(half * half + b * b);
-    double l1 = mean + rad;
-    double l2 = mean - rad;
-    if (l2 < 0.0) l2 = 0.0;  // rounding on a rank-1 covariance
-    out.lambda1 = l1;
-    out.lambda2 = l2;
-
-    // Noise of alpha_z (header: "alpha_z within the noise").
-    const double gx = a - c, gy = 2.0 * b;
-    const double gn = std::sqrt(gx * gx + gy * gy);  // = lambda1 - lambda2
-    if (gn > 0.0) {
-      double s = 0.0;
-      if (params_.taxel_noise > 0.0) {
-        const double nx = -gy / gn, ny = gx / gn;
-        for (int r = 0; r < rows; ++r) {
-          const double dy = ys_[static_cast<std::size_t>(r)] - cy;
-          for (int cc = 0; cc < cols; ++cc) {
-            if (!(g[r * cols + cc] > 0.0)) continue;
-            const double dx = xs_[static_cast<std::size_t>(cc)] - cx;
-            const double un = (dx * dx - dy * dy) * nx + 2.0 * dx * dy * ny;
-            s += un * un;
-          }
-        }
-      }
-      last_alpha_sigma_ = params_.taxel_noise * std::sqrt(s) / (2.0 * m00 * gn);
-    }
-    double alpha = alpha_prev_;
-    // One loaded taxel has no direction: its covariance is zero up to
-    // rounding (lambda1 ~ 1e-20 m^2) and the noise model, which scales with the
-    // spread, cannot see that; the angle would be rounding noise.
-    if (loaded >= 2 && l1 > 0.0 && (l1 - l2) > params_.isotropy_tol * (l1 + l2) &&
-        last_alpha_sigma_ <= params_.alpha_max_sigma) {
-      alpha_ok = true;
-      // Principal axis angle from x_s; 0.5*atan2 lies in (-pi/2, pi/2].
-      const double wrapped = 0.5 * std::atan2(2.0 * b, a - c);
-      alpha = wrapped;
-      // Branch hysteresis near +-pi/2 (see header): keep the representative
-      // closest to the previous angle while it stays inside the band.
-      const double h = params_.alpha_hysteresis;
-      if (h > 0.0) {
-        double best = wrapped;
-        for (double cand : {wrapped - kPi, wrapped + kPi})
-          if (std::fabs(cand - alpha_prev_) < std::fabs(best - alpha_prev_)) best = cand;
-        if (std::fabs(best) <= 0.5 * kPi + h) alpha = best;
-      }
-    }
-    alpha_new = alpha;
+    contactGeometry(m, out, mo);
+    last_alpha_sigma_ = alphaSigma(g, m.m00, out.cop_x, out.cop_y, mo);
+    alpha_ok = principalAngle(m, out, mo, alpha_new);
   }
   moments_ = mo;
 
-  // Contact detection and type (Sec. 3.3, Eq. 5) with hysteresis.
-  ContactType type = ContactType::None;
-  last_regions_ = 0;
-  if (has_mass && firing) {
-    last_regions_ = countRegions(f, rows, cols);
-    const double l1 = out.lambda1, l2 = out.lambda2;
-    const double ratio = type_prev_ == ContactType::Edge ? params_.edge_ratio_exit : params_.edge_ratio;
-    const bool long_enough = 12.0 * l1 >= params_.edge_min_length * params_.edge_min_length;
-    if (last_regions_ >= 2)
-      type = ContactType::Multiple;
-    else
-      type = (l1 > 0.0 && l1 >= ratio * l2 && long_enough) ? ContactType::Edge : ContactType::Point;
-  }
+  const ContactType type = classifyContact(f, has_mass && firing, out);
   out.contact = type;
   type_prev_ = type;
   // alpha_z: a new value only when defined above the noise and the contact
@@ -403,13 +463,7 @@ FeatureStatus FeatureExtractor::step(const TactileFrame& frame, ContactFeatures&
   out.alpha_z = out.alpha_defined ? alpha_new : alpha_prev_;
   if (out.alpha_defined) alpha_prev_ = out.alpha_z;
 
-
-  if (type == ContactType::None)
-    out.status = FeatureStatus::NoContact;
-  else if (frame.saturated_count > 0)
-    out.status = FeatureStatus::Saturated;
-  else
-    out.status = FeatureStatus::Ok;
+  out.status = frameStatus(type, frame);
   return out.status;
 }
 

@@ -230,40 +230,8 @@ BridgeStatus FriBridge::stepPacket(const MsrPacket& msr, const PoseCommand& desi
     out.packet_status = msr.intf.state > 2 ? PacketStatus::BadState : PacketStatus::BadQuality;
     return out.status = BridgeStatus::Malformed;
   }
-
-  // ---- sequence check (16-bit wrap-around) ----
-  const uint16_t seq = msr.head.send_seq;
-  if (have_seq_) {
-    const int d = seqDelta(last_seq_, seq);
-    if (d <= 0) {
-      if (d == 0) {
-        ++stats_.duplicates;
-        return out.status = BridgeStatus::DroppedDuplicate;
-      }
-      if (++backwards_run_ < params_.resync_after) {
-        ++stats_.out_of_order;
-        return out.status = BridgeStatus::DroppedOutOfOrder;
-      }
-      ++stats_.resyncs;  // the KRC restarted its counter: accept the new sequence
-    } else {
-      out.lost_before = static_cast<uint16_t>(d - 1);
-      stats_.lost += static_cast<uint64_t>(d - 1);
-    }
-  }
-  have_seq_ = true;
-  last_seq_ = seq;
-  backwards_run_ = 0;
-  ++stats_.accepted;
-
-  // ---- state and quality ----
-  const State state = stateOf(msr);
-  const Quality quality = qualityOf(msr);
-  out.state = state;
-  out.quality = quality;
-  out.state_changed = !have_state_ || state != last_state_ || quality != last_quality_;
-  have_state_ = true;
-  last_state_ = state;
-  last_quality_ = quality;
+  if (!acceptSequence(msr, out)) return out.status;
+  trackState(msr, out);
 
   const bool msr_valid = validFriPose(msr.data.msr_cart_pos);
   // What the arm holds outside CMD: the KRC's set point (cmdCartPos, with
@@ -276,48 +244,104 @@ BridgeStatus FriBridge::stepPacket(const MsrPacket& msr, const PoseCommand& desi
   const double T = (std::isfinite(krc_T) && krc_T > 0.0 && krc_T <= 0.1) ? krc_T : params_.cycle_time_s;
   out.mismatch = checkConfig(msr);
 
-  if (state != State::Cmd || !powerOn(msr)) {
-    // MON / OFF / power off: echo the held pose; (re)entering CMD passes the start gate again.
-    engaged_ = false;
-    if (out.mismatch & mismatch::kCycle) {  // named in MON too: never silent
-      out.status = BridgeStatus::CycleMismatch;
-    } else if (out.mismatch & mismatch::kPort) {
-      out.status = BridgeStatus::PortMismatch;
-    } else if (out.mismatch & mismatch::kControl) {
-      out.status = BridgeStatus::WrongStrategy;
-    } else if (state != State::Cmd && was_in_cmd_) {
-      out.status = BridgeStatus::LeftCmd;
-    } else if (!powerOn(msr)) {
-      out.status = BridgeStatus::PowerOff;
-    } else {
-      out.status = BridgeStatus::Monitor;
-    }
-    if (!msr_valid) {
-      have_command_ = false;
-      return out.status = BridgeStatus::MeasurementInvalid;
-    }
-    limiter_.reset(held);
-    have_command_ = true;
-    fillReply(msr, held, out);
-    return out.status;
-  }
+  if (out.state != State::Cmd || !powerOn(msr)) return echoOutsideCmd(msr, held, msr_valid, out);
 
   // ---- CMD, powered ----
   was_in_cmd_ = true;
-  if (msr.robot.control != static_cast<uint16_t>(ControlStrategy::CartImpedance)) {
-    out.status = BridgeStatus::WrongStrategy;
-    engaged_ = false;
-    if (!msr_valid) {
-      have_command_ = false;
-      return out.status = BridgeStatus::MeasurementInvalid;
+  if (msr.robot.control != static_cast<uint16_t>(ControlStrategy::CartImpedance))
+    return jointHold(msr, held, msr_valid, out);
+  if (!startFromHeldCommand(msr, held, msr_valid)) return out.status = BridgeStatus::MeasurementInvalid;
+  if (!holdStatus(desired, now_s, msr_valid, out)) return followDesired(msr, desired, T, out);
+  ++stats_.holds;  // hold: repeat the last command unchanged
+  fillReply(msr, limiter_.current(), out);
+  return out.status;
+}
+
+bool FriBridge::acceptSequence(const MsrPacket& msr, BridgeOutput& out) noexcept {
+  // ---- sequence check (16-bit wrap-around) ----
+  const uint16_t seq = msr.head.send_seq;
+  if (have_seq_) {
+    const int d = seqDelta(last_seq_, seq);
+    if (d <= 0) {
+      if (d == 0) {
+        ++stats_.duplicates;
+        out.status = BridgeStatus::DroppedDuplicate;
+        return false;
+      }
+      if (++backwards_run_ < params_.resync_after) {
+        ++stats_.out_of_order;
+        out.status = BridgeStatus::DroppedOutOfOrder;
+        return false;
+      }
+      ++stats_.resyncs;  // the KRC restarted its counter: accept the new sequence
+    } else {
+      out.lost_before = static_cast<uint16_t>(d - 1);
+      stats_.lost += static_cast<uint64_t>(d - 1);
     }
-    limiter_.reset(held);  // should the strategy change to Cartesian, start from here
-    have_command_ = true;
-    fillReply(msr, held, out, true);
-    return out.status;
   }
+  have_seq_ = true;
+  last_seq_ = seq;
+  backwards_run_ = 0;
+  ++stats_.accepted;
+  return true;
+}
+
+void FriBridge::trackState(const MsrPacket& msr, BridgeOutput& out) noexcept {
+  // ---- state and quality ----
+  const State state = stateOf(msr);
+  const Quality quality = qualityOf(msr);
+  out.state = state;
+  out.quality = quality;
+  out.state_changed = !have_state_ || state != last_state_ || quality != last_quality_;
+  have_state_ = true;
+  last_state_ = state;
+  last_quality_ = quality;
+}
+
+BridgeStatus FriBridge::echoOutsideCmd(const MsrPacket& msr, const KDL::Frame& held, bool msr_valid,
+                                       BridgeOutput& out) noexcept {
+  // MON / OFF / power off: echo the held pose; (re)entering CMD passes the start gate again.
+  engaged_ = false;
+  if (out.mismatch & mismatch::kCycle) {  // named in MON too: never silent
+    out.status = BridgeStatus::CycleMismatch;
+  } else if (out.mismatch & mismatch::kPort) {
+    out.status = BridgeStatus::PortMismatch;
+  } else if (out.mismatch & mismatch::kControl) {
+    out.status = BridgeStatus::WrongStrategy;
+  } else if (out.state != State::Cmd && was_in_cmd_) {
+    out.status = BridgeStatus::LeftCmd;
+  } else if (!powerOn(msr)) {
+    out.status = BridgeStatus::PowerOff;
+  } else {
+    out.status = BridgeStatus::Monitor;
+  }
+  if (!msr_valid) {
+    have_command_ = false;
+    return out.status = BridgeStatus::MeasurementInvalid;
+  }
+  limiter_.reset(held);
+  have_command_ = true;
+  fillReply(msr, held, out);
+  return out.status;
+}
+
+BridgeStatus FriBridge::jointHold(const MsrPacket& msr, const KDL::Frame& held, bool msr_valid,
+                                  BridgeOutput& out) noexcept {
+  out.status = BridgeStatus::WrongStrategy;
+  engaged_ = false;
+  if (!msr_valid) {
+    have_command_ = false;
+    return out.status = BridgeStatus::MeasurementInvalid;
+  }
+  limiter_.reset(held);  // should the strategy change to Cartesian, start from here
+  have_command_ = true;
+  fillReply(msr, held, out, true);
+  return out.status;
+}
+
+bool FriBridge::startFromHeldCommand(const MsrPacket& msr, const KDL::Frame& held, bool msr_valid) noexcept {
   if (!have_command_) {
-    if (!msr_valid) return out.status = BridgeStatus::MeasurementInvalid;
+    if (!msr_valid) return false;
     limiter_.reset(held);  // first command ever: start where the robot is held
     have_command_ = true;
   } else if (params_.rewind_on_refl && msr.head.refl_seq != send_seq_) {
@@ -330,13 +354,17 @@ BridgeStatus FriBridge::stepPacket(const MsrPacket& msr, const PoseCommand& desi
       ++stats_.rewinds;
     }
   }
+  return true;
+}
+
+bool FriBridge::holdStatus(const PoseCommand& desired, double now_s, bool msr_valid, BridgeOutput& out) noexcept {
   const double age = now_s - desired.time_s;
   if (!msr_valid) {
     out.status = BridgeStatus::MeasurementInvalid;
   } else if (out.mismatch & (mismatch::kCycle | mismatch::kPort)) {
     out.status = (out.mismatch & mismatch::kCycle) ? BridgeStatus::CycleMismatch : BridgeStatus::PortMismatch;
     engaged_ = false;
-  } else if (quality < Quality::Ok) {
+  } else if (out.quality < Quality::Ok) {
     out.status = BridgeStatus::QualityLow;
     engaged_ = false;  // the servo held meanwhile: the gate again before following
   } else if (dry_run_) {
@@ -350,30 +378,33 @@ BridgeStatus FriBridge::stepPacket(const MsrPacket& msr, const PoseCommand& desi
     out.status = BridgeStatus::DesiredStale;
     engaged_ = false;
   } else {
-    KDL::Frame target;
-    toFrame(desired.pose, target);
-    if (!engaged_) {
-      // Start gate: follow only a desired pose within one program step of the
-      // pose held now (the held pose at the start of the session/CMD).
-      KDL::Vector axis;
-      const KDL::Frame& from = limiter_.current();
-      const double d = (target.p - from.p).Norm();
-      const double a = rotationAngle(from.M.Inverse() * target.M, axis);
-      engaged_ = d <= params_.engage_max_trans && a <= params_.engage_max_rot;
-    }
-    if (!engaged_) {
-      out.status = BridgeStatus::DesiredFar;
-      ++stats_.holds;
-      fillReply(msr, limiter_.current(), out);
-      return out.status;
-    }
-    const bool limited = limiter_.step(target, T);
-    if (limited) ++stats_.limited;
-    out.status = limited ? BridgeStatus::Limited : BridgeStatus::Commanding;
+    return false;
+  }
+  return true;
+}
+
+BridgeStatus FriBridge::followDesired(const MsrPacket& msr, const PoseCommand& desired, double T,
+                                      BridgeOutput& out) noexcept {
+  KDL::Frame target;
+  toFrame(desired.pose, target);
+  if (!engaged_) {
+    // Start gate: follow only a desired pose within one program step of the
+    // pose held now (the held pose at the start of the session/CMD).
+    KDL::Vector axis;
+    const KDL::Frame& from = limiter_.current();
+    const double d = (target.p - from.p).Norm();
+    const double a = rotationAngle(from.M.Inverse() * target.M, axis);
+    engaged_ = d <= params_.engage_max_trans && a <= params_.engage_max_rot;
+  }
+  if (!engaged_) {
+    out.status = BridgeStatus::DesiredFar;
+    ++stats_.holds;
     fillReply(msr, limiter_.current(), out);
     return out.status;
   }
-  ++stats_.holds;  // hold: repeat the last command unchanged
+  const bool limited = limiter_.step(target, T);
+  if (limited) ++stats_.limited;
+  out.status = limited ? BridgeStatus::Limited : BridgeStatus::Commanding;
   fillReply(msr, limiter_.current(), out);
   return out.status;
 }

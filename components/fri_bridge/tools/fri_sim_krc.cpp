@@ -20,7 +20,7 @@
 //                     reply latency in us (measurement sent -> its reply
 //                     received, also when the reply came after the next tick
 //                     and was ignored as stale: ON_TIME 0), or "nan 0" when
-//                     no reply came (scripts/rt_latency.sh)
+//                     no reply came (scripts/realtime/rt_latency.sh)
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>

@@ -2,8 +2,11 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <climits>
 #include <cmath>
+#include <cstdlib>
 #include <utility>
+#include <vector>
 
 #include "tactile_config/yaml_params.hpp"
 
@@ -441,9 +444,142 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
 
 }  // namespace
 
-ConfigResult loadServoProgram(const YAML::Node& root, const std::string& file, ServoParams& out) {
+// ---- `base:` overlays (configuration time only) ----------------------------
+
+namespace {
+
+std::string dirOf(const std::string& file) {
+  const std::size_t slash = file.rfind('/');
+  return slash == std::string::npos ? std::string() : file.substr(0, slash + 1);
+}
+
+/// The file's absolute path with links resolved (the identity a cycle is
+/// detected on); the path as given when it cannot be resolved.
+std::string identity(const std::string& file) {
+  char buf[PATH_MAX];
+  return ::realpath(file.c_str(), buf) ? std::string(buf) : file;
+}
+
+/// A list merged element by element: every element of both lists is a
+/// mapping with a scalar `name` (the phases).
+bool namedList(const YAML::Node& n) {
+  if (!n.IsSequence() || n.size() == 0) return false;
+  for (const auto& e : n)
+    if (!e.IsMap() || !e["name"] || !e["name"].IsScalar()) return false;
+  return true;
+}
+
+const char* const kOverlayRule = "an overlay changes its base's keys, or removes one with ~";
+
+/// Merges `over` into `base` (a private copy, changed in place): a mapping key
+/// by key, recursively; a named list element by element by name; anything else
+/// (scalar, other list, a change of kind) replaces. `~` removes the base's key.
+/// A key or name the base does not have is an error naming it.
+ConfigResult mergeInto(YAML::Node base, const YAML::Node& over, const Where& w, const std::string& base_file) {
+  const YAML::Node& cbase = base;  // const lookups never insert
+  if (namedList(cbase) && namedList(over)) {
+    std::vector<std::string> seen;
+    for (const auto& item : over) {
+      const std::string name = item["name"].Scalar();
+      const Where wi{w.file, w.path + "[" + name + "]"};
+      for (const std::string& s : seen)
+        if (s == name) return fail(wi, "given twice");
+      seen.push_back(name);
+      std::size_t idx = cbase.size();
+      std::string names;
+      for (std::size_t i = 0; i < cbase.size(); ++i) {
+        const std::string bn = cbase[i]["name"].Scalar();
+        names += (i ? ", " : "") + bn;
+        if (bn == name) idx = i;
+      }
+      if (idx == cbase.size())
+        return fail(wi, "no element named '" + name + "' in the base " + base_file + " (names: " + names + "; " +
+                            kOverlayRule + ")");
+      ConfigResult r = mergeInto(base[idx], item, wi, base_file);
+      if (!r) return r;
+    }
+    return ConfigResult::success();
+  }
+  for (const auto& kv : over) {
+    const std::string k = kv.first.as<std::string>();
+    const Where wk = w.child(k);
+    const YAML::Node b = cbase[k];
+    if (!b) return fail(wk, "not in the base " + base_file + " (" + kOverlayRule + ")");
+    const YAML::Node& v = kv.second;
+    if (v.IsNull()) {
+      base.remove(k);
+    } else if (b.IsMap() && v.IsMap()) {
+      ConfigResult r = mergeInto(base[k], v, wk, base_file);
+      if (!r) return r;
+    } else if (namedList(b) && namedList(v)) {
+      ConfigResult r = mergeInto(base[k], v, wk, base_file);
+      if (!r) return r;
+    } else {
+      base[k] = YAML::Clone(v);
+    }
+  }
+  return ConfigResult::success();
+}
+
+/// `root` (read from `file`) with its `base:` chain resolved; `chain` holds
+/// the identities of the files that lead here (a cycle is an error).
+ConfigResult resolveBase(const YAML::Node& root, const std::string& file, std::vector<std::string>& chain,
+                         YAML::Node& out) {
+  const YAML::Node base_key = root.IsMap() ? root["base"] : YAML::Node();
+  if (!base_key) {
+    out = root;
+    return ConfigResult::success();
+  }
+  const Where wb{file, "base"};
+  if (!base_key.IsScalar() || base_key.Scalar().empty())
+    return fail(wb, "must be the path of another program file (relative to this file)");
+  const std::string rel = base_key.Scalar();
+  const std::string base_file = !rel.empty() && rel[0] == '/' ? rel : dirOf(file) + rel;
+  chain.push_back(identity(file));
+  const std::string id = identity(base_file);
+  for (std::size_t i = 0; i < chain.size(); ++i)
+    if (chain[i] == id) {
+      std::string loop;
+      for (std::size_t j = i; j < chain.size(); ++j) loop += chain[j] + " -> ";
+      return fail(wb, "'" + rel + "' is a cycle of bases: " + loop + id);
+    }
+  YAML::Node base_root;
+  ConfigResult r = config::loadFile(base_file, base_root);
+  if (!r) return fail(wb, "'" + rel + "': " + r.message());
+  YAML::Node merged;
+  if (!(r = resolveBase(base_root, base_file, chain, merged))) return r;
+  merged = YAML::Clone(merged);
+  YAML::Node own = YAML::Clone(root);
+  own.remove("base");
+  if (!(r = mergeInto(merged, own, Where{file, ""}, base_file))) return r;
+  out = merged;
+  return ConfigResult::success();
+}
+
+}  // namespace
+
+ConfigResult resolveProgramBase(const YAML::Node& root, const std::string& file, YAML::Node& out) {
   try {
-    return loadImpl(root, file, out);
+    std::vector<std::string> chain;
+    return resolveBase(root, file, chain, out);
+  } catch (const YAML::Exception& e) {
+    return ConfigResult::failure((file.empty() ? std::string("<memory>") : file) + ": " + e.what());
+  }
+}
+
+ConfigResult loadProgramDocument(const std::string& file, YAML::Node& out) {
+  YAML::Node root;
+  ConfigResult r = config::loadFile(file, root);
+  if (!r) return r;
+  return resolveProgramBase(root, file, out);
+}
+
+ConfigResult loadServoProgram(const YAML::Node& root, const std::string& file, ServoParams& out) {
+  YAML::Node merged;
+  ConfigResult r = resolveProgramBase(root, file, merged);
+  if (!r) return r;
+  try {
+    return loadImpl(merged, file, out);
   } catch (const YAML::Exception& e) {
     return ConfigResult::failure((file.empty() ? std::string("<memory>") : file) + ": " + e.what());
   }

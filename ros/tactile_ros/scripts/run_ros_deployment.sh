@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Runs a ROS variant of a deployment (deployments/<experiment>_sim_ros.ops)
+# Runs a ROS variant of a deployment (deployments/sim_ros.ops or robot_ros.ops
+# with TACTILE_EXPERIMENT=<experiment>, a name of experiments.yaml)
 # under the OCL deployer from deployments/, with the environment the ROS face
 # needs: Debian's python3 first, the ROS workspace's devel space, the
 # project's, the ROS workspace's and rtt_ros_integration's components on
@@ -7,8 +8,8 @@
 # (launch/edge_exploration_sim.launch): roslaunch's own arguments (name:=value)
 # are ignored.
 #   run_ros_deployment.sh [EXPERIMENT] [sim|robot]   (default edge_exploration sim)
-#     sim: <experiment>_sim_ros.ops, run to its end (--check);
-#     robot: <experiment>_robot_ros.ops, the deployer then waits at its prompt.
+#     sim: sim_ros.ops, run to its end (--check);
+#     robot: robot_ros.ops, the deployer then waits at its prompt.
 # Environment: BUILD (default <repo>/build), OROCOS (default /opt/orocos),
 # ROS_PREFIX (default $OROCOS/ros).
 set -euo pipefail
@@ -26,7 +27,8 @@ for a in "$@"; do
   esac
 done
 case "$side" in sim|robot) ;; *) echo "run_ros_deployment: sim or robot, not '$side'" >&2; exit 2 ;; esac
-script="$root/deployments/${exp}_${side}_ros.ops"
+script="$root/deployments/${side}_ros.ops"
+export TACTILE_EXPERIMENT="$exp"
 [ -f "$script" ] || { echo "run_ros_deployment: no $script" >&2; exit 2; }
 export PATH="/usr/bin:$PATH"
 set +u

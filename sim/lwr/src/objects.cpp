@@ -127,7 +127,7 @@ namespace {
 // no FMA in either clone, so both round exactly like lowestZ(). Not under
 // ThreadSanitizer: the ifunc resolver runs while the loader relocates, before
 // the TSan runtime is up, and the instrumented resolver crashes there (every
-// binary linking the simulator segfaulted before main; scripts/sanitize.sh).
+// binary linking the simulator segfaulted before main; scripts/realtime/sanitize.sh).
 #if defined(__SANITIZE_THREAD__)
 #define TACTILE_NO_IFUNC 1
 #elif defined(__has_feature)

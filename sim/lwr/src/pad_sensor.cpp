@@ -141,7 +141,34 @@ void PadSensor::rowDepths(const ObjectSet& objects, double y, const double* xs, 
                        sy != nullptr ? sy + i0 : nullptr);
 }
 
-void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, ContactEval& out) const {
+// The (z, wx, wy) rows of the contact wrench and stiffness (g = (0, 0, -1,
+// -y, x, 0)) and the sliding columns, summed over the samples in contact.
+struct PadSensor::ContactSums {
+  double Fz = 0, Mx = 0, My = 0, Kzz = 0, Kzx = 0, Kzy = 0, Kxx = 0, Kxy = 0, Kyy = 0;
+  double Kzsx = 0, Kxsx = 0, Kysx = 0, Kzsy = 0, Kxsy = 0, Kysy = 0, Kzwz = 0, Kxwz = 0, Kywz = 0;
+};
+
+// One layer sample row's masked sums over its active samples.
+struct PadSensor::RowSums {
+  // Masked moments over the row's samples: n, sum x, sum x^2, sum d, sum x d.
+  struct Moments {
+    double n = 0, x1 = 0, x2 = 0, d0 = 0, d1 = 0;
+    void add(bool on, double d, double x) {
+      const double w = on ? 1.0 : 0.0, dd = on ? d : 0.0;
+      n += w;
+      x1 += w * x;
+      x2 += w * x * x;
+      d0 += dd;
+      d1 += dd * x;
+    }
+  };
+  Moments all, trayed;
+  double A1 = 0, A2 = 0, B1 = 0, B2 = 0, C2 = 0;  // slopes: sum sx, x sx, sy, x sy, x^2 sy
+};
+
+namespace {
+// Every field of a contact evaluation zero (no contact).
+void clearEval(ContactEval& out) {
   out.W_s.setZero();
   out.K_s.setZero();
   out.dW_dth.setZero();
@@ -150,51 +177,141 @@ void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, Conta
   out.dtau_ds.setZero();
   out.layer_force = out.housing_force = 0.0;
   out.active = 0;
-  const int tray = objects.trayIndex();
-  const KDL::Vector zs = T_gs.M.UnitZ();
-  const KDL::Vector B = tray >= 0 ? objects.bearing() : KDL::Vector::Zero();
-  double fx0, fx1, fy0, fy1;
-  if (!objects.footprint(fx0, fx1, fy0, fy1)) return;  // nothing reaches below the surface
-  // Only the (z, wx, wy) block is non-zero: g = (0, 0, -1, -y, x, 0).
-  double Fz = 0, Mx = 0, My = 0, Kzz = 0, Kzx = 0, Kzy = 0, Kxx = 0, Kxy = 0, Kyy = 0;
-  double Kzsx = 0, Kxsx = 0, Kysx = 0, Kzsy = 0, Kxsy = 0, Kysy = 0, Kzwz = 0, Kxwz = 0, Kywz = 0;
-  auto add = [&](const Sample& s, double zl, int which) {
-    const double d = s.z - zl;  // penetration into the layer (z = 0) or the housing (z = -recess)
-    if (!(d > 0.0) || -zl > params_.depth_limit) return;
-    const double f = s.k * d;
-    ++out.active;
-    if (s.layer) out.layer_force += f; else out.housing_force += f;
-    const double gz = -1.0, gx = -s.y, gy = s.x;
-    Fz += gz * f;
-    Mx += gx * f;
-    My += gy * f;
-    Kzz += s.k;
-    Kzx += s.k * gz * gx;
-    Kzy += s.k * gz * gy;
-    Kxx += s.k * gx * gx;
-    Kxy += s.k * gx * gy;
-    Kyy += s.k * gy * gy;
-    if (which == tray && tray >= 0) {
-      const KDL::Vector pg = T_gs * KDL::Vector(s.x, s.y, s.z);
-      const KDL::Vector r = pg - B;
-      // h_j = -z_s . (a_j x r): penetration gained per unit tray angle (a_1 = x_g, a_2 = y_g).
-      const double h1 = -KDL::dot(zs, KDL::Vector(1, 0, 0) * r);
-      const double h2 = -KDL::dot(zs, KDL::Vector(0, 1, 0) * r);
-      const double g[6] = {0.0, 0.0, gz, gx, gy, 0.0};
-      for (int a = 2; a < 5; ++a) {
-        out.dW_dth(a, 0) += s.k * g[a] * h1;
-        out.dW_dth(a, 1) += s.k * g[a] * h2;
-        out.dtau_ds(0, a) += s.k * h1 * g[a];
-        out.dtau_ds(1, a) += s.k * h2 * g[a];
-      }
-      out.tau_tray(0) -= h1 * f;
-      out.tau_tray(1) -= h2 * f;
-      out.dtau_dth(0, 0) -= s.k * h1 * h1;
-      out.dtau_dth(0, 1) -= s.k * h1 * h2;
-      out.dtau_dth(1, 0) -= s.k * h2 * h1;
-      out.dtau_dth(1, 1) -= s.k * h2 * h2;
+}
+
+// h_j(r) = -z_s . (a_j x r): penetration gained per unit tray angle (a_1 = x_g, a_2 = y_g).
+double trayH1(const KDL::Vector& zs, const KDL::Vector& r) { return -KDL::dot(zs, KDL::Vector(1, 0, 0) * r); }
+double trayH2(const KDL::Vector& zs, const KDL::Vector& r) { return -KDL::dot(zs, KDL::Vector(0, 1, 0) * r); }
+}  // namespace
+
+void PadSensor::addPointSample(const Sample& s, double zl, int which, int tray, const KDL::Frame& T_gs,
+                               const KDL::Vector& B, ContactSums& c, ContactEval& out) const {
+  const double d = s.z - zl;  // penetration into the layer (z = 0) or the housing (z = -recess)
+  if (!(d > 0.0) || -zl > params_.depth_limit) return;
+  const double f = s.k * d;
+  ++out.active;
+  if (s.layer) out.layer_force += f; else out.housing_force += f;
+  const double gz = -1.0, gx = -s.y, gy = s.x;
+  c.Fz += gz * f;
+  c.Mx += gx * f;
+  c.My += gy * f;
+  c.Kzz += s.k;
+  c.Kzx += s.k * gz * gx;
+  c.Kzy += s.k * gz * gy;
+  c.Kxx += s.k * gx * gx;
+  c.Kxy += s.k * gx * gy;
+  c.Kyy += s.k * gy * gy;
+  if (which == tray && tray >= 0) {
+    const KDL::Vector zs = T_gs.M.UnitZ();
+    const KDL::Vector pg = T_gs * KDL::Vector(s.x, s.y, s.z);
+    const KDL::Vector r = pg - B;
+    // h_j = -z_s . (a_j x r): penetration gained per unit tray angle (a_1 = x_g, a_2 = y_g).
+    const double h1 = -KDL::dot(zs, KDL::Vector(1, 0, 0) * r);
+    const double h2 = -KDL::dot(zs, KDL::Vector(0, 1, 0) * r);
+    const double g[6] = {0.0, 0.0, gz, gx, gy, 0.0};
+    for (int a = 2; a < 5; ++a) {
+      out.dW_dth(a, 0) += s.k * g[a] * h1;
+      out.dW_dth(a, 1) += s.k * g[a] * h2;
+      out.dtau_ds(0, a) += s.k * h1 * g[a];
+      out.dtau_ds(1, a) += s.k * h2 * g[a];
+    }
+    out.tau_tray(0) -= h1 * f;
+    out.tau_tray(1) -= h2 * f;
+    out.dtau_dth(0, 0) -= s.k * h1 * h1;
+    out.dtau_dth(0, 1) -= s.k * h1 * h2;
+    out.dtau_dth(1, 0) -= s.k * h2 * h1;
+    out.dtau_dth(1, 1) -= s.k * h2 * h2;
+  }
+}
+
+void PadSensor::rowSums(const ObjectSet& objects, double y, int tray, RowSums& rs) const {
+  const int nx = params_.cols * params_.physics_subsamples;
+  const double lim = params_.depth_limit;
+  const double* xs = xrow_.data();
+  double* zb = zrow_.data();
+  int* wb = wrow_.data();
+  double* sxb = sxrow_.data();
+  double* syb = syrow_.data();
+  rowDepths(objects, y, xs, nx, zb, wb, sxb, syb);
+  RowSums::Moments& all = rs.all;
+  RowSums::Moments& trayed = rs.trayed;
+  // One loop body, instantiated with and without the tray sums.
+  auto sums = [&](auto with_tray) {
+    for (int m = 0; m < nx; ++m) {
+      const double d = -zb[m], x = xs[m];
+      const bool on = (d > 0.0) & (d <= lim);  // bitwise: no control flow
+      all.add(on, d, x);
+      const double ax = on ? sxb[m] : 0.0, ay = on ? syb[m] : 0.0;  // select: unused slopes may be NaN
+      rs.A1 += ax;
+      rs.A2 += x * ax;
+      rs.B1 += ay;
+      rs.B2 += x * ay;
+      rs.C2 += x * x * ay;
+      if constexpr (decltype(with_tray)::value) trayed.add(on & (wb[m] == tray), d, x);
     }
   };
+  if (tray < 0)
+    sums(std::false_type{});
+  else
+    sums(std::true_type{});
+}
+
+void PadSensor::addRowSums(double ks, double y, const RowSums& rs, ContactSums& c) {
+  const RowSums::Moments& all = rs.all;
+  c.Fz -= ks * all.d0;
+  c.Mx -= y * ks * all.d0;
+  c.My += ks * all.d1;
+  c.Kzz += ks * all.n;
+  c.Kzx += ks * y * all.n;
+  c.Kzy -= ks * all.x1;
+  c.Kxx += ks * y * y * all.n;
+  c.Kxy -= ks * y * all.x1;
+  c.Kyy += ks * all.x2;
+  // Sliding columns (x, y, wz of the sensor twist): the penetration field
+  // moves under the sensor, dd/dx = -dz/dx = -s_x, dd/dy = -s_y,
+  // dd/dwz = y s_x - x s_y, and K(a, b) = -sum ks g_a dd/db.
+  c.Kzsx -= ks * rs.A1;
+  c.Kxsx -= ks * y * rs.A1;
+  c.Kysx += ks * rs.A2;
+  c.Kzsy -= ks * rs.B1;
+  c.Kxsy -= ks * y * rs.B1;
+  c.Kysy += ks * rs.B2;
+  c.Kzwz -= ks * (rs.B2 - y * rs.A1);
+  c.Kxwz -= ks * y * (rs.B2 - y * rs.A1);
+  c.Kywz += ks * (rs.C2 - y * rs.A2);
+}
+
+void PadSensor::addTrayRow(double ks, double y, const KDL::Frame& T_gs, const KDL::Vector& B, const RowSums& rs,
+                           ContactEval& out) {
+  const KDL::Vector zs = T_gs.M.UnitZ();
+  const KDL::Vector Xs = T_gs.M.UnitX(), Ys = T_gs.M.UnitY();
+  const double b1 = trayH1(zs, Xs), b2 = trayH2(zs, Xs);  // h_j(r) is linear in r: slope along x_s
+  const KDL::Vector r0 = T_gs.p - B + y * Ys;
+  const double a1 = trayH1(zs, r0), a2 = trayH2(zs, r0);
+  const RowSums::Moments& t = rs.trayed;
+  const double sh1 = a1 * t.n + b1 * t.x1, sh2 = a2 * t.n + b2 * t.x1;      // sum h_j
+  const double sxh1 = a1 * t.x1 + b1 * t.x2, sxh2 = a2 * t.x1 + b2 * t.x2;  // sum x h_j
+  const double g2[3] = {-ks * sh1, -y * ks * sh1, ks * sxh1};              // a = z, wx, wy
+  const double g3[3] = {-ks * sh2, -y * ks * sh2, ks * sxh2};
+  for (int a = 0; a < 3; ++a) {
+    out.dW_dth(a + 2, 0) += g2[a];
+    out.dW_dth(a + 2, 1) += g3[a];
+    out.dtau_ds(0, a + 2) += g2[a];
+    out.dtau_ds(1, a + 2) += g3[a];
+  }
+  out.tau_tray(0) -= ks * (a1 * t.d0 + b1 * t.d1);  // -sum h_j f, f = ks d
+  out.tau_tray(1) -= ks * (a2 * t.d0 + b2 * t.d1);
+  const double s11 = a1 * a1 * t.n + 2.0 * a1 * b1 * t.x1 + b1 * b1 * t.x2;
+  const double s12 = a1 * a2 * t.n + (a1 * b2 + a2 * b1) * t.x1 + b1 * b2 * t.x2;
+  const double s22 = a2 * a2 * t.n + 2.0 * a2 * b2 * t.x1 + b2 * b2 * t.x2;
+  out.dtau_dth(0, 0) -= ks * s11;
+  out.dtau_dth(0, 1) -= ks * s12;
+  out.dtau_dth(1, 0) -= ks * s12;
+  out.dtau_dth(1, 1) -= ks * s22;
+}
+
+void PadSensor::addLayer(const ObjectSet& objects, const KDL::Frame& T_gs, int tray, const KDL::Vector& B,
+                         double fy0, double fy1, ContactSums& c, ContactEval& out) const {
   // Layer: per sample row (y fixed), lowestZ over the x range where an
   // object can be below the surface (rowDepths: ObjectSet::rowSpan +
   // lowestZRow; +inf elsewhere, which carries no force). Every layer sample
@@ -207,138 +324,75 @@ void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, Conta
   // The tray terms use the same sums over the tray's samples: the
   // penetration gained per unit tray angle, h_j = -z_s . (a_j x r), is
   // affine in x along the row (r = p_g(x, y) - B).
-  const int rows = params_.rows, cols = params_.cols, k = params_.physics_subsamples, nx = cols * k;
-  const double pitch = params_.pitch, lim = params_.depth_limit;
+  const int rows = params_.rows, cols = params_.cols, k = params_.physics_subsamples;
+  const double pitch = params_.pitch;
   const double ks = params_.modulus * (pitch / k) * (pitch / k);
   double* xs = xrow_.data();
-  double* zb = zrow_.data();
-  int* wb = wrow_.data();
-  double* sxb = sxrow_.data();
-  double* syb = syrow_.data();
-  for (int c = 0; c < cols; ++c)
-    for (int j = 0; j < k; ++j) xs[c * k + j] = samples_[static_cast<std::size_t>(c * k * k + j)].x;
-  auto h1 = [&zs](const KDL::Vector& r) { return -KDL::dot(zs, KDL::Vector(1, 0, 0) * r); };
-  auto h2 = [&zs](const KDL::Vector& r) { return -KDL::dot(zs, KDL::Vector(0, 1, 0) * r); };
-  const KDL::Vector Xs = T_gs.M.UnitX(), Ys = T_gs.M.UnitY();
-  const double b1 = h1(Xs), b2 = h2(Xs);  // h_j(r) is linear in r: slope along x_s
+  for (int col = 0; col < cols; ++col)
+    for (int j = 0; j < k; ++j) xs[col * k + j] = samples_[static_cast<std::size_t>(col * k * k + j)].x;
   double nact = 0.0;
   for (int r = 0; r < rows; ++r) {
     const double yc = (r - (rows - 1) / 2.0) * pitch;
     if (yc + 0.5 * pitch < fy0 || yc - 0.5 * pitch > fy1) continue;
     for (int i = 0; i < k; ++i) {
       const double y = samples_[static_cast<std::size_t>(r * cols * k * k + i * k)].y;
-      rowDepths(objects, y, xs, nx, zb, wb, sxb, syb);
-      // Masked moments over the row's samples: n, sum x, sum x^2, sum d, sum x d.
-      struct Moments {
-        double n = 0, x1 = 0, x2 = 0, d0 = 0, d1 = 0;
-        void add(bool on, double d, double x) {
-          const double w = on ? 1.0 : 0.0, dd = on ? d : 0.0;
-          n += w;
-          x1 += w * x;
-          x2 += w * x * x;
-          d0 += dd;
-          d1 += dd * x;
-        }
-      };
-      Moments all, trayed;
-      double A1 = 0, A2 = 0, B1 = 0, B2 = 0, C2 = 0;  // slopes: sum sx, x sx, sy, x sy, x^2 sy
-      // One loop body, instantiated with and without the tray sums.
-      auto sums = [&](auto with_tray) {
-        for (int m = 0; m < nx; ++m) {
-          const double d = -zb[m], x = xs[m];
-          const bool on = (d > 0.0) & (d <= lim);  // bitwise: no control flow
-          all.add(on, d, x);
-          const double ax = on ? sxb[m] : 0.0, ay = on ? syb[m] : 0.0;  // select: unused slopes may be NaN
-          A1 += ax;
-          A2 += x * ax;
-          B1 += ay;
-          B2 += x * ay;
-          C2 += x * x * ay;
-          if constexpr (decltype(with_tray)::value) trayed.add(on & (wb[m] == tray), d, x);
-        }
-      };
-      if (tray < 0)
-        sums(std::false_type{});
-      else
-        sums(std::true_type{});
-      if (all.n == 0.0) continue;
-      nact += all.n;
-      out.layer_force += ks * all.d0;
-      Fz -= ks * all.d0;
-      Mx -= y * ks * all.d0;
-      My += ks * all.d1;
-      Kzz += ks * all.n;
-      Kzx += ks * y * all.n;
-      Kzy -= ks * all.x1;
-      Kxx += ks * y * y * all.n;
-      Kxy -= ks * y * all.x1;
-      Kyy += ks * all.x2;
-      // Sliding columns (x, y, wz of the sensor twist): the penetration field
-      // moves under the sensor, dd/dx = -dz/dx = -s_x, dd/dy = -s_y,
-      // dd/dwz = y s_x - x s_y, and K(a, b) = -sum ks g_a dd/db.
-      Kzsx -= ks * A1;
-      Kxsx -= ks * y * A1;
-      Kysx += ks * A2;
-      Kzsy -= ks * B1;
-      Kxsy -= ks * y * B1;
-      Kysy += ks * B2;
-      Kzwz -= ks * (B2 - y * A1);
-      Kxwz -= ks * y * (B2 - y * A1);
-      Kywz += ks * (C2 - y * A2);
-      if (trayed.n > 0.0) {
-        const KDL::Vector r0 = T_gs.p - B + y * Ys;
-        const double a1 = h1(r0), a2 = h2(r0);
-        const Moments& t = trayed;
-        const double sh1 = a1 * t.n + b1 * t.x1, sh2 = a2 * t.n + b2 * t.x1;      // sum h_j
-        const double sxh1 = a1 * t.x1 + b1 * t.x2, sxh2 = a2 * t.x1 + b2 * t.x2;  // sum x h_j
-        const double g2[3] = {-ks * sh1, -y * ks * sh1, ks * sxh1};              // a = z, wx, wy
-        const double g3[3] = {-ks * sh2, -y * ks * sh2, ks * sxh2};
-        for (int a = 0; a < 3; ++a) {
-          out.dW_dth(a + 2, 0) += g2[a];
-          out.dW_dth(a + 2, 1) += g3[a];
-          out.dtau_ds(0, a + 2) += g2[a];
-          out.dtau_ds(1, a + 2) += g3[a];
-        }
-        out.tau_tray(0) -= ks * (a1 * t.d0 + b1 * t.d1);  // -sum h_j f, f = ks d
-        out.tau_tray(1) -= ks * (a2 * t.d0 + b2 * t.d1);
-        const double s11 = a1 * a1 * t.n + 2.0 * a1 * b1 * t.x1 + b1 * b1 * t.x2;
-        const double s12 = a1 * a2 * t.n + (a1 * b2 + a2 * b1) * t.x1 + b1 * b2 * t.x2;
-        const double s22 = a2 * a2 * t.n + 2.0 * a2 * b2 * t.x1 + b2 * b2 * t.x2;
-        out.dtau_dth(0, 0) -= ks * s11;
-        out.dtau_dth(0, 1) -= ks * s12;
-        out.dtau_dth(1, 0) -= ks * s12;
-        out.dtau_dth(1, 1) -= ks * s22;
-      }
+      RowSums rs;
+      rowSums(objects, y, tray, rs);
+      if (rs.all.n == 0.0) continue;
+      nact += rs.all.n;
+      out.layer_force += ks * rs.all.d0;
+      addRowSums(ks, y, rs, c);
+      if (rs.trayed.n > 0.0) addTrayRow(ks, y, T_gs, B, rs, out);
     }
   }
   out.active += static_cast<int>(nact);
+}
+
+void PadSensor::addHousing(const ObjectSet& objects, const KDL::Frame& T_gs, int tray, const KDL::Vector& B,
+                           const double (&fp)[4], ContactSums& c, ContactEval& out) const {
   // Housing ring (top face at -recess): only if something reaches below it.
+  const double fx0 = fp[0], fx1 = fp[1], fy0 = fp[2], fy1 = fp[3];
   const int h0 = objects.lowestPoint() < -params_.housing_recess ? n_samples_ - n_housing_ : n_samples_;
   for (int i = h0; i < n_samples_; ++i) {
     const Sample& s = samples_[static_cast<std::size_t>(i)];
     if (s.x < fx0 || s.x > fx1 || s.y < fy0 || s.y > fy1) continue;
     int which;
     const double zl = objects.lowestZ(s.x, s.y, which);
-    add(s, zl, which);
+    addPointSample(s, zl, which, tray, T_gs, B, c, out);
   }
-  out.W_s(2) = Fz;
-  out.W_s(3) = Mx;
-  out.W_s(4) = My;
-  out.K_s(2, 2) = Kzz;
-  out.K_s(2, 3) = out.K_s(3, 2) = Kzx;
-  out.K_s(2, 4) = out.K_s(4, 2) = Kzy;
-  out.K_s(3, 3) = Kxx;
-  out.K_s(3, 4) = out.K_s(4, 3) = Kxy;
-  out.K_s(4, 4) = Kyy;
-  out.K_s(2, 0) = Kzsx;
-  out.K_s(3, 0) = Kxsx;
-  out.K_s(4, 0) = Kysx;
-  out.K_s(2, 1) = Kzsy;
-  out.K_s(3, 1) = Kxsy;
-  out.K_s(4, 1) = Kysy;
-  out.K_s(2, 5) = Kzwz;
-  out.K_s(3, 5) = Kxwz;
-  out.K_s(4, 5) = Kywz;
+}
+
+void PadSensor::storeSums(const ContactSums& c, ContactEval& out) {
+  out.W_s(2) = c.Fz;
+  out.W_s(3) = c.Mx;
+  out.W_s(4) = c.My;
+  out.K_s(2, 2) = c.Kzz;
+  out.K_s(2, 3) = out.K_s(3, 2) = c.Kzx;
+  out.K_s(2, 4) = out.K_s(4, 2) = c.Kzy;
+  out.K_s(3, 3) = c.Kxx;
+  out.K_s(3, 4) = out.K_s(4, 3) = c.Kxy;
+  out.K_s(4, 4) = c.Kyy;
+  out.K_s(2, 0) = c.Kzsx;
+  out.K_s(3, 0) = c.Kxsx;
+  out.K_s(4, 0) = c.Kysx;
+  out.K_s(2, 1) = c.Kzsy;
+  out.K_s(3, 1) = c.Kxsy;
+  out.K_s(4, 1) = c.Kysy;
+  out.K_s(2, 5) = c.Kzwz;
+  out.K_s(3, 5) = c.Kxwz;
+  out.K_s(4, 5) = c.Kywz;
+}
+
+void PadSensor::evaluate(const ObjectSet& objects, const KDL::Frame& T_gs, ContactEval& out) const {
+  clearEval(out);
+  const int tray = objects.trayIndex();
+  const KDL::Vector B = tray >= 0 ? objects.bearing() : KDL::Vector::Zero();
+  double fp[4];  // footprint: x0, x1, y0, y1
+  if (!objects.footprint(fp[0], fp[1], fp[2], fp[3])) return;  // nothing reaches below the surface
+  ContactSums c;
+  addLayer(objects, T_gs, tray, B, fp[2], fp[3], c, out);
+  addHousing(objects, T_gs, tray, B, fp, c, out);
+  storeSums(c, out);
 }
 
 void PadSensor::maxPenetration(const ObjectSet& objects, double& layer, double& housing, int& object) const {

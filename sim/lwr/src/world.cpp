@@ -374,157 +374,151 @@ Eigen::Vector2d World::frictionTrayTorque(const KDL::Frame& T_gs) const {
   return Eigen::Vector2d(t.x(), t.y());
 }
 
-SimStatus World::stepQuasiStatic(const KDL::Frame& T_cmd, double dt) {
-  const bool has_tray = objects_.hasTray();
-  // Per-body fidelity: a dynamic tray takes one time step with the contact
-  // as it is, then the arm balances with the tray angles fixed.
-  const bool tray = has_tray && !tray_dynamic_;
-  if (tray_dynamic_ && dt > 0.0) integrateTray(dt);
+// The residual of the quasi-static equilibrium at one Newton iterate and the
+// friction law's derivatives that enter its Jacobian.
+struct World::QsResidual {
+  Vec6 re;             // flange wrench: impedance + external + contact (+ friction)
+  Eigen::Vector2d rt;  // tray torques about its bearing (pitch, roll); 0 without a quasi-static tray
+  Eigen::Matrix2d G;   // d f / d u
+  Eigen::Vector2d gN;  // d f / d N (sliding)
+  double norm() const { return std::max(re.cwiseAbs().maxCoeff(), rt.cwiseAbs().maxCoeff()); }
+};
+
+namespace {
+// The damped, relaxed Newton step's scale: translation <= maxs, rotation and
+// tray <= 10 maxs; with friction, half steps from the first iterate whose
+// residual r_now does not halve r_prev (relax is sticky for the solve).
+double newtonStepScale(const Vec6& de, const Eigen::Vector2d& dth, double maxs, bool friction_on, double r_now,
+                       double r_prev, double& relax) {
+  // Step limit (damped Newton): translation <= maxs, rotation and tray <= 10 maxs.
+  double scale = 1.0;
+  const double nt = de.head<3>().norm(), nr = de.tail<3>().norm(), na = dth.cwiseAbs().maxCoeff();
+  if (nt > maxs) scale = std::min(scale, maxs / nt);
+  if (nr > 10 * maxs) scale = std::min(scale, 10 * maxs / nr);
+  if (na > 10 * maxs) scale = std::min(scale, 10 * maxs / na);
+  // Relaxation with friction, where the residual does not halve: the
+  // sliding friction's dependence on the tray angles (its stuck point rides
+  // on the tray) and its torque on the tray are not in J, and the kink of
+  // the friction law at |k_t u| = mu N is not smooth: the iteration can oscillate
+  // (u alternating about the solution, contracting by ~0.94 per step).
+  // Once that shows, half steps for the rest of the solve turn that mode's
+  // factor of ~-0.94 into ~0.03 and cost the well-modelled modes a factor
+  // 1/2 per step.
+  if (friction_on && r_now > 0.5 * r_prev) relax = 0.5;  // from then on, for this solve
+  return scale * relax;
+}
+}  // namespace
+
+bool World::quasiStaticHolds(const KDL::Frame& T_cmd, double dt) const {
   // Unchanged command and a static world: the previous (converged) equilibrium holds.
   bool moving = tray_dynamic_;
-  if (has_tray && !moving) {
+  if (objects_.hasTray() && !moving) {
     const TrayParams& tp = objects_.tray();
     moving = state_.time_s - dt <= tp.move_start_s + tp.move_duration_s && state_.time_s >= tp.move_start_s;
   }
-  if (qs_valid_ && !moving && sameFrame(T_cmd, qs_cmd_)) {
-    arm_.hold();
-    held_ = true;
-    last_iterations_ = 0;
-    return qs_status_;
-  }
-  const KDL::Vector g(params_.arm.gravity[0], params_.arm.gravity[1], params_.arm.gravity[2]);
-  KDL::Frame T = T_eq_;
-  TrayPose th = tray_;
+  return qs_valid_ && !moving && sameFrame(T_cmd, qs_cmd_);
+}
+
+bool World::reuseLastContact(const TrayPose& th, KDL::Frame& T) {
   // contact_ was evaluated at the previous solve's last Newton iterate, which
   // the arm reached to the IK tolerance: start there and reuse it (the
   // objects do not move between solves; the tray angles are state).
-  bool reuse = false;
-  {
-    const Vec6 d = toVec(KDL::diff(contact_T_ge_, T_eq_));
-    reuse = contact_tray_.pitch == th.pitch && contact_tray_.roll == th.roll && d.head<3>().norm() < 1e-7 &&
-            d.tail<3>().norm() < 1e-6;
-    if (reuse) {
-      T = contact_T_ge_;
-      state_.T_gs = T * pad_.mount();
+  const Vec6 d = toVec(KDL::diff(contact_T_ge_, T_eq_));
+  const bool reuse = contact_tray_.pitch == th.pitch && contact_tray_.roll == th.roll && d.head<3>().norm() < 1e-7 &&
+                     d.tail<3>().norm() < 1e-6;
+  if (reuse) {
+    T = contact_T_ge_;
+    state_.T_gs = T * pad_.mount();
+  }
+  return reuse;
+}
+
+void World::quasiStaticResidual(const KDL::Frame& T_cmd, const KDL::Frame& T, const TrayPose& th, const Mat6& A,
+                                bool tray, QsResidual& r) {
+  const KDL::Vector g(params_.arm.gravity[0], params_.arm.gravity[1], params_.arm.gravity[2]);
+  const double kx = tray ? objects_.tray().pitch_stiffness : 0.0, ky = tray ? objects_.tray().roll_stiffness : 0.0;
+  // Residual: impedance (Eq. 11, at rest) + external + contact wrench on the flange.
+  // The contact wrench and stiffness live in the (z, wx, wy) rows of {s}
+  // (PadSensor::evaluate): only those rows of A enter.
+  const Eigen::Matrix<double, 3, 6> Ar = A.middleRows<3>(2);
+  r.re = arm_.impedanceWrench(T_cmd, T, Vec6::Zero()) + W_ext_ + Ar.transpose() * contact_.W_s.segment<3>(2);
+  // Friction (x, y and the moment about z_s at the sensor origin; A^T
+  // carries its moment about the flange, the sensor mount's lever arm).
+  r.G = Eigen::Matrix2d::Zero();
+  r.gN = Eigen::Vector2d::Zero();
+  if (friction_on_) {
+    friction(state_.T_gs, th, false);
+    r.re += A.row(0).transpose() * fric_(0) + A.row(1).transpose() * fric_(1) + A.row(5).transpose() * fric_mz_;
+    if (stuck_valid_ && fric_n_ > 0.0) {
+      if (slip_) {
+        const double un = fric_u_.norm();
+        const Eigen::Vector2d uh = fric_u_ / un;
+        r.G = -(params_.friction_mu * fric_n_ / un) * (Eigen::Matrix2d::Identity() - uh * uh.transpose());
+        r.gN = -params_.friction_mu * uh;
+      } else {
+        r.G = -params_.friction_stiffness * Eigen::Matrix2d::Identity();
+      }
     }
   }
+  r.rt = Eigen::Vector2d::Zero();
+  if (tray) {
+    double gx, gy;
+    objects_.trayGravityTorque(th, state_.time_s, g, gx, gy);
+    r.rt << gx - kx * th.pitch + contact_.tau_tray(0), gy - ky * th.roll + contact_.tau_tray(1);
+    if (friction_on_) r.rt += frictionTrayTorque(state_.T_gs);
+    // On a stop, the stop's reaction takes whatever pushes into it.
+    if ((th.pitch <= -kTrayAngleLimit && r.rt(0) < 0) || (th.pitch >= kTrayAngleLimit && r.rt(0) > 0)) r.rt(0) = 0;
+    if ((th.roll <= -kTrayAngleLimit && r.rt(1) < 0) || (th.roll >= kTrayAngleLimit && r.rt(1) > 0)) r.rt(1) = 0;
+  }
+}
+
+void World::newtonStep(const Mat6& A, bool tray, const QsResidual& r, Vec6& de, Eigen::Vector2d& dth) const {
+  const Eigen::Matrix<double, 3, 6> Ar = A.middleRows<3>(2);
   const double kx = tray ? objects_.tray().pitch_stiffness : 0.0, ky = tray ? objects_.tray().roll_stiffness : 0.0;
   const double kt = arm_.kTrans(), kr = arm_.kRot();
-  const double tol = params_.qs_tolerance, maxs = params_.qs_max_step;
-  bool converged = false, evaluated = false;
-  int it = 0;
-  double r_prev = std::numeric_limits<double>::infinity();
-  double relax = 1.0;
-  for (; it < params_.qs_max_iterations; ++it) {
-    if (!(it == 0 && reuse)) evaluateContact(T, th);
-    evaluated = true;
-    const Mat6 A = twistMap(T, state_.T_gs);
-    // Residual: impedance (Eq. 11, at rest) + external + contact wrench on the flange.
-    // The contact wrench and stiffness live in the (z, wx, wy) rows of {s}
-    // (PadSensor::evaluate): only those rows of A enter.
-    const Eigen::Matrix<double, 3, 6> Ar = A.middleRows<3>(2);
-    Vec6 re = arm_.impedanceWrench(T_cmd, T, Vec6::Zero()) + W_ext_ + Ar.transpose() * contact_.W_s.segment<3>(2);
-    // Friction (x, y and the moment about z_s at the sensor origin; A^T
-    // carries its moment about the flange, the sensor mount's lever arm).
-    Eigen::Matrix2d G = Eigen::Matrix2d::Zero();  // d f / d u
-    Eigen::Vector2d gN = Eigen::Vector2d::Zero(); // d f / d N (sliding)
-    if (friction_on_) {
-      friction(state_.T_gs, th, false);
-      re += A.row(0).transpose() * fric_(0) + A.row(1).transpose() * fric_(1) + A.row(5).transpose() * fric_mz_;
-      if (stuck_valid_ && fric_n_ > 0.0) {
-        if (slip_) {
-          const double un = fric_u_.norm();
-          const Eigen::Vector2d uh = fric_u_ / un;
-          G = -(params_.friction_mu * fric_n_ / un) * (Eigen::Matrix2d::Identity() - uh * uh.transpose());
-          gN = -params_.friction_mu * uh;
-        } else {
-          G = -params_.friction_stiffness * Eigen::Matrix2d::Identity();
-        }
-      }
-    }
-    Eigen::Vector2d rt = Eigen::Vector2d::Zero();
-    if (tray) {
-      double gx, gy;
-      objects_.trayGravityTorque(th, state_.time_s, g, gx, gy);
-      rt << gx - kx * th.pitch + contact_.tau_tray(0), gy - ky * th.roll + contact_.tau_tray(1);
-      if (friction_on_) rt += frictionTrayTorque(state_.T_gs);
-      // On a stop, the stop's reaction takes whatever pushes into it.
-      if ((th.pitch <= -kTrayAngleLimit && rt(0) < 0) || (th.pitch >= kTrayAngleLimit && rt(0) > 0)) rt(0) = 0;
-      if ((th.roll <= -kTrayAngleLimit && rt(1) < 0) || (th.roll >= kTrayAngleLimit && rt(1) > 0)) rt(1) = 0;
-    }
-    last_residual_ = std::max(re.cwiseAbs().maxCoeff(), rt.cwiseAbs().maxCoeff());
-    if (last_residual_ < tol) {
-      converged = true;
-      break;
-    }
-    Mat6 Jee = -Ar.transpose() * (contact_.K_s.middleRows<3>(2) * A);
-    Jee.diagonal().head<3>().array() -= kt;
-    Jee.diagonal().tail<3>().array() -= kr;
-    if (friction_on_) {
-      // d f = G du + gN dN, du = (sensor velocity x, y in {s}) = A.topRows<2> de, dN = K_s(2, :) A de.
-      const Eigen::Matrix<double, 2, 6> A2 = A.topRows<2>();
-      const Eigen::Matrix<double, 2, 6> dF = G * A2 + gN * (contact_.K_s.row(2) * A);
-      Jee += A2.transpose() * dF;
-    }
-    Vec6 de;
-    Eigen::Vector2d dth = Eigen::Vector2d::Zero();
-    if (tray) {
-      Eigen::Matrix<double, 8, 8> J;
-      J.topLeftCorner<6, 6>() = Jee;
-      J.topRightCorner<6, 2>() = A.transpose() * contact_.dW_dth;
-      J.bottomLeftCorner<2, 6>() = contact_.dtau_ds * A;
-      J.bottomRightCorner<2, 2>() = contact_.dtau_dth;
-      J(6, 6) -= kx;
-      J(7, 7) -= ky;
-      // Keep the tray block invertible while the bar is off the pad (free fall
-      // of the tray is limited by the step limit below).
-      J(6, 6) -= 1e-3;
-      J(7, 7) -= 1e-3;
-      Eigen::Matrix<double, 8, 1> r8;
-      r8 << re, rt;
-      const Eigen::Matrix<double, 8, 1> d = J.partialPivLu().solve(-r8);
-      de = d.head<6>();
-      dth = d.tail<2>();
-    } else {
-      de = Jee.partialPivLu().solve(-re);  // the sliding columns make it non-symmetric
-      if (!de.allFinite()) {
-        // Degenerate sliding columns (not reached by the tests or scenes): the
-        // compression block alone is symmetric negative definite.
-        Mat6 Js = -Ar.transpose() * (contact_.K_s.block<3, 3>(2, 2) * Ar);
-        Js.diagonal().head<3>().array() -= kt;
-        Js.diagonal().tail<3>().array() -= kr;
-        de = (-Js).llt().solve(re);
-      }
-    }
-    if (!de.allFinite() || !dth.allFinite()) return SimStatus::NumericalFailure;
-    // Step limit (damped Newton): translation <= maxs, rotation and tray <= 10 maxs.
-    double scale = 1.0;
-    const double nt = de.head<3>().norm(), nr = de.tail<3>().norm(), na = dth.cwiseAbs().maxCoeff();
-    if (nt > maxs) scale = std::min(scale, maxs / nt);
-    if (nr > 10 * maxs) scale = std::min(scale, 10 * maxs / nr);
-    if (na > 10 * maxs) scale = std::min(scale, 10 * maxs / na);
-    // Relaxation with friction, where the residual does not halve: the
-    // sliding friction's dependence on the tray angles (its stuck point rides
-    // on the tray) and its torque on the tray are not in J, and the kink of
-    // the friction law at |k_t u| = mu N is not smooth: the iteration can oscillate
-    // (u alternating about the solution, contracting by ~0.94 per step).
-    // Once that shows, half steps for the rest of the solve turn that mode's
-    // factor of ~-0.94 into ~0.03 and cost the well-modelled modes a factor
-    // 1/2 per step.
-    const double r_now = std::max(re.cwiseAbs().maxCoeff(), rt.cwiseAbs().maxCoeff());
-    if (friction_on_ && r_now > 0.5 * r_prev) relax = 0.5;  // from then on, for this solve
-    r_prev = r_now;
-    scale *= relax;
-    de *= scale;
-    dth *= scale;
-    // (KDL::addDelta / KDL::Rot drop rotations below ~1e-6 rad.)
-    T = KDL::Frame(rotationFromVector(KDL::Vector(de[3], de[4], de[5])) * T.M, T.p + KDL::Vector(de[0], de[1], de[2]));
-    // A tray that lost its support rests on its stops (+-kTrayAngleLimit).
-    th.pitch = std::clamp(th.pitch + dth(0), -kTrayAngleLimit, kTrayAngleLimit);
-    th.roll = std::clamp(th.roll + dth(1), -kTrayAngleLimit, kTrayAngleLimit);
-    evaluated = false;
+  Mat6 Jee = -Ar.transpose() * (contact_.K_s.middleRows<3>(2) * A);
+  Jee.diagonal().head<3>().array() -= kt;
+  Jee.diagonal().tail<3>().array() -= kr;
+  if (friction_on_) {
+    // d f = G du + gN dN, du = (sensor velocity x, y in {s}) = A.topRows<2> de, dN = K_s(2, :) A de.
+    const Eigen::Matrix<double, 2, 6> A2 = A.topRows<2>();
+    const Eigen::Matrix<double, 2, 6> dF = r.G * A2 + r.gN * (contact_.K_s.row(2) * A);
+    Jee += A2.transpose() * dF;
   }
-  last_iterations_ = it;
+  dth = Eigen::Vector2d::Zero();
+  if (tray) {
+    Eigen::Matrix<double, 8, 8> J;
+    J.topLeftCorner<6, 6>() = Jee;
+    J.topRightCorner<6, 2>() = A.transpose() * contact_.dW_dth;
+    J.bottomLeftCorner<2, 6>() = contact_.dtau_ds * A;
+    J.bottomRightCorner<2, 2>() = contact_.dtau_dth;
+    J(6, 6) -= kx;
+    J(7, 7) -= ky;
+    // Keep the tray block invertible while the bar is off the pad (free fall
+    // of the tray is limited by the step limit below).
+    J(6, 6) -= 1e-3;
+    J(7, 7) -= 1e-3;
+    Eigen::Matrix<double, 8, 1> r8;
+    r8 << r.re, r.rt;
+    const Eigen::Matrix<double, 8, 1> d = J.partialPivLu().solve(-r8);
+    de = d.head<6>();
+    dth = d.tail<2>();
+  } else {
+    de = Jee.partialPivLu().solve(-r.re);  // the sliding columns make it non-symmetric
+    if (!de.allFinite()) {
+      // Degenerate sliding columns (not reached by the tests or scenes): the
+      // compression block alone is symmetric negative definite.
+      Mat6 Js = -Ar.transpose() * (contact_.K_s.block<3, 3>(2, 2) * Ar);
+      Js.diagonal().head<3>().array() -= kt;
+      Js.diagonal().tail<3>().array() -= kr;
+      de = (-Js).llt().solve(r.re);
+    }
+  }
+}
+
+SimStatus World::settleQuasiStatic(const KDL::Frame& T_cmd, const KDL::Frame& T, const TrayPose& th, double dt,
+                                   bool converged, bool evaluated, int iterations) {
+  last_iterations_ = iterations;
   tray_ = th;
   SimStatus s = arm_.settle(T, dt);  // joints follow; limits / singularity detected
   const KDL::Frame& Ta = arm_.state().T_ge;
@@ -539,6 +533,54 @@ SimStatus World::stepQuasiStatic(const KDL::Frame& T_cmd, double dt) {
   qs_cmd_ = T_cmd;
   qs_status_ = s;
   return s;
+}
+
+SimStatus World::stepQuasiStatic(const KDL::Frame& T_cmd, double dt) {
+  // Per-body fidelity: a dynamic tray takes one time step with the contact
+  // as it is, then the arm balances with the tray angles fixed.
+  const bool tray = objects_.hasTray() && !tray_dynamic_;
+  if (tray_dynamic_ && dt > 0.0) integrateTray(dt);
+  if (quasiStaticHolds(T_cmd, dt)) {
+    arm_.hold();
+    held_ = true;
+    last_iterations_ = 0;
+    return qs_status_;
+  }
+  KDL::Frame T = T_eq_;
+  TrayPose th = tray_;
+  const bool reuse = reuseLastContact(th, T);
+  bool converged = false, evaluated = false;
+  int it = 0;
+  double r_prev = std::numeric_limits<double>::infinity();
+  double relax = 1.0;
+  QsResidual r;
+  for (; it < params_.qs_max_iterations; ++it) {
+    if (!(it == 0 && reuse)) evaluateContact(T, th);
+    evaluated = true;
+    const Mat6 A = twistMap(T, state_.T_gs);
+    quasiStaticResidual(T_cmd, T, th, A, tray, r);
+    last_residual_ = r.norm();
+    if (last_residual_ < params_.qs_tolerance) {
+      converged = true;
+      break;
+    }
+    Vec6 de;
+    Eigen::Vector2d dth;
+    newtonStep(A, tray, r, de, dth);
+    if (!de.allFinite() || !dth.allFinite()) return SimStatus::NumericalFailure;
+    const double r_now = r.norm();
+    const double scale = newtonStepScale(de, dth, params_.qs_max_step, friction_on_, r_now, r_prev, relax);
+    r_prev = r_now;
+    de *= scale;
+    dth *= scale;
+    // (KDL::addDelta / KDL::Rot drop rotations below ~1e-6 rad.)
+    T = KDL::Frame(rotationFromVector(KDL::Vector(de[3], de[4], de[5])) * T.M, T.p + KDL::Vector(de[0], de[1], de[2]));
+    // A tray that lost its support rests on its stops (+-kTrayAngleLimit).
+    th.pitch = std::clamp(th.pitch + dth(0), -kTrayAngleLimit, kTrayAngleLimit);
+    th.roll = std::clamp(th.roll + dth(1), -kTrayAngleLimit, kTrayAngleLimit);
+    evaluated = false;
+  }
+  return settleQuasiStatic(T_cmd, T, th, dt, converged, evaluated, it);
 }
 
 SimStatus World::stepDynamics(const KDL::Frame& T_cmd, double dt) {

@@ -46,27 +46,12 @@ ConfigResult Runner::configure(const Scene& scene) {
   return ConfigResult::success();
 }
 
-void Runner::run(RunResult& out, const std::function<void(double, double)>& progress) {
-  const auto wall0 = std::chrono::steady_clock::now();
-  const Scene& sc = scene_;
-  out = RunResult{};
-  for (int k = 0; k < servo_.servo().phaseCount(); ++k) out.phase_names.push_back(servo_.servo().phase(k).name);
-  Schedule& sched = schedule_;
-  sched.reset();
-  end_.reset();
-  sensor_.reset();
-  servo_.reset();
-  response_.reseed(sc.seed);  // noise, creep, hysteresis and transfer ring as after configure
-  const double dt = sched.dt();
-  out.rows.reserve(static_cast<std::size_t>(sc.duration * sc.rates.servo) + 16);
-  out.contacts.reserve(out.rows.capacity());
-  out.edge_points.reserve(out.rows.capacity() * static_cast<std::size_t>(sc.features.cols));
-  const SensorGeometry geometry = sc.features.geometry();
+// The signals between the stages in one run (what the RTT ports carry) and
+// the run's bookkeeping.
+struct Runner::RunState {
+  SensorGeometry geometry;
   EdgeLineParams line_params;
-  line_params.fire_n = sc.features.contact_threshold;  // the features' own firing threshold
   EdgeLinePoints line;
-
-  // The signals between the stages (what the RTT ports carry).
   TactileFrame forces;     // arm -> sensor: true taxel forces
   SensorTruth acq;         // the last acquisition's ground truth
   SimTruth truth;          // arm -> logs: ground truth after the last step
@@ -77,30 +62,25 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
   ContactFeatures feats;   // NotConfigured until the first extraction: the servo holds
   ServoOutput sout;
   ServoStatus st = ServoStatus::NotConfigured;
-  SimState state = world_.state();
-  SimStatus ss = state.status;
+  SimState state;
+  SimStatus ss = SimStatus::Ok;
   EstimatedWrench est_wrench;  // the arm's estimated wrench with the scene's error
-  est_wrench.configure(sc.wrench_error, sc.seed);
-  est_wrench.start(state);
-  Pose cmd = state.command_g;  // the initial command (dynamics may start at its equilibrium, off it)
-  // The arm at start: its image for the first acquisition, its ground truth.
-  if (sched.fires().wts) world_.acquireForces(forces, acq);
-  fillTruth(state, acq, truth);
-
+  Pose cmd;
   int last_phase = -1;
   bool first_contact_snap = false;
   Snapshot worst{0.0, "largest |DZMP_y|", TactileFrame{}};
   double worst_dzmp = -1.0;
-  EndReason end = EndReason::None;
-  Summary& sum = out.summary;
-  sum.scene = sc.name;
-  sum.controller = toString(sc.controller);
-  sum.seed = sc.seed;
-  sum.fidelity = toString(sc.world.fidelity);
-  const long progress_every = std::max(1L, sched.ticks() / 100);
-
   RobotState robot;  // the arm side's state (what the robot_state port carries)
-  robot.commandable = true;
+};
+
+void Runner::run(RunResult& out, const std::function<void(double, double)>& progress) {
+  const auto wall0 = std::chrono::steady_clock::now();
+  const Scene& sc = scene_;
+  RunState rs;
+  startRun(out, rs);
+  Schedule& sched = schedule_;
+  EndReason end = EndReason::None;
+  const long progress_every = std::max(1L, sched.ticks() / 100);
   while (!sched.finished()) {
     const double t = sched.time();
     const StageFires fi = sched.fires();
@@ -108,90 +88,143 @@ void Runner::run(RunResult& out, const std::function<void(double, double)>& prog
     // the packets (friCycle); directly, the same rule from the script.
     const fri::KrcScript::At krc_now = krc_script_.at(t);
     if (!sc.through_fri) {
-      fri::robotStateOf(krc_now, t, robot);
-      robot.setpoint = state.command_g;  // the KRC's set point: the last command the arm took
+      fri::robotStateOf(krc_now, t, rs.robot);
+      rs.robot.setpoint = rs.state.command_g;  // the KRC's set point: the last command the arm took
     }
-    // WTS acquisition (Table 2: 140 Hz): the sensor's electronics; the frame
-    // reaches the reader at once or, with a transfer delay, when it has arrived.
-    if ((fi.wts && response_.acquire(forces, t, raw)) || (response_.delayed() && response_.deliver(t, raw))) {
-      raw.seq = raw_seq++;
-      raw.device_time_ms = static_cast<uint32_t>(std::llround(raw.time_s * 1000.0));
-      new_raw = true;
-    }
-    if (fi.features && new_raw) {  // calibration + features on the latest frame (200 Hz)
-      bool frame_ok = false;
-      sensor_.step(raw, frame, feats, frame_ok);
-      new_raw = false;
-    }
-    if (fi.servo) {  // tactile servo (100 Hz)
-      servo_.setMeasuredPose(state.flange_g);
-      Wrench wrench;  // the arm's estimated wrench, as the RTT arm publishes it
-      est_wrench.fill(state, wrench);
-      servo_.setEstimatedWrench(wrench);
-      for (int j = 0; j < kArmJoints; ++j) robot.q[static_cast<std::size_t>(j)] = state.q(j);
-      servo_.setRobotState(robot);
-      if (servo_.step(t, feats, sout, st)) cmd = sout.command.pose;
-
-      const int ph = servo_.servo().phaseIndex();
-      const PhaseParams& pp = servo_.servo().phase(ph);
-      if (ph != last_phase) {
-        out.snapshots.push_back({t, "enter " + pp.name, frame});
-        last_phase = ph;
-      }
-      if (!first_contact_snap && feats.contact != ContactType::None) {
-        out.snapshots.push_back({t, "first contact", frame});
-        first_contact_snap = true;
-      }
-      out.rows.push_back(makeRow(sc, t, ph, st, feats, cmd, truth, sout.u_s, sout.beta));
-      if (feats.contact == ContactType::Edge && std::fabs(feats.dzmp_y) > worst_dzmp) {
-        worst_dzmp = std::fabs(feats.dzmp_y);
-        worst.t = t;
-        worst.frame = frame;
-      }
-      if ((pp.requires_contact || pp.terminal) && feats.contact != ContactType::None) {
-        // The controller's own data: the measured flange pose, the sensor
-        // mount and the CoP (the truth beside it, for evaluation only).
-        const KDL::Frame T_gs = toFrame(state.flange_g) * sc.servo.sensor_mount;
-        const KDL::Vector p = T_gs * KDL::Vector(feats.cop_x, feats.cop_y, 0.0);
-        out.contacts.push_back({t, {p.x(), p.y(), p.z()}, acq.contact_point_g, feats.lambda1, ph});
-        const int n = edgeLinePoints(frame, geometry, line_params, line);
-        for (int i = 0; i < n && out.edge_points.size() < out.edge_points.capacity(); ++i) {
-          const KDL::Vector q = T_gs * KDL::Vector(line[static_cast<std::size_t>(i)].x, line[static_cast<std::size_t>(i)].y, 0.0);
-          out.edge_points.push_back({t, {q.x(), q.y(), q.z()}, ph});
-        }
-      }
-      if ((end = end_.afterServo(st)) != EndReason::None) break;
-    }
-    // The arm: one physics step toward the latest command.
-    // Not commandable: the KRC keeps the set point it has.
-    Pose applied = robot.commandable ? cmd : state.command_g;
-    if (sc.through_fri) {
-      PoseCommand desired = sout.command;
-      desired.pose = cmd;
-      desired.time_s = t;
-      KDL::Frame f;
-      if (friCycle(state, krc_now, desired, t, f, robot, sum)) applied = toPose(f);
-      else applied = state.command_g;  // no packet: the KRC keeps its last set point
-    }
-    ss = world_.step(applied, dt, state);
-    if (ss == SimStatus::NotConverged)
-      sum.sim_unconverged_max_residual = std::max(sum.sim_unconverged_max_residual, state.solver_residual);
-    sched.advance();
-    if (sched.fires().wts) world_.acquireForces(forces, acq);  // the image of the next acquisition
-    fillTruth(state, acq, truth);
-    if ((end = end_.afterPhysics(ss)) != EndReason::None) break;
+    sensorCycle(t, fi, rs);
+    if (fi.servo && (end = servoCycle(t, rs, out)) != EndReason::None) break;
+    physicsCycle(t, krc_now, rs, out.summary);
+    if ((end = end_.afterPhysics(rs.ss)) != EndReason::None) break;
     if (progress && sched.tick() % progress_every == 0) progress(t, sc.duration);
   }
-  if (progress) progress(state.time_s, sc.duration);
-  if (worst_dzmp >= 0.0) out.snapshots.push_back(worst);
-  out.snapshots.push_back({state.time_s, "end", frame});
-  applyEnd(end, ss, sum);
-  sum.sim_unconverged_steps = end_.unconvergedSteps();
-  sum.sim_time_s = state.time_s;
+  if (progress) progress(rs.state.time_s, sc.duration);
+  finishRun(end, rs, out);
+  Summary& sum = out.summary;
   sum.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   sum.real_time_factor = sum.wall_time_s > 0 ? sum.sim_time_s / sum.wall_time_s : 0.0;
   out.phases = phaseEntries(sc, out.rows);
   computeSummary(sc, out);
+}
+
+void Runner::startRun(RunResult& out, RunState& rs) {
+  const Scene& sc = scene_;
+  out = RunResult{};
+  for (int k = 0; k < servo_.servo().phaseCount(); ++k) out.phase_names.push_back(servo_.servo().phase(k).name);
+  schedule_.reset();
+  end_.reset();
+  sensor_.reset();
+  servo_.reset();
+  response_.reseed(sc.seed);  // noise, creep, hysteresis and transfer ring as after configure
+  out.rows.reserve(static_cast<std::size_t>(sc.duration * sc.rates.servo) + 16);
+  out.contacts.reserve(out.rows.capacity());
+  out.edge_points.reserve(out.rows.capacity() * static_cast<std::size_t>(sc.features.cols));
+  rs.geometry = sc.features.geometry();
+  rs.line_params.fire_n = sc.features.contact_threshold;  // the features' own firing threshold
+  rs.state = world_.state();
+  rs.ss = rs.state.status;
+  rs.est_wrench.configure(sc.wrench_error, sc.seed);
+  rs.est_wrench.start(rs.state);
+  rs.cmd = rs.state.command_g;  // the initial command (dynamics may start at its equilibrium, off it)
+  // The arm at start: its image for the first acquisition, its ground truth.
+  if (schedule_.fires().wts) world_.acquireForces(rs.forces, rs.acq);
+  fillTruth(rs.state, rs.acq, rs.truth);
+  Summary& sum = out.summary;
+  sum.scene = sc.name;
+  sum.controller = toString(sc.controller);
+  sum.seed = sc.seed;
+  sum.fidelity = toString(sc.world.fidelity);
+  rs.robot.commandable = true;
+}
+
+void Runner::sensorCycle(double t, const StageFires& fi, RunState& rs) {
+  // WTS acquisition (Table 2: 140 Hz): the sensor's electronics; the frame
+  // reaches the reader at once or, with a transfer delay, when it has arrived.
+  if ((fi.wts && response_.acquire(rs.forces, t, rs.raw)) || (response_.delayed() && response_.deliver(t, rs.raw))) {
+    rs.raw.seq = rs.raw_seq++;
+    rs.raw.device_time_ms = static_cast<uint32_t>(std::llround(rs.raw.time_s * 1000.0));
+    rs.new_raw = true;
+  }
+  if (fi.features && rs.new_raw) {  // calibration + features on the latest frame (200 Hz)
+    bool frame_ok = false;
+    sensor_.step(rs.raw, rs.frame, rs.feats, frame_ok);
+    rs.new_raw = false;
+  }
+}
+
+EndReason Runner::servoCycle(double t, RunState& rs, RunResult& out) {
+  // Tactile servo (100 Hz).
+  servo_.setMeasuredPose(rs.state.flange_g);
+  Wrench wrench;  // the arm's estimated wrench, as the RTT arm publishes it
+  rs.est_wrench.fill(rs.state, wrench);
+  servo_.setEstimatedWrench(wrench);
+  for (int j = 0; j < kArmJoints; ++j) rs.robot.q[static_cast<std::size_t>(j)] = rs.state.q(j);
+  servo_.setRobotState(rs.robot);
+  if (servo_.step(t, rs.feats, rs.sout, rs.st)) rs.cmd = rs.sout.command.pose;
+  logServoCycle(t, rs, out);
+  return end_.afterServo(rs.st);
+}
+
+void Runner::logServoCycle(double t, RunState& rs, RunResult& out) const {
+  const Scene& sc = scene_;
+  const ContactFeatures& feats = rs.feats;
+  const int ph = servo_.servo().phaseIndex();
+  const PhaseParams& pp = servo_.servo().phase(ph);
+  if (ph != rs.last_phase) {
+    out.snapshots.push_back({t, "enter " + pp.name, rs.frame});
+    rs.last_phase = ph;
+  }
+  if (!rs.first_contact_snap && feats.contact != ContactType::None) {
+    out.snapshots.push_back({t, "first contact", rs.frame});
+    rs.first_contact_snap = true;
+  }
+  out.rows.push_back(makeRow(sc, t, ph, rs.st, feats, rs.cmd, rs.truth, rs.sout.u_s, rs.sout.beta));
+  if (feats.contact == ContactType::Edge && std::fabs(feats.dzmp_y) > rs.worst_dzmp) {
+    rs.worst_dzmp = std::fabs(feats.dzmp_y);
+    rs.worst.t = t;
+    rs.worst.frame = rs.frame;
+  }
+  if ((pp.requires_contact || pp.terminal) && feats.contact != ContactType::None) {
+    // The controller's own data: the measured flange pose, the sensor
+    // mount and the CoP (the truth beside it, for evaluation only).
+    const KDL::Frame T_gs = toFrame(rs.state.flange_g) * sc.servo.sensor_mount;
+    const KDL::Vector p = T_gs * KDL::Vector(feats.cop_x, feats.cop_y, 0.0);
+    out.contacts.push_back({t, {p.x(), p.y(), p.z()}, rs.acq.contact_point_g, feats.lambda1, ph});
+    const int n = edgeLinePoints(rs.frame, rs.geometry, rs.line_params, rs.line);
+    for (int i = 0; i < n && out.edge_points.size() < out.edge_points.capacity(); ++i) {
+      const KDL::Vector q =
+          T_gs * KDL::Vector(rs.line[static_cast<std::size_t>(i)].x, rs.line[static_cast<std::size_t>(i)].y, 0.0);
+      out.edge_points.push_back({t, {q.x(), q.y(), q.z()}, ph});
+    }
+  }
+}
+
+void Runner::physicsCycle(double t, const fri::KrcScript::At& krc_now, RunState& rs, Summary& sum) {
+  // The arm: one physics step toward the latest command.
+  // Not commandable: the KRC keeps the set point it has.
+  Pose applied = rs.robot.commandable ? rs.cmd : rs.state.command_g;
+  if (scene_.through_fri) {
+    PoseCommand desired = rs.sout.command;
+    desired.pose = rs.cmd;
+    desired.time_s = t;
+    KDL::Frame f;
+    if (friCycle(rs.state, krc_now, desired, t, f, rs.robot, sum)) applied = toPose(f);
+    else applied = rs.state.command_g;  // no packet: the KRC keeps its last set point
+  }
+  rs.ss = world_.step(applied, schedule_.dt(), rs.state);
+  if (rs.ss == SimStatus::NotConverged)
+    sum.sim_unconverged_max_residual = std::max(sum.sim_unconverged_max_residual, rs.state.solver_residual);
+  schedule_.advance();
+  if (schedule_.fires().wts) world_.acquireForces(rs.forces, rs.acq);  // the image of the next acquisition
+  fillTruth(rs.state, rs.acq, rs.truth);
+}
+
+void Runner::finishRun(EndReason end, const RunState& rs, RunResult& out) {
+  Summary& sum = out.summary;
+  if (rs.worst_dzmp >= 0.0) out.snapshots.push_back(rs.worst);
+  out.snapshots.push_back({rs.state.time_s, "end", rs.frame});
+  applyEnd(end, rs.ss, sum);
+  sum.sim_unconverged_steps = end_.unconvergedSteps();
+  sum.sim_time_s = rs.state.time_s;
 }
 
 bool Runner::friCycle(const SimState& st, const fri::KrcScript::At& krc_now, const PoseCommand& desired, double t,

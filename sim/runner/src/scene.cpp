@@ -217,26 +217,22 @@ ConfigResult applyOverride(YAML::Node& root, const std::string& o, const std::st
 
 ConfigResult loadScene(const std::string& file, Scene& s) { return loadScene(file, s, {}); }
 
-ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std::string>& overrides) {
-  YAML::Node root;
-  ConfigResult r = config::loadFile(file, root);
-  if (!r) return r;
-  for (const std::string& o : overrides)
-    if (!(r = applyOverride(root, o, file))) return r;
-  const Where w{file, ""};
-  if (!(r = checkKeys(root, w,
-                      {"name", "description", "figure", "program", "controller", "features_file", "duration", "seed",
-                       "fidelity", "start_in_equilibrium", "rates", "sensor", "arm", "initial_flange", "objects",
-                       "metrics", "through_fri", "fri_file", "krc", "effects"})))
-    return r;
-  s = Scene{};
-  s.file = file;
-  const std::string dir = dirOf(file);
+namespace {
+
+// name (required), description, figure.
+ConfigResult readSceneHeader(const YAML::Node& root, const Where& w, Scene& s) {
+  ConfigResult r = ConfigResult::success();
   if (!(r = read(root, "name", s.name, w)) || !(r = read(root, "description", s.description, w)) ||
       !(r = read(root, "figure", s.figure, w)))
     return r;
   if (s.name.empty()) return fail(w.child("name"), "required");
+  return ConfigResult::success();
+}
 
+// The controller: the phase program (program, required; the same file the RTT
+// servo component loads) and the controller mode.
+ConfigResult readController(const YAML::Node& root, const Where& w, const std::string& file, const std::string& dir, Scene& s) {
+  ConfigResult r = ConfigResult::success();
   // Controller: the phase program (the same file the RTT servo component loads).
   std::string program;
   if (!(r = read(root, "program", program, w))) return r;
@@ -247,7 +243,12 @@ ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std:
   if (!(r = read(root, "controller", mode, w))) return r;
   if (!parseControllerMode(mode, s.controller))
     return fail(w.child("controller"), "'" + mode + "' must be " + kControllerModeNames);
+  return ConfigResult::success();
+}
 
+// features_file: the features' parameters and the sensor's calibration.
+ConfigResult readFeaturesFile(const YAML::Node& root, const Where& w, const std::string& file, const std::string& dir, Scene& s) {
+  ConfigResult r = ConfigResult::success();
   std::string features_file;
   if (!(r = read(root, "features_file", features_file, w))) return r;
   if (!features_file.empty()) {
@@ -263,7 +264,12 @@ ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std:
     s.world.pad.use_calibration = true;
     s.world.pad.calibration = s.calibration;
   }
+  return ConfigResult::success();
+}
 
+// duration, seed, fidelity, start_in_equilibrium and rates.
+ConfigResult readRunKeys(const YAML::Node& root, const Where& w, Scene& s) {
+  ConfigResult r = ConfigResult::success();
   if (!(r = read(root, "duration", s.duration, w))) return r;
   if (!(s.duration > 0.0) || !std::isfinite(s.duration)) return rangeError(w.child("duration").str(), s.duration, "must be > 0 (s)");
   int seed = 1;
@@ -283,7 +289,13 @@ ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std:
                     read(n, "features", s.rates.features, wr)})
       if (!rr) return rr;
   }
+  return ConfigResult::success();
+}
 
+// The pad (sensor), mounted as the program says, sized as the features read
+// it, and its calibration.
+ConfigResult readSensor(const YAML::Node& root, const Where& w, Scene& s) {
+  ConfigResult r = ConfigResult::success();
   PadParams& pad = s.world.pad;
   if (const YAML::Node n = root["sensor"]) {
     const Where ws = w.child("sensor");
@@ -314,7 +326,12 @@ ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std:
   // The reader is characterised for the sensor it reads: its noise figure
   // (SensorStage: alpha_z test, sub-threshold estimate) is the pad's.
   s.calibration.noise_counts = pad.noise_counts;
+  return ConfigResult::success();
+}
 
+// The arm (arm) and its start (initial_flange).
+ConfigResult readArm(const YAML::Node& root, const Where& w, Scene& s) {
+  ConfigResult r = ConfigResult::success();
   if (const YAML::Node n = root["arm"]) {
     const Where wa = w.child("arm");
     if (!(r = checkKeys(n, wa, {"q_init_deg", "k_trans", "k_rot", "damping_ratio", "dyn_refresh_q", "dyn_refresh_qd"})))
@@ -343,7 +360,12 @@ ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std:
     s.world.initial_flange_pose.p = xyz;
     s.world.initial_flange_pose.q = {x, y, z, qw};
   }
+  return ConfigResult::success();
+}
 
+// objects: the list, each with its per-body fidelity.
+ConfigResult readObjects(const YAML::Node& root, const Where& w, Scene& s) {
+  ConfigResult r = ConfigResult::success();
   if (const YAML::Node n = root["objects"]) {
     if (!n.IsSequence()) return fail(w.child("objects"), "must be a list");
     for (std::size_t i = 0; i < n.size(); ++i) {
@@ -365,7 +387,12 @@ ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std:
       s.world.objects.push_back(o);
     }
   }
+  return ConfigResult::success();
+}
 
+// effects: physics, timing, the sensor's effects and the wrench error.
+ConfigResult readEffects(const YAML::Node& root, const Where& w, Scene& s) {
+  ConfigResult r = ConfigResult::success();
   // Effects (each off by default): physics and timing are World's, the
   // sensor's are TaxelResponse's (readSensorEffects).
   if (const YAML::Node n = root["effects"]) {
@@ -390,7 +417,12 @@ ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std:
     if (!(wp.krc_cycle_s >= 0.0) || wp.krc_cycle_s > 1.0)
       return rangeError(we.child("krc_cycle_s").str(), wp.krc_cycle_s, "must be in [0, 1] s (0 = every physics step)");
   }
+  return ConfigResult::success();
+}
 
+// through_fri, fri_file and the KRC's script (krc), parsed to check it.
+ConfigResult readFriKeys(const YAML::Node& root, const Where& w, const std::string& file, const std::string& dir, Scene& s) {
+  ConfigResult r = ConfigResult::success();
   if (!(r = read(root, "through_fri", s.through_fri, w))) return r;
   std::string fri_file;
   if (!(r = read(root, "fri_file", fri_file, w))) return r;
@@ -400,7 +432,12 @@ ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std:
     fri::KrcScript krc;
     if (!(r = krc.parse(s.krc, file + ": krc"))) return r;
   }
+  return ConfigResult::success();
+}
 
+// metrics: transient, scored phases, alignment, force band and criteria.
+ConfigResult readMetrics(const YAML::Node& root, const Where& w, Scene& s) {
+  ConfigResult r = ConfigResult::success();
   if (const YAML::Node n = root["metrics"]) {
     const Where wm = w.child("metrics");
     if (!(r = checkKeys(n, wm, {"transient_s", "force_phases", "alignment", "force_band_n", "criteria"}))) return r;
@@ -432,6 +469,36 @@ ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std:
         return r;
     }
   }
+  return ConfigResult::success();
+}
+
+}  // namespace
+
+ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std::string>& overrides) {
+  YAML::Node root;
+  ConfigResult r = config::loadFile(file, root);
+  if (!r) return r;
+  for (const std::string& o : overrides)
+    if (!(r = applyOverride(root, o, file))) return r;
+  const Where w{file, ""};
+  if (!(r = checkKeys(root, w,
+                      {"name", "description", "figure", "program", "controller", "features_file", "duration", "seed",
+                       "fidelity", "start_in_equilibrium", "rates", "sensor", "arm", "initial_flange", "objects",
+                       "metrics", "through_fri", "fri_file", "krc", "effects"})))
+    return r;
+  s = Scene{};
+  s.file = file;
+  const std::string dir = dirOf(file);
+  if (!(r = readSceneHeader(root, w, s))) return r;
+  if (!(r = readController(root, w, file, dir, s))) return r;
+  if (!(r = readFeaturesFile(root, w, file, dir, s))) return r;
+  if (!(r = readRunKeys(root, w, s))) return r;
+  if (!(r = readSensor(root, w, s))) return r;
+  if (!(r = readArm(root, w, s))) return r;
+  if (!(r = readObjects(root, w, s))) return r;
+  if (!(r = readEffects(root, w, s))) return r;
+  if (!(r = readFriKeys(root, w, file, dir, s))) return r;
+  if (!(r = readMetrics(root, w, s))) return r;
   return validateScene(s);
 }
 

@@ -19,7 +19,7 @@ usage: check_fri_burst.py OUT_DIR KRC_EXIT DEPLOYER_EXIT PROGRAM_YAML FRI_YAML
     status is commanding or limited, the servo is still sliding (phase slide,
     status free_motion or limited: no watchdog).
 Not checked: latencies and missed replies (a virtual machine's scheduling; see
-scripts/rt_latency.sh).
+scripts/realtime/rt_latency.sh).
 """
 import math
 import re

@@ -19,7 +19,7 @@ rm -f "$dep/fault_$name.dat"
    "${DEPLOYER:-$orocos/bin/deployer-gnulinux}" --check -lwarning -s "../tests/rtt/faults/fault_$name.ops" < /dev/null) \
    > "$out/deployer.log" 2>&1
 rc=$?
-grep -E "^\[(PASS|FAIL)\]|ops checks|deployment step failed|\[BentBarExperiment\] finished" "$out/deployer.log"
+grep -E "^\[(PASS|FAIL)\]|ops checks|deployment step failed|\[TimedPhaseExperiment\] finished" "$out/deployer.log"
 [ "$rc" -eq 0 ] || { echo "deployer exit $rc (see $out/deployer.log)"; exit 1; }
 grep -qE "ops checks: [1-9][0-9]* run, 0 failed" "$out/deployer.log" || { echo "the deployment's checks failed"; exit 1; }
 [ -s "$dep/fault_$name.dat" ] || { echo "no report file deployments/fault_$name.dat"; exit 1; }

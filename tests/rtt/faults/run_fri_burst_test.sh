@@ -19,7 +19,7 @@ set -uo pipefail
 name=rtt_fault_fri_burst
 export BUILD="$2"
 # root, build, orocos, deployer, rt_check_tools, rt_stage_deployments, rt_start_wts_sim (kills its peers on exit)
-source "$1/scripts/rt_common.sh"
+source "$1/scripts/realtime/rt_common.sh"
 rt_check_tools
 port=49958
 out="$build/fault_test/fri_burst"

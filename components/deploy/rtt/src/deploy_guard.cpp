@@ -16,37 +16,137 @@
 // orocos.log closed; at a terminal it first opens its prompt for inspection).
 // The failed step is named in the log: "[Guard] deployment step failed: <what>".
 //
-// The experiment scripts also keep their per-experiment file names here
-// (properties), so the shared include scripts (deployments/robot_loop.ops,
-// sim_loop.ops) read them: RTT script variables do not cross runScript().
+// The experiment's files come from the experiment registry (experiments.yaml
+// at the repository root, `registry_file`): select(name) reads its entry and
+// fills the properties the shared include scripts read (deployments/sim_loop.ops,
+// robot_loop.ops, experiment_start.ops, ...): RTT script variables do not
+// cross runScript(). The name reaches an unattended run through the
+// environment (TACTILE_EXPERIMENT, read once when the Guard is constructed)
+// and an operator at the prompt through Guard.select("bent_bar"). In the
+// deployer's XML form (robot.xml, sim.xml) configure() selects it and hands
+// the entry to its peers.
 //
 // Not on any real-time path: the deployer's own thread calls it while it
-// sets the deployment up (ClientThread operations).
+// sets the deployment up (ClientThread operations); select() reads files.
 #include <rtt/Component.hpp>
 #include <rtt/Logger.hpp>
+#include <rtt/Service.hpp>
 #include <rtt/TaskContext.hpp>
+#include <rtt/internal/DataSource.hpp>
+#include <rtt/scripting/Scripting.hpp>
 #include <rtt/os/fosi.h>
+#include <yaml-cpp/yaml.h>
 
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <sstream>
 #include <string>
+#include <vector>
 
 namespace tactile {
+
+namespace {
+
+// The keys of an experiment entry (experiments.yaml's header documents them).
+const std::vector<std::string> kEntryKeys = {"title",     "scene",    "program", "controller", "state_machine",
+                                             "timeout_s", "robot",    "metrics"};
+const std::vector<std::string> kStateMachineKeys = {"file", "name", "params"};
+// ServoComponent's controller_mode values ('' = the program's controller.mode).
+const std::vector<std::string> kControllerModes = {"", "proposed", "baseline", "no_rotation"};
+
+std::string joined(const std::vector<std::string>& v) {
+  std::string out;
+  for (const auto& s : v) out += (out.empty() ? "" : ", ") + (s.empty() ? std::string("''") : s);
+  return out;
+}
+
+bool fileExists(const std::string& path) { return std::ifstream(path).good(); }
+
+// A state-machine parameter as declared in an .osd: `param double explore_time`.
+struct OsdParam {
+  std::string type, name;
+};
+
+// The instance `instance` of an .osd file: its RootMachine line names the
+// StateMachine type, whose `param` lines are the parameters. Empty type: no such instance.
+bool osdParams(const std::string& file, const std::string& instance, std::string& type,
+               std::vector<OsdParam>& params, std::vector<std::string>& instances) {
+  std::ifstream in(file);
+  if (!in) return false;
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string text = ss.str();
+  static const std::regex root(R"(^\s*RootMachine\s+(\w+)\s+(\w+))", std::regex::multiline);
+  type.clear();
+  for (std::sregex_iterator it(text.begin(), text.end(), root), e; it != e; ++it) {
+    instances.push_back((*it)[2]);
+    if ((*it)[2] == instance) type = (*it)[1];
+  }
+  if (type.empty()) return true;
+  const std::regex machine("^\\s*StateMachine\\s+" + type + "\\b", std::regex::multiline);
+  std::smatch m;
+  if (!std::regex_search(text, m, machine)) return true;
+  // Its body up to the next StateMachine / RootMachine line.
+  const std::string rest = m.suffix().str();
+  static const std::regex next(R"(^\s*(StateMachine|RootMachine)\s)", std::regex::multiline);
+  std::smatch n;
+  const std::string body = std::regex_search(rest, n, next) ? rest.substr(0, n.position(0)) : rest;
+  static const std::regex param(R"(^\s*param\s+(\w+)\s+(\w+))", std::regex::multiline);
+  for (std::sregex_iterator it(body.begin(), body.end(), param), e; it != e; ++it)
+    params.push_back({(*it)[1], (*it)[2]});
+  return true;
+}
+
+}  // namespace
 
 class DeployGuard : public RTT::TaskContext {
  public:
   explicit DeployGuard(const std::string& name) : RTT::TaskContext(name) {
-    addProperty("experiment", experiment_).doc("Experiment name (e.g. bent_bar): the report's and the log's name.");
-    addProperty("servo_cpf", servo_cpf_).doc("Property file of the Servo (its program_file, controller_mode).");
-    addProperty("sim_cpf", sim_cpf_).doc("Property file of the simulated robot (its scene_file, wts_period).");
-    addProperty("state_machine_file", osd_file_).doc("The experiment's state machine (.osd), loaded into the Servo.");
-    addProperty("state_machine", sm_name_).doc("Its instance name (the RootMachine line of the .osd).");
-    addProperty("timeout", timeout_).doc("Longest wall-clock wait (s) for the state machine in the run scripts.");
+    if (const char* env = std::getenv("TACTILE_EXPERIMENT")) experiment_ = env;
+    addProperty("registry_file", registry_file_)
+        .doc("The experiment registry (YAML, experiments: <name>: {scene, program, controller, state_machine, "
+             "timeout_s, robot, metrics}); relative to the deployer's working directory (deployments/). Its "
+             "paths are relative to its own directory; select() makes them relative to the working directory.");
+    addProperty("experiment", experiment_)
+        .doc("Experiment name, a key of registry_file's experiments (e.g. bent_bar). Unattended runs: from "
+             "the environment variable TACTILE_EXPERIMENT, read when the Guard is constructed; the entry "
+             "scripts then call select(experiment). At the prompt: Guard.select(\"bent_bar\") sets it.");
+    addProperty("program_file", program_file_)
+        .doc("The Servo's phase program (YAML), from the registry's `program` (select()).");
+    addProperty("controller_mode", controller_mode_)
+        .doc("The Servo's controller_mode from the registry's `controller`: '' (the program's), proposed, "
+             "baseline, no_rotation (select()).");
+    addProperty("scene_file", scene_file_)
+        .doc("The simulated world (sim/scenes/*.yaml) from the registry's `scene` (select()); the simulated "
+             "arm, sensor and clock read it (sim_loop.ops; sim.xml: configure() gives it to its peers).");
+    addProperty("servo_cpf", servo_cpf_)
+        .doc("Optional: a Servo property file read after the registry's program and controller, replacing "
+             "them (tests' own programs). Empty: none.");
+    addProperty("sim_cpf", sim_cpf_)
+        .doc("Optional: a property file of the simulated robot read after scene_file, replacing it (tests' "
+             "own scenes). Empty: none.");
+    addProperty("state_machine_file", osd_file_)
+        .doc("The experiment's state machine (.osd), loaded into the Servo (registry: state_machine.file).");
+    addProperty("state_machine", sm_name_)
+        .doc("Its instance name (the RootMachine line of the .osd; registry: state_machine.name).");
+    addProperty("timeout", timeout_)
+        .doc("Longest wall-clock wait (s) for the end of the run in the run scripts (registry: timeout_s).");
+    addProperty("robot", robot_).doc("The registry's `robot`: true when the experiment also runs on the real arm.");
     addProperty("dry_run", dry_run_)
         .doc("Robot deployments: a bring-up dry run (robot_loop.ops sets the FRI bridge's dry_run before it "
              "starts: the bridge holds the arm, the servo computes and records as if it followed).");
-    addProperty("report_file", report_file_).doc("File of the OCL::FileReporting time series (empty: no report).");
+    addProperty("report_suffix", report_suffix_)
+        .doc("select() sets report_file to <experiment> + report_suffix (default _sim.dat; the robot XML: "
+             "_robot.dat).");
+    addProperty("report_file", report_file_)
+        .doc("File of the OCL::FileReporting time series (empty: no report); select() sets <experiment> + "
+             "report_suffix, the robot and ROS entry scripts their own name after it.");
     addAttribute("ok", ok_);
     addAttribute("steps", steps_);
     addAttribute("failed_step", failed_step_);
+    addAttribute("select_error", select_error_);
     addOperation("step", &DeployGuard::step, this, RTT::ClientThread)
         .doc("Record one deployment step: logs it (Info) when done is true; when false, logs "
              "'deployment step failed: what' (Error) and clears ok. After a failure, further steps are "
@@ -62,6 +162,73 @@ class DeployGuard : public RTT::TaskContext {
     addOperation("sleep", &DeployGuard::sleep, this, RTT::ClientThread)
         .doc("Sleep (wall clock): waiting loops of the experiment scripts.")
         .arg("s", "Seconds, [0, 10].");
+    addOperation("select", &DeployGuard::select, this, RTT::ClientThread)
+        .doc("Read the experiment `name` from registry_file and fill experiment, program_file, "
+             "controller_mode, scene_file, state_machine_file, state_machine, timeout, robot and "
+             "report_file (<name> + report_suffix); checks that its files exist, its controller and that every "
+             "state-machine param is a `param` of the named RootMachine in its .osd. False (nothing "
+             "changed) with an error naming the file, the key and the valid values (logged, and in the "
+             "attribute select_error). Unattended: TACTILE_EXPERIMENT=<name>; at the prompt: "
+             "Guard.select(\"bent_bar\") before runScript(\"robot.ops\").")
+        .arg("name", "Experiment name (a key of the registry's experiments).");
+    addOperation("experiments", &DeployGuard::experiments, this, RTT::ClientThread)
+        .doc("The experiment names of registry_file, space separated (empty when it cannot be read).");
+    addOperation("setStateMachineParams", &DeployGuard::setStateMachineParams, this, RTT::ClientThread)
+        .doc("Set the selected experiment's state-machine params (registry: state_machine.params) on the "
+             "state machine `state_machine` loaded into the peer `component` (addPeer(\"Guard\", component) "
+             "first). Call after activate() (which sets the RootMachine line's values) and before start(). "
+             "True when nothing is selected (no params). False, naming the param, when one is not an "
+             "attribute of the loaded machine or its value does not fit its type.")
+        .arg("component", "The peer that runs the state machine (Servo).");
+  }
+
+  // The deployer's XML form (deployments/robot.xml, sim.xml: no script):
+  // configure() selects `experiment` (TACTILE_EXPERIMENT) and hands the entry
+  // to its peers (the XML's Peers list): a peer with
+  // program_file and controller_mode (the Servo) gets both and, when it has
+  // the scripting service, the state machine loaded (not activated); a peer
+  // with scene_file gets the scene; one with ReportFile (OCL::FileReporting)
+  // the report file. The peers must come after the Guard in the XML (they are
+  // configured in order). False, logged, on an unknown entry or a failed load.
+  bool configureHook() override {
+    if (!select(experiment_)) return false;
+    for (const std::string& name : getPeerList()) {
+      RTT::TaskContext* peer = getPeer(name);
+      RTT::PropertyBag* props = peer->properties();
+      auto* program = props->getPropertyType<std::string>("program_file");
+      auto* mode = props->getPropertyType<std::string>("controller_mode");
+      if (program && mode) {
+        program->set(program_file_);
+        mode->set(controller_mode_);
+        log(name + ".program_file = " + program_file_ + ", controller_mode '" + controller_mode_ + "'");
+        if (peer->provides()->hasService("scripting")) {
+          auto scripting = peer->getProvider<RTT::Scripting>("scripting");
+          // The deployer attaches the peer's activity in the peer's own step,
+          // after this one: silence the scripting service's zero-period
+          // warning for this load only.
+          auto* warn = peer->provides("scripting")->properties()->getPropertyType<bool>("ZeroPeriodWarning");
+          const bool warn_was = warn ? warn->get() : true;
+          if (warn) warn->set(false);
+          const bool loaded = scripting && scripting->loadStateMachines(osd_file_);
+          if (warn) warn->set(warn_was);
+          if (!loaded) {
+            RTT::log(RTT::Error) << "[" << getName() << "] " << name << ": cannot load the state machine file "
+                                 << osd_file_ << " (registry: state_machine.file)" << RTT::endlog();
+            return false;
+          }
+          log(name + ": state machine " + sm_name_ + " loaded from " + osd_file_ + " (not activated)");
+        }
+      }
+      if (auto* scene = props->getPropertyType<std::string>("scene_file")) {
+        scene->set(scene_file_);
+        log(name + ".scene_file = " + scene_file_);
+      }
+      if (auto* report = props->getPropertyType<std::string>("ReportFile")) {
+        report->set(report_file_);
+        log(name + ".ReportFile = " + report_file_);
+      }
+    }
+    return true;
   }
 
   bool step(bool done, const std::string& what) {
@@ -84,13 +251,205 @@ class DeployGuard : public RTT::TaskContext {
     rtos_nanosleep(&ts, nullptr);
   }
 
+  std::string experiments() const {
+    std::string out;
+    try {
+      const YAML::Node all = YAML::LoadFile(registry_file_)["experiments"];
+      if (!all.IsMap()) return "";
+      for (const auto& kv : all) out += (out.empty() ? "" : " ") + kv.first.as<std::string>();
+    } catch (const YAML::Exception&) {
+      return "";
+    }
+    return out;
+  }
+
+  bool select(const std::string& name) {
+    select_error_.clear();
+    const std::string err = readEntry(name);
+    if (!err.empty()) {
+      select_error_ = err;
+      RTT::log(RTT::Error) << "[" << getName() << "] select(\"" << name << "\"): " << err << RTT::endlog();
+      return false;
+    }
+    RTT::log(RTT::Info) << "[" << getName() << "] experiment " << experiment_ << " (" << registry_file_
+                        << "): program " << program_file_ << ", controller '" << controller_mode_ << "', scene "
+                        << scene_file_ << ", state machine " << sm_name_ << " in " << osd_file_ << ", timeout "
+                        << timeout_ << " s" << RTT::endlog();
+    return true;
+  }
+
+  bool setStateMachineParams(const std::string& component) {
+    if (params_.empty()) return true;
+    RTT::TaskContext* peer = getPeer(component);
+    if (!peer) return paramError("no peer " + component + " (addPeer(\"" + getName() + "\", \"" + component + "\") first)");
+    RTT::Service::shared_ptr sm = peer->provides()->getService(sm_name_);
+    if (!sm) return paramError(component + " has no state machine " + sm_name_ + " (loaded from " + osd_file_ + "?)");
+    const std::string where = registry_file_ + ": experiments." + experiment_ + ".state_machine.params.";
+    for (const auto& p : params_) {
+      RTT::base::AttributeBase* a = sm->getAttribute(p.name);
+      if (!a) return paramError(where + p.name + ": " + sm_name_ + " has no such param");
+      RTT::base::DataSourceBase::shared_ptr ds = a->getDataSource();
+      if (p.type == "double") {
+        auto* d = RTT::internal::AssignableDataSource<double>::narrow(ds.get());
+        if (!d) return paramError(where + p.name + ": not a double in " + sm_name_);
+        d->set(p.number);
+      } else if (p.type == "string") {
+        auto* d = RTT::internal::AssignableDataSource<std::string>::narrow(ds.get());
+        if (!d) return paramError(where + p.name + ": not a string in " + sm_name_);
+        d->set(p.value);
+      } else if (p.type == "int") {
+        auto* d = RTT::internal::AssignableDataSource<int>::narrow(ds.get());
+        if (!d) return paramError(where + p.name + ": not an int in " + sm_name_);
+        d->set(static_cast<int>(p.number));
+      } else if (p.type == "bool") {
+        auto* d = RTT::internal::AssignableDataSource<bool>::narrow(ds.get());
+        if (!d) return paramError(where + p.name + ": not a bool in " + sm_name_);
+        d->set(p.number != 0.0);
+      } else {
+        return paramError(where + p.name + ": param type " + p.type + " not supported (double, int, bool, string)");
+      }
+      RTT::log(RTT::Info) << "[" << getName() << "] " << component << "." << sm_name_ << "." << p.name << " = "
+                          << p.value << " (" << registry_file_ << ")" << RTT::endlog();
+    }
+    return true;
+  }
+
  private:
-  std::string experiment_, servo_cpf_, sim_cpf_, osd_file_, sm_name_, report_file_;
+  struct Param {
+    std::string type, name, value;  // value as written in the registry (strings, the log)
+    double number = 0.0;            // double, int and bool params, checked by select()
+  };
+
+  void log(const std::string& what) const {
+    RTT::log(RTT::Info) << "[" << getName() << "] " << what << RTT::endlog();
+  }
+
+  bool paramError(const std::string& what) {
+    RTT::log(RTT::Error) << "[" << getName() << "] setStateMachineParams: " << what << RTT::endlog();
+    return false;
+  }
+
+  // Registry paths are relative to the registry's directory; the deployer's
+  // working directory is deployments/: prefix the registry's directory.
+  std::string resolved(const std::string& path) const {
+    if (path.empty() || path[0] == '/') return path;
+    const auto slash = registry_file_.find_last_of('/');
+    return slash == std::string::npos ? path : registry_file_.substr(0, slash + 1) + path;
+  }
+
+  // Reads and checks entry `name`; on success sets the properties and returns
+  // "", else the error (file: key: what, valid values) and changes nothing.
+  std::string readEntry(const std::string& name) {
+    const std::string& f = registry_file_;
+    YAML::Node root;
+    try {
+      root = YAML::LoadFile(f);
+    } catch (const YAML::Exception& e) {
+      return f + ": cannot read the experiment registry (registry_file): " + e.what();
+    }
+    const YAML::Node all = root["experiments"];
+    if (!all || !all.IsMap()) return f + ": experiments: missing or not a map of experiment entries";
+    std::vector<std::string> names;
+    for (const auto& kv : all) names.push_back(kv.first.as<std::string>());
+    if (name.empty())
+      return f + ": no experiment selected (TACTILE_EXPERIMENT unset or Guard.select(\"\")); experiments: " +
+             joined(names);
+    const YAML::Node e = all[name];
+    if (!e) return f + ": experiments." + name + ": no such experiment (experiments: " + joined(names) + ")";
+    const std::string key = f + ": experiments." + name + ".";
+    if (!e.IsMap()) return key.substr(0, key.size() - 1) + ": not a map";
+    try {
+      for (const auto& kv : e) {
+        const std::string k = kv.first.as<std::string>();
+        bool known = false;
+        for (const auto& v : kEntryKeys) known = known || v == k;
+        if (!known) return key + k + ": unknown key (valid: " + joined(kEntryKeys) + ")";
+      }
+      for (const char* k : {"scene", "program", "controller", "state_machine", "timeout_s"})
+        if (!e[k]) return key + k + ": missing (keys: " + joined(kEntryKeys) + ")";
+      const std::string scene = e["scene"].as<std::string>();
+      const std::string program = e["program"].as<std::string>();
+      const std::string controller = e["controller"].IsNull() ? "" : e["controller"].as<std::string>();
+      bool mode_ok = false;
+      for (const auto& v : kControllerModes) mode_ok = mode_ok || v == controller;
+      if (!mode_ok) return key + "controller: '" + controller + "' (valid: " + joined(kControllerModes) + ")";
+      const double timeout = e["timeout_s"].as<double>();
+      if (!(timeout > 0.0)) return key + "timeout_s: " + std::to_string(timeout) + " (valid: > 0)";
+      const bool robot = e["robot"] ? e["robot"].as<bool>() : false;
+      const YAML::Node sm = e["state_machine"];
+      if (!sm.IsMap()) return key + "state_machine: not a map (keys: " + joined(kStateMachineKeys) + ")";
+      for (const auto& kv : sm) {
+        const std::string k = kv.first.as<std::string>();
+        bool known = false;
+        for (const auto& v : kStateMachineKeys) known = known || v == k;
+        if (!known) return key + "state_machine." + k + ": unknown key (valid: " + joined(kStateMachineKeys) + ")";
+      }
+      for (const char* k : {"file", "name"})
+        if (!sm[k]) return key + "state_machine." + k + ": missing (keys: " + joined(kStateMachineKeys) + ")";
+      const std::string osd = resolved(sm["file"].as<std::string>());
+      const std::string instance = sm["name"].as<std::string>();
+      const std::vector<std::pair<std::string, std::string>> files = {
+          {"scene", resolved(scene)}, {"program", resolved(program)}, {"state_machine.file", osd}};
+      for (const auto& [k, path] : files)
+        if (!fileExists(path)) return key + k + ": no such file " + path;
+      std::string type;
+      std::vector<OsdParam> declared;
+      std::vector<std::string> instances;
+      osdParams(osd, instance, type, declared, instances);
+      if (type.empty())
+        return key + "state_machine.name: " + instance + " is not a RootMachine of " + osd +
+               " (RootMachines: " + joined(instances) + ")";
+      std::vector<std::string> declared_names;
+      for (const auto& d : declared) declared_names.push_back(d.name);
+      std::vector<Param> params;
+      if (const YAML::Node ps = sm["params"]) {
+        if (!ps.IsMap()) return key + "state_machine.params: not a map (params: " + joined(declared_names) + ")";
+        for (const auto& kv : ps) {
+          const std::string p = kv.first.as<std::string>();
+          const OsdParam* d = nullptr;
+          for (const auto& x : declared) d = (x.name == p) ? &x : d;
+          if (!d)
+            return key + "state_machine.params." + p + ": not a param of " + type + " in " + osd +
+                   " (params: " + joined(declared_names) + ")";
+          Param param{d->type, p, kv.second.as<std::string>()};
+          try {
+            if (d->type == "double") param.number = kv.second.as<double>();
+            if (d->type == "int") param.number = kv.second.as<int>();
+            if (d->type == "bool") param.number = kv.second.as<bool>() ? 1.0 : 0.0;
+          } catch (const YAML::Exception&) {
+            return key + "state_machine.params." + p + ": '" + param.value + "' is not a " + d->type + " (param " +
+                   d->type + " " + p + " of " + type + ")";
+          }
+          params.push_back(param);
+        }
+      }
+      // Checked: take it.
+      experiment_ = name;
+      scene_file_ = resolved(scene);
+      program_file_ = resolved(program);
+      controller_mode_ = controller;
+      osd_file_ = osd;
+      sm_name_ = instance;
+      timeout_ = timeout;
+      robot_ = robot;
+      report_file_ = name + report_suffix_;
+      params_ = params;
+    } catch (const YAML::Exception& ex) {
+      return key.substr(0, key.size() - 1) + ": " + ex.what() + " (keys: " + joined(kEntryKeys) + ")";
+    }
+    return "";
+  }
+
+  std::string registry_file_ = "../experiments.yaml";
+  std::string experiment_, program_file_, controller_mode_, scene_file_;
+  std::string servo_cpf_, sim_cpf_, osd_file_, sm_name_, report_file_, report_suffix_ = "_sim.dat";
   double timeout_ = 60.0;
+  bool robot_ = false;
   bool dry_run_ = false;
   bool ok_ = true;
   int steps_ = 0;
-  std::string failed_step_;
+  std::string failed_step_, select_error_;
+  std::vector<Param> params_;
 };
 
 }  // namespace tactile

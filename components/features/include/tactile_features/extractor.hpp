@@ -59,7 +59,7 @@
 //    look the same; the sagging taxels fire now and then (noise, the load's
 //    ripple), the gap's never. Larger values find a gap sooner (it must stay
 //    silent that long under the pad: ~0.5 s for a 10 mm gap at 10 mm/s) and
-//    split a sagging line more often (README "The gap").
+//    split a sagging line more often (docs/simulator.md, "A gap under the pad").
 //  * Taxels the noise switches off (censoring by the device's firing
 //    threshold t = contact_threshold). A taxel with load f reads 0 below t;
 //    with count noise sigma (taxel_noise) it fires with probability
@@ -79,7 +79,7 @@
 //    noise-free sensor would, and the noise no longer biases f down.
 //    Taxels below t on average stay 0 while silent, as without noise (when
 //    the noise makes one fire, its reading counts: a small bias up): the
-//    truncation bias of the firing threshold itself (README, "Known bias")
+//    truncation bias of the firing threshold itself (docs/simulator.md, "Known bias of the paper's force")
 //    is not undone.
 //    Delay: only the estimates lag; a taxel that stops firing is estimated
 //    for censor_tau ln 2 (69 ms at 0.1 s) at most, readings count at once.
@@ -227,6 +227,16 @@ class FeatureExtractor {
 
   int countRegions(const double* f, int rows, int cols);
   double subthresholdForce(const double* f, int n, double t, double* img, uint8_t* estimated);
+
+  // The steps of step(), in order (contracts in extractor.cpp).
+  struct RawMoments;
+  void updateFiringRates(const TactileFrame& frame, int n);
+  void buildImage(const double* f, int n, bool add_estimate, double* img, uint8_t* estimated);
+  void accumulateMoments(const double* g, const uint8_t* estimated, double thr, RawMoments& m) const;
+  static void contactGeometry(const RawMoments& m, ContactFeatures& out, Moments& mo);
+  double alphaSigma(const double* g, double m00, double cx, double cy, const Moments& mo) const;
+  bool principalAngle(const RawMoments& m, const ContactFeatures& out, const Moments& mo, double& alpha) const;
+  ContactType classifyContact(const double* f, bool loaded_and_firing, const ContactFeatures& out);
 };
 
 }  // namespace tactile

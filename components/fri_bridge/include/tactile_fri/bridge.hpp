@@ -245,6 +245,25 @@ class FriBridge {
   static bool heldPose(const MsrPacket& msr, KDL::Frame& held) noexcept;
   /// out.robot from the packet and this step's status.
   void fillRobotState(const MsrPacket& msr, double now_s, bool msr_valid, BridgeOutput& out) const noexcept;
+
+  // The steps of stepPacket(), in order.
+  /// The 16-bit sequence check: false (out.status DroppedDuplicate or
+  /// DroppedOutOfOrder) when the packet is dropped; counts lost packets.
+  bool acceptSequence(const MsrPacket& msr, BridgeOutput& out) noexcept;
+  /// out.state, out.quality and out.state_changed against the last accepted packet.
+  void trackState(const MsrPacket& msr, BridgeOutput& out) noexcept;
+  /// MON / OFF / drives off: names the reason, echoes `held` (no reply on an invalid measurement).
+  BridgeStatus echoOutsideCmd(const MsrPacket& msr, const KDL::Frame& held, bool msr_valid, BridgeOutput& out) noexcept;
+  /// CMD with a non-Cartesian strategy: WrongStrategy, joint hold.
+  BridgeStatus jointHold(const MsrPacket& msr, const KDL::Frame& held, bool msr_valid, BridgeOutput& out) noexcept;
+  /// CMD: the limiter starts from `held` on the first command, or rewinds to the
+  /// command the KRC reflects; false when there is no command and no valid measurement.
+  bool startFromHeldCommand(const MsrPacket& msr, const KDL::Frame& held, bool msr_valid) noexcept;
+  /// CMD: true with out.status set when the bridge holds its last command
+  /// (measurement, configuration, quality, dry run, desired pose invalid or stale).
+  bool holdStatus(const PoseCommand& desired, double now_s, bool msr_valid, BridgeOutput& out) noexcept;
+  /// CMD: the start gate, then one rate-limited step towards the desired pose.
+  BridgeStatus followDesired(const MsrPacket& msr, const PoseCommand& desired, double T, BridgeOutput& out) noexcept;
 };
 
 }  // namespace fri

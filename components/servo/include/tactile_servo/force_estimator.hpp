@@ -1,15 +1,8 @@
 // Force estimate (beyond the paper): Eq. 2's tactile force f, corrected at
 // low frequency by the arm's estimated external wrench along z_s.
 //
-// Why: the WTS reports 0 for a taxel below its firing threshold (0.2 N), so
-// the part of a line load that falls on taxels loaded below the threshold
-// (the tails of the contact, a row that shares the load with its neighbour)
-// is missing from f, and a servo that regulates f presses the true force
-// above its set point (README, "Known bias"). Which part is missing cannot be
-// told from one image: the same image fits a sharp edge on one row and a
-// round edge whose tails fall below the threshold. The arm's estimated
-// wrench (the KRC's estExtTcpFT; it is noisy and biased, but its error
-// changes slowly) sees the whole load.
+// Why (the WTS's firing threshold hides part of a line load; the arm's
+// estimated wrench sees all of it, slowly): docs/design.md.
 //
 // The estimate, each servo cycle with a wrench sample no older than the stale
 // timeout (F its force, {g} axes; z_s the sensor normal in {g}):

@@ -8,6 +8,8 @@
 //
 // Format (all keys optional unless marked; see programs/*.yaml for examples):
 //
+//   base: other.yaml                     # optional: this file is an overlay of that program
+//                                        # (path relative to this file; see "Overlays" below)
 //   controller:
 //     mode: proposed | baseline | no_rotation   # Eq. 8 | Li et al. (RSS 2013, liJinv) | ablation (noRotationJinv)
 //     pose_update: integrated | measured # Eq. 15 | Eq. 12
@@ -50,6 +52,20 @@
 //         - {on: aligned, to: NAME, for_s: 0.2, tolerance: {alpha_z: 0.02, dzmp_y: 0.0005, ...}}
 //         - {on: force_above, to: NAME, force_n: 20}
 //         - {on: timeout, to: NAME, timeout_s: 30}
+//
+// Overlays: a file with `base: B` is B with the file's own keys merged over it,
+// then read as above (errors name the overlay file):
+//   * a mapping merges key by key, recursively;
+//   * a list whose elements are all mappings with a `name` (phases) merges
+//     element by element by name, in the base's order;
+//   * a scalar, any other list (transitions, matrices, 6-lists) or a value of
+//     another kind replaces the base's;
+//   * `~` (null) removes the base's key;
+//   * a key or a phase name that the base does not have is an error (a typo
+//     would otherwise be silently dropped or added): an overlay only changes
+//     or removes what its base has.
+// B may itself have a base (a chain); a cycle, a missing base file and a key
+// the base lacks are errors naming the file and the key. Configuration time only.
 #pragma once
 
 #include <string>
@@ -66,7 +82,17 @@ namespace tactile {
 /// TactileServo is configured with it), so a success here configures.
 ConfigResult loadServoProgram(const std::string& file, ServoParams& out);
 
-/// Same from an already parsed YAML document; `file` is used in messages.
+/// Same from an already parsed YAML document; `file` is used in messages and
+/// a `base:` in it is relative to the directory of `file`.
 ConfigResult loadServoProgram(const YAML::Node& root, const std::string& file, ServoParams& out);
+
+/// A program file as one document, its `base:` chain merged (see "Overlays"),
+/// without the `base` key: what loadServoProgram reads, for tools that read
+/// program keys themselves.
+ConfigResult loadProgramDocument(const std::string& file, YAML::Node& out);
+
+/// Same for a document already read from `file` (`root` is not changed; `out`
+/// is `root` itself when it has no `base`).
+ConfigResult resolveProgramBase(const YAML::Node& root, const std::string& file, YAML::Node& out);
 
 }  // namespace tactile

@@ -190,6 +190,28 @@ class PadSensor {
   void rowDepths(const ObjectSet& objects, double y, const double* xs, int n, double* z, int* which,
                  double* sx = nullptr, double* sy = nullptr) const;
   void respond(double t, RawTactileFrame& raw, SensorTruth& truth);
+
+  // The steps of evaluate(), in order.
+  struct ContactSums;
+  struct RowSums;
+  /// The layer's contact: per sample row, rowSums, addRowSums and, on the tray, addTrayRow.
+  void addLayer(const ObjectSet& objects, const KDL::Frame& T_gs, int tray, const KDL::Vector& B, double fy0,
+                double fy1, ContactSums& c, ContactEval& out) const;
+  /// rowDepths along one layer sample row at y, then its masked sums (tray samples apart when tray >= 0).
+  void rowSums(const ObjectSet& objects, double y, int tray, RowSums& rs) const;
+  /// One row's wrench, stiffness and sliding columns (layer stiffness ks per sample) into c.
+  static void addRowSums(double ks, double y, const RowSums& rs, ContactSums& c);
+  /// One row's tray terms (tau_tray and its derivatives) from the tray's samples.
+  static void addTrayRow(double ks, double y, const KDL::Frame& T_gs, const KDL::Vector& B, const RowSums& rs,
+                         ContactEval& out);
+  /// The housing ring's samples in the footprint (x0, x1, y0, y1), one by one.
+  void addHousing(const ObjectSet& objects, const KDL::Frame& T_gs, int tray, const KDL::Vector& B,
+                  const double (&fp)[4], ContactSums& c, ContactEval& out) const;
+  /// One sample at depth zl below object `which` (layer or housing) into c and out.
+  void addPointSample(const Sample& s, double zl, int which, int tray, const KDL::Frame& T_gs, const KDL::Vector& B,
+                      ContactSums& c, ContactEval& out) const;
+  /// The sums into out's (z, wx, wy) rows of W_s and K_s.
+  static void storeSums(const ContactSums& c, ContactEval& out);
 };
 
 }  // namespace sim

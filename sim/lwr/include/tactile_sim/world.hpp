@@ -164,6 +164,20 @@ class World {
  private:
   SimStatus stepQuasiStatic(const KDL::Frame& T_cmd, double dt);
   SimStatus stepDynamics(const KDL::Frame& T_cmd, double dt);
+  // The steps of stepQuasiStatic(), in order.
+  struct QsResidual;
+  /// The previous converged equilibrium holds: same command, nothing moving.
+  bool quasiStaticHolds(const KDL::Frame& T_cmd, double dt) const;
+  /// Starts the solve at the last contact evaluation (T) when it was taken at T_eq_ and tray angles th.
+  bool reuseLastContact(const TrayPose& th, KDL::Frame& T);
+  /// The equilibrium residual at flange pose T, tray angles th (Eq. 11 at rest + contact + friction + tray).
+  void quasiStaticResidual(const KDL::Frame& T_cmd, const KDL::Frame& T, const TrayPose& th, const Mat6& A,
+                           bool tray, QsResidual& r);
+  /// The undamped Newton step (de, dth) on the residual's Jacobian.
+  void newtonStep(const Mat6& A, bool tray, const QsResidual& r, Vec6& de, Eigen::Vector2d& dth) const;
+  /// The arm settles at the solution; contact, friction and the cached equilibrium follow.
+  SimStatus settleQuasiStatic(const KDL::Frame& T_cmd, const KDL::Frame& T, const TrayPose& th, double dt,
+                              bool converged, bool evaluated, int iterations);
   void placeObjects(const KDL::Frame& T_ge, const TrayPose& tp);
   /// placeObjects() + PadSensor::evaluate() into contact_, remembering where.
   void evaluateContact(const KDL::Frame& T_ge, const TrayPose& tp);

@@ -63,7 +63,7 @@ struct ContactPoint {
   std::array<double, 3> truth{}; ///< true pressure centre {g} (m)
   /// lambda1 (m^2): the contact's second moment along the edge (Eq. 4). On a
   /// curved edge of radius R the CoP lies lambda1 / (2 R) inside the curve
-  /// (scripts/contour_check.py corrects the cloud with it).
+  /// (scripts/tools/contour_check.py corrects the cloud with it).
   double lambda1 = 0;
   int phase = 0;  ///< the servo's phase index
 };

@@ -51,6 +51,21 @@ class Runner {
   const Scene& scene() const { return scene_; }
 
  private:
+  // The steps of run(), in order.
+  struct RunState;
+  /// Resets the stages to the scene's start and fills the signals with the arm's initial state.
+  void startRun(RunResult& out, RunState& rs);
+  /// The WTS acquisition (or a delayed frame's arrival), then calibration and features on the latest frame.
+  void sensorCycle(double t, const StageFires& fi, RunState& rs);
+  /// One servo cycle on the latest features, logged; the end rule's verdict on its status.
+  EndReason servoCycle(double t, RunState& rs, RunResult& out);
+  /// The servo cycle's records: phase and first-contact snapshots, the row, contacts and edge points.
+  void logServoCycle(double t, RunState& rs, RunResult& out) const;
+  /// One physics step toward the latest command (through the FRI link when the scene says so).
+  void physicsCycle(double t, const fri::KrcScript::At& krc_now, RunState& rs, Summary& sum);
+  /// The last snapshots, the end status and the simulated time into the summary.
+  void finishRun(EndReason end, const RunState& rs, RunResult& out);
+
   /// The KRC side of one FRI cycle (tactile::fri::KrcModel): measurement
   /// bytes from the world state, the bridge's reply applied to the KRC's set point.
   bool friCycle(const SimState& st, const fri::KrcScript::At& krc_now, const PoseCommand& desired, double t,

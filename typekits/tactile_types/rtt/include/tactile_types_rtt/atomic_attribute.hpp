@@ -4,7 +4,7 @@
 //
 // RTT's addAttribute(name, T&) binds a plain reference (ReferenceDataSource):
 // a read from another thread while the hook writes is a data race by the C++
-// memory model (found by TSan; README "Sanitizers"), harmless as it may be for
+// memory model (docs/design.md, "Atomic attributes"), harmless as it may be for
 // an aligned int on x86. Here the value lives in a std::atomic<T> that the
 // hook stores to, and the attribute is an RTT Alias on a DataSource that loads
 // it: the scripts and OCL's reporter read `Comp.frames` as before. Stores release and

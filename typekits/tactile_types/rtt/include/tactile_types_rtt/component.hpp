@@ -1,16 +1,8 @@
 // tactile::Component: RTT::TaskContext with a happens-before edge between the
 // hooks that run in the caller's thread and updateHook() in the activity's.
 //
-// Why: TaskCore::configure()/start() run configureHook()/startHook() in the
-// calling thread (the deployer's script, a test's main thread) and then set
-// the task state, a plain enum in RTT 2.10 (TaskCore::mTaskState); the
-// activity's thread, running since setActivity(), reads that state and calls
-// updateHook(). Nothing orders the hooks' writes (a configured core, a loaded
-// scene, reset filters) before updateHook()'s reads by the C++ memory model:
-// x86 does in practice, a weakly ordered CPU (ARM, which Xenomai also runs
-// on) need not, and ThreadSanitizer reports every such pair (README,
-// "Sanitizers"). The same holds the other way for stop()/cleanup() after the
-// last update.
+// Why (RTT 2.10's task state is a plain enum; nothing orders the hooks'
+// writes in the caller's thread before updateHook()'s reads): docs/design.md.
 //
 // What: configure(), start(), stop() and cleanup() acquire before and release
 // after RTT's own; a component's updateHook() opens with `const HookScope

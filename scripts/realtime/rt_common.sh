@@ -1,0 +1,40 @@
+# Sourced by scripts/realtime/rt_latency.sh, scripts/realtime/rt_soak.sh and tests/ros/run_robot_*_test.sh: what they do
+# before their own runs. Needs `name` (the script's name for messages) set by the caller.
+# Sets root, build, orocos, deployer; defines rt_check_tools, rt_stage_deployments
+# and rt_start_wts_sim (with the cleanup trap of the background processes in pids).
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+build="${BUILD:-$root/build}"
+orocos="${OROCOS:-/opt/orocos}"
+deployer="${DEPLOYER:-$orocos/bin/deployer-gnulinux}"  # scripts/realtime/sanitize.sh: its wrapper
+
+# The deployer and the two simulated peers must be built.
+rt_check_tools() {
+  local t
+  for t in "$deployer" "$build/bin/fri_sim_krc" "$build/bin/wts_sim"; do
+    [ -x "$t" ] || { echo "$name: $t missing (build with -DTACTILE_WITH_RTT=ON)" >&2; exit 1; }
+  done
+}
+
+# A copy of deployments/ in $1/deployments with absolute paths and the
+# simulated sensor's PTY ($1/wts0) in place of /dev/ttyACM0.
+rt_stage_deployments() {
+  local out="$1"
+  mkdir -p "$out/deployments"
+  cp "$root"/deployments/*.ops "$root"/deployments/*.cpf "$root"/deployments/*.osd "$out/deployments/"
+  sed -i "s#\.\./#$root/#g" "$out"/deployments/*.cpf
+  sed -i "s#<value>/dev/ttyACM0</value>#<value>$out/wts0</value>#" "$out/deployments/wts_reader.cpf"
+  # The experiment registry where the copy's Guard looks (../experiments.yaml), its paths absolute.
+  sed -E "s#^( +(scene|program|file): )([^/\"])#\1$root/\3#" "$root/experiments.yaml" > "$out/experiments.yaml"
+}
+
+# The simulated WTS0614 on the PTY $1/wts0 (a press circling the pad), killed on exit.
+pids=()
+rt_cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; }
+trap rt_cleanup EXIT
+rt_start_wts_sim() {
+  local out="$1"
+  "$build/bin/wts_sim" --link "$out/wts0" --pattern blob >"$out/wts_sim.log" 2>&1 &
+  pids+=($!)
+  for _ in $(seq 50); do [ -e "$out/wts0" ] && break; sleep 0.1; done
+  [ -e "$out/wts0" ] || { echo "$name: wts_sim did not start" >&2; exit 1; }
+}

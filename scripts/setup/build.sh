@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Configures and builds the project into ./build (Release). Extra arguments go
+# to CMake.
+#
+# The Orocos RTT layer (components, typekit, deployer tests) is part of the
+# product: scripts/setup/setup_orocos.sh installs Orocos toolchain 2.10 into
+# $OROCOS_PREFIX (default /opt/orocos), and this script then builds the RTT
+# layer with TACTILE_WITH_RTT=ON (CMake fails if RTT cannot be found).
+# Opt out with TACTILE_WITH_RTT=OFF (cores, simulator and tools only).
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+jobs="${TACTILE_JOBS:-$(nproc)}"
+orocos="${OROCOS_PREFIX:-/opt/orocos}"
+with_rtt="${TACTILE_WITH_RTT:-ON}"
+args=(-DCMAKE_BUILD_TYPE=Release -DTACTILE_WITH_RTT="$with_rtt")
+# The ROS 1 face (ros/): AUTO builds it where scripts/setup/setup_rtt_ros.sh installed rtt_ros_integration.
+args+=(-DTACTILE_WITH_ROS="${TACTILE_WITH_ROS:-AUTO}")
+if [ "$with_rtt" != "OFF" ]; then args+=(-DCMAKE_PREFIX_PATH="$orocos"); fi
+if [ -n "${TACTILE_CCACHE:-}" ] && command -v ccache >/dev/null; then
+  args+=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+fi
+echo "build: configuring (TACTILE_WITH_RTT=$with_rtt)"
+cmake -S "$root" -B "$root/build" "${args[@]}" "$@" > "$root/build.configure.log" 2>&1 \
+  || { echo "build: CMake configure failed. Log: $root/build.configure.log" >&2; tail -n 30 "$root/build.configure.log" >&2; exit 1; }
+grep -E "tactile_servo:" "$root/build.configure.log" || true
+echo "build: compiling with -j$jobs"
+cmake --build "$root/build" -j"$jobs"

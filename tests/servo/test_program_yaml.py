@@ -1,0 +1,120 @@
+"""ctest program_yaml_py: scripts/tools/program_yaml.py merges `base:` by the
+servo's rules (program_io.hpp "Overlays"; the C++ side: ServoProgramBase.*).
+Each rule on scratch files, then every shipped overlay: the merged program is
+its base with exactly the overlay's changes. Usage: test_program_yaml.py REPO."""
+import copy
+import os
+import sys
+import tempfile
+
+ROOT = os.path.abspath(sys.argv[1]) if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..", "..")
+sys.path.insert(0, os.path.join(ROOT, "scripts", "tools"))
+import program_yaml as P  # noqa: E402
+
+PROGRAMS = os.path.join(ROOT, "components", "servo", "programs")
+BASE = """controller: {pose_update: measured, c_z: 0.0005}
+force_estimate: {source: fused, tau_s: 0.3}
+phases:
+  - name: approach
+    kp_per_s: {z: 2}
+    transitions: [{on: contact, to: hold}]
+  - name: hold
+    s_d: {cop_y: 0.0017, force: 5.0}
+    ki_per_s2: {y: 1, z: 1}
+    transitions:
+      - {on: contact_lost, to: approach, for_s: 0.5}
+      - {on: force_above, to: approach, force_n: 20}
+"""
+failures = []
+
+
+def check(ok, what):
+    print(("ok   " if ok else "FAIL ") + what)
+    if not ok:
+        failures.append(what)
+
+
+def error_of(path):
+    try:
+        P.load(path)
+    except P.ProgramError as e:
+        return str(e)
+    return None
+
+
+def rules(d):
+    def write(name, text):
+        path = os.path.join(d, name)
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        with open(path, "w") as f:
+            f.write(text)
+        return path
+
+    write("base.yaml", BASE)
+    m = P.load(write("o.yaml", "base: base.yaml\ncontroller: {c_z: 0.0004}\n"
+                                "phases:\n  - name: hold\n    s_d: {cop_y: 0}\n"
+                                "    transitions: [{on: contact_lost, to: approach, for_s: 0.1}]\n"
+                                "    ki_per_s2: {z: ~}\nforce_estimate: ~\n"))
+    check(m["controller"] == {"pose_update": "measured", "c_z": 0.0004}, "a scalar overrides, the mapping's other keys stay")
+    check([p["name"] for p in m["phases"]] == ["approach", "hold"], "phases merge by name in the base's order")
+    check(m["phases"][1]["s_d"] == {"cop_y": 0, "force": 5.0}, "nested override")
+    check(m["phases"][1]["transitions"] == [{"on": "contact_lost", "to": "approach", "for_s": 0.1}], "a list replaces")
+    check(m["phases"][1]["ki_per_s2"] == {"y": 1} and "force_estimate" not in m, "~ removes the base's key")
+    check("base" not in m and m["phases"][0] == P.load(os.path.join(d, "base.yaml"))["phases"][0], "the rest is the base's")
+    write("sub/b.yaml", "base: ../base.yaml\ncontroller: {c_z: 0.0004}\n")
+    c = P.load(write("c.yaml", "base: sub/b.yaml\ncontroller: {pose_update: integrated}\n"))
+    check(c["controller"] == {"pose_update": "integrated", "c_z": 0.0004}, "a chain, each base relative to its file")
+    write("x.yaml", "base: y.yaml\n")
+    write("y.yaml", "base: x.yaml\n")
+    e = error_of(os.path.join(d, "x.yaml")) or ""
+    check("y.yaml: base: 'x.yaml' is a cycle of bases" in e, "a cycle is an error: " + e)
+    e = error_of(write("m.yaml", "base: none.yaml\n")) or ""
+    check("m.yaml: base: 'none.yaml'" in e and "cannot open file" in e, "a missing base is an error: " + e)
+    e = error_of(write("t.yaml", "base: base.yaml\ncontroller: {c_zz: 1}\n")) or ""
+    check("t.yaml: controller.c_zz: not in the base" in e, "a key the base lacks is an error: " + e)
+    e = error_of(write("p.yaml", "base: base.yaml\nphases:\n  - {name: hodl, P: {z: 1}}\n")) or ""
+    check("p.yaml: phases[hodl]: no element named 'hodl'" in e, "a phase the base lacks is an error: " + e)
+
+
+def phase(prog, name):
+    return next(p for p in prog["phases"] if p["name"] == name)
+
+
+def shipped():
+    def expect(overlay, base, edit):
+        want = P.load(os.path.join(PROGRAMS, base))
+        edit(want)
+        got = P.load(os.path.join(PROGRAMS, overlay))
+        check(got == want, f"{overlay} is {base} with its changes only")
+        check(got != P.load(os.path.join(PROGRAMS, base)), f"{overlay} differs from {base}")
+
+    def paper(phases_cop_y, ki_z=(), ki_all=()):
+        def edit(p):
+            for n in phases_cop_y:
+                phase(p, n)["s_d"]["cop_y"] = 0
+            for n in ki_z:
+                del phase(p, n)["ki_per_s2"]["z"]
+            for n in ki_all:
+                del phase(p, n)["ki_per_s2"]
+            del p["force_estimate"]
+        return edit
+
+    expect("bent_bar_paper.yaml", "bent_bar.yaml", paper(["explore"]))
+    expect("edge_exploration_paper.yaml", "edge_exploration.yaml",
+           paper(["align", "edge_control", "explore"], ki_z=["align"]))
+    expect("hold_edge_paper.yaml", "hold_edge.yaml", paper(["hold", "press"], ki_all=["hold"]))
+    expect("co_manipulation_paper.yaml", "co_manipulation.yaml", paper([], ki_z=["balance"]))
+
+    def end_cap(p):
+        phase(p, "explore")["transitions"].insert(0, {"on": "point", "to": "done", "for_s": 0.2})
+        p["force_estimate"].update(tau_s=0.08, max_correction_n=4.0)
+    expect("bent_bar_to_end_cap.yaml", "bent_bar.yaml", end_cap)
+    for f in sorted(os.listdir(PROGRAMS)):
+        if f.endswith(".yaml"):
+            check(isinstance(P.load(os.path.join(PROGRAMS, f)).get("phases"), list), f"{f} loads with its phases")
+
+
+with tempfile.TemporaryDirectory() as tmp:
+    rules(tmp)
+shipped()
+sys.exit(1 if failures else 0)
