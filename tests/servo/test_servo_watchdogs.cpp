@@ -288,7 +288,7 @@ TEST(ServoWatchdogs, SurfaceTooCurvedWhenTheWrenchExceedsTheSetPointOffTheImage)
   q.watchdogs.curved_max_tactile_share = 1.5;
   EXPECT_NE(s.configure(q).message().find("watchdogs.surface_too_curved.max_tactile_share"), std::string::npos);
   // The shipped bent bar (fused) has it on, the paper's programs not.
-  EXPECT_DOUBLE_EQ(loadShipped("bent_bar_fused.yaml").watchdogs.curved_tau_s, 0.05);
+  EXPECT_DOUBLE_EQ(loadShipped("bent_bar_to_end_cap.yaml").watchdogs.curved_tau_s, 0.05);
   EXPECT_DOUBLE_EQ(loadShipped("bent_bar.yaml").watchdogs.curved_tau_s, 0.0);
 }
 
@@ -327,5 +327,5 @@ TEST(ServoWatchdogs, SurfaceTooCurvedLiftsByTheExcessBeforeItStops) {
   p.watchdogs.curved_lift_n = -1.0;
   TactileServo s;
   EXPECT_NE(s.configure(p).message().find("watchdogs.surface_too_curved.lift_n"), std::string::npos);
-  EXPECT_DOUBLE_EQ(loadShipped("bent_bar_fused.yaml").watchdogs.curved_lift_n, 0.4);
+  EXPECT_DOUBLE_EQ(loadShipped("bent_bar_to_end_cap.yaml").watchdogs.curved_lift_n, 0.4);
 }
