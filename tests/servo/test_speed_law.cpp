@@ -9,6 +9,7 @@
 
 #include "alloc_counter.hpp"
 #include "tactile_servo/speed_law.hpp"
+#include "tactile_types/conventions.hpp"
 
 using namespace tactile;
 
@@ -159,4 +160,68 @@ TEST(SpeedLaw, StepDoesNotAllocate) {
     law.step(in, 0.001);
   }
   EXPECT_EQ(scope.count(), 0u);
+}
+
+// ---- SpeedLawFilter: the raw signals of a cycle into the law's inputs ------
+
+// A force error rising at 2 N/s: after 10 tau the low-passed error lags the
+// ramp by 2 N/s x tau (first-order lag of a ramp) and the rate is 2 N/s to
+// within 1e-6 (the lag's transient decays as exp(-t/tau): e^-20 ~ 2e-9).
+TEST(SpeedLawFilter, AForceRampGivesItsRate) {
+  SpeedLawFilter flt;
+  flt.configure(0.05);
+  SpeedLawInput in;
+  const double dt = 0.01;
+  for (int k = 0; k <= 100; ++k) {
+    SpeedLawSignals s;
+    s.force_error_n = 2.0 * k * dt;
+    flt.step(s, dt, in);
+  }
+  EXPECT_NEAR(in.force_error_rate, 2.0, 1e-6);
+  // Discrete first-order lag of a ramp: rate x tau (exact for a = dt / (tau + dt)).
+  EXPECT_NEAR(2.0 - in.force_error_n, 2.0 * 0.05, 1e-6);
+}
+
+// The edge angle is defined modulo pi: a turn from +89 deg to -89 deg is 2 deg,
+// not 178 deg; an undefined angle (held, not measured) gives no rate.
+TEST(SpeedLawFilter, TheAngleRateIsTakenModuloPiAndOnlyWhenDefined) {
+  constexpr double kDeg = kPi / 180.0;
+  SpeedLawFilter flt;
+  flt.configure(0.05);
+  SpeedLawInput in;
+  SpeedLawSignals s;
+  s.alpha_defined = true;
+  // 1 deg per 10 ms cycle = 100 deg/s = 1.745 rad/s, through the wrap at 90 deg.
+  double a = 80 * kDeg;
+  for (int k = 0; k < 60; ++k, a += 1 * kDeg) {
+    s.alpha_z = std::remainder(a, kPi);
+    flt.step(s, 0.01, in);
+  }
+  EXPECT_NEAR(in.angle_rate, 100 * kDeg, 1e-4);
+  // Undefined from now on: the rate decays to 0 (no new measurement).
+  s.alpha_defined = false;
+  s.alpha_z = 0.3;  // a held value jumping must not count
+  for (int k = 0; k < 100; ++k) flt.step(s, 0.01, in);
+  EXPECT_NEAR(in.angle_rate, 0.0, 1e-6);
+}
+
+TEST(SpeedLawFilter, ANonFiniteSignalMakesTheLawHoldVMin) {
+  SpeedLawFilter flt;
+  flt.configure(0.05);
+  SpeedLaw law = configured();
+  SpeedLawInput in;
+  SpeedLawSignals s;
+  s.extent_m = 0.0476;  // an edge across the pad
+  for (int k = 0; k < 500; ++k) {
+    flt.step(s, 0.01, in);
+    law.step(in, 0.01);
+  }
+  EXPECT_NEAR(law.speed(), 0.05, 1e-12);
+  s.curvature = std::nan("");
+  flt.step(s, 0.01, in);
+  EXPECT_EQ(law.step(in, 0.01), SpeedLawStatus::InvalidInput);
+  EXPECT_DOUBLE_EQ(law.speed(), 0.002);
+  s.curvature = 0.0;  // the filter's state was kept: the next finite cycle is normal
+  flt.step(s, 0.01, in);
+  EXPECT_EQ(law.step(in, 0.01), SpeedLawStatus::Full);
 }

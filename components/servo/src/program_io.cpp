@@ -289,11 +289,43 @@ ConfigResult readPhase(const YAML::Node& n, const Where& w0, const Defaults& d, 
   return ConfigResult::success();
 }
 
+/// speed_law: the block of SpeedLawConfig (servo_params.hpp); the ranges are
+/// SpeedLaw::configure's, the phase names are checked by the servo.
+ConfigResult readSpeedLaw(const YAML::Node& sl, const Where& w, SpeedLawConfig& c) {
+  ConfigResult r = checkKeys(sl, w, {"phases", "axis", "rate_tau_s", "v_max", "v_min", "accel_mps2", "force_budget_n", "force_deadband_n",
+                                     "horizon_s", "angle_rate_ref", "curvature_ref", "extent_full_m", "extent_min_m",
+                                     "excess_ref_n"});
+  if (!r) return r;
+  if (const YAML::Node ph = sl["phases"]) {
+    if (!ph.IsSequence()) return fail(w.child("phases"), "must be a list of phase names ([] = off)");
+    if (!(r = read(sl, "phases", c.phases, w))) return r;
+  }
+  if (sl["axis"]) {
+    std::string a;
+    if (!(r = read(sl, "axis", a, w))) return r;
+    if (a == "x") c.axis = 0;
+    else if (a == "y") c.axis = 1;
+    else return fail(w.child("axis"), "'" + a + "': must be x or y (the slide axis of {s})");
+  }
+  SpeedLawParams& lp = c.law;
+  for (auto rr : {read(sl, "rate_tau_s", c.rate_tau_s, w), read(sl, "v_max", lp.v_max, w), read(sl, "v_min", lp.v_min, w),
+                  read(sl, "accel_mps2", lp.accel_mps2, w), read(sl, "force_budget_n", lp.force_budget_n, w),
+                  read(sl, "force_deadband_n", lp.force_deadband_n, w),
+                  read(sl, "horizon_s", lp.horizon_s, w), read(sl, "angle_rate_ref", lp.angle_rate_ref, w),
+                  read(sl, "curvature_ref", lp.curvature_ref, w), read(sl, "extent_full_m", lp.extent_full_m, w),
+                  read(sl, "extent_min_m", lp.extent_min_m, w), read(sl, "excess_ref_n", lp.excess_ref_n, w)})
+    if (!rr) return rr;
+  if (!(std::isfinite(c.rate_tau_s) && c.rate_tau_s > 0 && c.rate_tau_s <= 10))
+    return rangeError(w.child("rate_tau_s").str(), c.rate_tau_s, "must be in (0, 10] s");
+  SpeedLaw probe;
+  return probe.configure(lp, w.str().c_str());
+}
+
 ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoParams& out) {
   ServoParams p;
   p.source = file;
   const Where top{file, ""};
-  ConfigResult r = checkKeys(root, top, {"controller", "safety", "watchdogs", "force_estimate", "phase_defaults", "phases"});
+  ConfigResult r = checkKeys(root, top, {"controller", "safety", "watchdogs", "force_estimate", "speed_law", "phase_defaults", "phases"});
   if (!r) return r;
   if (const YAML::Node c = root["controller"]) {
     const Where w = top.child("controller");
@@ -410,6 +442,9 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
       if (!rr) return rr;
     ForceEstimator probe;
     if (!(r = probe.configure(fp, w.str().c_str()))) return r;
+  }
+  if (const YAML::Node sl = root["speed_law"]) {
+    if (!(r = readSpeedLaw(sl, top.child("speed_law"), p.speed_law))) return r;
   }
   Defaults d;
   if (const YAML::Node pd = root["phase_defaults"]) {

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "tactile_servo/force_estimator.hpp"
+#include "tactile_servo/speed_law.hpp"
 #include "tactile_types/config_result.hpp"
 #include "tactile_types/types.hpp"
 
@@ -183,6 +184,18 @@ struct WatchdogParams {
   double curved_lift_n = 0.0;                    ///< N, [0, 1e4], 0 = off
 };
 
+/// The slide speed from the contact (tactile_servo/speed_law.hpp; beyond the
+/// paper): in the listed phases the speed law caps the PI rate of the slide
+/// axis, each cycle, at the fastest speed that keeps the true force within
+/// the budget. The phase's K_P sets how hard the slide pulls; the law sets
+/// how fast it may go.
+struct SpeedLawConfig {
+  std::vector<std::string> phases;  ///< the phases it acts in; empty = off
+  int axis = 0;                     ///< the slide axis of {s}: 0 x_s, 1 y_s
+  double rate_tau_s = 0.05;         ///< s, (0, 10]: low-pass of the force error, its rate, the angle's rate, the curvature
+  SpeedLawParams law;
+};
+
 struct ServoParams {
   KDL::Frame sensor_mount = KDL::Frame::Identity();  ///< {e}T{s}
   Vec6 motion_sign = defaultMotionSign();
@@ -192,6 +205,7 @@ struct ServoParams {
   SafetyParams safety;
   WatchdogParams watchdogs;
   ForceEstimateParams force_estimate;                 ///< the force the law and the transitions use (force_estimator.hpp)
+  SpeedLawConfig speed_law;                           ///< the slide speed from the contact (speed_law.hpp)
   std::vector<PhaseParams> phases;
   std::string initial_phase;                          ///< empty = first phase
   std::string source;                                 ///< file name, for messages

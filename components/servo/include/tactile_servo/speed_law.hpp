@@ -1,12 +1,16 @@
 // The slide speed from the contact (beyond the paper): each servo cycle, the
 // fastest slide speed that keeps the true force within a user's error budget,
-// picked from what the servo measures. A core class, not yet wired into a
-// phase program: a host multiplies the phase's slide command by speed() / v_max.
+// picked from what the servo measures. The servo (servo.hpp) caps the slide
+// axis's PI rate at speed() in the phases its program's speed_law block lists
+// (SpeedLawConfig, servo_params.hpp); SpeedLawFilter below turns the raw
+// signals of a cycle into SpeedLawInput.
 //
 // Inputs (SpeedLawInput, one cycle):
 //   force_error_n   e = f_d - f_hat (N) and force_error_rate (N/s): the error
 //                   predicted horizon_s ahead, |e + horizon_s de/dt|, against
-//                   the budget: a_f = 1 - |e + h de/dt| / force_budget_n;
+//                   the budget, past a dead band d (the estimate's own noise
+//                   must not hold the slide back):
+//                   a_f = 1 - max(0, |e + h de/dt| - d) / (force_budget_n - d);
 //   angle_rate      the edge angle's rate (rad/s, alpha_z of Eq. B.5 per
 //                   second): a bend arriving; a_w = 1 - |w| / angle_rate_ref;
 //   curvature       of the edge line along the pad (1/m; the contact line's
@@ -37,6 +41,7 @@ struct SpeedLawParams {
   double v_min = 0.002;           ///< m/s, [0, v_max]: the slowest slide while the law allows none
   double accel_mps2 = 0.05;       ///< m/s^2, (0, 10]: the largest rise of the speed
   double force_budget_n = 0.5;    ///< N, (0, 50]: the user's error budget for the true force
+  double force_deadband_n = 0.0;  ///< N, [0, force_budget_n): the predicted error that does not slow the slide
   double horizon_s = 0.2;         ///< s, [0, 10]: how far ahead the force error is predicted
   double angle_rate_ref = 0.5;    ///< rad/s, (0, 100]: the edge angle's rate that stops the slide
   double curvature_ref = 5.5;     ///< 1/m, (0, 1e4]: the edge line's curvature that stops the slide
@@ -63,6 +68,35 @@ enum class SpeedLawStatus : unsigned char {
 
 /// Which input decided v* (the smallest a_i), for logs and plots.
 enum class SpeedLimiter : unsigned char { None = 0, Force, AngleRate, Curvature, Extent, WrenchExcess };
+
+/// The raw signals of one cycle, as the servo has them.
+struct SpeedLawSignals {
+  double force_error_n = 0.0;   ///< f_d - f_hat (N)
+  double alpha_z = 0.0;         ///< rad (Eq. B.5)
+  bool alpha_defined = false;   ///< alpha_z is a measurement (ContactFeatures::alpha_defined)
+  double curvature = 0.0;       ///< 1/m (ContactFeatures::curvature)
+  double extent_m = 0.0;        ///< sqrt(12 lambda1) (m)
+  double wrench_excess_n = 0.0; ///< wrench along z_s less f_hat (N); 0 without a fresh wrench
+};
+
+/// Low-passes the force error, the curvature and the wrench's excess with
+/// tau, and differentiates the low-passed force error and edge angle (rates
+/// low-passed with tau as well); alpha_z's step is taken modulo pi (an edge
+/// angle is defined modulo pi) and counts only while alpha is defined. The
+/// extent is passed through (its drop is the warning). Allocation-free.
+class SpeedLawFilter {
+ public:
+  void configure(double tau_s) { tau_ = tau_s; reset(); }
+  void reset() { init_ = false; }
+  /// dt > 0 and finite signals; otherwise the state is kept and `out` holds non-finite values.
+  void step(const SpeedLawSignals& s, double dt, SpeedLawInput& out);
+
+ private:
+  double tau_ = 0.05;
+  bool init_ = false;
+  double ef_ = 0, ef_rate_ = 0, alpha_prev_ = 0, alpha_rate_ = 0, kappa_ = 0, excess_ = 0;
+  bool alpha_prev_ok_ = false;
+};
 
 class SpeedLaw {
  public:

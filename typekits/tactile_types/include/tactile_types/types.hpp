@@ -81,6 +81,10 @@ struct ContactFeatures {
   double force = 0.0;                 ///< total normal force f (N)
   double d_z = 0.0;                   ///< C_z * f (m), Eq. 2
   double lambda1 = 0.0, lambda2 = 0.0;///< PCA eigenvalues (m^2), lambda1 >= lambda2
+  /// In-plane curvature (1/m) of an edge's contact line along the pad
+  /// (tactile_features/edge_line.hpp: edgeLineCurvature; beyond the paper),
+  /// positive bending towards +y_s; 0 for other contacts or a line too short.
+  double curvature = 0.0;
   double max_taxel = 0.0;             ///< largest taxel force (N)
   uint16_t area = 0;                  ///< taxels above the binarisation threshold
   ContactType contact = ContactType::None;
