@@ -1,26 +1,22 @@
 #!/usr/bin/env bash
-# The main job: installs what is missing, builds, and runs the paper's
-# experiments headless against the simulated LWR 4+ and WTS0614:
-#   edge exploration (Sec. 5.2, Fig. 9/10), the bent bar with the proposed
-#   controller, the Li et al. (RSS 2013) baseline and the no_rotation ablation
-#   (Sec. 5.2.1, Fig. 12), tray co-manipulation (Sec. 5.3, Fig. 14), and a
-#   sphere (point contact). Then the three controllers on every scene, with the
-#   shipped programs (the force estimate) and with the paper's (Eq. 2's force
-#   alone) (scripts/sweeps/compare_controllers.py -> out/compare/compare.md and
-#   out/compare_paper/compare.md, ~10 s each), the force estimate against the
-#   tactile force over edge radii, yaw and bend directions
-#   (scripts/sweeps/sweep_force.py -> out/force/force.md, ~2 min), and the force
-#   estimate's bound against the image (scripts/sweeps/sweep_correction.py ->
-#   out/correction/correction.md, ~10 s), and the whole closed contours (ring,
-#   rounded square, S-curve, gap bars; scripts/sweeps/run_contours.py ->
-#   out/contours/contours.md, and with every sensor effect on, seeds 1-3,
-#   out/contours_sensor_effects/contours.md; ~10 s).
-# Results and PNG plots go to out/<scene>/. Then every experiment again as
-# Orocos components under the OCL deployer (scripts/run_deployment.sh: the
-# simulated deployment on tactile::SimClock, the experiment's state machine,
-# OCL's reporter), into out/deploy/<scene>/, with its own out/deploy/report.md.
-# Last, the first day on the real arm rehearsed against the simulated lab
-# (scripts/rehearse_first_day.sh -> out/rehearsal/).
+# The main job: installs what is missing, builds, and runs every experiment
+# of the registry (experiments.yaml: the edge exploration, Sec. 5.2, Fig. 9/10;
+# the bent bar with the proposed controller, the Li et al. (RSS 2013) baseline
+# and the no_rotation ablation, Sec. 5.2.1, Fig. 12; tray co-manipulation,
+# Sec. 5.3, Fig. 14; a sphere; the closed contours; the first touch) headless
+# against the simulated LWR 4+ and WTS0614 (tactile_sim -> out/<experiment>/).
+# Then the sweeps: the three controllers on every scene, with the shipped
+# programs and with the paper's (scripts/sweeps/compare_controllers.py ->
+# out/compare/, out/compare_paper/), the force estimate against the tactile
+# force (sweep_force.py -> out/force/), its bound against the image
+# (sweep_correction.py -> out/correction/), the true force on every scene
+# (force_targets.py -> out/force_targets/) and the whole closed contours
+# (run_contours.py -> out/contours/, out/contours_sensor_effects/). Then every
+# registry experiment again as Orocos components under the OCL deployer
+# (scripts/run_deployment.sh -> out/deploy/<experiment>/, out/deploy/report.md),
+# the first day on the real arm rehearsed against the simulated lab
+# (scripts/rehearse_first_day.sh -> out/rehearsal/), and last the results
+# pages (scripts/tools/results_docs.py -> docs/results.md, the README's table).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$root/scripts/setup/setup_deps.sh"
@@ -30,21 +26,28 @@ sim="$root/build/bin/tactile_sim"
 out="$root/out"
 mkdir -p "$out"
 
-run() {  # run SCENE DIR [args]: a non-zero exit is reported, not fatal (the no_rotation ablation is expected to fail)
-  local scene="$1" dir="$2"; shift 2
+run() {  # run NAME SCENE [args]: a non-zero exit is reported, not fatal (the no_rotation ablation is expected to fail)
+  local name="$1" scene="$2"; shift 2
   local rc=0
-  "$sim" run "$root/sim/scenes/$scene.yaml" --out "$out/$dir" "$@" || rc=$?
-  [ "$rc" -eq 0 ] || echo "  ($scene $*: exit code $rc, status in $out/$dir/summary.json)"
+  "$sim" run "$root/$scene" --out "$out/$name" "$@" || rc=$?
+  [ "$rc" -eq 0 ] || echo "  ($name $*: exit code $rc, status in $out/$name/summary.json)"
 }
 
-run edge_exploration edge_exploration
-run bent_bar bent_bar --controller proposed
-run bent_bar bent_bar_baseline --controller baseline
-run bent_bar bent_bar_no_rotation --controller no_rotation
-run co_manipulation co_manipulation
-run sphere_table sphere_table
-# The bent bar to its end cap (bent_bar_to_end_cap.yaml: bent_bar.yaml's program, ending at the bar's end).
-run bent_bar_fused bent_bar_fused
+# Every experiment of the registry (experiments.yaml): its scene with its
+# controller, into out/<experiment>/.
+registry() {  # one line per registry entry: NAME SCENE CONTROLLER ('-' for the program's own)
+  /usr/bin/python3 - "$root" <<'PY'
+import sys
+sys.path.insert(0, sys.argv[1] + "/scripts/sweeps")
+from tactile_sweeps import registry
+for name, e in registry.load().items():
+    print(name, e["scene"], e.get("controller") or "-")
+PY
+}
+experiments="$(registry)"
+while read -r name scene controller; do
+  if [ "$controller" = "-" ]; then run "$name" "$scene"; else run "$name" "$scene" --controller "$controller"; fi
+done <<< "$experiments"
 /usr/bin/python3 "$root/scripts/tools/plot_run.py" "$out/bent_bar" --compare "$out/bent_bar_baseline" "$out/bent_bar_no_rotation"
 /usr/bin/python3 "$root/scripts/tools/experiment_report.py" "$out"
 /usr/bin/python3 "$root/scripts/sweeps/compare_controllers.py" --sim "$sim" --out "$out/compare" || echo "  (compare_controllers.py failed)"
@@ -59,21 +62,13 @@ run bent_bar_fused bent_bar_fused
 
 # The same experiments as deployed (the loop that runs on the robot, with the
 # simulated arm and sensor swapped in).
-deploy() {  # deploy EXPERIMENT [--controller C]: a non-zero exit is reported, not fatal
-  local rc=0 log="$out/deploy_$1${2:+_${3:-}}.log"
+deploy() {  # deploy EXPERIMENT: a non-zero exit is reported, not fatal
+  local rc=0 log="$out/deploy_$1.log"
   bash "$root/scripts/run_deployment.sh" "$@" > "$log" 2>&1 || rc=$?
   tail -n 1 "$log"
   [ "$rc" -eq 0 ] || echo "  (deployment $*: exit code $rc, log in $log)"
 }
-deploy edge_exploration
-deploy bent_bar
-deploy bent_bar --controller baseline
-deploy bent_bar --controller no_rotation
-deploy bent_bar_fused
-deploy co_manipulation
-deploy sphere_table
-deploy ring
-deploy gap_bars
+while read -r name _; do deploy "$name"; done <<< "$experiments"
 /usr/bin/python3 "$root/scripts/tools/experiment_report.py" "$out/deploy"
 
 # The first day on the real arm, rehearsed against the simulated lab (the KRC
