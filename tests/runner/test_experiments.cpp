@@ -739,3 +739,22 @@ TEST(ShippedPrograms, ForceEstimateBoundTradesTheCoPAlongTheEdge) {
   EXPECT_LT(shipped.along, 0.75 * wide.along);
   EXPECT_LT(shipped.line, 0.0005);
 }
+
+// The speed law (tactile_servo/speed_law.hpp, bent_bar_speed_law.yaml): the
+// bent bar to its end cap with the slide speed chosen from a 0.5 N error
+// budget of the true force. Targets, on each of seeds 1-3: a mean slide speed
+// of at least 40 mm/s, RMS error <= 0.5 N, >= 95 % of the time within
+// 5 +- 0.5 N, no contact loss (measured: 55-59 mm/s, 0.20-0.27 N, 0.955-0.98).
+TEST(Experiments, SpeedLawSlidesTheBentBarWithinItsBudget) {
+  for (int seed = 1; seed <= 3; ++seed) {
+    Scene sc = test::loadShipped("bent_bar_speed_law.yaml", {"seed=" + std::to_string(seed)});
+    const Summary s = test::run(sc);
+    EXPECT_EQ(s.status, "ok") << seed;
+    EXPECT_TRUE(s.criteria_failed.empty()) << seed << ": " << s.criteria_failed.front();
+    EXPECT_GE(s.slide_speed_mps, 0.040) << seed;
+    EXPECT_LE(s.force_true_rms_error_n, 0.5) << seed;
+    EXPECT_GE(s.force_true_in_band_fraction, 0.95) << seed;
+    EXPECT_EQ(s.contact_lost_count, 0) << seed;
+  }
+}
+

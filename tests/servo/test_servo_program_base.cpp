@@ -349,14 +349,16 @@ TEST(ServoProgramBase, BentBarSpeedLawTurnsTheLawOnInExplore) {
                  {"phase_defaults.ki_per_s2.z", "16.0"},
                  {"phase_defaults.u_max_per_s.x", "0.08"},
                  {"phase_defaults.u_max_per_s.y", "0.08"},
-                 {"phases[explore].kp_per_s.x", "2.4"},
+                 {"phases[explore].kp_per_s.x", "3.2"},
                  {"phases[explore].transitions[0].for_s", "0.1"},
                  {"speed_law.phases[0]", "explore"},
                  {"speed_law.v_max", "0.08"},
                  {"speed_law.rate_tau_s", "0.1"},
                  {"speed_law.force_deadband_n", "0.3"},
                  {"speed_law.horizon_s", "0.05"},
-                 {"speed_law.angle_rate_ref", "1.0"}});
+                 {"speed_law.angle_rate_ref", "1.0"},
+                 {"speed_law.extent_full_m", "0.02"},
+                 {"speed_law.extent_min_m", "0.0"}});
   const ServoParams p = loadShipped("bent_bar_speed_law.yaml");
   ASSERT_EQ(p.speed_law.phases.size(), 1u);
   EXPECT_EQ(p.speed_law.phases[0], "explore");
