@@ -34,9 +34,9 @@ END = "<!-- RESULTS_END -->"
 # The headless runs of the main job (out/<name>/summary.json), and the
 # deployed ones (out/deploy/<name>/summary.json).
 RUNS = ["edge_exploration", "bent_bar", "bent_bar_baseline", "bent_bar_no_rotation",
-        "bent_bar_fused", "co_manipulation", "sphere_table"]
+        "bent_bar_fused", "bent_bar_speed_law", "co_manipulation", "sphere_table"]
 DEPLOYS = ["edge_exploration", "bent_bar", "bent_bar_baseline", "bent_bar_no_rotation",
-           "bent_bar_fused", "co_manipulation", "sphere_table", "ring", "gap_bars"]
+           "bent_bar_fused", "bent_bar_speed_law", "co_manipulation", "sphere_table", "ring", "gap_bars"]
 # summary.json keys kept (wall-clock figures are not: they depend on the load).
 RUN_KEYS = ["status", "controller", "sim_time_s", "force_true_mean_n", "force_true_max_n",
             "force_true_rms_error_n", "force_true_in_band_fraction", "contact_lost_count",
@@ -47,7 +47,8 @@ CONTOUR_KEYS = ["status", "closure_m", "end_distance_m", "rms_m", "gap_crossings
 IMAGES = [("edge_exploration/fig10.png", "fig10_edge_exploration.png"),
           ("bent_bar/fig12.png", "fig12_bent_bar.png"),
           ("co_manipulation/fig14.png", "fig14_co_manipulation.png"),
-          ("contours/contours.png", "contours.png")]
+          ("contours/contours.png", "contours.png"),
+          ("speed/speed.png", "speed.png")]
 SIG = 4  # significant digits kept in results.json (the tables show fewer)
 
 
@@ -123,7 +124,7 @@ def run_figures(summary):
 def collect(out):
     """results.json's content (without commit and machine) from out/."""
     res = {"runs": {}, "deploy": {}, "compare": {}, "force_targets": [], "force_sweep": [],
-           "correction": [], "contours": [], "rehearsal": []}
+           "correction": [], "speed": [], "contours": [], "rehearsal": []}
     for name in RUNS:
         res["runs"][name] = run_figures(load_json(os.path.join(out, name, "summary.json")))
     for name in DEPLOYS:
@@ -152,6 +153,17 @@ def collect(out):
                                   "force_true_in_band_fraction": rnd(num(r["shipped_force_true_in_band_fraction"])),
                                   "cop_along_p95_m": rnd(num(r["shipped_cop_along_p95_m"])),
                                   "edge_across_rms_m": rnd(num(r["shipped_edge_across_rms_m"]))})
+    groups = {}
+    for r in load_csv(os.path.join(out, "speed", "speed.csv")):  # the seeds' mean per series and setting
+        law = r["controller"] == "speed law"
+        groups.setdefault((r["controller"], r["budget_n"] if law else r["kp_x"]), []).append(r)
+    for (ctl, setting), rs in groups.items():
+        def mean(k):
+            return rnd(sum(num(x[k]) for x in rs) / len(rs))
+        res["speed"].append({"controller": ctl, "setting": setting, "seeds": len(rs),
+                             "speed_mm_s": mean("speed_mm_s"), "rms_n": mean("rms_n"), "in_band": mean("in_band"),
+                             "losses": sum(int(x["losses"]) for x in rs),
+                             "met": sum(1 for x in rs if x["met"] == "yes")})
     for sub, effects in (("contours", False), ("contours_sensor_effects", True)):
         d = os.path.join(out, sub)
         need(d)
@@ -275,6 +287,14 @@ def render_correction(res):
                   "CoP along the edge p95 (mm)", "contact line across RMS (mm)"], rows)
 
 
+def render_speed(res):
+    rows = [[r["controller"], r["setting"] + (" N" if r["controller"] == "speed law" else ""),
+             f(r["speed_mm_s"], ".1f"), f(r["rms_n"], ".2f"), f(r["in_band"], ".1f", 100), r["losses"],
+             f"{r['met']} of {r['seeds']}"] for r in res["speed"]]
+    return table(["controller", "kp_x (1/s) or error budget", "speed (mm/s)", "true RMS error (N)",
+                  "within +-0.5 N (%)", "contact losses", "seeds meeting the targets"], rows)
+
+
 def render_contours(res):
     rows = [[r["set"], r["run"], r["status"], f(r["closure_m"], ".1f", 1000), f(r["end_distance_m"], ".1f", 1000),
              f(r["rms_m"], ".2f", 1000), r["gap_crossings"], r["unwinds"], f(r["force_true_rms_error_n"], ".2f")]
@@ -347,6 +367,15 @@ def render_results_md(res):
         "closer to its set point but lets the tactile force, and so the image, thin out.",
         "",
         render_correction(res),
+        "",
+        "## Sliding speed: fixed gains and the speed law, seeds 1-3 (out/speed/speed.csv)",
+        "",
+        "The bent bar to its end cap (`scripts/sweeps/sweep_speed.py`), each series' slide gain or, for",
+        "the speed law (`tactile_servo/speed_law.hpp`, `bent_bar_speed_law.yaml`), its error budget",
+        "swept; means over the seeds. Targets: >= 40 mm/s, RMS <= 0.5 N, >= 95 % within 5 +- 0.5 N,",
+        "no contact loss, to the bar's end. Plot: `docs/img/speed.png`.",
+        "",
+        render_speed(res),
         "",
         "## Closed contours (out/contours/, out/contours_sensor_effects/)",
         "",

@@ -28,7 +28,8 @@
 // arguments, 3 the simulation went unstable (NaN, joint limit, singularity,
 // force limit) or refused its steps or commands (sim_step_rejected,
 // sim_invalid_command), 4 the servo's force ceiling tripped, 5/6/7 a servo
-// watchdog (phase_timeout, arm_stalled, force_mismatch); the status is in summary.json.
+// watchdog (phase_timeout, arm_stalled, force_mismatch), 8 the surface curves
+// more tightly than the pad can follow (surface_too_curved); the status is in summary.json.
 #include <sys/stat.h>
 #include <unistd.h>
 

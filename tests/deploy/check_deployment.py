@@ -52,6 +52,15 @@ elif exp == "bent_bar_fused":
     check(num(d["force_true_in_band_fraction"]) >= 0.95,
           f">= 95 % within 5 +- 0.5 N ({d['force_true_in_band_fraction']})")
     check(num(d["path_length_m"]) >= 0.2, f"slid >= 0.2 m ({d['path_length_m']})")
+elif exp == "bent_bar_speed_law":
+    # The speed law (tactile_servo/speed_law.hpp): the slide speed from an
+    # error budget of the true force (docs/design.md, "The speed law").
+    check(d["status"] == "ok", f"status ok ({d['status']})")
+    check(num(d["slide_speed_mps"]) >= 0.040, f"mean slide speed >= 40 mm/s ({d['slide_speed_mps']})")
+    check(num(d["force_true_rms_error_n"]) <= 0.5, f"true force RMS error <= 0.5 N ({d['force_true_rms_error_n']})")
+    check(num(d["force_true_in_band_fraction"]) >= 0.95,
+          f">= 95 % within 5 +- 0.5 N ({d['force_true_in_band_fraction']})")
+    check(num(d["contact_lost_count"]) == 0, f"no contact loss ({d['contact_lost_count']})")
 elif exp == "bent_bar" and controller == "no_rotation":
     # The ablation's drift onto the rigid housing is stopped by the servo's
     # force-mismatch watchdog or a ceiling: never `ok`, outside 5 +- 1 N.

@@ -82,7 +82,7 @@ TEST(RttTypekit, MemberNamesAreTheFieldNames) {
   const std::vector<std::string> f = type("/tactile/ContactFeatures")->getMemberNames();
   const std::vector<std::string> expected = {"time_s", "seq",     "cop_x",   "cop_y",     "coc_x", "coc_y",
                                              "dzmp_x", "dzmp_y",  "alpha_z", "force",     "d_z",   "lambda1",
-                                             "lambda2", "max_taxel", "area", "contact",   "status",
+                                             "lambda2", "curvature", "max_taxel", "area", "contact", "status",
                                              "alpha_defined"};
   EXPECT_EQ(f, expected);
   EXPECT_EQ(type("/tactile/Pose")->getMemberNames(), (std::vector<std::string>{"p", "q"}));
@@ -191,6 +191,7 @@ TEST(RttTypekit, DecompositionRoundTripsFieldValues) {
   in.d_z = 0.0018;
   in.lambda1 = 4e-5;
   in.lambda2 = 1e-6;
+  in.curvature = -4.25;
   in.max_taxel = 0.9;
   in.area = 12;
   in.contact = tactile::ContactType::Edge;
@@ -216,6 +217,7 @@ TEST(RttTypekit, DecompositionRoundTripsFieldValues) {
   EXPECT_EQ(dbl("alpha_z"), 0.7);
   EXPECT_EQ(dbl("force"), 3.25);
   EXPECT_EQ(dbl("lambda2"), 1e-6);
+  EXPECT_EQ(dbl("curvature"), -4.25);
   RTT::Property<unsigned int> seq = bag.getProperty("seq");
   ASSERT_TRUE(seq.ready());
   EXPECT_EQ(seq.value(), 99u);
@@ -246,6 +248,7 @@ TEST(RttTypekit, DecompositionRoundTripsFieldValues) {
   EXPECT_EQ(o.d_z, in.d_z);
   EXPECT_EQ(o.lambda1, in.lambda1);
   EXPECT_EQ(o.lambda2, in.lambda2);
+  EXPECT_EQ(o.curvature, in.curvature);
   EXPECT_EQ(o.max_taxel, in.max_taxel);
   EXPECT_EQ(o.area, in.area);
   EXPECT_EQ(o.contact, tactile::ContactType::Point);
@@ -362,6 +365,7 @@ TEST(RttTypekit, ScriptOperatorsOnEnumsAndUint16) {
   EXPECT_EQ(apply("==", tactile::ServoStatus::PhaseTimeout, std::string("phase_timeout")), 1);
   EXPECT_EQ(apply("==", tactile::ServoStatus::ArmStalled, std::string("arm_stalled")), 1);
   EXPECT_EQ(apply("==", tactile::ServoStatus::ForceMismatch, std::string("force_mismatch")), 1);
+  EXPECT_EQ(apply("==", tactile::ServoStatus::SurfaceTooCurved, std::string("surface_too_curved")), 1);
   EXPECT_EQ(apply("==", tactile::ServoStatus::ForceMismatch, 15), 1);
   EXPECT_EQ(apply("==", uint16_t{3}, 3), 1);
   EXPECT_EQ(apply(">", uint16_t{3}, 5), 0);

@@ -253,3 +253,54 @@ TEST(ForceEstimator, TheServoRegulatesFHatAndTheWatchdogStillCatchesAWrenchBeyon
     }
   }
 }
+
+// The image's bound (c_img): with image_margin_n the correction leaves the
+// image's load above the firing threshold (f - th n, n taxels firing) at the
+// margin, at a cost of at most the margin against the wrench's estimate. A
+// thin image (every taxel at the threshold: f = th n) holds c at
+// f_w - f - margin; an image with load to spare above the margin lets c reach
+// f_w - f as without the bound. Open loop (f held), 20 tau: c within 1e-6 N
+// of its fixed point (exp(-20) of a 4 N step).
+TEST(ForceEstimator, ImageMarginHoldsTheCorrectionWhileTheImageIsThin) {
+  const KDL::Vector bias(0.4, -0.3, 1.0);
+  const KDL::Vector loaded = bias + KDL::Vector(0, 0, 5.0);  // f_w = 5 N
+  const double dt = 0.01;
+  struct Case {
+    double margin, f;
+    int area;
+    double expected;
+  };
+  const Case cases[] = {
+      {0.0, 1.4, 7, 3.6},   // no bound: c = f_w - f
+      {0.3, 1.4, 7, 3.3},   // 7 taxels at 0.2 N: thin, c = f_w - f - margin
+      {0.3, 1.5, 7, 3.2},   // 0.1 N above the threshold, below the margin: thin
+      {0.3, 1.8, 7, 3.2},   // 0.4 N above the threshold: c reaches f_w - f
+      {0.3, 3.0, 10, 2.0},  // a thick image: as without the bound
+  };
+  for (const Case& k : cases) {
+    ForceEstimateParams p = fused();
+    p.tau_s = 0.1;
+    p.max_correction_n = 4.5;
+    p.image_margin_n = k.margin;
+    ForceEstimator e;
+    ASSERT_TRUE(e.configure(p).ok());
+    freeMotion(e, bias, 1.0, dt);
+    ASSERT_TRUE(e.tared());
+    double f_hat = 0.0;
+    for (int i = 0; i < 200; ++i) f_hat = e.step(k.f, true, true, loaded, kZs, dt, k.area);
+    EXPECT_NEAR(e.correction(), k.expected, 1e-6) << k.margin << " " << k.f << " " << k.area;
+    EXPECT_NEAR(f_hat, k.f + k.expected, 1e-6);
+  }
+  // The range, naming the key.
+  ForceEstimateParams bad = fused();
+  bad.image_margin_n = -0.1;
+  ForceEstimator e;
+  ConfigResult r = e.configure(bad);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("image_margin_n"), std::string::npos) << r.message();
+  bad = fused();
+  bad.firing_threshold_n = std::nan("");
+  r = e.configure(bad);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("firing_threshold_n"), std::string::npos) << r.message();
+}

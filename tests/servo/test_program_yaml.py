@@ -108,7 +108,20 @@ def shipped():
     def end_cap(p):
         phase(p, "explore")["transitions"].insert(0, {"on": "point", "to": "done", "for_s": 0.2})
         p["force_estimate"].update(tau_s=0.08, max_correction_n=4.0)
+        p["watchdogs"]["surface_too_curved"]["tau_s"] = 0.05
     expect("bent_bar_to_end_cap.yaml", "bent_bar.yaml", end_cap)
+
+    def speed_law(p):
+        p["safety"]["max_trans_speed"] = 0.08
+        p["phase_defaults"]["kp_per_s"]["z"] = 8.0
+        p["phase_defaults"]["ki_per_s2"]["z"] = 16.0
+        p["phase_defaults"]["u_max_per_s"].update(x=0.08, y=0.08)
+        ex = phase(p, "explore")
+        ex["kp_per_s"]["x"] = 3.2
+        ex["transitions"][0]["for_s"] = 0.1
+        p["speed_law"].update(phases=["explore"], v_max=0.08, rate_tau_s=0.1, force_deadband_n=0.3, horizon_s=0.05,
+                              angle_rate_ref=1.0, extent_full_m=0.02, extent_min_m=0.0)
+    expect("bent_bar_speed_law.yaml", "bent_bar_to_end_cap.yaml", speed_law)
     for f in sorted(os.listdir(PROGRAMS)):
         if f.endswith(".yaml"):
             check(isinstance(P.load(os.path.join(PROGRAMS, f)).get("phases"), list), f"{f} loads with its phases")

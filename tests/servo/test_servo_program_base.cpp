@@ -331,7 +331,8 @@ TEST(ServoProgramBase, BentBarToEndCapAddsTheEndCapTransition) {
                  {"phases[explore].transitions[1].to", "done"},
                  {"phases[explore].transitions[1].for_s", "0.5"},
                  {"force_estimate.tau_s", "0.08"},
-                 {"force_estimate.max_correction_n", "4.0"}});
+                 {"force_estimate.max_correction_n", "4.0"},
+                 {"watchdogs.surface_too_curved.tau_s", "0.05"}});
   const ServoParams p = loadShipped("bent_bar_to_end_cap.yaml");
   ASSERT_EQ(p.phases[0].name, "explore");
   ASSERT_EQ(p.phases[0].transitions.size(), 2u);
@@ -339,4 +340,31 @@ TEST(ServoProgramBase, BentBarToEndCapAddsTheEndCapTransition) {
   EXPECT_EQ(p.phases[0].transitions[0].to, "done");
   EXPECT_TRUE(p.force_estimate.fused);
   EXPECT_DOUBLE_EQ(p.force_estimate.max_correction_n, 4.0);
+}
+
+TEST(ServoProgramBase, BentBarSpeedLawTurnsTheLawOnInExplore) {
+  expectOverlay("bent_bar_speed_law.yaml", "bent_bar_to_end_cap.yaml",
+                {{"safety.max_trans_speed", "0.08"},
+                 {"phase_defaults.kp_per_s.z", "8.0"},
+                 {"phase_defaults.ki_per_s2.z", "16.0"},
+                 {"phase_defaults.u_max_per_s.x", "0.08"},
+                 {"phase_defaults.u_max_per_s.y", "0.08"},
+                 {"phases[explore].kp_per_s.x", "3.2"},
+                 {"phases[explore].transitions[0].for_s", "0.1"},
+                 {"speed_law.phases[0]", "explore"},
+                 {"speed_law.v_max", "0.08"},
+                 {"speed_law.rate_tau_s", "0.1"},
+                 {"speed_law.force_deadband_n", "0.3"},
+                 {"speed_law.horizon_s", "0.05"},
+                 {"speed_law.angle_rate_ref", "1.0"},
+                 {"speed_law.extent_full_m", "0.02"},
+                 {"speed_law.extent_min_m", "0.0"}});
+  const ServoParams p = loadShipped("bent_bar_speed_law.yaml");
+  ASSERT_EQ(p.speed_law.phases.size(), 1u);
+  EXPECT_EQ(p.speed_law.phases[0], "explore");
+  EXPECT_DOUBLE_EQ(p.speed_law.law.v_max, 0.08);
+  EXPECT_EQ(p.speed_law.axis, 0);
+  // The base programs keep it off.
+  EXPECT_TRUE(loadShipped("bent_bar_to_end_cap.yaml").speed_law.phases.empty());
+  EXPECT_TRUE(loadShipped("bent_bar.yaml").speed_law.phases.empty());
 }

@@ -218,3 +218,114 @@ TEST(ServoWatchdogs, NoAllocationPerCycle) {
   EXPECT_EQ(scope.count(), 0u);
   EXPECT_GT(fired, 0);
 }
+
+// Surface too curved (watchdog.hpp): the wrench along z_s, low-passed with
+// tau_s, above the set point by more than excess_n while the image is short,
+// carries at most its share of the wrench, or is gone. The trip cycle is the
+// first k with (f_w - f_d) (1 - exp(-k dt / tau)) > excess_n, at 100 Hz and 1 kHz.
+TEST(ServoWatchdogs, SurfaceTooCurvedWhenTheWrenchExceedsTheSetPointOffTheImage) {
+  ServoParams p = freeMotion();
+  p.source = "prog.yaml";
+  {
+    ServoWatchdogs off;  // the default: off
+    ASSERT_TRUE(off.configure(p).ok());
+    for (int k = 0; k < 100; ++k) ASSERT_FALSE(off.surfaceTooCurved(40.0, 5.0, true, false, 0.0, 0.0, true, 0.01));
+  }
+  p.watchdogs.curved_tau_s = 0.05;
+  p.watchdogs.curved_excess_n = 1.2;
+  p.watchdogs.curved_max_extent_m = 0.0238;
+  p.watchdogs.curved_max_tactile_share = 0.5;
+  // (f_w, contact, f, extent): the cycle it trips on, -1 = never (2 s).
+  struct Case {
+    double f_w;
+    bool contact;
+    double f, extent;
+    bool trips;
+  };
+  const Case cases[] = {
+      {7.0, true, 4.0, 0.012, true},    // the image shrunk to a quarter of the pad
+      {7.0, true, 1.0, 0.070, true},    // a trough bridged: taxels at both ends, 1 N of 7
+      {7.0, false, 0.0, 0.0, true},     // no taxel fires
+      {7.0, true, 4.0, 0.040, false},   // a long image carrying 57 % of the wrench: not this watchdog's case
+      {6.1, true, 1.0, 0.012, false},   // 1.1 N above the set point: within excess_n
+  };
+  for (double dt : {0.01, 0.001}) {
+    for (const Case& c : cases) {
+      ServoWatchdogs w;
+      ASSERT_TRUE(w.configure(p).ok());
+      // The first sample starts the filter (no lag from 0), so a fixed excess
+      // trips at once; start it at the set point, as after a contact at f_d.
+      ASSERT_FALSE(w.surfaceTooCurved(5.0, 5.0, true, true, 5.0, 0.04, true, dt));
+      int tripped = -1;
+      for (int k = 1; k <= static_cast<int>(2.0 / dt) && tripped < 0; ++k)
+        if (w.surfaceTooCurved(c.f_w, 5.0, true, c.contact, c.f, c.extent, true, dt)) tripped = k;
+      if (!c.trips) {
+        EXPECT_EQ(tripped, -1) << dt << " " << c.f_w << " " << c.f << " " << c.extent;
+        continue;
+      }
+      const int expected = static_cast<int>(std::ceil(-0.05 * std::log(1.0 - 1.2 / (c.f_w - 5.0)) / dt - 1e-9));
+      EXPECT_EQ(tripped, expected) << dt << " " << c.f << " " << c.extent;
+      EXPECT_EQ(w.latched(), ServoStatus::SurfaceTooCurved);
+      EXPECT_STREQ(toString(w.latched()), "surface_too_curved");
+      EXPECT_TRUE(watchdogStatus(w.latched()));
+    }
+  }
+  // A phase that holds no force set point restarts the filter; a stale wrench holds it.
+  ServoWatchdogs w;
+  ASSERT_TRUE(w.configure(p).ok());
+  for (int k = 0; k < 200; ++k) ASSERT_FALSE(w.surfaceTooCurved(40.0, 0.0, false, false, 0.0, 0.0, true, 0.01));
+  ASSERT_FALSE(w.surfaceTooCurved(5.0, 5.0, true, true, 5.0, 0.04, true, 0.01));
+  for (int k = 0; k < 200; ++k) ASSERT_FALSE(w.surfaceTooCurved(40.0, 5.0, true, false, 0.0, 0.0, false, 0.01));
+  // Ranges, naming the file and the key.
+  TactileServo s;
+  ServoParams q = p;
+  q.watchdogs.curved_tau_s = -1.0;
+  EXPECT_NE(s.configure(q).message().find("prog.yaml: watchdogs.surface_too_curved.tau_s"), std::string::npos);
+  q = p;
+  q.watchdogs.curved_excess_n = 0.0;
+  EXPECT_NE(s.configure(q).message().find("watchdogs.surface_too_curved.excess_n"), std::string::npos);
+  q = p;
+  q.watchdogs.curved_max_tactile_share = 1.5;
+  EXPECT_NE(s.configure(q).message().find("watchdogs.surface_too_curved.max_tactile_share"), std::string::npos);
+  // The shipped bent bar (fused) has it on, the paper's programs not.
+  EXPECT_DOUBLE_EQ(loadShipped("bent_bar_to_end_cap.yaml").watchdogs.curved_tau_s, 0.05);
+  EXPECT_DOUBLE_EQ(loadShipped("bent_bar.yaml").watchdogs.curved_tau_s, 0.0);
+}
+
+// The first reaction (surface_too_curved.lift_n): while the image is short and
+// the low-passed excess is above lift_n, curvedLift() is that excess (the law
+// then holds f_d + it); 0 with a long image carrying its share, below lift_n,
+// or with lift_n 0.
+TEST(ServoWatchdogs, SurfaceTooCurvedLiftsByTheExcessBeforeItStops) {
+  ServoParams p = freeMotion();
+  p.watchdogs.curved_tau_s = 0.05;
+  p.watchdogs.curved_excess_n = 1.2;
+  p.watchdogs.curved_lift_n = 0.4;
+  ServoWatchdogs w;
+  ASSERT_TRUE(w.configure(p).ok());
+  ASSERT_FALSE(w.surfaceTooCurved(5.0, 5.0, true, true, 5.0, 0.04, true, 0.01));
+  EXPECT_EQ(w.curvedLift(), 0.0);
+  // 1 N of excess, the image a quarter of the pad: the filter settles at 1 N
+  // (below excess_n: no stop) and the lift follows it once above 0.4 N.
+  double lift = 0.0;
+  for (int k = 0; k < 100; ++k) {
+    ASSERT_FALSE(w.surfaceTooCurved(6.0, 5.0, true, true, 1.0, 0.012, true, 0.01)) << k;
+    lift = w.curvedLift();
+    if (k == 0) EXPECT_EQ(lift, 0.0);  // 1 - exp(-0.2) of 1 N = 0.18 N < 0.4 N
+  }
+  EXPECT_NEAR(lift, 1.0, 1e-6);  // 1 s = 20 tau
+  // A long image carrying its share: no lift.
+  ASSERT_FALSE(w.surfaceTooCurved(6.0, 5.0, true, true, 4.0, 0.04, true, 0.01));
+  EXPECT_EQ(w.curvedLift(), 0.0);
+  // lift_n 0: off.
+  p.watchdogs.curved_lift_n = 0.0;
+  ServoWatchdogs off;
+  ASSERT_TRUE(off.configure(p).ok());
+  for (int k = 0; k < 100; ++k) ASSERT_FALSE(off.surfaceTooCurved(6.0, 5.0, true, true, 1.0, 0.012, true, 0.01));
+  EXPECT_EQ(off.curvedLift(), 0.0);
+  // Range, naming the key.
+  p.watchdogs.curved_lift_n = -1.0;
+  TactileServo s;
+  EXPECT_NE(s.configure(p).message().find("watchdogs.surface_too_curved.lift_n"), std::string::npos);
+  EXPECT_DOUBLE_EQ(loadShipped("bent_bar_to_end_cap.yaml").watchdogs.curved_lift_n, 0.4);
+}

@@ -43,6 +43,7 @@ const char* toString(ServoStatus s) {
     case ServoStatus::PhaseTimeout: return "phase_timeout";
     case ServoStatus::ArmStalled: return "arm_stalled";
     case ServoStatus::ForceMismatch: return "force_mismatch";
+    case ServoStatus::SurfaceTooCurved: return "surface_too_curved";
   }
   return "unknown";
 }

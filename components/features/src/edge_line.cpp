@@ -1,5 +1,8 @@
 #include "tactile_features/edge_line.hpp"
 
+#include <Eigen/Dense>
+#include <cmath>
+
 namespace tactile {
 
 int edgeLinePoints(const TactileFrame& frame, const SensorGeometry& g, const EdgeLineParams& p,
@@ -23,6 +26,32 @@ int edgeLinePoints(const TactileFrame& frame, const SensorGeometry& g, const Edg
     out[static_cast<std::size_t>(n++)] = EdgeLinePoint{g.x(c), moment / load};
   }
   return n;
+}
+
+bool edgeLineCurvature(const EdgeLinePoints& pts, int n, int min_points, double min_span_m, double& kappa) noexcept {
+  kappa = 0.0;
+  if (n < 3 || n < min_points || n > static_cast<int>(pts.size())) return false;
+  double xmin = pts[0].x, xmax = pts[0].x;
+  // Normal equations of the parabola, on x centred at the pad (fixed size: no allocation).
+  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d r = Eigen::Vector3d::Zero();
+  for (int i = 0; i < n; ++i) {
+    const double x = pts[static_cast<std::size_t>(i)].x, y = pts[static_cast<std::size_t>(i)].y;
+    if (!std::isfinite(x) || !std::isfinite(y)) return false;
+    xmin = std::fmin(xmin, x);
+    xmax = std::fmax(xmax, x);
+    const Eigen::Vector3d phi(1.0, x, x * x);
+    A.noalias() += phi * phi.transpose();
+    r.noalias() += phi * y;
+  }
+  if (!(xmax - xmin >= min_span_m)) return false;
+  const Eigen::Vector3d abc = A.ldlt().solve(r);
+  if (!abc.allFinite()) return false;
+  const double b = abc(1), c = abc(2);
+  const double k = 2.0 * c / std::pow(1.0 + b * b, 1.5);
+  if (!std::isfinite(k)) return false;
+  kappa = k;
+  return true;
 }
 
 }  // namespace tactile

@@ -1,4 +1,5 @@
 #include "tactile_features/extractor.hpp"
+#include "tactile_features/edge_line.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -462,6 +463,15 @@ FeatureStatus FeatureExtractor::step(const TactileFrame& frame, ContactFeatures&
   out.alpha_defined = alpha_ok && (type == ContactType::Point || type == ContactType::Edge);
   out.alpha_z = out.alpha_defined ? alpha_new : alpha_prev_;
   if (out.alpha_defined) alpha_prev_ = out.alpha_z;
+
+  if (type == ContactType::Edge) {
+    // The edge line's curvature: columns with 2-3 firing rows, at least 5 of
+    // them spanning 4 pitches or more (edge_line.hpp).
+    EdgeLinePoints pts;
+    const EdgeLineParams lp{params_.contact_threshold, 3};
+    const int np = edgeLinePoints(frame, params_.geometry(), lp, pts);
+    edgeLineCurvature(pts, np, 5, 3.5 * params_.pitch, out.curvature);
+  }
 
   out.status = frameStatus(type, frame);
   return out.status;

@@ -19,6 +19,10 @@ ConfigResult ForceEstimator::configure(const ForceEstimateParams& p, const char*
   if (!inRange(p.tare_gate_n, 50.0)) return rangeError(w + "tare_gate_n", p.tare_gate_n, "must be in (0, 50] N");
   if (!inRange(p.tare_max_n, 50.0)) return rangeError(w + "tare_max_n", p.tare_max_n, "must be in (0, 50] N");
   if (!inRange(p.tare_hold_s, 10.0)) return rangeError(w + "tare_hold_s", p.tare_hold_s, "must be in (0, 10] s");
+  if (!(std::isfinite(p.image_margin_n) && p.image_margin_n >= 0.0 && p.image_margin_n <= 50.0))
+    return rangeError(w + "image_margin_n", p.image_margin_n, "must be in [0, 50] N (0: no image bound)");
+  if (!(std::isfinite(p.firing_threshold_n) && p.firing_threshold_n >= 0.0 && p.firing_threshold_n <= 50.0))
+    return rangeError(w + "firing_threshold_n", p.firing_threshold_n, "must be in [0, 50] N");
   p_ = p;
   reset();
   return ConfigResult::success();
@@ -36,7 +40,7 @@ void ForceEstimator::reset() {
 }
 
 double ForceEstimator::step(double f, bool contact, bool fresh, const KDL::Vector& F, const KDL::Vector& z_s,
-                            double dt) {
+                            double dt, int area) {
   const bool usable = fresh && std::isfinite(F.x()) && std::isfinite(F.y()) && std::isfinite(F.z()) &&
                       std::isfinite(dt) && dt > 0.0;
   if (!contact) {
@@ -73,7 +77,13 @@ double ForceEstimator::step(double f, bool contact, bool fresh, const KDL::Vecto
   if (usable && std::isfinite(f)) {
     const double f_w = std::fabs(dot(F - tare_, z_s));
     const double a = 1.0 - std::exp(-dt / p_.tau_s);  // exact for held samples
-    c_ = std::clamp(c_ + a * (f_w - f - c_), -p_.max_correction_n, p_.max_correction_n);
+    double target = f_w - f;
+    // The image's bound (header): the correction that leaves the peak taxel
+    // at min_peak_taxel_n once the law has moved f by the change of c.
+    if (p_.image_margin_n > 0.0)
+      target = std::max(std::min(target, c_ + f - p_.firing_threshold_n * static_cast<double>(area) - p_.image_margin_n),
+                        target - p_.image_margin_n);
+    c_ = std::clamp(c_ + a * (target - c_), -p_.max_correction_n, p_.max_correction_n);
   }
   return f + c_;
 }

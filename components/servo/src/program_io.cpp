@@ -289,11 +289,43 @@ ConfigResult readPhase(const YAML::Node& n, const Where& w0, const Defaults& d, 
   return ConfigResult::success();
 }
 
+/// speed_law: the block of SpeedLawConfig (servo_params.hpp); the ranges are
+/// SpeedLaw::configure's, the phase names are checked by the servo.
+ConfigResult readSpeedLaw(const YAML::Node& sl, const Where& w, SpeedLawConfig& c) {
+  ConfigResult r = checkKeys(sl, w, {"phases", "axis", "rate_tau_s", "v_max", "v_min", "accel_mps2", "force_budget_n", "force_deadband_n",
+                                     "horizon_s", "angle_rate_ref", "curvature_ref", "extent_full_m", "extent_min_m",
+                                     "excess_ref_n"});
+  if (!r) return r;
+  if (const YAML::Node ph = sl["phases"]) {
+    if (!ph.IsSequence()) return fail(w.child("phases"), "must be a list of phase names ([] = off)");
+    if (!(r = read(sl, "phases", c.phases, w))) return r;
+  }
+  if (sl["axis"]) {
+    std::string a;
+    if (!(r = read(sl, "axis", a, w))) return r;
+    if (a == "x") c.axis = 0;
+    else if (a == "y") c.axis = 1;
+    else return fail(w.child("axis"), "'" + a + "': must be x or y (the slide axis of {s})");
+  }
+  SpeedLawParams& lp = c.law;
+  for (auto rr : {read(sl, "rate_tau_s", c.rate_tau_s, w), read(sl, "v_max", lp.v_max, w), read(sl, "v_min", lp.v_min, w),
+                  read(sl, "accel_mps2", lp.accel_mps2, w), read(sl, "force_budget_n", lp.force_budget_n, w),
+                  read(sl, "force_deadband_n", lp.force_deadband_n, w),
+                  read(sl, "horizon_s", lp.horizon_s, w), read(sl, "angle_rate_ref", lp.angle_rate_ref, w),
+                  read(sl, "curvature_ref", lp.curvature_ref, w), read(sl, "extent_full_m", lp.extent_full_m, w),
+                  read(sl, "extent_min_m", lp.extent_min_m, w), read(sl, "excess_ref_n", lp.excess_ref_n, w)})
+    if (!rr) return rr;
+  if (!(std::isfinite(c.rate_tau_s) && c.rate_tau_s > 0 && c.rate_tau_s <= 10))
+    return rangeError(w.child("rate_tau_s").str(), c.rate_tau_s, "must be in (0, 10] s");
+  SpeedLaw probe;
+  return probe.configure(lp, w.str().c_str());
+}
+
 ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoParams& out) {
   ServoParams p;
   p.source = file;
   const Where top{file, ""};
-  ConfigResult r = checkKeys(root, top, {"controller", "safety", "watchdogs", "force_estimate", "phase_defaults", "phases"});
+  ConfigResult r = checkKeys(root, top, {"controller", "safety", "watchdogs", "force_estimate", "speed_law", "phase_defaults", "phases"});
   if (!r) return r;
   if (const YAML::Node c = root["controller"]) {
     const Where w = top.child("controller");
@@ -364,7 +396,16 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
   if (const YAML::Node wd = root["watchdogs"]) {
     const Where w = top.child("watchdogs");
     WatchdogParams& wp = p.watchdogs;
-    if (!(r = checkKeys(wd, w, {"arm_stall", "force_mismatch"}))) return r;
+    if (!(r = checkKeys(wd, w, {"arm_stall", "force_mismatch", "surface_too_curved"}))) return r;
+    if (const YAML::Node sc = wd["surface_too_curved"]) {
+      const Where wc = w.child("surface_too_curved");
+      if (!(r = checkKeys(sc, wc, {"tau_s", "excess_n", "max_extent_m", "max_tactile_share", "lift_n"}))) return r;
+      for (auto rr : {read(sc, "tau_s", wp.curved_tau_s, wc), read(sc, "excess_n", wp.curved_excess_n, wc),
+                      read(sc, "max_extent_m", wp.curved_max_extent_m, wc),
+                      read(sc, "max_tactile_share", wp.curved_max_tactile_share, wc),
+                      read(sc, "lift_n", wp.curved_lift_n, wc)})
+        if (!rr) return rr;
+    }
     if (const YAML::Node st = wd["arm_stall"]) {
       const Where ws = w.child("arm_stall");
       if (!(r = checkKeys(st, ws, {"window_s", "min_distance", "min_angle_deg", "min_fraction"}))) return r;
@@ -386,7 +427,7 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
   if (const YAML::Node fe = root["force_estimate"]) {
     const Where w = top.child("force_estimate");
     ForceEstimateParams& fp = p.force_estimate;
-    if (!(r = checkKeys(fe, w, {"source", "tau_s", "max_correction_n", "tare_tau_s", "tare_gate_n", "tare_hold_s", "tare_max_n"}))) return r;
+    if (!(r = checkKeys(fe, w, {"source", "tau_s", "max_correction_n", "tare_tau_s", "tare_gate_n", "tare_hold_s", "tare_max_n", "image_margin_n", "firing_threshold_n"}))) return r;
     std::string src;
     if (fe["source"]) {
       if (!(r = read(fe, "source", src, w))) return r;
@@ -396,10 +437,14 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
     }
     for (auto rr : {read(fe, "tau_s", fp.tau_s, w), read(fe, "max_correction_n", fp.max_correction_n, w),
                     read(fe, "tare_tau_s", fp.tare_tau_s, w), read(fe, "tare_gate_n", fp.tare_gate_n, w),
-                    read(fe, "tare_hold_s", fp.tare_hold_s, w), read(fe, "tare_max_n", fp.tare_max_n, w)})
+                    read(fe, "tare_hold_s", fp.tare_hold_s, w), read(fe, "tare_max_n", fp.tare_max_n, w),
+                    read(fe, "image_margin_n", fp.image_margin_n, w), read(fe, "firing_threshold_n", fp.firing_threshold_n, w)})
       if (!rr) return rr;
     ForceEstimator probe;
     if (!(r = probe.configure(fp, w.str().c_str()))) return r;
+  }
+  if (const YAML::Node sl = root["speed_law"]) {
+    if (!(r = readSpeedLaw(sl, top.child("speed_law"), p.speed_law))) return r;
   }
   Defaults d;
   if (const YAML::Node pd = root["phase_defaults"]) {

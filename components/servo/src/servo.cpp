@@ -13,7 +13,22 @@ ConfigResult TactileServo::configure(const ServoParams& p) {
   if (r) r = program_.configure(p);    // names, transitions, initial phase, reachability
   if (r) r = watchdogs_.configure(p);  // phase timeout, arm stall, force mismatch
   if (r) r = force_est_.configure(p.force_estimate, (p.source + ": force_estimate").c_str());
+  if (r) r = speed_law_.configure(p.speed_law.law, (p.source + ": speed_law").c_str());
   if (!r) return r;
+  speed_phase_.assign(p.phases.size(), 0);
+  for (const std::string& name : p.speed_law.phases) {
+    std::size_t i = 0;
+    while (i < p.phases.size() && p.phases[i].name != name) ++i;
+    if (i == p.phases.size()) return ConfigResult::failure(p.source + ": speed_law.phases: no phase '" + name + "'");
+    if (p.phases[i].terminal)
+      return ConfigResult::failure(p.source + ": speed_law.phases: '" + name + "' is terminal (nothing to slide)");
+    speed_phase_[i] = 1;
+  }
+  if (!(std::isfinite(p.speed_law.rate_tau_s) && p.speed_law.rate_tau_s > 0.0 && p.speed_law.rate_tau_s <= 10.0))
+    return rangeError(p.source + ": speed_law.rate_tau_s", p.speed_law.rate_tau_s, "must be in (0, 10] s");
+  if (p.speed_law.axis < 0 || p.speed_law.axis > 1)
+    return ConfigResult::failure(p.source + ": speed_law.axis: must be x or y");
+  speed_filter_.configure(p.speed_law.rate_tau_s);
   params_ = p;
   configured_ = true;
   reset();
@@ -26,6 +41,8 @@ void TactileServo::reset() {
   safety_.reset();
   watchdogs_.reset();
   force_est_.reset();
+  speed_law_.reset();
+  speed_filter_.reset();
   has_cmd_ = false;
   waiting_ = false;
 }
@@ -42,6 +59,8 @@ bool TactileServo::requestPhase(int index) {
 void TactileServo::enterPhase(int idx, double now) {
   program_.enter(idx, now);
   if (program_.resetsIntegrator(idx)) law_.resetIntegrator();
+  speed_law_.reset();  // a new phase slides from v_min
+  speed_filter_.reset();
   safety_.resetRecovery();
 }
 
@@ -95,6 +114,27 @@ ServoStatus TactileServo::applyIncrement(const KDL::Frame& base, Vec6 u_s, doubl
   return finish(st, now, out);
 }
 
+double TactileServo::slideCap(int phase, const ContactFeatures& f, double f_hat, double f_d, double excess, double dt,
+                              ServoOutput& out) {
+  out.slide_speed = 0.0;
+  out.speed_limiter = SpeedLimiter::None;
+  if (phase < 0 || static_cast<std::size_t>(phase) >= speed_phase_.size() || !speed_phase_[static_cast<std::size_t>(phase)])
+    return -1.0;
+  SpeedLawSignals s;
+  s.force_error_n = f_d - f_hat;
+  s.alpha_z = f.alpha_z;
+  s.alpha_defined = f.alpha_defined;
+  s.curvature = f.curvature;
+  s.extent_m = std::sqrt(12.0 * std::max(0.0, f.lambda1));  // a uniform line's length
+  s.wrench_excess_n = excess;
+  SpeedLawInput& in = out.speed_inputs;
+  speed_filter_.step(s, dt, in);
+  speed_law_.step(in, dt);  // InvalidInput: v_min
+  out.slide_speed = speed_law_.speed();
+  out.speed_limiter = speed_law_.limiter();
+  return out.slide_speed;
+}
+
 void TactileServo::observePose(const KDL::Frame& meas, const ContactFeatures& f, bool first) {
   const KDL::Frame T_gs = meas * law_.sensorMount();
   if (first) {
@@ -120,6 +160,8 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   out.u_s.setZero();
   out.beta = 0;
   out.force = in.features.force;
+  out.slide_speed = 0.0;
+  out.speed_limiter = SpeedLimiter::None;
   if (!configured_) {
     out.valid = false;
     out.command.status = ServoStatus::NotConfigured;
@@ -197,7 +239,9 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   const bool contact = PhaseProgram::hasContact(f);
   const bool wrench_fresh = in.have_wrench && std::fabs(now - in.wrench.time_s) <= params_.safety.stale_timeout;
   const KDL::Vector F(in.wrench.w[0], in.wrench.w[1], in.wrench.w[2]);
-  const double f_hat = force_est_.step(f.force, contact, wrench_fresh, F, z_s, dt);
+  const double f_hat = force_est_.step(f.force, contact, wrench_fresh, F, z_s, dt, f.area);
+  double f_law = f_hat;  // the force the law holds at its set point
+  double excess = 0.0;   // the wrench along z_s less f_hat (N): load the taxels do not carry
   // The force the law uses (the tactile force, or f_hat: the correction is
   // bounded, so a wrench beyond it still shows) against the arm's estimated
   // wrench (less its zero) along z_s.
@@ -205,10 +249,25 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   for (int i = 0; i < 3; ++i) w_tared.w[static_cast<std::size_t>(i)] -= force_est_.tare()(i);
   if (watchdogs_.forceMismatch(f_hat, contact, in.have_wrench, w_tared, z_s, now, dt, params_.safety.stale_timeout))
     return finish(ServoStatus::ForceMismatch, now, out);
+  {
+    // The surface curves more tightly than the pad (watchdog.hpp): the
+    // wrench well above the set point the law holds, the image shrunk.
+    const int phc = program_.current();
+    const double f_d = params_.phases[static_cast<std::size_t>(phc)].s_d(kZ) / law_.c_z();
+    const bool regulated = program_.requiresContact(phc) && f_d > 0.0;
+    const double f_w = std::fabs(dot(F - force_est_.tare(), z_s));
+    const double extent = std::sqrt(12.0 * std::max(0.0, f.lambda1));  // a uniform line's length
+    if (wrench_fresh && contact) excess = f_w - f_hat;
+    if (watchdogs_.surfaceTooCurved(f_w, f_d, regulated, contact, f.force, extent, wrench_fresh, dt))
+      return finish(ServoStatus::SurfaceTooCurved, now, out);
+    // The first reaction: lift by the load the taxels miss (0 unless configured).
+    const double lift = watchdogs_.curvedLift();
+    if (lift > 0.0) f_law = std::max(f_hat, f_d + lift);
+  }
   ContactFeatures fc = in.features;
-  fc.d_z += law_.c_z() * (f_hat - f.force);  // Eq. 2: d_z = C_z f
-  fc.force = f_hat;
-  out.force = f_hat;
+  fc.d_z += law_.c_z() * (f_law - f.force);  // Eq. 2: d_z = C_z f
+  fc.force = f_law;
+  out.force = f_law;
 
   // Eq. 7-8 and the phase program.
   uint8_t beta = 0;
@@ -226,6 +285,8 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   in_contact_ = PhaseProgram::hasContact(f);
   // Contact loss.
   if (program_.requiresContact(ph) && !PhaseProgram::hasContact(f)) {
+    speed_law_.reset();  // back in contact: slide from v_min
+    speed_filter_.reset();
     const double dz = safety_.contactLoss(dt);
     if (dz == 0.0) return finish(ServoStatus::ContactLost, now, out);
     u(kZ) = dz;
@@ -237,6 +298,12 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   const Vec6 task = law_.project(ph, e);
   out.error_task = task;
   u = law_.increment(ph, task, dt);
+  const double cap = slideCap(ph, f, f_hat, params_.phases[static_cast<std::size_t>(ph)].s_d(kZ) / law_.c_z(), excess,
+                              dt, out);
+  if (cap >= 0.0) {
+    const int a = params_.speed_law.axis;
+    u(a) = std::clamp(u(a), -cap * dt, cap * dt);
+  }
   const double unwind = params_.phases[static_cast<std::size_t>(ph)].unwind_rate;
   if (unwind > 0.0)  // WRIST: against the yaw the phase was entered with (its wrist_unwound ends it)
     u(5) += program_.yawAtEnter() > 0.0 ? -unwind * dt : unwind * dt;

@@ -28,6 +28,16 @@ ConfigResult ServoWatchdogs::configure(const ServoParams& p) {
     return err(p, "", "watchdogs.force_mismatch.tolerance_rel", w.mismatch_tolerance_rel, "must be in [0, 1]");
   if (!(in(w.mismatch_no_contact_n, 0.0, 1e4) && w.mismatch_no_contact_n > 0))
     return err(p, "", "watchdogs.force_mismatch.no_contact_n", w.mismatch_no_contact_n, "must be in (0, 1e4] N");
+  if (!in(w.curved_tau_s, 0.0, 10.0))
+    return err(p, "", "watchdogs.surface_too_curved.tau_s", w.curved_tau_s, "must be in [0, 10] s (0 = off)");
+  if (!(in(w.curved_excess_n, 0.0, 1e4) && w.curved_excess_n > 0))
+    return err(p, "", "watchdogs.surface_too_curved.excess_n", w.curved_excess_n, "must be in (0, 1e4] N");
+  if (!(in(w.curved_max_extent_m, 0.0, 1.0) && w.curved_max_extent_m > 0))
+    return err(p, "", "watchdogs.surface_too_curved.max_extent_m", w.curved_max_extent_m, "must be in (0, 1] m");
+  if (!in(w.curved_max_tactile_share, 0.0, 1.0))
+    return err(p, "", "watchdogs.surface_too_curved.max_tactile_share", w.curved_max_tactile_share, "must be in [0, 1]");
+  if (!in(w.curved_lift_n, 0.0, 1e4))
+    return err(p, "", "watchdogs.surface_too_curved.lift_n", w.curved_lift_n, "must be in [0, 1e4] N (0 = off)");
   p_ = w;
   reset();
   return ConfigResult::success();
@@ -37,6 +47,9 @@ void ServoWatchdogs::reset() {
   latched_ = ServoStatus::Ok;
   stall_active_ = false;
   mismatch_s_ = 0.0;
+  curved_lp_ = 0.0;
+  curved_have_ = false;
+  curved_short_ = false;
 }
 
 bool ServoWatchdogs::phaseTimeout(double in_phase_s, double max_s) {
@@ -85,6 +98,22 @@ bool ServoWatchdogs::forceMismatch(double force, bool contact, bool have_wrench,
   }
   mismatch_s_ = bad ? mismatch_s_ + dt : 0.0;
   return mismatch_s_ >= p_.mismatch_window_s - 1e-6 ? latch(ServoStatus::ForceMismatch) : false;
+}
+
+bool ServoWatchdogs::surfaceTooCurved(double f_w, double f_d, bool regulated, bool contact, double f,
+                                      double extent_m, bool fresh, double dt) {
+  if (!(p_.curved_tau_s > 0.0)) return false;
+  if (!regulated) {  // a phase that does not hold a force: nothing to compare against
+    curved_have_ = curved_short_ = false;
+    return false;
+  }
+  if (!fresh || !std::isfinite(f_w) || !std::isfinite(f_d) || !(dt > 0.0)) return false;  // held
+  const double e = f_w - f_d;
+  curved_lp_ = curved_have_ ? curved_lp_ + (1.0 - std::exp(-dt / p_.curved_tau_s)) * (e - curved_lp_) : e;
+  curved_have_ = true;
+  curved_short_ =
+      !contact || !(extent_m > p_.curved_max_extent_m) || !(f > p_.curved_max_tactile_share * f_w);
+  return curved_lp_ > p_.curved_excess_n && curved_short_ ? latch(ServoStatus::SurfaceTooCurved) : false;
 }
 
 }  // namespace tactile

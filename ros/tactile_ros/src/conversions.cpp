@@ -56,6 +56,7 @@ void toFeatures(const tactile::ContactFeatures& f, const ros::Time& stamp, const
   out.d_z = f.d_z;
   out.lambda1 = f.lambda1;
   out.lambda2 = f.lambda2;
+  out.curvature = f.curvature;
   out.max_taxel = f.max_taxel;
   out.area = f.area;
   out.contact = static_cast<uint8_t>(f.contact);

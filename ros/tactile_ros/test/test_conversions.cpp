@@ -77,7 +77,7 @@ TEST(RosConversions, FeaturesFieldByField) {
   f.dzmp_x = 0.005; f.dzmp_y = -0.006;
   f.alpha_z = 0.3; f.alpha_defined = true;
   f.force = 4.5; f.d_z = 1e-4;
-  f.lambda1 = 2e-5; f.lambda2 = 1e-6;
+  f.lambda1 = 2e-5; f.lambda2 = 1e-6; f.curvature = 3.5;
   f.max_taxel = 0.8; f.area = 9;
   f.contact = tactile::ContactType::Edge;
   f.status = tactile::FeatureStatus::Saturated;
@@ -91,6 +91,7 @@ TEST(RosConversions, FeaturesFieldByField) {
   EXPECT_DOUBLE_EQ(m.alpha_z, 0.3); EXPECT_TRUE(m.alpha_defined);
   EXPECT_DOUBLE_EQ(m.force, 4.5); EXPECT_DOUBLE_EQ(m.d_z, 1e-4);
   EXPECT_DOUBLE_EQ(m.lambda1, 2e-5); EXPECT_DOUBLE_EQ(m.lambda2, 1e-6);
+  EXPECT_DOUBLE_EQ(m.curvature, 3.5);
   EXPECT_DOUBLE_EQ(m.max_taxel, 0.8);
   EXPECT_EQ(m.area, 9);
   EXPECT_EQ(m.contact, tactile_msgs::ContactFeatures::CONTACT_EDGE);

@@ -102,7 +102,8 @@ bool writeRun(const std::string& dir, const Scene& sc, const RunResult& r, std::
                "act_x,act_y,act_z,act_roll,act_pitch,act_yaw,cop_x,cop_y,coc_x,coc_y,dzmp_x,dzmp_y,alpha_z,force,d_z,"
                "lambda1,lambda2,area,sd_cop_x,sd_cop_y,sd_d_z,sd_dzmp_x,sd_dzmp_y,sd_alpha_z,sd_force,force_true,"
                "force_layer,housing_force,moment_x_true,moment_y_true,tray_angle_deg,true_cx,true_cy,true_cz,u_x,u_y,"
-               "u_z,u_wx,u_wy,u_wz,beta,feature_age\n");
+               "u_z,u_wx,u_wy,u_wz,beta,feature_age,curvature,slide_speed,speed_limiter,law_force_error,law_force_rate,"
+               "law_angle_rate,law_curvature,law_extent,law_excess\n");
   std::string line;
   for (const auto& w : r.rows) {
     const auto& ft = w.f;
@@ -116,7 +117,10 @@ bool writeRun(const std::string& dir, const Scene& sc, const RunResult& r, std::
                         static_cast<double>(ft.area), w.s_d(0), w.s_d(1), w.s_d(2), w.s_d(3), w.s_d(4), w.s_d(5),
                         w.sd_force, w.force_true, w.force_layer, w.housing_force, w.moment_x_true, w.moment_y_true,
                         w.tray_angle_deg, w.true_contact[0], w.true_contact[1], w.true_contact[2], w.u_s(0), w.u_s(1),
-                        w.u_s(2), w.u_s(3), w.u_s(4), w.u_s(5), static_cast<double>(w.beta), w.feature_age};
+                        w.u_s(2), w.u_s(3), w.u_s(4), w.u_s(5), static_cast<double>(w.beta), w.feature_age,
+                        ft.curvature, w.slide_speed, static_cast<double>(w.speed_limiter),
+                        w.speed_inputs.force_error_n, w.speed_inputs.force_error_rate, w.speed_inputs.angle_rate,
+                        w.speed_inputs.curvature, w.speed_inputs.extent_m, w.speed_inputs.wrench_excess_n};
     line.clear();
     for (double x : v) appendG9(line, x);
     line += '\n';

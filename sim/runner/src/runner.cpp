@@ -178,6 +178,9 @@ void Runner::logServoCycle(double t, RunState& rs, RunResult& out) const {
     rs.first_contact_snap = true;
   }
   out.rows.push_back(makeRow(sc, t, ph, rs.st, feats, rs.cmd, rs.truth, rs.sout.u_s, rs.sout.beta));
+  out.rows.back().slide_speed = rs.sout.slide_speed;
+  out.rows.back().speed_limiter = static_cast<int>(rs.sout.speed_limiter);
+  out.rows.back().speed_inputs = rs.sout.speed_inputs;
   if (feats.contact == ContactType::Edge && std::fabs(feats.dzmp_y) > rs.worst_dzmp) {
     rs.worst_dzmp = std::fabs(feats.dzmp_y);
     rs.worst.t = t;

@@ -55,6 +55,7 @@ EndReason EndRule::afterServo(ServoStatus st) {
   if (st == ServoStatus::PhaseTimeout) return EndReason::ServoPhaseTimeout;
   if (st == ServoStatus::ArmStalled) return EndReason::ServoArmStalled;
   if (st == ServoStatus::ForceMismatch) return EndReason::ServoForceMismatch;
+  if (st == ServoStatus::SurfaceTooCurved) return EndReason::ServoSurfaceTooCurved;
   // A terminal phase ends the run after one more second of holding.
   if (st == ServoStatus::Done && ++done_cycles_ > done_limit_) return EndReason::DoneHeld;
   return EndReason::None;
@@ -93,6 +94,10 @@ void applyEnd(EndReason reason, SimStatus sim_status, Summary& s) {
     case EndReason::ServoForceMismatch:
       s.status = "servo_force_mismatch";
       s.exit_code = 7;
+      break;
+    case EndReason::ServoSurfaceTooCurved:
+      s.status = "servo_surface_too_curved";
+      s.exit_code = 8;
       break;
     case EndReason::SimFatal:
     case EndReason::SimRejected:

@@ -42,4 +42,13 @@ using EdgeLinePoints = std::array<EdgeLinePoint, kMaxCols>;
 int edgeLinePoints(const TactileFrame& frame, const SensorGeometry& g, const EdgeLineParams& p,
                    EdgeLinePoints& out) noexcept;
 
+/// The in-plane curvature (1/m) of the contact line at the pad's centre: the
+/// least-squares parabola y = a + b x + c x^2 through pts[0..n), kappa =
+/// 2 c / (1 + b^2)^(3/2), positive when the line bends towards +y_s. False
+/// (kappa 0) with fewer than min_points points or a span along x_s below
+/// min_span_m (m): too short a line has no curvature above the points'
+/// sub-pitch noise. The speed law's look-ahead (tactile_servo/speed_law.hpp):
+/// a bend entering the pad shows here before the edge angle turns.
+bool edgeLineCurvature(const EdgeLinePoints& pts, int n, int min_points, double min_span_m, double& kappa) noexcept;
+
 }  // namespace tactile

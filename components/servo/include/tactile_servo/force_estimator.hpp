@@ -30,8 +30,24 @@
 //                        force-mismatch watchdog). T = 0 until the
 //                        first tare (tared()).
 //   tactile contact:     f_w = |(F - T) . z_s|
-//                        c   <- c + a_c (f_w - f - c),  a_c = 1 - exp(-dt / tau_s),
+//                        c   <- c + a_c (min(f_w - f, c_img) - c),  a_c = 1 - exp(-dt / tau_s),
 //                        |c| <= max_correction_n
+//                        c_img = c + f - th n - image_margin_n (with
+//                        image_margin_n > 0, else c_img = +inf): the image's
+//                        bound. n the taxels that fire, th their firing
+//                        threshold (firing_threshold_n), so f - th n is the
+//                        load the image carries above the threshold: how far
+//                        it is from reading 0 everywhere (n taxels each just
+//                        above th read f = th n: a small dip or slip of the
+//                        pad drops them all at once, and the contact is lost
+//                        while the true force is on target). The law holds
+//                        f + c, so every newton c gains is a newton less on the
+//                        taxels: c_img is the correction that leaves that load
+//                        at image_margin_n. It binds only while the image is
+//                        thin (a sharp edge whose load mostly falls below the
+//                        threshold, the load at the pad's end) and then costs
+//                        the true force at most image_margin_n above the
+//                        wrench's estimate, for as long as it binds.
 //   f_hat = f + c (source: fused, with contact), else f (source: tactile: the paper).
 // The image keeps the fast part of f_hat (its own bandwidth and noise), the
 // wrench only the part slower than tau_s: the wrench's noise is averaged over
@@ -61,6 +77,8 @@ struct ForceEstimateParams {
   double tare_gate_n = 0.3;        ///< N, (0, 50]: largest step of the tare along z_s (a load building up: held)
   double tare_max_n = 5.0;         ///< N, (0, 50]: largest offset taken for the zero (|T|; a larger one is a load)
   double tare_hold_s = 0.2;        ///< s, (0, 10]: interval of the tare's snapshots (T from samples >= 2 of them old)
+  double image_margin_n = 0.0;     ///< N, [0, 50]: load above the firing threshold the correction leaves on the image (c_img); 0 = no image bound
+  double firing_threshold_n = 0.2; ///< N, [0, 50]: a taxel's firing threshold (the WTS: 0.2 N, App. A)
 };
 
 class ForceEstimator {
@@ -71,8 +89,10 @@ class ForceEstimator {
 
   /// One cycle: f the tactile force (N, finite), `contact` tactile contact,
   /// `fresh` a wrench sample no older than the stale timeout, F its force ({g},
-  /// N), z_s the sensor normal in {g}, dt > 0. Returns f_hat (N).
-  double step(double f, bool contact, bool fresh, const KDL::Vector& F, const KDL::Vector& z_s, double dt);
+  /// N), z_s the sensor normal in {g}, dt > 0, `area` the taxels that fire
+  /// (the image's bound; ignored with image_margin_n = 0). Returns f_hat (N).
+  double step(double f, bool contact, bool fresh, const KDL::Vector& F, const KDL::Vector& z_s, double dt,
+              int area = 0);
 
   double correction() const { return c_; }  ///< c (N)
   bool tared() const { return tared_; }

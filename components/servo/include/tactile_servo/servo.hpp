@@ -36,6 +36,9 @@
 //  * wrist_yaw: the rotation of {s} about z_s integrated from the measured
 //    poses (events wrist_wound / wrist_unwound, unwind_rate); loop_closed
 //    follows {g}T{e} {e}T{s} (0, CoP_y, 0);
+//  * in the phases of the program's speed_law block, the slide axis's PI rate
+//    capped at the speed law's speed (speed_law.hpp), which starts at v_min
+//    on entering such a phase and after a contact loss;
 //  * transitions of the current phase evaluated in order each cycle with
 //    valid features (first to fire wins, after holding `for_s` s); the new
 //    phase acts in the same cycle; not evaluated while holding.
@@ -53,6 +56,7 @@
 #include "tactile_servo/phase_program.hpp"
 #include "tactile_servo/safety_supervisor.hpp"
 #include "tactile_servo/servo_params.hpp"
+#include "tactile_servo/speed_law.hpp"
 #include "tactile_servo/watchdog.hpp"
 #include "tactile_types/config_result.hpp"
 #include "tactile_types/types.hpp"
@@ -90,6 +94,11 @@ struct ServoOutput {
   Vec6 u_s = Vec6::Zero();         ///< increment applied this cycle, in {s}
   uint8_t beta = 0;                ///< 1 when the edge Jacobian was used
   double force = 0.0;              ///< N: the force the law and the transitions used (f_hat, force_estimator.hpp)
+  /// m/s: the speed law's cap on the slide axis this cycle (speed_law.hpp);
+  /// 0 in a phase without the law.
+  double slide_speed = 0.0;
+  SpeedLimiter speed_limiter = SpeedLimiter::None;  ///< the input that decided it
+  SpeedLawInput speed_inputs;                       ///< what the law saw (filtered; speed_law.hpp)
   bool valid = false;              ///< false until a valid measured pose was seen (validPose, types.hpp)
 };
 
@@ -147,6 +156,12 @@ class TactileServo {
   SafetySupervisor safety_;
   ServoWatchdogs watchdogs_;
   ForceEstimator force_est_;
+  SpeedLaw speed_law_;
+  SpeedLawFilter speed_filter_;
+  std::vector<char> speed_phase_;  ///< per phase: the speed law acts in it (configuration time)
+  /// The speed law's cap on the slide axis for this cycle (m/s; < 0: none).
+  double slideCap(int phase, const ContactFeatures& f, double f_hat, double f_d, double excess, double dt,
+                  ServoOutput& out);
   KDL::Frame cmd_;
   KDL::Frame meas_;            ///< this cycle's measured flange pose
   bool motion_cycle_ = false;  ///< this cycle commanded motion (the stall watchdog's window)

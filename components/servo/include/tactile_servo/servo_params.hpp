@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "tactile_servo/force_estimator.hpp"
+#include "tactile_servo/speed_law.hpp"
 #include "tactile_types/config_result.hpp"
 #include "tactile_types/types.hpp"
 
@@ -168,6 +169,31 @@ struct WatchdogParams {
   double mismatch_tolerance_n = 4.0;             ///< N, > 0
   double mismatch_tolerance_rel = 0.3;           ///< [0, 1]
   double mismatch_no_contact_n = 10.0;           ///< N, > 0
+  /// Surface too curved (ServoWatchdogs::surfaceTooCurved): the arm's wrench
+  /// along z_s, low-passed with tau_s, above the phase's force set point by
+  /// more than excess_n while the image spans at most max_extent_m, or its
+  /// taxels carry at most max_tactile_share of the wrench, or no taxel fires:
+  /// the load has moved to the pad's ends or its housing.
+  double curved_tau_s = 0.0;                     ///< s, [0, 10], 0 = off
+  double curved_excess_n = 1.2;                  ///< N, (0, 1e4]
+  double curved_max_extent_m = 0.0238;           ///< m, (0, 1]: half the pad's 47.6 mm by default
+  double curved_max_tactile_share = 0.5;         ///< [0, 1]: the tactile force's share of the wrench's
+  /// The first reaction: while the image is short and the low-passed excess
+  /// is above lift_n, the law regulates f_d + the excess instead of f_hat
+  /// (the larger of the two): it lifts the pad by the load the taxels miss.
+  double curved_lift_n = 0.0;                    ///< N, [0, 1e4], 0 = off
+};
+
+/// The slide speed from the contact (tactile_servo/speed_law.hpp; beyond the
+/// paper): in the listed phases the speed law caps the PI rate of the slide
+/// axis, each cycle, at the fastest speed that keeps the true force within
+/// the budget. The phase's K_P sets how hard the slide pulls; the law sets
+/// how fast it may go.
+struct SpeedLawConfig {
+  std::vector<std::string> phases;  ///< the phases it acts in; empty = off
+  int axis = 0;                     ///< the slide axis of {s}: 0 x_s, 1 y_s
+  double rate_tau_s = 0.05;         ///< s, (0, 10]: low-pass of the force error, its rate, the angle's rate, the curvature
+  SpeedLawParams law;
 };
 
 struct ServoParams {
@@ -179,6 +205,7 @@ struct ServoParams {
   SafetyParams safety;
   WatchdogParams watchdogs;
   ForceEstimateParams force_estimate;                 ///< the force the law and the transitions use (force_estimator.hpp)
+  SpeedLawConfig speed_law;                           ///< the slide speed from the contact (speed_law.hpp)
   std::vector<PhaseParams> phases;
   std::string initial_phase;                          ///< empty = first phase
   std::string source;                                 ///< file name, for messages

@@ -18,6 +18,20 @@
 //    The wrench force is |F . z_s|, independent of the sign convention of the
 //    estimate (the KRC's estExtTcpFT or the simulated arm's contact wrench);
 //    a wrench older than `stale_s` is not used.
+//  * surface too curved (off unless surface_too_curved.tau_s > 0): in a phase
+//    that holds a force set point f_d, the arm's wrench along z_s (less its
+//    zero), low-passed with tau_s (against its noise), exceeds f_d by more than
+//    excess_n while the image spans at most max_extent_m along its principal
+//    axis (sqrt(12 lambda1): the length of a uniform line), or its taxels
+//    carry at most max_tactile_share of the wrench (Eq. 2's f <= share f_w:
+//    a trough that the pad bridges fires a few taxels at both of its ends, a
+//    long image of little load), or no taxel fires.
+//    The law holds the force the taxels see (or f_hat) at f_d; a wrench well
+//    above it with the image shrunk to part of the pad is load the taxels do
+//    not carry: the surface curves more tightly than the rigid pad reaches
+//    (47.6 mm), and its ends or housing take the load. Raised before the
+//    force-mismatch window (which needs a 4 N contradiction for 0.5 s) and
+//    before the true force reaches f_d + excess_n + the low-pass's lag.
 // Real-time: nothing here allocates, throws or logs after configure().
 #pragma once
 
@@ -62,6 +76,20 @@ class ServoWatchdogs {
   bool forceMismatch(double force, bool contact, bool have_wrench, const Wrench& wrench, const KDL::Vector& z_s,
                      double now, double dt, double stale_s);
 
+  /// Surface too curved on a cycle of `dt` s: `f_w` the wrench's force along
+  /// z_s less its zero (N), `f_d` the phase's force set point (N), `regulated`
+  /// the phase holds it (requires contact, f_d > 0; else the filter restarts),
+  /// `contact` tactile contact, `f` Eq. 2's tactile force (N), `extent_m` the image's extent along its
+  /// principal axis, `fresh` a wrench no older than the stale timeout (else
+  /// the filter is held).
+  bool surfaceTooCurved(double f_w, double f_d, bool regulated, bool contact, double f, double extent_m,
+                        bool fresh, double dt);
+  /// The first reaction's excess (N): the low-passed f_w - f_d while the image
+  /// is short and it is above surface_too_curved.lift_n, else 0.
+  double curvedLift() const {
+    return p_.curved_lift_n > 0.0 && curved_have_ && curved_short_ && curved_lp_ > p_.curved_lift_n ? curved_lp_ : 0.0;
+  }
+
  private:
   bool latch(ServoStatus s) {
     latched_ = s;
@@ -74,6 +102,9 @@ class ServoWatchdogs {
   KDL::Frame stall_pose0_;
   KDL::Vector stall_cmd_t_, stall_cmd_r_;
   double mismatch_s_ = 0.0;
+  double curved_lp_ = 0.0;  // low-passed f_w - f_d
+  bool curved_have_ = false;
+  bool curved_short_ = false;  // the image short (or gone) on the last cycle
 };
 
 }  // namespace tactile

@@ -85,7 +85,8 @@ enum class EndReason : uint8_t {
   SimRejected,         ///< the world refused its steps or commands
   ServoPhaseTimeout,   ///< the servo's watchdogs (tactile::watchdogStatus): never `ok`
   ServoArmStalled,
-  ServoForceMismatch
+  ServoForceMismatch,
+  ServoSurfaceTooCurved  ///< the surface curves more tightly than the pad can follow (exit code 8)
 };
 
 class EndRule {
@@ -97,7 +98,7 @@ class EndRule {
   }
   void reset() { done_cycles_ = invalid_cycles_ = unconverged_cycles_ = unconverged_total_ = 0; }
   /// After a servo cycle: ForceCeiling and the watchdog statuses
-  /// (PhaseTimeout, ArmStalled, ForceMismatch) end the run at once; Done
+  /// (PhaseTimeout, ArmStalled, ForceMismatch, SurfaceTooCurved) end the run at once; Done
   /// ends it after one more second (rates.servo cycles) of holding.
   EndReason afterServo(ServoStatus st);
   /// After a physics step: a fatal simulator status ends the run (SimFatal);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <limits>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -35,6 +36,12 @@ struct LogRow {
   Vec6 u_s = Vec6::Zero();
   int beta = 0;
   double feature_age = 0;                  ///< t - features.time_s (s)
+  /// The speed law's cap on the slide (m/s, ServoOutput::slide_speed; 0 in a
+  /// phase without it) and the input that decided it (SpeedLimiter); NaN / -1
+  /// where the log does not carry them (a deployed run's reporter table).
+  double slide_speed = std::numeric_limits<double>::quiet_NaN();
+  int speed_limiter = -1;
+  SpeedLawInput speed_inputs;              ///< what the law saw (zeros where not recorded)
 };
 
 struct PhaseEntry {
@@ -87,7 +94,7 @@ struct Summary {
   std::vector<std::string> criteria_failed;  ///< scene criteria not met, "metric = v > max"; empty = passed
   int exit_code = 0;  ///< 0 ok, 3 simulator (fatal: NaN, joint limit, singularity, force limit; or its steps or
                       ///< commands refused: sim_step_rejected, sim_invalid_command), 4 servo force ceiling,
-                      ///< 5/6/7 a servo watchdog (phase_timeout, arm_stalled, force_mismatch)
+                      ///< 5/6/7 a servo watchdog (phase_timeout, arm_stalled, force_mismatch), 8 surface_too_curved
 };
 
 /// The summary metric called `name` in summary.json (the numeric ones), false

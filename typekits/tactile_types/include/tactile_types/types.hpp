@@ -81,6 +81,10 @@ struct ContactFeatures {
   double force = 0.0;                 ///< total normal force f (N)
   double d_z = 0.0;                   ///< C_z * f (m), Eq. 2
   double lambda1 = 0.0, lambda2 = 0.0;///< PCA eigenvalues (m^2), lambda1 >= lambda2
+  /// In-plane curvature (1/m) of an edge's contact line along the pad
+  /// (tactile_features/edge_line.hpp: edgeLineCurvature; beyond the paper),
+  /// positive bending towards +y_s; 0 for other contacts or a line too short.
+  double curvature = 0.0;
   double max_taxel = 0.0;             ///< largest taxel force (N)
   uint16_t area = 0;                  ///< taxels above the binarisation threshold
   ContactType contact = ContactType::None;
@@ -143,12 +147,16 @@ enum class ServoStatus : uint8_t {
   // held): a run that reports one of these did not succeed.
   PhaseTimeout = 13,   ///< longer in a phase than its max_duration_s: a phase that never ends
   ArmStalled = 14,     ///< motion commanded for a window but the measured pose did not follow
-  ForceMismatch = 15   ///< tactile force contradicted by the arm's estimated wrench along z_s
+  ForceMismatch = 15,  ///< tactile force contradicted by the arm's estimated wrench along z_s
+  SurfaceTooCurved = 16 ///< the surface curves more tightly than the rigid pad can follow: the image
+                        ///< shrank to part of the pad (or vanished) while the arm's wrench carries
+                        ///< more than the force set point (the load on the pad's ends or housing)
 };
 
-/// A watchdog status (PhaseTimeout, ArmStalled, ForceMismatch): the run failed.
+/// A watchdog status (PhaseTimeout, ArmStalled, ForceMismatch, SurfaceTooCurved): the run failed.
 inline bool watchdogStatus(ServoStatus s) noexcept {
-  return s == ServoStatus::PhaseTimeout || s == ServoStatus::ArmStalled || s == ServoStatus::ForceMismatch;
+  return s == ServoStatus::PhaseTimeout || s == ServoStatus::ArmStalled || s == ServoStatus::ForceMismatch ||
+         s == ServoStatus::SurfaceTooCurved;
 }
 
 /// Desired pose for the robot's Cartesian impedance controller, in {g}.

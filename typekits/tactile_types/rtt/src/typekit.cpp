@@ -222,10 +222,11 @@ bool TactileTypekit::loadTypes() {
                                              ServoStatus::WaitingForRobot,
                                              ServoStatus::ForceCeiling, ServoStatus::InvalidInput,
                                              ServoStatus::NotConfigured, ServoStatus::PhaseTimeout,
-                                             ServoStatus::ArmStalled,   ServoStatus::ForceMismatch};
+                                             ServoStatus::ArmStalled,   ServoStatus::ForceMismatch,
+                                             ServoStatus::SurfaceTooCurved};
   repo->addType(new NamedEnumTypeInfo<ContactType, 4>(kContactType, contact_types));
   repo->addType(new NamedEnumTypeInfo<FeatureStatus, 8>(kFeatureStatus, feature_status));
-  repo->addType(new NamedEnumTypeInfo<ServoStatus, 15>(kServoStatus, servo_status));
+  repo->addType(new NamedEnumTypeInfo<ServoStatus, 16>(kServoStatus, servo_status));
   static const RobotMode robot_modes[] = {RobotMode::Off, RobotMode::Monitor, RobotMode::Command};
   repo->addType(new NamedEnumTypeInfo<RobotMode, 3>(kRobotMode, robot_modes));
 

@@ -68,6 +68,7 @@ void serialize(Archive& a, tactile::ContactFeatures& f, const unsigned int) {
   a& make_nvp("d_z", f.d_z);
   a& make_nvp("lambda1", f.lambda1);
   a& make_nvp("lambda2", f.lambda2);
+  a& make_nvp("curvature", f.curvature);
   a& make_nvp("max_taxel", f.max_taxel);
   a& make_nvp("area", f.area);
   a& make_nvp("contact", f.contact);

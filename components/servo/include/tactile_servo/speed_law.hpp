@@ -1,0 +1,122 @@
+// The slide speed from the contact (beyond the paper): each servo cycle, the
+// fastest slide speed that keeps the true force within a user's error budget,
+// picked from what the servo measures. The servo (servo.hpp) caps the slide
+// axis's PI rate at speed() in the phases its program's speed_law block lists
+// (SpeedLawConfig, servo_params.hpp); SpeedLawFilter below turns the raw
+// signals of a cycle into SpeedLawInput.
+//
+// Inputs (SpeedLawInput, one cycle):
+//   force_error_n   e = f_d - f_hat (N) and force_error_rate (N/s): the error
+//                   predicted horizon_s ahead, |e + horizon_s de/dt|, against
+//                   the budget, past a dead band d (the estimate's own noise
+//                   must not hold the slide back):
+//                   a_f = 1 - max(0, |e + h de/dt| - d) / (force_budget_n - d);
+//   angle_rate      the edge angle's rate (rad/s, alpha_z of Eq. B.5 per
+//                   second): a bend arriving; a_w = 1 - |w| / angle_rate_ref;
+//   curvature       of the edge line along the pad (1/m; the contact line's
+//                   points, tactile_features/edge_line.hpp): a wave or a dip
+//                   under the pad before the force shows it; a_k = 1 - |k| / curvature_ref
+//                   (curvature_ref: the tightest curvature the program follows,
+//                   1 / 0.182 m for bent_bar_fused, sim/scenes/curved/README.md);
+//   extent_m        the image's extent along the edge (sqrt(12 lambda1)):
+//                   a_e = (extent - extent_min) / (extent_full - extent_min);
+//   wrench_excess_n the arm's wrench along z_s less f_hat (N): load the taxels
+//                   do not carry (the pad's ends, its housing); a_x = 1 - excess / excess_ref.
+// Each a_i is clamped to [0, 1]; the target speed is
+//   v* = max(v_min, v_max min_i a_i)
+// (the slowest input decides: the fastest speed every input allows). The
+// output follows v* down at once (slow down before the bend, not after the
+// force left the band) and up at most at accel_mps2 (speed up only as fast as
+// the loop settles). v_max is the safety limit (safety.max_trans_speed).
+// A non-finite input holds v_min and reports InvalidInput.
+// Real-time: step() does not allocate, throw, log or block.
+#pragma once
+
+#include "tactile_types/config_result.hpp"
+
+namespace tactile {
+
+struct SpeedLawParams {
+  double v_max = 0.05;            ///< m/s, (0, 1]: the safety limit
+  double v_min = 0.002;           ///< m/s, [0, v_max]: the slowest slide while the law allows none
+  double accel_mps2 = 0.05;       ///< m/s^2, (0, 10]: the largest rise of the speed
+  double force_budget_n = 0.5;    ///< N, (0, 50]: the user's error budget for the true force
+  double force_deadband_n = 0.0;  ///< N, [0, force_budget_n): the predicted error that does not slow the slide
+  double horizon_s = 0.2;         ///< s, [0, 10]: how far ahead the force error is predicted
+  double angle_rate_ref = 0.5;    ///< rad/s, (0, 100]: the edge angle's rate that stops the slide
+  double curvature_ref = 5.5;     ///< 1/m, (0, 1e4]: the edge line's curvature that stops the slide
+  double extent_full_m = 0.0476;  ///< m, (extent_min_m, 1]: the image's extent at full speed (the pad)
+  double extent_min_m = 0.0119;   ///< m, [0, 1): the extent at which the slide stops (a quarter of the pad)
+  double excess_ref_n = 1.2;      ///< N, (0, 1e4]: the wrench's excess that stops the slide
+};
+
+struct SpeedLawInput {
+  double force_error_n = 0.0;      ///< f_d - f_hat (N)
+  double force_error_rate = 0.0;   ///< its rate (N/s)
+  double angle_rate = 0.0;         ///< d alpha_z / dt (rad/s)
+  double curvature = 0.0;          ///< of the edge line along the pad (1/m)
+  double extent_m = 0.0476;        ///< the image's extent along the edge (m)
+  double wrench_excess_n = 0.0;    ///< wrench along z_s - f_hat (N)
+};
+
+enum class SpeedLawStatus : unsigned char {
+  Full = 0,          ///< v* = v_max
+  Limited = 1,       ///< an input holds the speed below v_max
+  InvalidInput = 2,  ///< a non-finite input or dt: v_min
+  NotConfigured = 3
+};
+
+/// Which input decided v* (the smallest a_i), for logs and plots.
+enum class SpeedLimiter : unsigned char { None = 0, Force, AngleRate, Curvature, Extent, WrenchExcess };
+
+/// The raw signals of one cycle, as the servo has them.
+struct SpeedLawSignals {
+  double force_error_n = 0.0;   ///< f_d - f_hat (N)
+  double alpha_z = 0.0;         ///< rad (Eq. B.5)
+  bool alpha_defined = false;   ///< alpha_z is a measurement (ContactFeatures::alpha_defined)
+  double curvature = 0.0;       ///< 1/m (ContactFeatures::curvature)
+  double extent_m = 0.0;        ///< sqrt(12 lambda1) (m)
+  double wrench_excess_n = 0.0; ///< wrench along z_s less f_hat (N); 0 without a fresh wrench
+};
+
+/// Low-passes the force error, the curvature and the wrench's excess with
+/// tau, and differentiates the low-passed force error and edge angle (rates
+/// low-passed with tau as well); alpha_z's step is taken modulo pi (an edge
+/// angle is defined modulo pi) and counts only while alpha is defined. The
+/// extent is passed through (its drop is the warning). Allocation-free.
+class SpeedLawFilter {
+ public:
+  void configure(double tau_s) { tau_ = tau_s; reset(); }
+  void reset() { init_ = false; }
+  /// dt > 0 and finite signals; otherwise the state is kept and `out` holds non-finite values.
+  void step(const SpeedLawSignals& s, double dt, SpeedLawInput& out);
+
+ private:
+  double tau_ = 0.05;
+  bool init_ = false;
+  double ef_ = 0, ef_rate_ = 0, alpha_prev_ = 0, alpha_rate_ = 0, kappa_ = 0, excess_ = 0;
+  bool alpha_prev_ok_ = false;
+};
+
+class SpeedLaw {
+ public:
+  /// Validate (ranges above); `where` prefixes the key in messages.
+  ConfigResult configure(const SpeedLawParams& p, const char* where = "speed_law");
+  /// The speed back to v_min (a new contact: start slow).
+  void reset();
+  /// One cycle of dt > 0 s: speed() and limiter() updated.
+  SpeedLawStatus step(const SpeedLawInput& in, double dt);
+  double speed() const { return v_; }          ///< m/s
+  double target() const { return target_; }    ///< v* (m/s)
+  SpeedLimiter limiter() const { return limiter_; }
+  const SpeedLawParams& params() const { return p_; }
+
+ private:
+  SpeedLawParams p_;
+  bool configured_ = false;
+  double v_ = 0.0;
+  double target_ = 0.0;
+  SpeedLimiter limiter_ = SpeedLimiter::None;
+};
+
+}  // namespace tactile

@@ -1,0 +1,114 @@
+#include "tactile_servo/speed_law.hpp"
+#include "tactile_types/conventions.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace tactile {
+
+namespace {
+bool in(double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; }
+double unit(double a) { return std::clamp(a, 0.0, 1.0); }
+}  // namespace
+
+ConfigResult SpeedLaw::configure(const SpeedLawParams& p, const char* where) {
+  const std::string w = std::string(where) + ".";
+  configured_ = false;
+  if (!(in(p.v_max, 0.0, 1.0) && p.v_max > 0)) return rangeError(w + "v_max", p.v_max, "must be in (0, 1] m/s");
+  if (!in(p.v_min, 0.0, p.v_max)) return rangeError(w + "v_min", p.v_min, "must be in [0, v_max] m/s");
+  if (!(in(p.accel_mps2, 0.0, 10.0) && p.accel_mps2 > 0))
+    return rangeError(w + "accel_mps2", p.accel_mps2, "must be in (0, 10] m/s^2");
+  if (!(in(p.force_budget_n, 0.0, 50.0) && p.force_budget_n > 0))
+    return rangeError(w + "force_budget_n", p.force_budget_n, "must be in (0, 50] N");
+  if (!(in(p.force_deadband_n, 0.0, p.force_budget_n) && p.force_deadband_n < p.force_budget_n))
+    return rangeError(w + "force_deadband_n", p.force_deadband_n, "must be in [0, force_budget_n) N");
+  if (!in(p.horizon_s, 0.0, 10.0)) return rangeError(w + "horizon_s", p.horizon_s, "must be in [0, 10] s");
+  if (!(in(p.angle_rate_ref, 0.0, 100.0) && p.angle_rate_ref > 0))
+    return rangeError(w + "angle_rate_ref", p.angle_rate_ref, "must be in (0, 100] rad/s");
+  if (!(in(p.curvature_ref, 0.0, 1e4) && p.curvature_ref > 0))
+    return rangeError(w + "curvature_ref", p.curvature_ref, "must be in (0, 1e4] 1/m");
+  if (!(in(p.extent_min_m, 0.0, 1.0) && p.extent_min_m < 1.0))
+    return rangeError(w + "extent_min_m", p.extent_min_m, "must be in [0, 1) m");
+  if (!(in(p.extent_full_m, 0.0, 1.0) && p.extent_full_m > p.extent_min_m))
+    return rangeError(w + "extent_full_m", p.extent_full_m, "must be in (extent_min_m, 1] m");
+  if (!(in(p.excess_ref_n, 0.0, 1e4) && p.excess_ref_n > 0))
+    return rangeError(w + "excess_ref_n", p.excess_ref_n, "must be in (0, 1e4] N");
+  p_ = p;
+  configured_ = true;
+  reset();
+  return ConfigResult::success();
+}
+
+void SpeedLaw::reset() {
+  v_ = p_.v_min;
+  target_ = p_.v_min;
+  limiter_ = SpeedLimiter::None;
+}
+
+SpeedLawStatus SpeedLaw::step(const SpeedLawInput& in, double dt) {
+  if (!configured_) return SpeedLawStatus::NotConfigured;
+  const bool finite = std::isfinite(in.force_error_n) && std::isfinite(in.force_error_rate) &&
+                      std::isfinite(in.angle_rate) && std::isfinite(in.curvature) && std::isfinite(in.extent_m) &&
+                      std::isfinite(in.wrench_excess_n) && std::isfinite(dt) && dt > 0.0;
+  if (!finite) {
+    v_ = target_ = p_.v_min;
+    limiter_ = SpeedLimiter::None;
+    return SpeedLawStatus::InvalidInput;
+  }
+  // One admissible fraction of v_max per input (header); the smallest decides.
+  const double a[5] = {
+      unit(1.0 - std::max(0.0, std::fabs(in.force_error_n + p_.horizon_s * in.force_error_rate) - p_.force_deadband_n) /
+                     (p_.force_budget_n - p_.force_deadband_n)),
+      unit(1.0 - std::fabs(in.angle_rate) / p_.angle_rate_ref),
+      unit(1.0 - std::fabs(in.curvature) / p_.curvature_ref),
+      unit((in.extent_m - p_.extent_min_m) / (p_.extent_full_m - p_.extent_min_m)),
+      unit(1.0 - std::max(0.0, in.wrench_excess_n) / p_.excess_ref_n)};
+  int k = 0;
+  for (int i = 1; i < 5; ++i)
+    if (a[i] < a[k]) k = i;
+  limiter_ = a[k] < 1.0 ? static_cast<SpeedLimiter>(k + 1) : SpeedLimiter::None;
+  target_ = std::max(p_.v_min, p_.v_max * a[k]);
+  // Down at once, up at most accel_mps2.
+  v_ = target_ <= v_ ? target_ : std::min(target_, v_ + p_.accel_mps2 * dt);
+  return target_ < p_.v_max ? SpeedLawStatus::Limited : SpeedLawStatus::Full;
+}
+
+void SpeedLawFilter::step(const SpeedLawSignals& s, double dt, SpeedLawInput& out) {
+  const bool ok = std::isfinite(dt) && dt > 0.0 && std::isfinite(s.force_error_n) && std::isfinite(s.alpha_z) &&
+                  std::isfinite(s.curvature) && std::isfinite(s.extent_m) && std::isfinite(s.wrench_excess_n);
+  if (!ok) {
+    out.force_error_n = std::numeric_limits<double>::quiet_NaN();  // SpeedLaw::step: InvalidInput, v_min
+    return;
+  }
+  if (!init_) {
+    ef_ = s.force_error_n;
+    ef_rate_ = alpha_rate_ = 0.0;
+    kappa_ = s.curvature;
+    excess_ = s.wrench_excess_n;
+    alpha_prev_ = s.alpha_z;
+    alpha_prev_ok_ = s.alpha_defined;
+    init_ = true;
+  } else {
+    const double a = dt / (tau_ + dt);  // first-order low-pass, time constant tau
+    const double ef_prev = ef_;
+    ef_ += a * (s.force_error_n - ef_);
+    ef_rate_ += a * ((ef_ - ef_prev) / dt - ef_rate_);
+    kappa_ += a * (s.curvature - kappa_);
+    excess_ += a * (s.wrench_excess_n - excess_);
+    double w = 0.0;
+    if (s.alpha_defined && alpha_prev_ok_) w = std::remainder(s.alpha_z - alpha_prev_, kPi) / dt;  // modulo pi
+    alpha_rate_ += a * (w - alpha_rate_);
+    if (s.alpha_defined) alpha_prev_ = s.alpha_z;
+    alpha_prev_ok_ = s.alpha_defined;
+  }
+  out.force_error_n = ef_;
+  out.force_error_rate = ef_rate_;
+  out.angle_rate = alpha_rate_;
+  out.curvature = kappa_;
+  out.extent_m = s.extent_m;
+  out.wrench_excess_n = excess_;
+}
+
+}  // namespace tactile

@@ -1,0 +1,227 @@
+// The speed law (tactile_servo/speed_law.hpp): each input alone lowers the
+// slide speed as its admissible fraction says, the slowest input decides, the
+// speed falls at once and rises at most at accel_mps2, non-finite input holds
+// v_min, the ranges are named, and step() does not allocate.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "alloc_counter.hpp"
+#include "tactile_servo/speed_law.hpp"
+#include "tactile_types/conventions.hpp"
+
+using namespace tactile;
+
+namespace {
+
+// Settled: 10 s at 100 Hz, far beyond v_max / accel (1 s at the defaults).
+double settle(SpeedLaw& law, const SpeedLawInput& in) {
+  for (int k = 0; k < 1000; ++k) law.step(in, 0.01);
+  return law.speed();
+}
+
+SpeedLaw configured() {
+  SpeedLaw law;
+  EXPECT_TRUE(law.configure(SpeedLawParams{}).ok());
+  return law;
+}
+
+}  // namespace
+
+TEST(SpeedLaw, NothingToSlowForIsTheSafetyLimit) {
+  SpeedLaw law = configured();
+  EXPECT_DOUBLE_EQ(law.speed(), 0.002);  // starts at v_min
+  EXPECT_NEAR(settle(law, SpeedLawInput{}), 0.05, 1e-12);
+  EXPECT_EQ(law.step(SpeedLawInput{}, 0.01), SpeedLawStatus::Full);
+  EXPECT_EQ(law.limiter(), SpeedLimiter::None);
+}
+
+// Each input alone, at half its reference: v = v_max (1 - 1/2); at its
+// reference or beyond: v_min. Exact (the law is piecewise linear).
+TEST(SpeedLaw, EachInputAloneLowersTheSpeedByItsFraction) {
+  const SpeedLawParams p;
+  struct Case {
+    const char* name;
+    SpeedLawInput half, full;
+    SpeedLimiter limiter;
+  };
+  auto with = [](auto set) {
+    SpeedLawInput in;
+    set(in);
+    return in;
+  };
+  const Case cases[] = {
+      {"force error", with([](SpeedLawInput& i) { i.force_error_n = 0.25; }),
+       with([](SpeedLawInput& i) { i.force_error_n = -0.5; }), SpeedLimiter::Force},
+      {"force error rate (predicted 0.2 s ahead)", with([](SpeedLawInput& i) { i.force_error_rate = 1.25; }),
+       with([](SpeedLawInput& i) { i.force_error_rate = -2.5; }), SpeedLimiter::Force},
+      {"edge angle rate", with([](SpeedLawInput& i) { i.angle_rate = -0.25; }),
+       with([](SpeedLawInput& i) { i.angle_rate = 0.5; }), SpeedLimiter::AngleRate},
+      {"edge line curvature", with([](SpeedLawInput& i) { i.curvature = 2.75; }),
+       with([](SpeedLawInput& i) { i.curvature = -6.0; }), SpeedLimiter::Curvature},
+      {"image extent", with([](SpeedLawInput& i) { i.extent_m = 0.5 * (0.0476 + 0.0119); }),
+       with([](SpeedLawInput& i) { i.extent_m = 0.0119; }), SpeedLimiter::Extent},
+      {"wrench excess", with([](SpeedLawInput& i) { i.wrench_excess_n = 0.6; }),
+       with([](SpeedLawInput& i) { i.wrench_excess_n = 1.2; }), SpeedLimiter::WrenchExcess},
+  };
+  for (const Case& c : cases) {
+    SpeedLaw law = configured();
+    EXPECT_NEAR(settle(law, c.half), 0.5 * p.v_max, 1e-12) << c.name;
+    EXPECT_EQ(law.limiter(), c.limiter) << c.name;
+    EXPECT_EQ(law.step(c.half, 0.01), SpeedLawStatus::Limited) << c.name;
+    EXPECT_NEAR(settle(law, c.full), p.v_min, 1e-12) << c.name;
+  }
+  // A force error that is closing (e + h de/dt = 0) does not slow the slide.
+  SpeedLaw law = configured();
+  SpeedLawInput closing;
+  closing.force_error_n = 0.4;
+  closing.force_error_rate = -2.0;
+  EXPECT_NEAR(settle(law, closing), p.v_max, 1e-12);
+  // A wrench below the taxels' force (negative excess) does not either.
+  SpeedLawInput below;
+  below.wrench_excess_n = -3.0;
+  EXPECT_NEAR(settle(law, below), p.v_max, 1e-12);
+}
+
+TEST(SpeedLaw, TheSlowestInputDecides) {
+  SpeedLaw law = configured();
+  SpeedLawInput in;
+  in.force_error_n = 0.1;   // 0.8
+  in.curvature = 2.2;       // 0.6
+  in.angle_rate = 0.15;     // 0.7
+  EXPECT_NEAR(settle(law, in), 0.6 * 0.05, 1e-12);
+  EXPECT_EQ(law.limiter(), SpeedLimiter::Curvature);
+}
+
+// Slow down at once (before the bend), speed up at most at accel_mps2.
+TEST(SpeedLaw, DownAtOnceUpAtTheAccelerationLimit) {
+  for (double dt : {0.01, 0.001}) {
+    SpeedLaw law = configured();
+    settle(law, SpeedLawInput{});
+    SpeedLawInput bend;
+    bend.angle_rate = 0.4;  // 0.2 of v_max
+    law.step(bend, dt);
+    EXPECT_NEAR(law.speed(), 0.01, 1e-12) << dt;
+    // Back to nothing: +0.05 m/s^2, so 0.01 -> 0.05 m/s takes 0.8 s.
+    const int n = static_cast<int>(std::lround(0.4 / dt));
+    for (int k = 0; k < n; ++k) law.step(SpeedLawInput{}, dt);
+    EXPECT_NEAR(law.speed(), 0.01 + 0.05 * 0.4, 1e-9) << dt;
+    EXPECT_NEAR(law.target(), 0.05, 1e-12) << dt;
+  }
+}
+
+TEST(SpeedLaw, NonFiniteInputHoldsVMin) {
+  SpeedLaw law = configured();
+  settle(law, SpeedLawInput{});
+  SpeedLawInput bad;
+  bad.curvature = std::nan("");
+  EXPECT_EQ(law.step(bad, 0.01), SpeedLawStatus::InvalidInput);
+  EXPECT_DOUBLE_EQ(law.speed(), 0.002);
+  EXPECT_EQ(law.step(SpeedLawInput{}, -1.0), SpeedLawStatus::InvalidInput);
+  SpeedLaw none;
+  EXPECT_EQ(none.step(SpeedLawInput{}, 0.01), SpeedLawStatus::NotConfigured);
+}
+
+TEST(SpeedLaw, RangesNameTheKey) {
+  struct Bad {
+    const char* key;
+    void (*set)(SpeedLawParams&);
+  };
+  const Bad bad[] = {
+      {"speed_law.v_max", [](SpeedLawParams& p) { p.v_max = 0.0; }},
+      {"speed_law.v_min", [](SpeedLawParams& p) { p.v_min = 0.1; }},
+      {"speed_law.accel_mps2", [](SpeedLawParams& p) { p.accel_mps2 = -1.0; }},
+      {"speed_law.force_budget_n", [](SpeedLawParams& p) { p.force_budget_n = 0.0; }},
+      {"speed_law.horizon_s", [](SpeedLawParams& p) { p.horizon_s = std::nan(""); }},
+      {"speed_law.angle_rate_ref", [](SpeedLawParams& p) { p.angle_rate_ref = 0.0; }},
+      {"speed_law.curvature_ref", [](SpeedLawParams& p) { p.curvature_ref = -1.0; }},
+      {"speed_law.extent_full_m", [](SpeedLawParams& p) { p.extent_full_m = 0.01; }},
+      {"speed_law.excess_ref_n", [](SpeedLawParams& p) { p.excess_ref_n = 0.0; }},
+  };
+  for (const Bad& b : bad) {
+    SpeedLawParams p;
+    b.set(p);
+    SpeedLaw law;
+    const ConfigResult r = law.configure(p);
+    ASSERT_FALSE(r.ok()) << b.key;
+    EXPECT_NE(r.message().find(b.key), std::string::npos) << r.message();
+    EXPECT_EQ(law.step(SpeedLawInput{}, 0.01), SpeedLawStatus::NotConfigured) << b.key;
+  }
+}
+
+TEST(SpeedLaw, StepDoesNotAllocate) {
+  SpeedLaw law = configured();
+  SpeedLawInput in;
+  test::AllocationScope scope;
+  for (int k = 0; k < 1000; ++k) {
+    in.curvature = 0.01 * (k % 700);
+    in.force_error_n = 0.001 * (k % 300);
+    law.step(in, 0.001);
+  }
+  EXPECT_EQ(scope.count(), 0u);
+}
+
+// ---- SpeedLawFilter: the raw signals of a cycle into the law's inputs ------
+
+// A force error rising at 2 N/s: after 10 tau the low-passed error lags the
+// ramp by 2 N/s x tau (first-order lag of a ramp) and the rate is 2 N/s to
+// within 1e-6 (the lag's transient decays as exp(-t/tau): e^-20 ~ 2e-9).
+TEST(SpeedLawFilter, AForceRampGivesItsRate) {
+  SpeedLawFilter flt;
+  flt.configure(0.05);
+  SpeedLawInput in;
+  const double dt = 0.01;
+  for (int k = 0; k <= 100; ++k) {
+    SpeedLawSignals s;
+    s.force_error_n = 2.0 * k * dt;
+    flt.step(s, dt, in);
+  }
+  EXPECT_NEAR(in.force_error_rate, 2.0, 1e-6);
+  // Discrete first-order lag of a ramp: rate x tau (exact for a = dt / (tau + dt)).
+  EXPECT_NEAR(2.0 - in.force_error_n, 2.0 * 0.05, 1e-6);
+}
+
+// The edge angle is defined modulo pi: a turn from +89 deg to -89 deg is 2 deg,
+// not 178 deg; an undefined angle (held, not measured) gives no rate.
+TEST(SpeedLawFilter, TheAngleRateIsTakenModuloPiAndOnlyWhenDefined) {
+  constexpr double kDeg = kPi / 180.0;
+  SpeedLawFilter flt;
+  flt.configure(0.05);
+  SpeedLawInput in;
+  SpeedLawSignals s;
+  s.alpha_defined = true;
+  // 1 deg per 10 ms cycle = 100 deg/s = 1.745 rad/s, through the wrap at 90 deg.
+  double a = 80 * kDeg;
+  for (int k = 0; k < 60; ++k, a += 1 * kDeg) {
+    s.alpha_z = std::remainder(a, kPi);
+    flt.step(s, 0.01, in);
+  }
+  EXPECT_NEAR(in.angle_rate, 100 * kDeg, 1e-4);
+  // Undefined from now on: the rate decays to 0 (no new measurement).
+  s.alpha_defined = false;
+  s.alpha_z = 0.3;  // a held value jumping must not count
+  for (int k = 0; k < 100; ++k) flt.step(s, 0.01, in);
+  EXPECT_NEAR(in.angle_rate, 0.0, 1e-6);
+}
+
+TEST(SpeedLawFilter, ANonFiniteSignalMakesTheLawHoldVMin) {
+  SpeedLawFilter flt;
+  flt.configure(0.05);
+  SpeedLaw law = configured();
+  SpeedLawInput in;
+  SpeedLawSignals s;
+  s.extent_m = 0.0476;  // an edge across the pad
+  for (int k = 0; k < 500; ++k) {
+    flt.step(s, 0.01, in);
+    law.step(in, 0.01);
+  }
+  EXPECT_NEAR(law.speed(), 0.05, 1e-12);
+  s.curvature = std::nan("");
+  flt.step(s, 0.01, in);
+  EXPECT_EQ(law.step(in, 0.01), SpeedLawStatus::InvalidInput);
+  EXPECT_DOUBLE_EQ(law.speed(), 0.002);
+  s.curvature = 0.0;  // the filter's state was kept: the next finite cycle is normal
+  flt.step(s, 0.01, in);
+  EXPECT_EQ(law.step(in, 0.01), SpeedLawStatus::Full);
+}
