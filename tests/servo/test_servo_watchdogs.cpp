@@ -311,7 +311,9 @@ TEST(ServoWatchdogs, SurfaceTooCurvedLiftsByTheExcessBeforeItStops) {
   for (int k = 0; k < 100; ++k) {
     ASSERT_FALSE(w.surfaceTooCurved(6.0, 5.0, true, true, 1.0, 0.012, true, 0.01)) << k;
     lift = w.curvedLift();
-    if (k == 0) EXPECT_EQ(lift, 0.0);  // 1 - exp(-0.2) of 1 N = 0.18 N < 0.4 N
+    if (k == 0) {
+      EXPECT_EQ(lift, 0.0);  // 1 - exp(-0.2) of 1 N = 0.18 N < 0.4 N
+    }
   }
   EXPECT_NEAR(lift, 1.0, 1e-6);  // 1 s = 20 tau
   // A long image carrying its share: no lift.
