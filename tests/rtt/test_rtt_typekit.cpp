@@ -201,7 +201,7 @@ TEST(RttTypekit, DecompositionRoundTripsFieldValues) {
   OwnedBag owned;
   RTT::PropertyBag& bag = owned.bag;
   ASSERT_TRUE(RTT::types::propertyDecomposition(&prop, bag));
-  ASSERT_EQ(bag.size(), 18u);
+  ASSERT_EQ(bag.size(), 19u);
   RTT::Property<bool> alpha_defined = bag.getProperty("alpha_defined");
   ASSERT_TRUE(alpha_defined.ready());
   EXPECT_TRUE(alpha_defined.value());
