@@ -207,6 +207,7 @@ def render_summary(res):
     r, d = res["runs"], res["deploy"]
     e, b, bb, bn = r["edge_exploration"], r["bent_bar"], r["bent_bar_baseline"], r["bent_bar_no_rotation"]
     c, s = r["co_manipulation"], r["sphere_table"]
+    sl = r["bent_bar_speed_law"]
     ft = res["force_targets"]
     met = sum(1 for x in ft if x["met"] == "yes")
     ring = next(x for x in res["contours"] if x["set"] == "contours" and x["run"] == "ring")
@@ -221,6 +222,7 @@ def render_summary(res):
         ["", "proposed: slide speed", f"{f(b['slide_speed_mps'], '.1f', 1000)} mm/s", ">= 10 mm/s"],
         ["", "baseline (Li et al. 2013): true force max / RMS error, status", f"{f(bb['force_true_max_n'], '.2f')} N / {f(bb['force_true_rms_error_n'], '.2f')} N, {bb['status']}", "paper: up to 50 N"],
         ["", "no_rotation ablation: true force max / RMS error, status", f"{f(bn['force_true_max_n'], '.2f')} N / {f(bn['force_true_rms_error_n'], '.2f')} N, {bn['status']}", "expected to fail"],
+        ["Bent bar, speed law", "slide speed / true force RMS error / within +-0.5 N", f"{f(sl['slide_speed_mps'], '.1f', 1000)} mm/s / {f(sl['force_true_rms_error_n'], '.2f')} N / {f(sl['force_true_in_band_fraction'], '.0f', 100)} %", ">= 40 mm/s, RMS <= 0.5 N, >= 95 %"],
         ["Co-manipulation (Fig. 14)", "DZMP_y back within 0.5 mm after the move", f"{f(c['dzmp_recovery_time_s'], '.2f')} s", "< 5 s"],
         ["", "true force mean / RMS error / tray angle max", f"{f(c['force_true_mean_n'], '.2f')} N / {f(c['force_true_rms_error_n'], '.2f')} N / {f(c['tray_angle_max_deg'], '.2f')} deg", "6 N, RMS <= 0.4 N"],
         ["Sphere (point contact)", "true force mean / RMS error; phases", f"{f(s['force_true_mean_n'], '.2f')} N / {f(s['force_true_rms_error_n'], '.2f')} N; {', '.join(s['phases'])}", "stays a point"],
