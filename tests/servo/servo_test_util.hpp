@@ -177,4 +177,40 @@ inline Vec6 secondCycleIncrement(const ServoParams& p, const ContactFeatures& f)
   return Vec6(out.u_s);
 }
 
+/// The servo in a loop with an arm that reaches each command (arm_follows;
+/// not while the robot is not ready): the measured pose is the flange at
+/// (0.5, 0, 0.3) until the first command; the features are the caller's
+/// (`in.features`, stamped with the loop's time each step).
+struct ServoLoop {
+  TactileServo s;
+  ServoInput in;
+  ServoOutput out;
+  double t = 0.0;
+  bool arm_follows = true;
+  ServoLoop(const ServoParams& p, const ContactFeatures& f) {
+    const ConfigResult r = s.configure(p);
+    EXPECT_TRUE(r.ok()) << r.message();
+    in.flange_measured = toPose(KDL::Frame(KDL::Vector(0.5, 0.0, 0.3)));
+    in.features = f;
+  }
+  ServoStatus step(double dt = kTestPeriod) {
+    in.time_s = t;
+    in.features.time_s = t;
+    in.wrench.time_s = t;
+    const ServoStatus st = s.step(in, dt, out);
+    if (arm_follows && in.robot_ready && out.valid) in.flange_measured = out.command.pose;
+    t += dt;
+    return st;
+  }
+  /// Steps for `seconds`; returns the first status equal to `stop`, else the last.
+  ServoStatus run(double seconds, double dt, ServoStatus stop) {
+    ServoStatus st = ServoStatus::NotConfigured;
+    const int n = static_cast<int>(std::lround(seconds / dt));
+    for (int k = 0; k < n; ++k)
+      if ((st = step(dt)) == stop) return st;
+    return st;
+  }
+};
+
 }  // namespace servo_test
+

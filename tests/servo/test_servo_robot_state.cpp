@@ -36,27 +36,9 @@ ServoParams piProgram() {
   return p;
 }
 
-struct Loop {
-  TactileServo s;
-  ServoInput in;
-  ServoOutput out;
-  double t = 0.0;
-  bool arm_follows = true;
-  explicit Loop(const ServoParams& p) {
-    const ConfigResult r = s.configure(p);
-    EXPECT_TRUE(r.ok()) << r.message();
-    in.flange_measured = toPose(KDL::Frame(KDL::Vector(0.5, 0.0, 0.3)));
-    // A contact 2 mm off centre along x_s: the PI moves the sensor and integrates.
-    in.features = makeFeatures(0, 0.002, 0, 0, 0.002, 0, 0, ContactType::Point);
-  }
-  ServoStatus step(double dt = 0.01) {
-    in.time_s = t;
-    in.features.time_s = t;
-    const ServoStatus st = s.step(in, dt, out);
-    if (arm_follows && in.robot_ready && out.valid) in.flange_measured = out.command.pose;
-    t += dt;
-    return st;
-  }
+// A contact 2 mm off centre along x_s: the PI moves the sensor and integrates.
+struct Loop : ServoLoop {
+  explicit Loop(const ServoParams& p) : ServoLoop(p, makeFeatures(0, 0.002, 0, 0, 0.002, 0, 0, ContactType::Point)) {}
 };
 
 }  // namespace

@@ -30,30 +30,23 @@ ServoParams slide(bool with_law) {
   return p;
 }
 
-struct Loop {
-  TactileServo s;
-  ServoInput in;
-  ServoOutput out;
-  double t = 0.0;
-  explicit Loop(const ServoParams& p) {
-    const ConfigResult r = s.configure(p);
-    EXPECT_TRUE(r.ok()) << r.message();
-    in.flange_measured = toPose(KDL::Frame(KDL::Vector(0.5, 0.0, 0.3)));
-    in.features = makeFeatures(0, 0, 0, 5.0 / 1800.0, 0, 0, 0, ContactType::Edge);
-    in.features.lambda1 = 0.0476 * 0.0476 / 12.0;  // an edge across the whole pad
-  }
-  /// One cycle; returns |u_x| / dt (m/s).
-  double step(double dt = 0.01) {
-    in.time_s = t;
-    in.features.time_s = t;
-    s.step(in, dt, out);
-    if (out.valid) in.flange_measured = out.command.pose;
-    t += dt;
+// An edge across the whole pad at the set point's force.
+ContactFeatures edge() {
+  ContactFeatures f = makeFeatures(0, 0, 0, 5.0 / 1800.0, 0, 0, 0, ContactType::Edge);
+  f.lambda1 = 0.0476 * 0.0476 / 12.0;
+  return f;
+}
+
+struct Loop : ServoLoop {
+  explicit Loop(const ServoParams& p) : ServoLoop(p, edge()) {}
+  /// One cycle; returns the slide's rate |u_x| / dt (m/s).
+  double slide(double dt = 0.01) {
+    step(dt);
     return std::fabs(out.u_s(0)) / dt;
   }
-  double run(double seconds) {
+  double slideFor(double seconds) {
     double v = 0;
-    for (int k = 0; k < static_cast<int>(std::lround(seconds / 0.01)); ++k) v = step();
+    for (int k = 0; k < static_cast<int>(std::lround(seconds / 0.01)); ++k) v = slide();
     return v;
   }
 };
@@ -62,15 +55,15 @@ struct Loop {
 
 TEST(ServoSpeedLaw, WithoutTheLawTheGainSetsTheSpeed) {
   Loop l(slide(false));
-  EXPECT_NEAR(l.run(1.0), 0.1, 1e-9);  // K_P 4 x 25 mm
+  EXPECT_NEAR(l.slideFor(1.0), 0.1, 1e-9);  // K_P 4 x 25 mm
   EXPECT_EQ(l.out.slide_speed, 0.0);
 }
 
 TEST(ServoSpeedLaw, TheLawCapsTheSlideFromVMinUpToVMax) {
   Loop l(slide(true));
-  l.step();  // Starting
-  EXPECT_NEAR(l.step(), 0.005 + 0.1 * 0.01, 1e-9);  // v_min, then up at accel_mps2
-  EXPECT_NEAR(l.run(2.0), 0.06, 1e-9);               // nothing to slow for: v_max
+  l.slide();  // Starting
+  EXPECT_NEAR(l.slide(), 0.005 + 0.1 * 0.01, 1e-9);  // v_min, then up at accel_mps2
+  EXPECT_NEAR(l.slideFor(2.0), 0.06, 1e-9);               // nothing to slow for: v_max
   EXPECT_EQ(l.out.speed_limiter, SpeedLimiter::None);
 }
 
@@ -79,28 +72,28 @@ TEST(ServoSpeedLaw, TheLawCapsTheSlideFromVMinUpToVMax) {
 TEST(ServoSpeedLaw, ABendOrAForceErrorSlowsTheSlide) {
   {
     Loop l(slide(true));
-    l.run(2.0);
+    l.slideFor(2.0);
     for (int k = 0; k < 100; ++k) {
       l.in.features.alpha_z += 0.25 * 0.01;  // 0.25 rad/s, angle_rate_ref 0.5 rad/s
-      l.step();
+      l.slide();
     }
     EXPECT_NEAR(l.out.slide_speed, 0.03, 1e-4);
     EXPECT_EQ(l.out.speed_limiter, SpeedLimiter::AngleRate);
   }
   {
     Loop l(slide(true));
-    l.run(2.0);
+    l.slideFor(2.0);
     l.in.features.force = 4.75;
     l.in.features.d_z = 4.75 / 1800.0;
-    l.run(1.0);
+    l.slideFor(1.0);
     EXPECT_NEAR(l.out.slide_speed, 0.03, 1e-4);  // |0.25| / 0.5 N: a = 1/2
     EXPECT_EQ(l.out.speed_limiter, SpeedLimiter::Force);
   }
   {
     Loop l(slide(true));
-    l.run(2.0);
+    l.slideFor(2.0);
     l.in.features.lambda1 = 0.012 * 0.012 / 12.0;  // the image shrunk to a quarter of the pad
-    EXPECT_NEAR(l.step(), 0.005, 1e-9);          // at once: v_min
+    EXPECT_NEAR(l.slide(), 0.005, 1e-9);          // at once: v_min
     EXPECT_EQ(l.out.speed_limiter, SpeedLimiter::Extent);
   }
 }
@@ -122,11 +115,11 @@ TEST(ServoSpeedLaw, AnUnknownPhaseIsNamed) {
 
 TEST(ServoSpeedLaw, StepDoesNotAllocate) {
   Loop l(slide(true));
-  l.run(0.5);
+  l.slideFor(0.5);
   test::AllocationScope scope;
   for (int k = 0; k < 200; ++k) {
     l.in.features.alpha_z += 0.001;
-    l.step();
+    l.slide();
   }
   EXPECT_EQ(scope.count(), 0u);
 }

@@ -30,35 +30,8 @@ ServoParams freeMotion() {
   return p;
 }
 
-struct Loop {
-  TactileServo s;
-  ServoInput in;
-  ServoOutput out;
-  double t = 0.0;
-  bool arm_follows = true;
-  explicit Loop(const ServoParams& p) {
-    const ConfigResult r = s.configure(p);
-    EXPECT_TRUE(r.ok()) << r.message();
-    in.flange_measured = toPose(KDL::Frame(KDL::Vector(0.5, 0.0, 0.3)));
-    in.features = makeFeatures(0, 0, 0, 0, 0, 0, 0, ContactType::None);
-  }
-  ServoStatus step(double dt) {
-    in.time_s = t;
-    in.features.time_s = t;
-    in.wrench.time_s = t;
-    const ServoStatus st = s.step(in, dt, out);
-    if (arm_follows && out.valid) in.flange_measured = out.command.pose;
-    t += dt;
-    return st;
-  }
-  /// Steps for `seconds`; returns the first status in `stop`, else the last.
-  ServoStatus run(double seconds, double dt, ServoStatus stop) {
-    ServoStatus st = ServoStatus::NotConfigured;
-    const int n = static_cast<int>(std::lround(seconds / dt));
-    for (int k = 0; k < n; ++k)
-      if ((st = step(dt)) == stop) return st;
-    return st;
-  }
+struct Loop : ServoLoop {
+  explicit Loop(const ServoParams& p) : ServoLoop(p, makeFeatures(0, 0, 0, 0, 0, 0, 0, ContactType::None)) {}
 };
 
 }  // namespace
