@@ -78,36 +78,31 @@ EndReason EndRule::afterPhysics(SimStatus st) {
 }
 
 void applyEnd(EndReason reason, SimStatus sim_status, Summary& s) {
-  switch (reason) {
-    case EndReason::ServoForceCeiling:
-      s.status = "servo_force_ceiling";
-      s.exit_code = 4;
-      break;
-    case EndReason::ServoPhaseTimeout:
-      s.status = "servo_phase_timeout";
-      s.exit_code = 5;
-      break;
-    case EndReason::ServoArmStalled:
-      s.status = "servo_arm_stalled";
-      s.exit_code = 6;
-      break;
-    case EndReason::ServoForceMismatch:
-      s.status = "servo_force_mismatch";
-      s.exit_code = 7;
-      break;
-    case EndReason::ServoSurfaceTooCurved:
-      s.status = "servo_surface_too_curved";
-      s.exit_code = 8;
-      break;
-    case EndReason::SimFatal:
-    case EndReason::SimRejected:
-      s.status = std::string("sim_") + toString(sim_status);
-      s.exit_code = 3;
-      break;
-    default:
-      s.status = "ok";
-      s.exit_code = 0;
+  // The servo's fatal statuses: the summary's status and tactile_sim's exit code.
+  struct ServoEnd {
+    EndReason reason;
+    const char* status;
+    int exit_code;
+  };
+  static constexpr ServoEnd kServoEnds[] = {{EndReason::ServoForceCeiling, "servo_force_ceiling", 4},
+                                            {EndReason::ServoPhaseTimeout, "servo_phase_timeout", 5},
+                                            {EndReason::ServoArmStalled, "servo_arm_stalled", 6},
+                                            {EndReason::ServoForceMismatch, "servo_force_mismatch", 7},
+                                            {EndReason::ServoSurfaceTooCurved, "servo_surface_too_curved", 8}};
+  for (const ServoEnd& e : kServoEnds) {
+    if (e.reason == reason) {
+      s.status = e.status;
+      s.exit_code = e.exit_code;
+      return;
+    }
   }
+  if (reason == EndReason::SimFatal || reason == EndReason::SimRejected) {
+    s.status = std::string("sim_") + toString(sim_status);
+    s.exit_code = 3;
+    return;
+  }
+  s.status = "ok";
+  s.exit_code = 0;
 }
 
 }  // namespace sim
