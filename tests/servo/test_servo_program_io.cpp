@@ -142,6 +142,13 @@ TEST(ServoProgramIo, BadProgramsNameFilePhaseField) {
   expectRejected("bad_loss", "safety: {contact_loss: {mode: pray}}\n" + program(""), {"contact_loss.mode", "pray"});
   expectRejected("not_a_number", program("", "    kp_per_s: {y: fast}\n"), {"phases.hold", "kp_per_s.y", "fast"});
   expectRejected("no_phases", "controller: {mode: proposed}\n", {"phases", "non-empty"});
+  // The speed law's block: its ranges and phase names, named with the file and key.
+  expectRejected("bad_speed_vmin", "speed_law: {phases: [hold], v_min: 1.0}\n" + program(""),
+                 {"speed_law.v_min", "[0, v_max]"});
+  expectRejected("bad_speed_tau", "speed_law: {rate_tau_s: 0}\n" + program(""), {"speed_law.rate_tau_s", "(0, 10] s"});
+  expectRejected("bad_speed_phase", "speed_law: {phases: [hlod]}\n" + program(""), {"speed_law.phases", "'hlod'"});
+  expectRejected("bad_speed_axis", "speed_law: {axis: z}\n" + program(""), {"speed_law.axis", "'z'", "x or y"});
+  expectRejected("bad_speed_key", "speed_law: {vmax: 0.1}\n" + program(""), {"speed_law.vmax", "unknown key"});
   {
     const std::string body = program("").substr(program("").find('\n') + 1);  // without its controller: line
     expectRejected("bad_mode", "controller: {mode: li}\n" + body,

@@ -114,8 +114,8 @@ ServoStatus TactileServo::applyIncrement(const KDL::Frame& base, Vec6 u_s, doubl
   return finish(st, now, out);
 }
 
-double TactileServo::slideCap(int phase, const ContactFeatures& f, double f_hat, double f_d, double excess, double dt,
-                              ServoOutput& out) {
+double TactileServo::slideCap(int phase, const ContactFeatures& f, double f_hat, double f_d, double extent,
+                              double excess, double dt, ServoOutput& out) {
   out.slide_speed = 0.0;
   out.speed_limiter = SpeedLimiter::None;
   if (phase < 0 || static_cast<std::size_t>(phase) >= speed_phase_.size() || !speed_phase_[static_cast<std::size_t>(phase)])
@@ -125,7 +125,7 @@ double TactileServo::slideCap(int phase, const ContactFeatures& f, double f_hat,
   s.alpha_z = f.alpha_z;
   s.alpha_defined = f.alpha_defined;
   s.curvature = f.curvature;
-  s.extent_m = std::sqrt(12.0 * std::max(0.0, f.lambda1));  // a uniform line's length
+  s.extent_m = extent;
   s.wrench_excess_n = excess;
   SpeedLawInput& in = out.speed_inputs;
   speed_filter_.step(s, dt, in);
@@ -242,6 +242,7 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   const double f_hat = force_est_.step(f.force, contact, wrench_fresh, F, z_s, dt, f.area);
   double f_law = f_hat;  // the force the law holds at its set point
   double excess = 0.0;   // the wrench along z_s less f_hat (N): load the taxels do not carry
+  const double extent = std::sqrt(12.0 * std::max(0.0, f.lambda1));  // the image's length along the edge (a uniform line's)
   // The force the law uses (the tactile force, or f_hat: the correction is
   // bounded, so a wrench beyond it still shows) against the arm's estimated
   // wrench (less its zero) along z_s.
@@ -256,7 +257,6 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
     const double f_d = params_.phases[static_cast<std::size_t>(phc)].s_d(kZ) / law_.c_z();
     const bool regulated = program_.requiresContact(phc) && f_d > 0.0;
     const double f_w = std::fabs(dot(F - force_est_.tare(), z_s));
-    const double extent = std::sqrt(12.0 * std::max(0.0, f.lambda1));  // a uniform line's length
     if (wrench_fresh && contact) excess = f_w - f_hat;
     if (watchdogs_.surfaceTooCurved(f_w, f_d, regulated, contact, f.force, extent, wrench_fresh, dt))
       return finish(ServoStatus::SurfaceTooCurved, now, out);
@@ -298,8 +298,8 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   const Vec6 task = law_.project(ph, e);
   out.error_task = task;
   u = law_.increment(ph, task, dt);
-  const double cap = slideCap(ph, f, f_hat, params_.phases[static_cast<std::size_t>(ph)].s_d(kZ) / law_.c_z(), excess,
-                              dt, out);
+  const double cap = slideCap(ph, f, f_hat, params_.phases[static_cast<std::size_t>(ph)].s_d(kZ) / law_.c_z(), extent,
+                              excess, dt, out);
   if (cap >= 0.0) {
     const int a = params_.speed_law.axis;
     u(a) = std::clamp(u(a), -cap * dt, cap * dt);

@@ -36,8 +36,8 @@
 //  * wrist_yaw: the rotation of {s} about z_s integrated from the measured
 //    poses (events wrist_wound / wrist_unwound, unwind_rate); loop_closed
 //    follows {g}T{e} {e}T{s} (0, CoP_y, 0);
-//  * in the phases of the program's speed_law block, the slide axis's PI rate
-//    capped at the speed law's speed (speed_law.hpp), which starts at v_min
+//  * in the phases of the program's speed_law block, the slide axis's
+//    increment capped at the speed law's speed x dt (speed_law.hpp), which starts at v_min
 //    on entering such a phase and after a contact loss;
 //  * transitions of the current phase evaluated in order each cycle with
 //    valid features (first to fire wins, after holding `for_s` s); the new
@@ -160,8 +160,8 @@ class TactileServo {
   SpeedLawFilter speed_filter_;
   std::vector<char> speed_phase_;  ///< per phase: the speed law acts in it (configuration time)
   /// The speed law's cap on the slide axis for this cycle (m/s; < 0: none).
-  double slideCap(int phase, const ContactFeatures& f, double f_hat, double f_d, double excess, double dt,
-                  ServoOutput& out);
+  double slideCap(int phase, const ContactFeatures& f, double f_hat, double f_d, double extent, double excess,
+                  double dt, ServoOutput& out);
   KDL::Frame cmd_;
   KDL::Frame meas_;            ///< this cycle's measured flange pose
   bool motion_cycle_ = false;  ///< this cycle commanded motion (the stall watchdog's window)

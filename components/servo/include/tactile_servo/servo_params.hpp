@@ -185,7 +185,7 @@ struct WatchdogParams {
 };
 
 /// The slide speed from the contact (tactile_servo/speed_law.hpp; beyond the
-/// paper): in the listed phases the speed law caps the PI rate of the slide
+/// paper): in the listed phases the speed law caps the motion along the slide
 /// axis, each cycle, at the fastest speed that keeps the true force within
 /// the budget. The phase's K_P sets how hard the slide pulls; the law sets
 /// how fast it may go.
