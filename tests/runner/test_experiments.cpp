@@ -4,6 +4,8 @@
 // scripting. Tolerances are the targets of README.md's experiment table unless stated.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -683,9 +685,13 @@ ImageErrors imageErrorsWhileSliding(const RunResult& r, const Scene& sc) {
   return e;
 }
 
-TEST(ShippedPrograms, ForceEstimateBoundTradesTheCoPAlongTheEdge) {
-  // Means over seeds 1-3: stick-slip on the 3 mm edge makes single runs
-  // scatter (the 2.5 N bound's RMS error 0.30-0.56 N over the three seeds).
+// The edge exploration's image (edge_exploration.yaml; docs/design.md, "The
+// edge across the rows"): the shipped program holds the edge at 2 deg to the
+// taxel rows. Against the same program with the edge along the rows
+// (alpha_z = 0) and the paper's program, and with the force estimate's bound
+// narrowed from 4.5 N to 2.5 N.
+TEST(ShippedPrograms, EdgeAcrossTheRowsKeepsTheLoadOnTheImage) {
+  // Means over seeds 1-3: stick-slip on the 3 mm edge makes single runs scatter.
   struct Mean {
     double rms = 0, along = 0, line = 0;
   };
@@ -708,35 +714,42 @@ TEST(ShippedPrograms, ForceEstimateBoundTradesTheCoPAlongTheEdge) {
   const Scene paper_sc = test::loadShipped("edge_exploration.yaml",
                                            {"program=../../components/servo/programs/edge_exploration_paper.yaml"});
   const Scene shipped_sc = test::loadShipped("edge_exploration.yaml");
-  // The bound's trade-off, without the image's margin (force_estimate.image_margin_n:
-  // it keeps load above the firing threshold on the image, see below).
-  Scene wide_sc = shipped_sc;
   EXPECT_DOUBLE_EQ(shipped_sc.servo.force_estimate.max_correction_n, 4.5);
-  EXPECT_DOUBLE_EQ(shipped_sc.servo.force_estimate.image_margin_n, 0.3);
-  wide_sc.servo.force_estimate.image_margin_n = 0.0;
-  Scene narrow_sc = wide_sc;
+  Scene rows_sc = shipped_sc;  // the edge along the rows
+  Scene narrow_sc = shipped_sc;
   narrow_sc.servo.force_estimate.max_correction_n = 2.5;
-  const Mean paper = run3(paper_sc), wide = run3(wide_sc), narrow = run3(narrow_sc), shipped = run3(shipped_sc);
-  // The true force: the larger the bound, the more of the hidden load the
-  // correction takes up (measured 0.27 / 0.46 / 0.80 N).
-  EXPECT_LE(wide.rms, 0.4);
-  EXPECT_LT(wide.rms, 0.7 * narrow.rms);
-  EXPECT_LT(narrow.rms, 0.8 * paper.rms);
-  // The image: along the edge the CoP wanders more with every newton of
-  // correction (measured 0.7 / 1.0 / 2.0 mm mean)...
-  EXPECT_LT(paper.along, 0.001);
-  EXPECT_GT(wide.along, 1.5 * narrow.along);
-  // ...but the contact line stays on the ridge: within 0.5 mm RMS across it
-  // at every bound (half the 1 mm the contours' cloud must meet; measured
-  // 0.22 / 0.40 / 0.36 mm).
+  int tilted = 0;
+  for (auto& ph : rows_sc.servo.phases) {
+    if (ph.name != "edge_control" && ph.name != "explore") continue;
+    EXPECT_DOUBLE_EQ(ph.s_d(5), 0.035) << ph.name;
+    ph.s_d(5) = 0.0;
+    ++tilted;
+  }
+  ASSERT_EQ(tilted, 2);
+  const Mean paper = run3(paper_sc), rows = run3(rows_sc), narrow = run3(narrow_sc), shipped = run3(shipped_sc);
+  for (const auto& m : {std::make_pair("paper", paper), std::make_pair("along the rows", rows),
+                        std::make_pair("bound 2.5 N", narrow), std::make_pair("shipped", shipped)})
+    std::printf("%-15s true-force RMS %.3f N, CoP along the edge %.2f mm, line across %.2f mm\n", m.first,
+                m.second.rms, 1e3 * m.second.along, 1e3 * m.second.line);
+  // The true force: the shipped program within a 0.25 N mean RMS error (half
+  // the band; measured 0.15 N), the paper's 0.8 N.
+  EXPECT_LE(shipped.rms, 0.25);
+  EXPECT_LT(shipped.rms, 0.3 * paper.rms);
+  // Across the rows the image carries enough of the load that the correction
+  // stays under 2.5 N: the bound does not bind (the same RMS to 0.03 N, the
+  // seeds' own spread; measured identical runs).
+  EXPECT_NEAR(narrow.rms, shipped.rms, 0.03);
+  // The image's cost: along the edge the CoP wanders with the part of the
+  // tilted line that lies on a row (measured 1.8 mm mean, the paper's
+  // 0.7 mm); within 2.5 mm, the contours' own tolerance for the CoP...
+  EXPECT_LT(shipped.along, 0.0025);
+  // ...while the contact line stays on the ridge: within 0.5 mm RMS across it
+  // (half the 1 mm the contours' cloud must meet; measured 0.05 mm paper,
+  // 0.30 mm along the rows, 0.15 mm shipped). Along the rows: RMS 0.18 N,
+  // the CoP along the edge 1.3 mm, but contact drops while sliding
+  // (EdgeExplorationContactDrops).
   EXPECT_LT(paper.line, 0.0005);
-  EXPECT_LT(narrow.line, 0.0005);
-  EXPECT_LT(wide.line, 0.0005);
-  // The shipped program, with the image's margin: the wide bound's true force
-  // (measured RMS 0.23 N) and a third less of its CoP's wander along the edge
-  // (the image keeps its load above the threshold; measured 2.0 -> 1.3 mm).
-  EXPECT_LE(shipped.rms, 0.4);
-  EXPECT_LT(shipped.along, 0.75 * wide.along);
+  EXPECT_LT(rows.line, 0.0005);
   EXPECT_LT(shipped.line, 0.0005);
 }
 

@@ -88,7 +88,7 @@ def shipped():
         check(got == want, f"{overlay} is {base} with its changes only")
         check(got != P.load(os.path.join(PROGRAMS, base)), f"{overlay} differs from {base}")
 
-    def paper(phases_cop_y, ki_z=(), ki_all=()):
+    def paper(phases_cop_y, ki_z=(), ki_all=(), along_rows=(), end_after=None):
         def edit(p):
             for n in phases_cop_y:
                 phase(p, n)["s_d"]["cop_y"] = 0
@@ -96,12 +96,17 @@ def shipped():
                 del phase(p, n)["ki_per_s2"]["z"]
             for n in ki_all:
                 del phase(p, n)["ki_per_s2"]
+            for n in along_rows:  # the edge along the taxel rows
+                phase(p, n)["s_d"]["alpha_z"] = 0
+            if end_after is not None:  # the end rule's wait (s) on a point contact
+                phase(p, "explore")["transitions"][0]["for_s"] = end_after
             del p["force_estimate"]
         return edit
 
     expect("bent_bar_paper.yaml", "bent_bar.yaml", paper(["explore"]))
     expect("edge_exploration_paper.yaml", "edge_exploration.yaml",
-           paper(["align", "edge_control", "explore"], ki_z=["align"]))
+           paper(["align", "edge_control", "explore"], ki_z=["align"], along_rows=["edge_control", "explore"],
+                 end_after=0.2))
     expect("hold_edge_paper.yaml", "hold_edge.yaml", paper(["hold", "press"], ki_all=["hold"]))
     expect("co_manipulation_paper.yaml", "co_manipulation.yaml", paper([], ki_z=["balance"]))
 

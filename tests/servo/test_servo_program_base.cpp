@@ -301,14 +301,17 @@ TEST(ServoProgramBase, EveryShippedProgramLoads) {
   }
 }
 
-TEST(ServoProgramBase, PaperProgramsChangeOnlyTheForceAndCopY) {
+TEST(ServoProgramBase, PaperProgramsChangeOnlyTheForceCopYAndEdgeAngle) {
   expectOverlay("bent_bar_paper.yaml", "bent_bar.yaml",
                 {{"phases[explore].s_d.cop_y", "0"}, {"force_estimate", kAbsent}});
   expectOverlay("edge_exploration_paper.yaml", "edge_exploration.yaml",
                 {{"phases[align].s_d.cop_y", "0"},
                  {"phases[align].ki_per_s2.z", kAbsent},
                  {"phases[edge_control].s_d.cop_y", "0"},
+                 {"phases[edge_control].s_d.alpha_z", "0"},
                  {"phases[explore].s_d.cop_y", "0"},
+                 {"phases[explore].s_d.alpha_z", "0"},
+                 {"phases[explore].transitions[0].for_s", "0.2"},
                  {"force_estimate", kAbsent}});
   expectOverlay("hold_edge_paper.yaml", "hold_edge.yaml",
                 {{"phases[hold].s_d.cop_y", "0"},
