@@ -103,10 +103,11 @@ def variant(program, kp, out):
                          f"{LIMIT} m/s, the end at the bar's end cap", out)
 
 
-def end_distance(run_dir):
+def end_distance(run_dir, scene="bent_bar_fused"):
     """Evaluation only (the simulator's truth, never the controller's): the
-    distance from the last true contact point to the bar's end vertex (m)."""
-    bar_end = [float(v) for v in ts.load_scene("bent_bar_fused")["objects"][0]["vertices"][-1]]
+    distance from the last true contact point to the end vertex of the scene's
+    bar (m)."""
+    bar_end = [float(v) for v in ts.load_scene(scene)["objects"][0]["vertices"][-1]]
     last = None
     try:
         with open(os.path.join(run_dir, "timeseries.csv")) as f:

@@ -1,11 +1,20 @@
 #!/usr/bin/python3
-"""Writes the family of wavy bars (sim/scenes/curved/*.yaml): the bent bar's
-start and program (bent_bar_fused), the bar's top edge a sine in height along
-the slide, z = z0 + A sin(2 pi s / L) (s along the bar), so the edge's
-smallest radius of curvature, at the crests and troughs, is
-R = L^2 / (4 pi^2 A). The rigid pad reaches 47.6 mm along the edge (14 taxels
-of 3.4 mm): a trough tighter than the pad touches its ends (the housing)
-instead of its middle. Usage: make_curved_bars.py [--out sim/scenes/curved]
+"""Writes the family of bars of sim/scenes/curved/*.yaml, each starting as the
+bent bar does (the start pose and program of bent_bar_fused, 110 mm of
+straight bar under the pad), then:
+  wavy_*      the top edge a sine in height along the slide,
+              z = z0 + A sin(2 pi s / L) (s along the bar), so the edge's
+              smallest radius of curvature, at the crests and troughs, is
+              R = L^2 / (4 pi^2 A). The rigid pad reaches 47.6 mm along the
+              edge (14 taxels of 3.4 mm): a trough tighter than the pad
+              touches its ends (the housing) instead of its middle;
+  dip_*       one raised-cosine trough of depth D over W (R = W^2 / (2 pi^2 D));
+  step_*      a raised-cosine step of height H (up, or down) over W
+              (R = 2 W^2 / (pi^2 H));
+  bend_*      the bent bar's parabolic bend (30 mm sideways, 25 mm in height
+              over 247 mm), mirrored: to the right, or down (away from the pad);
+  sharp_*     a straight bar with a top edge rounded at 2 mm instead of 5 mm.
+Usage: make_curved_bars.py [--out sim/scenes/curved]
 """
 import argparse
 import math
@@ -23,25 +32,57 @@ def radius(a, l):
     return l * l / (4.0 * math.pi * math.pi * a)
 
 
-def vertices(a, l, step=0.006):
+def polyline(offset, step=0.006):
+    """Vertices every `step` along the bar: offset(u) = (y, z) of the centreline
+    at u = s - FLAT metres into the shape (0 before it)."""
     out = []
     n = int(round((X0 - X1) / step))
     for i in range(n + 1):
         s = i * step
-        z = Z0 + (a * math.sin(2.0 * math.pi * (s - FLAT) / l) if s > FLAT else 0.0)
-        out.append([round(X0 - s, 6), 0.0, round(z, 6)])
+        y, z = offset(s - FLAT) if s > FLAT else (0.0, 0.0)
+        out.append([round(X0 - s, 6), round(y, 6), round(Z0 + z, 6)])
     return out
 
 
-def scene(a, l):
-    name = f"wavy_a{a * 1e3:g}mm_l{l * 1e3:g}mm"
-    v = ", ".join(f"[{x[0]}, {x[1]}, {x[2]}]" for x in vertices(a, l))
-    return name, f"""# Wavy bar (scripts/tools/make_curved_bars.py): the bent bar's start, its top edge
-# a sine in height after {FLAT * 1e3:g} mm of straight bar: amplitude {a * 1e3:g} mm, wavelength
-# {l * 1e3:g} mm, smallest radius of curvature along the edge {radius(a, l) * 1e3:.1f} mm (the pad
-# reaches 47.6 mm). Shipped program bent_bar_to_end_cap.yaml.
+def vertices(a, l, step=0.006):
+    return polyline(lambda u: (0.0, a * math.sin(2.0 * math.pi * u / l)), step)
+
+
+def dip(depth, width):
+    """A raised-cosine trough: 0 outside [0, width]."""
+    return lambda u: (0.0, -0.5 * depth * (1.0 - math.cos(2.0 * math.pi * u / width)) if u < width else 0.0)
+
+
+def step_shape(height, width):
+    """A raised-cosine step of `height` (m, signed) over `width`."""
+    return lambda u: (0.0, 0.5 * height * (1.0 - math.cos(math.pi * min(u, width) / width)))
+
+
+BEND_LEN, BEND_Y, BEND_Z = 0.2475, 0.03, 0.025  # the bent bar's bend (sim/scenes/bent_bar.yaml): parabolic
+
+
+def bend(sy, sz):
+    """The bent bar's bend, sideways sy * 30 mm and in height sz * 25 mm at its end."""
+    return lambda u: (sy * BEND_Y * (u / BEND_LEN) ** 2, sz * BEND_Z * (u / BEND_LEN) ** 2)
+
+
+# name, description, offset, the top edge's rounding radius (m)
+SHAPES = [("dip_d2mm_w80mm", "one trough 2 mm deep over 80 mm, R 162 mm", dip(0.002, 0.08), 0.005),
+          ("dip_d3mm_w60mm", "one trough 3 mm deep over 60 mm, R 61 mm", dip(0.003, 0.06), 0.005),
+          ("step_up_2mm_w40mm", "a step up of 2 mm over 40 mm, R 162 mm", step_shape(0.002, 0.04), 0.005),
+          ("step_down_2mm_w40mm", "a step down of 2 mm over 40 mm, R 162 mm", step_shape(-0.002, 0.04), 0.005),
+          ("bend_right", "the bent bar's bend mirrored: to the right and up", bend(-1.0, 1.0), 0.005),
+          ("bend_down", "the bent bar's bend dipping away: to the left and down", bend(1.0, -1.0), 0.005),
+          ("bend_right_down", "the bent bar's bend to the right and down", bend(-1.0, -1.0), 0.005),
+          ("sharp_r2mm", "a straight bar, its top edge rounded at 2 mm", lambda u: (0.0, 0.0), 0.002)]
+
+
+def scene_text(name, header, description, verts, rounding=0.005):
+    """A scene of the family: the bent bar's start, pose, program and criteria."""
+    v = ", ".join(f"[{x[0]}, {x[1]}, {x[2]}]" for x in verts)
+    return f"""{header}
 name: {name}
-description: "Wavy bar, A {a * 1e3:g} mm, L {l * 1e3:g} mm, R {radius(a, l) * 1e3:.1f} mm"
+description: "{description}"
 program: ../../../components/servo/programs/bent_bar_to_end_cap.yaml
 features_file: ../../../components/features/params/wts0614.yaml
 controller: proposed
@@ -54,7 +95,7 @@ initial_flange: {{xyz: [0.72, 0.0, 0.413], rpy_deg: [180, 0, 180]}}
 objects:
   - name: wavy_bar
     type: bent_bar
-    radius: 0.005
+    radius: {rounding:g}
     vertices: [{v}]
 effects:
   wrench_error: {{bias_n: [1.0, -1.0, 2.0], noise_n: 0.5}}
@@ -69,6 +110,22 @@ metrics:
 """
 
 
+def scene(a, l):
+    name = f"wavy_a{a * 1e3:g}mm_l{l * 1e3:g}mm"
+    header = f"""# Wavy bar (scripts/tools/make_curved_bars.py): the bent bar's start, its top edge
+# a sine in height after {FLAT * 1e3:g} mm of straight bar: amplitude {a * 1e3:g} mm, wavelength
+# {l * 1e3:g} mm, smallest radius of curvature along the edge {radius(a, l) * 1e3:.1f} mm (the pad
+# reaches 47.6 mm). Shipped program bent_bar_to_end_cap.yaml."""
+    return name, scene_text(name, header, f"Wavy bar, A {a * 1e3:g} mm, L {l * 1e3:g} mm, R {radius(a, l) * 1e3:.1f} mm",
+                            vertices(a, l))
+
+
+def shape_scene(name, what, offset, rounding):
+    header = f"""# Bar of the family (scripts/tools/make_curved_bars.py): the bent bar's start, then
+# after {FLAT * 1e3:g} mm of straight bar {what}. Shipped program bent_bar_to_end_cap.yaml."""
+    return scene_text(name, header, f"Bar: {what}", polyline(offset), rounding)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default=os.path.join(os.path.dirname(__file__), "..", "..", "sim", "scenes", "curved"))
@@ -79,6 +136,10 @@ def main():
         with open(os.path.join(a.out, name + ".yaml"), "w") as fh:
             fh.write(text)
         print(f"{name}: R = {radius(amp, l) * 1e3:.1f} mm")
+    for name, what, offset, rounding in SHAPES:
+        with open(os.path.join(a.out, name + ".yaml"), "w") as fh:
+            fh.write(shape_scene(name, what, offset, rounding))
+        print(f"{name}: {what}")
 
 
 if __name__ == "__main__":

@@ -1,0 +1,189 @@
+#!/usr/bin/python3
+"""The family of bars (sim/scenes/curved, scripts/tools/make_curved_bars.py):
+per bar, fixed slide gains against the speed law (a Pareto front per bar).
+
+usage: sweep_family.py [--out out/family] [--jobs N] [--seeds N] [--sim PATH]
+
+Every bar is run with bent_bar_speed_law.yaml (the end-cap program with the
+stiff force loop, K_P,z 8, K_I,z 16; scripts/sweeps/sweep_speed.py):
+  fixed gain           the law off, the slide gain kp_per_s.x swept over
+                       GAINS (25 mm x kp commanded; translation limits 0.08 m/s)
+  speed law            the law on, as shipped (error budget 0.5 N)
+  speed law, careful   bent_bar_speed_law_careful.yaml (budget 0.35 N, the
+                       speed rising at 0.02 m/s^2)
+and with bent_bar_to_end_cap.yaml as shipped (the paper's slide gain), for
+reference. A run meets the targets when it ends at the bar's end (status ok,
+ended by `done`, the last true contact within 10 mm of the bar's end vertex)
+with the true force's RMS error <= 0.5 N, >= 95 % of the slide within
+5 +- 0.5 N and no contact loss. Per bar: the fastest fixed gain that meets
+them (on every seed), and the law's speed (the mean over the seeds that
+measured one) and whether it meets them.
+Writes family.csv (per run), family_bars.csv and family.md (per bar) and family.png into --out.
+"""
+import csv
+import glob
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import tactile_sweeps as ts  # noqa: E402
+from tactile_sweeps.plot import plt, save  # noqa: E402
+
+import sweep_speed  # noqa: E402  (its program writer and end distance)
+
+GAINS = [0.4, 0.8, 1.2, 1.6, 2.0, 2.4, 3.2]  # 1/s: 10 .. 80 mm/s commanded at a 25 mm CoP_x error
+FIXED, SHIPPED = "fixed gain", "end-cap program (paper's gain)"
+LAWS = [("speed law", "bent_bar_speed_law"), ("speed law, careful", "bent_bar_speed_law_careful")]
+END_MM = sweep_speed.END_MM
+
+
+def bars():
+    """The family's scene names, relative to sim/scenes."""
+    d = os.path.join(ts.scenes.SCENE_DIR, "curved")
+    return sorted("curved/" + os.path.basename(p)[:-5] for p in glob.glob(os.path.join(d, "*.yaml")))
+
+
+def one(job):
+    bar, label, program, kp, seed, out = job
+    d = os.path.join(out, "runs", bar.split("/")[-1], f"{label.replace(' ', '_').replace(',', '')}_{kp:g}_{seed}")
+    duration = 3.0 + 1.5 * 0.36 / (0.025 * kp) if label == FIXED else 40.0
+    s = ts.run.run(bar, d, ["--seed", str(seed), "--set", "program=" + program, "--set", f"duration={duration:.1f}"])
+    s["end_distance_m"] = sweep_speed.end_distance(d, bar)
+    return bar, label, kp, seed, s
+
+
+def meets(r):
+    return (r["status"] == "ok" and r["ended_done"] and r["end_mm"] <= END_MM and r["rms_n"] <= 0.5
+            and r["in_band"] >= 0.95 and r["losses"] == 0)
+
+
+def main():
+    a = ts.parse_args(__doc__, "family")
+    programs = {kp: sweep_speed.variant("bent_bar_speed_law", kp, a.out) for kp in GAINS}
+    shipped = os.path.join(sweep_speed.PROGRAMS, "bent_bar_to_end_cap.yaml")
+    jobs = []
+    for bar in bars():
+        for seed in range(1, a.seeds + 1):
+            jobs += [(bar, FIXED, programs[kp], kp, seed, a.out) for kp in GAINS]
+            jobs += [(bar, label, os.path.join(sweep_speed.PROGRAMS, prog + ".yaml"), 0.0, seed, a.out)
+                     for label, prog in LAWS]
+            jobs.append((bar, SHIPPED, shipped, 0.0, seed, a.out))
+    rows, failed = [], False
+    for k, n, (bar, label, kp, seed, s) in ts.pmap(one, jobs, a.jobs):
+        if s.get("status") == "no_summary":
+            failed = True
+            print(f"{bar} {label} {kp:g}: no summary: {s.get('error', '')[-300:]}", file=sys.stderr)
+        phases = [p["name"] for p in s.get("phases", [])]
+        r = {"bar": bar.split("/")[-1], "controller": label, "kp_x": kp if label == FIXED else float("nan"),
+             "seed": seed, "status": s.get("status"), "ended_done": "done" in phases,
+             "speed_mm_s": 1000.0 * sweep_speed.num(s.get("slide_speed_mps")),
+             "rms_n": sweep_speed.num(s.get("force_true_rms_error_n")),
+             "max_n": sweep_speed.num(s.get("force_true_max_n")),
+             "in_band": sweep_speed.num(s.get("force_true_in_band_fraction")),
+             "losses": s.get("contact_lost_count", -1), "end_mm": 1000.0 * sweep_speed.num(s.get("end_distance_m"))}
+        r["met"] = "yes" if meets(r) else "no"
+        rows.append(r)
+        print(f"[{k}/{n}] {r['bar']} {label} {kp:g} seed {seed}: {r['status']}, {r['speed_mm_s']:.1f} mm/s, "
+              f"RMS {r['rms_n']:.2f} N, in band {r['in_band']:.3f}, met {r['met']}", flush=True)
+    order = [FIXED] + [lw[0] for lw in LAWS] + [SHIPPED]
+    rows.sort(key=lambda r: (r["bar"], order.index(r["controller"]), r["kp_x"] if r["kp_x"] == r["kp_x"] else 0,
+                             r["seed"]))
+    ts.write_csv(os.path.join(a.out, "family.csv"), rows)
+
+    # Per bar: a setting meets the targets when every seed does; its speed is the seeds' mean.
+    def setting(bar, label, kp=None):
+        g = [r for r in rows if r["bar"] == bar and r["controller"] == label
+             and (kp is None or r["kp_x"] == kp)]
+        if not g:
+            return None
+        v = [r["speed_mm_s"] for r in g if r["speed_mm_s"] == r["speed_mm_s"]]  # seeds that measured a speed
+        return {"met": all(r["met"] == "yes" for r in g), "speed": sum(v) / len(v) if v else float("nan"),
+                "rms": max(r["rms_n"] for r in g), "in_band": min(r["in_band"] for r in g),
+                "status": ", ".join(sorted({r["status"] + ("" if r["ended_done"] else " (not at the end)")
+                                             for r in g}))}
+
+    per_bar = []
+    for bar in sorted({r["bar"] for r in rows}):
+        fixed = [(kp, setting(bar, FIXED, kp)) for kp in GAINS]
+        passing = [(kp, s) for kp, s in fixed if s["met"]]
+        best = max(passing, key=lambda p: p[1]["speed"]) if passing else None
+        b = {"bar": bar, "best_kp": best[0] if best else None, "best": best[1] if best else None,
+             "shipped": setting(bar, SHIPPED), "laws": []}
+        for label, _ in LAWS:
+            lw = setting(bar, label)
+            lw["not_slower"] = bool(lw["met"] and (best is None or lw["speed"] >= best[1]["speed"]))
+            b["laws"].append(lw)
+        per_bar.append(b)
+
+    def cell(s):
+        def g(v, fmt, unit, scale=1.0):
+            return f"{v * scale:{fmt}}{unit}" if v == v else "n/a"
+        return (f"{g(s['speed'], '.1f', ' mm/s')}, RMS {g(s['rms'], '.2f', ' N')}, {g(s['in_band'], '.0f', ' %', 100)}"
+                + ("" if s["met"] else f" ({s['status']}; targets missed)"))
+
+    def yes(v):
+        return "yes" if v else "no"
+
+    csv_rows = []
+    for b in per_bar:
+        r = {"bar": b["bar"], "fixed_kp_x": b["best_kp"] if b["best"] else float("nan"),
+             "fixed_speed_mm_s": b["best"]["speed"] if b["best"] else float("nan")}
+        for (label, prog), lw in zip(LAWS, b["laws"]):
+            k = "careful" if "careful" in prog else "law"
+            r.update({f"{k}_speed_mm_s": lw["speed"], f"{k}_rms_n": lw["rms"], f"{k}_in_band": lw["in_band"],
+                      f"{k}_met": yes(lw["met"]), f"{k}_status": lw["status"], f"{k}_not_slower": yes(lw["not_slower"])})
+        r.update({"shipped_speed_mm_s": b["shipped"]["speed"], "shipped_met": yes(b["shipped"]["met"])})
+        csv_rows.append(r)
+    ts.write_csv(os.path.join(a.out, "family_bars.csv"), csv_rows)
+
+    with open(os.path.join(a.out, "family.md"), "w") as f:
+        f.write(f"The family of bars (sim/scenes/curved), seeds 1..{a.seeds}. Targets: to the bar's end, true-force "
+                "RMS error <= 0.5 N, >= 95 % within 5 +- 0.5 N, no contact loss (every seed). Speeds are the "
+                "seeds' mean; RMS the worst seed, in band the worst seed. 'not slower': the law meets the "
+                "targets and is at least as fast as the fastest fixed gain that does.\n\n")
+        f.write("| bar | fastest fixed gain within the targets | "
+                + " | ".join(f"{label} | not slower" for label, _ in LAWS)
+                + " | end-cap program (paper's gain) |\n|" + "---|" * (3 + 2 * len(LAWS)) + "\n")
+        for b in per_bar:
+            best = f"kp {b['best_kp']:g}: {cell(b['best'])}" if b["best"] else "none"
+            f.write(f"| {b['bar']} | {best} | "
+                    + " | ".join(f"{cell(lw)} | {yes(lw['not_slower'])}" for lw in b["laws"])
+                    + f" | {cell(b['shipped'])} |\n")
+        n_fix = sum(1 for b in per_bar if b["best"])
+        f.write(f"\nSome fixed gain meets the targets on {n_fix} of {len(per_bar)} bars.")
+        for i, (label, _) in enumerate(LAWS):
+            n_law = sum(1 for b in per_bar if b["laws"][i]["met"])
+            n_ok = sum(1 for b in per_bar if b["laws"][i]["not_slower"])
+            f.write(f" The {label} meets them on {n_law}, and is not slower than the fastest fixed gain that "
+                    f"does on {n_ok}.")
+        f.write("\n")
+
+    cols = 5
+    nrow = math.ceil(len(per_bar) / cols)
+    fig, ax = plt.subplots(nrow, cols, figsize=(3.2 * cols, 2.6 * nrow), squeeze=False)
+    for i, b in enumerate(per_bar):
+        x = ax[i // cols][i % cols]
+        fr = [setting(b["bar"], FIXED, kp) for kp in GAINS]
+        x.plot([s["speed"] for s in fr], [s["rms"] for s in fr], "-", color="tab:blue", lw=1)
+        for s in fr:
+            x.plot(s["speed"], s["rms"], "o" if s["met"] else "x", color="tab:blue", ms=5)
+        for s, c in ((b["laws"][0], "k"), (b["laws"][1], "tab:red"), (b["shipped"], "tab:green")):
+            x.plot(s["speed"], s["rms"], "*" if s["met"] else "X", color=c, ms=11)
+        x.axhline(0.5, color="k", ls="--", lw=0.8)
+        x.set_title(b["bar"], fontsize=8)
+        x.tick_params(labelsize=7)
+        x.grid(alpha=0.3)
+    for j in range(len(per_bar), nrow * cols):
+        ax[j // cols][j % cols].axis("off")
+    fig.supxlabel("slide speed (mm/s)")
+    fig.supylabel("true-force RMS error (N, worst seed)")
+    fig.suptitle("The family of bars: fixed gains (blue line; o within the targets, x not), the speed law (black), "
+                 "the careful speed law (red), the end-cap program (green); star: within the targets", fontsize=10)
+    save(fig, os.path.join(a.out, "family.png"), dpi=90)
+    print(open(os.path.join(a.out, "family.md")).read())
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
