@@ -77,16 +77,17 @@ SHAPES = [("dip_d2mm_w80mm", "one trough 2 mm deep over 80 mm, R 162 mm", dip(0.
           ("sharp_r2mm", "a straight bar, its top edge rounded at 2 mm", lambda u: (0.0, 0.0), 0.002)]
 
 
-def scene_text(name, header, description, verts, rounding=0.005):
+def scene_text(name, header, description, verts, rounding=0.005, program="bent_bar_to_end_cap.yaml", up="../../..",
+               duration=22):
     """A scene of the family: the bent bar's start, pose, program and criteria."""
     v = ", ".join(f"[{x[0]}, {x[1]}, {x[2]}]" for x in verts)
     return f"""{header}
 name: {name}
 description: "{description}"
-program: ../../../components/servo/programs/bent_bar_to_end_cap.yaml
-features_file: ../../../components/features/params/wts0614.yaml
+program: {up}/components/servo/programs/{program}
+features_file: {up}/components/features/params/wts0614.yaml
 controller: proposed
-duration: 22
+duration: {duration}
 seed: 1
 fidelity: quasi_static
 rates: {{sim: 1000, servo: 100, wts: 140, features: 200}}
@@ -140,6 +141,18 @@ def main():
         with open(os.path.join(a.out, name + ".yaml"), "w") as fh:
             fh.write(shape_scene(name, what, offset, rounding))
         print(f"{name}: {what}")
+    # The registry's experiment of the careful speed law (experiments.yaml
+    # wave_speed_law): the A 2 mm, L 90 mm wave with bent_bar_speed_law_careful.yaml,
+    # long enough for its slide, beside the other experiments' scenes.
+    amp, l = 0.002, 0.090
+    header = f"""# The careful speed law on a wave (scripts/tools/make_curved_bars.py; experiments.yaml
+# wave_speed_law): sim/scenes/curved/wavy_a{amp * 1e3:g}mm_l{l * 1e3:g}mm.yaml (R {radius(amp, l) * 1e3:.1f} mm) with
+# bent_bar_speed_law_careful.yaml, 40 s. docs/design.md, "The speed law"."""
+    with open(os.path.join(a.out, "..", "wave_speed_law.yaml"), "w") as fh:
+        fh.write(scene_text("wave_speed_law", header, f"A wave in height (A {amp * 1e3:g} mm, L {l * 1e3:g} mm, R "
+                            f"{radius(amp, l) * 1e3:.1f} mm), the careful speed law", vertices(amp, l),
+                            program="bent_bar_speed_law_careful.yaml", up="../..", duration=40))
+    print("wave_speed_law: the careful speed law on the A 2 mm, L 90 mm wave")
 
 
 if __name__ == "__main__":

@@ -61,6 +61,15 @@ elif exp == "bent_bar_speed_law":
     check(num(d["force_true_in_band_fraction"]) >= 0.95,
           f">= 95 % within 5 +- 0.5 N ({d['force_true_in_band_fraction']})")
     check(num(d["contact_lost_count"]) == 0, f"no contact loss ({d['contact_lost_count']})")
+elif exp == "wave_speed_law":
+    # The careful speed law on a wave in height tighter than the end-cap
+    # program follows within the targets (docs/design.md, "The speed law").
+    check(d["status"] == "ok", f"status ok ({d['status']})")
+    check([p["name"] for p in d["phases"]][-1:] == ["done"], "ended in done, at the bar's end")
+    check(num(d["force_true_rms_error_n"]) <= 0.5, f"true force RMS error <= 0.5 N ({d['force_true_rms_error_n']})")
+    check(num(d["force_true_in_band_fraction"]) >= 0.95,
+          f">= 95 % within 5 +- 0.5 N ({d['force_true_in_band_fraction']})")
+    check(num(d["contact_lost_count"]) == 0, f"no contact loss ({d['contact_lost_count']})")
 elif exp == "bent_bar" and controller == "no_rotation":
     # The ablation's drift onto the rigid housing is stopped by the servo's
     # force-mismatch watchdog or a ceiling: never `ok`, outside 5 +- 1 N.
