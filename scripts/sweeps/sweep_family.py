@@ -34,7 +34,8 @@ import sweep_speed  # noqa: E402  (its program writer and end distance)
 
 GAINS = [0.4, 0.5, 0.6, 0.7, 0.8, 1.0, 1.2, 1.6, 2.0, 2.4, 3.2]  # 1/s: 10 .. 80 mm/s commanded at a 25 mm CoP_x error
 FIXED, SHIPPED = "fixed gain", "end-cap program (paper's gain)"
-LAWS = [("speed law", "bent_bar_speed_law"), ("speed law, careful", "bent_bar_speed_law_careful")]
+# label, program, the prefix of its columns in family_bars.csv
+LAWS = [("speed law", "bent_bar_speed_law", "law"), ("speed law, careful", "bent_bar_speed_law_careful", "careful")]
 END_MM = sweep_speed.END_MM
 
 
@@ -67,7 +68,7 @@ def main():
         for seed in range(1, a.seeds + 1):
             jobs += [(bar, FIXED, programs[kp], kp, seed, a.out) for kp in GAINS]
             jobs += [(bar, label, os.path.join(sweep_speed.PROGRAMS, prog + ".yaml"), 0.0, seed, a.out)
-                     for label, prog in LAWS]
+                     for label, prog, _ in LAWS]
             jobs.append((bar, SHIPPED, shipped, 0.0, seed, a.out))
     rows, failed = [], False
     for k, n, (bar, label, kp, seed, s) in ts.pmap(one, jobs, a.jobs):
@@ -86,7 +87,7 @@ def main():
         rows.append(r)
         print(f"[{k}/{n}] {r['bar']} {label} {kp:g} seed {seed}: {r['status']}, {r['speed_mm_s']:.1f} mm/s, "
               f"RMS {r['rms_n']:.2f} N, in band {r['in_band']:.3f}, met {r['met']}", flush=True)
-    order = [FIXED] + [lw[0] for lw in LAWS] + [SHIPPED]
+    order = [FIXED] + [label for label, _, _ in LAWS] + [SHIPPED]
     rows.sort(key=lambda r: (r["bar"], order.index(r["controller"]), r["kp_x"] if r["kp_x"] == r["kp_x"] else 0,
                              r["seed"]))
     ts.write_csv(os.path.join(a.out, "family.csv"), rows)
@@ -110,7 +111,7 @@ def main():
         best = max(passing, key=lambda p: p[1]["speed"]) if passing else None
         b = {"bar": bar, "best_kp": best[0] if best else None, "best": best[1] if best else None,
              "shipped": setting(bar, SHIPPED), "laws": []}
-        for label, _ in LAWS:
+        for label, _, _ in LAWS:
             lw = setting(bar, label)
             lw["not_slower"] = bool(lw["met"] and (best is None or lw["speed"] >= best[1]["speed"]))
             b["laws"].append(lw)
@@ -129,8 +130,7 @@ def main():
     for b in per_bar:
         r = {"bar": b["bar"], "fixed_kp_x": b["best_kp"] if b["best"] else float("nan"),
              "fixed_speed_mm_s": b["best"]["speed"] if b["best"] else float("nan")}
-        for (label, prog), lw in zip(LAWS, b["laws"]):
-            k = "careful" if "careful" in prog else "law"
+        for (_, _, k), lw in zip(LAWS, b["laws"]):
             r.update({f"{k}_speed_mm_s": lw["speed"], f"{k}_rms_n": lw["rms"], f"{k}_in_band": lw["in_band"],
                       f"{k}_met": yes(lw["met"]), f"{k}_status": lw["status"], f"{k}_not_slower": yes(lw["not_slower"])})
         r.update({"shipped_speed_mm_s": b["shipped"]["speed"], "shipped_met": yes(b["shipped"]["met"])})
@@ -143,7 +143,7 @@ def main():
                 "seeds' mean; RMS the worst seed, in band the worst seed. 'not slower': the law meets the "
                 "targets and is at least as fast as the fastest fixed gain that does.\n\n")
         f.write("| bar | fastest fixed gain within the targets | "
-                + " | ".join(f"{label} | not slower" for label, _ in LAWS)
+                + " | ".join(f"{label} | not slower" for label, _, _ in LAWS)
                 + " | end-cap program (paper's gain) |\n|" + "---|" * (3 + 2 * len(LAWS)) + "\n")
         for b in per_bar:
             best = f"kp {b['best_kp']:g}: {cell(b['best'])}" if b["best"] else "none"
@@ -152,7 +152,7 @@ def main():
                     + f" | {cell(b['shipped'])} |\n")
         n_fix = sum(1 for b in per_bar if b["best"])
         f.write(f"\nSome fixed gain meets the targets on {n_fix} of {len(per_bar)} bars.")
-        for i, (label, _) in enumerate(LAWS):
+        for i, (label, _, _) in enumerate(LAWS):
             n_law = sum(1 for b in per_bar if b["laws"][i]["met"])
             n_ok = sum(1 for b in per_bar if b["laws"][i]["not_slower"])
             f.write(f" The {label} meets them on {n_law}, and is not slower than the fastest fixed gain that "
@@ -160,7 +160,7 @@ def main():
         f.write("\n")
         # One program for every bar it meets the targets on: the law against the
         # fastest single fixed gain that meets them on the same bars.
-        for i, (label, _) in enumerate(LAWS):
+        for i, (label, _, _) in enumerate(LAWS):
             met = [b for b in per_bar if b["laws"][i]["met"]]
             if not met:
                 continue
