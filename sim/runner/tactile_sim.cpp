@@ -91,6 +91,14 @@ int mkdirs(const std::string& dir) {
   return 0;
 }
 
+// A servo stop (the force ceiling, a watchdog): what it means, for the user.
+void printServoStop(const Summary& s) {
+  for (int k = static_cast<int>(ServoStatus::ForceCeiling); k <= static_cast<int>(ServoStatus::SurfaceTooCurved); ++k) {
+    const ServoStatus st = static_cast<ServoStatus>(k);
+    if (s.status == std::string("servo_") + toString(st)) std::printf("  %s: %s\n", toString(st), explain(st));
+  }
+}
+
 }  // namespace
 
 int plot(const std::string& out_dir) {
@@ -173,6 +181,7 @@ int summarize(int argc, char** argv) {
   }
   std::printf("%s (%s, deployment): status %s, %zu servo cycles, %.1f s simulated\n", s.scene.c_str(),
               s.controller.c_str(), s.status.c_str(), result.rows.size(), s.sim_time_s);
+  printServoStop(s);
   printCriteria(s);
   if (plots) plot(out_dir);
   std::printf("results: %s\n", out_dir.c_str());
@@ -282,6 +291,7 @@ int main(int argc, char** argv) {
   const Summary& s = result.summary;
   std::printf("%s (%s): status %s, %.1f s simulated in %.2f s (%.0fx real time)\n", s.scene.c_str(),
               s.controller.c_str(), s.status.c_str(), s.sim_time_s, s.wall_time_s, s.real_time_factor);
+  printServoStop(s);
   printCriteria(s);
   if (plots) plot(out_dir);
   std::printf("results: %s\n", out_dir.c_str());

@@ -3,6 +3,9 @@
 // contradicts. Each latches a named status and holds the command; each is
 // checked against the case it must catch and the one it must let pass, at
 // 100 Hz and 1 kHz, without allocation.
+#include <set>
+#include <string>
+
 #include "alloc_counter.hpp"
 #include "servo_test_util.hpp"
 
@@ -303,4 +306,28 @@ TEST(ServoWatchdogs, SurfaceTooCurvedLiftsByTheExcessBeforeItStops) {
   TactileServo s;
   EXPECT_NE(s.configure(p).message().find("watchdogs.surface_too_curved.lift_n"), std::string::npos);
   EXPECT_DOUBLE_EQ(loadShipped("bent_bar_to_end_cap.yaml").watchdogs.curved_lift_n, 0.4);
+}
+
+// What the operator reads (tactile_sim, the deployments' state machines
+// through ServoComponent::statusText()): every status has its own sentence, and
+// each watchdog's names what happened.
+TEST(ServoWatchdogs, EveryStatusExplainedToTheOperator) {
+  const ServoStatus all[] = {ServoStatus::Ok,           ServoStatus::FreeMotion,      ServoStatus::Holding,
+                             ServoStatus::ContactLost,  ServoStatus::Limited,         ServoStatus::Done,
+                             ServoStatus::WaitingForPose, ServoStatus::Starting,      ServoStatus::WaitingForRobot,
+                             ServoStatus::ForceCeiling, ServoStatus::InvalidInput,    ServoStatus::NotConfigured,
+                             ServoStatus::PhaseTimeout, ServoStatus::ArmStalled,      ServoStatus::ForceMismatch,
+                             ServoStatus::SurfaceTooCurved};
+  std::set<std::string> seen;
+  for (ServoStatus s : all) {
+    const std::string text = explain(s);
+    EXPECT_NE(text, "unknown status") << toString(s);
+    EXPECT_TRUE(seen.insert(text).second) << toString(s) << ": the same sentence as another status";
+  }
+  EXPECT_EQ(std::string(explain(static_cast<ServoStatus>(99))), "unknown status");
+  EXPECT_NE(std::string(explain(ServoStatus::SurfaceTooCurved)).find("curves more tightly than the rigid pad"),
+            std::string::npos);
+  EXPECT_NE(std::string(explain(ServoStatus::ForceMismatch)).find("estimated wrench"), std::string::npos);
+  EXPECT_NE(std::string(explain(ServoStatus::ArmStalled)).find("did not follow"), std::string::npos);
+  EXPECT_NE(std::string(explain(ServoStatus::PhaseTimeout)).find("max_duration_s"), std::string::npos);
 }

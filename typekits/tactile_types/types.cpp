@@ -48,6 +48,38 @@ const char* toString(ServoStatus s) {
   return "unknown";
 }
 
+const char* explain(ServoStatus s) {
+  switch (s) {
+    case ServoStatus::Ok: return "servoing";
+    case ServoStatus::FreeMotion: return "moving without contact";
+    case ServoStatus::Holding: return "holding: the features are stale";
+    case ServoStatus::ContactLost: return "the contact was lost: searching along z_s";
+    case ServoStatus::Limited: return "servoing at the speed limits";
+    case ServoStatus::Done: return "the program's terminal phase: holding";
+    case ServoStatus::WaitingForPose: return "waiting for the arm's first measured pose";
+    case ServoStatus::Starting: return "starting";
+    case ServoStatus::WaitingForRobot: return "the arm cannot be commanded (KRC in monitor mode, link quality, drives off): holding";
+    case ServoStatus::ForceCeiling:
+      return "the tactile force passed the program's ceiling (safety.force_ceiling): retreating along -z_s, then "
+             "holding until a phase switch";
+    case ServoStatus::InvalidInput: return "a non-finite pose, feature or time step: holding";
+    case ServoStatus::NotConfigured: return "not configured";
+    case ServoStatus::PhaseTimeout:
+      return "longer in a phase than its max_duration_s: the phase never ended; holding";
+    case ServoStatus::ArmStalled:
+      return "the arm did not follow the commanded motion (a joint limit, a collision, a controller that does not "
+             "move): holding";
+    case ServoStatus::ForceMismatch:
+      return "the taxels' force and the arm's estimated wrench along z_s disagree (load on the housing, a pad "
+             "softer than calibrated): holding";
+    case ServoStatus::SurfaceTooCurved:
+      return "the surface curves more tightly than the rigid pad can follow (or lies where no taxel sees it): the "
+             "arm's wrench carries more than the force set point while the image shrank to part of the pad or "
+             "vanished; holding";
+  }
+  return "unknown status";
+}
+
 const char* toString(RobotMode m) {
   switch (m) {
     case RobotMode::Off: return "off";

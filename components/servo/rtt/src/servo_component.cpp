@@ -55,6 +55,11 @@ ServoComponent::ServoComponent(const std::string& name)
       .doc("The controller in use after configure(): 'proposed', 'baseline' or 'no_rotation' ('' before).");
   addOperation("lastError", &ServoComponent::lastError, this, RTT::ClientThread)
       .doc("Message of the last failed configure().");
+  addOperation("statusName", &ServoComponent::statusName, this, RTT::ClientThread)
+      .doc("The name of last_status (the servo's status of the last cycle), e.g. 'surface_too_curved'. Builds a "
+           "string: for a state machine's entry program, not its run program.");
+  addOperation("statusText", &ServoComponent::statusText, this, RTT::ClientThread)
+      .doc("What last_status means for the operator, in one sentence. Builds a string (as statusName).");
 }
 
 ServoComponent::~ServoComponent() {
@@ -116,6 +121,14 @@ int ServoComponent::phaseIndex() const { return isConfigured() ? current_phase_.
 
 int ServoComponent::phaseIndexOf(const std::string& name) const {
   return isConfigured() ? stage_.servo().phaseIndexOf(name.c_str()) : -1;  // reads the configured program only
+}
+
+std::string ServoComponent::statusName() const {
+  return toString(static_cast<ServoStatus>(last_status_.load()));
+}
+
+std::string ServoComponent::statusText() const {
+  return explain(static_cast<ServoStatus>(last_status_.load()));
 }
 
 std::string ServoComponent::phaseName() const {

@@ -139,8 +139,20 @@ bool SimClock::tick() {
   if (f.servo) {
     servo_->update();
     if (reporter_) reporter_->update();  // samples this cycle's ports
-    const sim::EndReason e = end_.afterServo(static_cast<ServoStatus>(servo_status_->get()));
+    const ServoStatus st = static_cast<ServoStatus>(servo_status_->get());
+    const sim::EndReason e = end_.afterServo(st);
     if (e != sim::EndReason::None) {
+      // A latched stop (a watchdog, the force ceiling): one more servo cycle,
+      // one servo period later, as the servo's own activity would run on the
+      // arm, so that the experiment's state machine (it runs before the
+      // servo's updateHook) sees the latched status and reports it. The arm,
+      // the sensor and the reporter do not step: the record ends where the
+      // runner's does.
+      if (st != ServoStatus::Done) {
+        setTime(static_cast<int64_t>(schedule_.tick()) * schedule_.periodNs() +
+                static_cast<int64_t>(std::llround(1e9 / schedule_.rates().servo)));
+        servo_->update();
+      }
       finish(e, sim::SimStatus::Ok);
       return false;
     }

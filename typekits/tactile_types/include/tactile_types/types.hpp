@@ -238,5 +238,8 @@ const char* toString(ContactType t);
 const char* toString(FeatureStatus s);
 const char* toString(ServoStatus s);
 const char* toString(RobotMode m);
+/// What a servo status means for the operator, in one sentence (for the
+/// deployer's state machines and tactile_sim's report; never on a cycle).
+const char* explain(ServoStatus s);
 
 }  // namespace tactile

@@ -73,6 +73,8 @@ class ServoComponent : public Component {
   int phaseIndexOf(const std::string& name) const;
   std::string controllerMode() const { return mode_in_use_; }
   std::string lastError() const { return last_error_; }
+  std::string statusName() const;
+  std::string statusText() const;
 
  private:
   std::string program_file_;

@@ -7,9 +7,14 @@
 //   Sensor.update()    if the WTS acquisition fires (every tick with the scene's
 //                      effects.wts_transfer_delay_s > 0: frames arrive between acquisitions)
 //   Features.update()  if feature extraction fires
-//   Servo.update()     if the servo fires; end at its force ceiling / 1 s after Done
+//   Servo.update()     if the servo fires; end at its force ceiling or a
+//                      watchdog / 1 s after Done
 //   Robot.update()     every tick (physics); end at a fatal simulator status
-// until the scene's duration or the end rule. So the deployment runs the same
+// until the scene's duration or the end rule. After a latched stop (the force
+// ceiling, a watchdog) the servo runs one more cycle, a servo period later
+// and unrecorded (the arm, the sensor and the reporter do not step): on the
+// arm its activity keeps running, and the experiment's state machine, which
+// runs before the servo's updateHook, sees the latched status only then. So the deployment runs the same
 // loop as `tactile_sim run` (same stages, same schedule, same seed): the same
 // pose command on every servo cycle.
 //
@@ -25,7 +30,7 @@
 //   attr ticks (int)         physics ticks executed since start
 //   attr finished (bool)     the run ended (duration or end rule); the clock then idles
 //   attr status (string)     "running", then summary.json's status ("ok", "servo_force_ceiling", "sim_...")
-//   attr exit_code (int)     tactile_sim's exit code for that status (0, 3, 4)
+//   attr exit_code (int)     tactile_sim's exit code for that status (0, 3-8)
 //   op   string lastError()
 //
 // Execution: a non-periodic activity (setActivity("Clock", 0, ...)); each
