@@ -84,7 +84,7 @@ rc=0
 (cd "$dep" && TACTILE_EXPERIMENT="$run" RTT_COMPONENT_PATH="$build/lib/orocos:$orocos/lib/orocos" \
    "$deployer" --check -linfo -s sim_run.ops < /dev/null) > "$out/deployer.log" 2>&1 || rc=$?
 cp "$dep/orocos.log" "$out/orocos.log" 2>/dev/null || true
-grep -E "deployment step failed|status at the end|state machine .* at the end|\[(BentBar|CoManipulation|Sphere|Edge|Contour|FirstTouch)[A-Za-z]*\]" "$out/deployer.log" | sed 's/^[0-9.]* \[[^]]*\]\[[^]]*\] //' || true
+grep -E "deployment step failed|status at the end|state machine .* at the end|\[(BentBar|CoManipulation|Sphere|Edge|Contour|FirstTouch|TimedPhase)[A-Za-z]*\]" "$out/deployer.log" | sed 's/^[0-9.]* \[[^]]*\]\[[^]]*\] //' || true
 if [ ! -s "$report" ]; then
   echo "run_deployment: no report file (deployer exit $rc); see $out/deployer.log" >&2
   exit 1

@@ -77,8 +77,14 @@ SHAPES = [("dip_d2mm_w80mm", "one trough 2 mm deep over 80 mm, R 162 mm", dip(0.
           ("sharp_r2mm", "a straight bar, its top edge rounded at 2 mm", lambda u: (0.0, 0.0), 0.002)]
 
 
+# The force targets of a bar that is followed to its end.
+FOLLOWED = """    force_true_max_n: {max: 7.0}
+    force_true_rms_error_n: {max: 0.4}
+    force_true_in_band_fraction: {min: 0.95}"""
+
+
 def scene_text(name, header, description, verts, rounding=0.005, program="bent_bar_to_end_cap.yaml", up="../../..",
-               duration=22):
+               duration=22, criteria=FOLLOWED):
     """A scene of the family: the bent bar's start, pose, program and criteria."""
     v = ", ".join(f"[{x[0]}, {x[1]}, {x[2]}]" for x in verts)
     return f"""{header}
@@ -105,9 +111,7 @@ metrics:
   force_phases: [explore]
   force_band_n: 0.5
   criteria:
-    force_true_max_n: {{max: 7.0}}
-    force_true_rms_error_n: {{max: 0.4}}
-    force_true_in_band_fraction: {{min: 0.95}}
+{criteria}
 """
 
 
@@ -153,6 +157,21 @@ def main():
                             f"{radius(amp, l) * 1e3:.1f} mm), the careful speed law", vertices(amp, l),
                             program="bent_bar_speed_law_careful.yaml", up="../..", duration=40))
     print("wave_speed_law: the careful speed law on the A 2 mm, L 90 mm wave")
+    # The registry's experiment of the stop (experiments.yaml tight_wave): a
+    # wave tighter than the pad follows, with the same program; the servo's
+    # surface_too_curved watchdog must end it before the true force reaches 7 N.
+    amp, l = 0.003, 0.060
+    header = f"""# A wave tighter than the pad follows (scripts/tools/make_curved_bars.py; experiments.yaml
+# tight_wave): sim/scenes/curved/wavy_a{amp * 1e3:g}mm_l{l * 1e3:g}mm.yaml (R {radius(amp, l) * 1e3:.1f} mm) with
+# bent_bar_speed_law_careful.yaml, 40 s. The run must end with the servo's
+# surface_too_curved watchdog before the true force reaches 7 N. docs/design.md,
+# "Safety"."""
+    with open(os.path.join(a.out, "..", "tight_wave.yaml"), "w") as fh:
+        fh.write(scene_text("tight_wave", header, f"A wave tighter than the pad (A {amp * 1e3:g} mm, L {l * 1e3:g} mm, R "
+                            f"{radius(amp, l) * 1e3:.1f} mm): the stop", vertices(amp, l),
+                            program="bent_bar_speed_law_careful.yaml", up="../..", duration=40,
+                            criteria="    force_true_max_n: {max: 7.0}"))
+    print("tight_wave: the careful speed law on the A 3 mm, L 60 mm wave, stopped")
 
 
 if __name__ == "__main__":

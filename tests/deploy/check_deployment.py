@@ -70,6 +70,18 @@ elif exp == "wave_speed_law":
     check(num(d["force_true_in_band_fraction"]) >= 0.95,
           f">= 95 % within 5 +- 0.5 N ({d['force_true_in_band_fraction']})")
     check(num(d["contact_lost_count"]) == 0, f"no contact loss ({d['contact_lost_count']})")
+elif exp == "tight_wave":
+    # A wave tighter than the rigid pad follows (R 30 mm): the servo's
+    # surface_too_curved watchdog ends the run before the true force reaches
+    # 7 N, and the experiment's state machine fails naming it (docs/design.md,
+    # "Safety"), instead of waiting out its phase_time and switching to done.
+    check(d["status"] == "servo_surface_too_curved", f"stopped by surface_too_curved ({d['status']})")
+    check(num(d["force_true_max_n"]) < 7.0, f"true force max < 7 N ({d['force_true_max_n']})")
+    check([p["name"] for p in d["phases"]] == ["approach", "explore"], "stopped while sliding, in explore")
+    log = open(f"{deploy_dir}/deployer.log", errors="replace").read()
+    line = "[TimedPhaseExperiment] failed: reason 16, watchdog surface_too_curved: the surface curves more tightly"
+    check(line in log, f"the state machine reports '{line} ...'")
+    check("TimedPhaseExperiment at the end: FAILED" in log, "the state machine at the end: FAILED")
 elif exp == "bent_bar" and controller == "no_rotation":
     # The ablation's drift onto the rigid housing is stopped by the servo's
     # force-mismatch watchdog or a ceiling: never `ok`, outside 5 +- 1 N.
