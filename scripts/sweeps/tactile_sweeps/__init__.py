@@ -21,6 +21,6 @@ from .cli import parse_args  # noqa: F401
 from .parallel import pmap  # noqa: F401
 from .report import fmt, mean, write_csv  # noqa: F401
 from .run import rel_err  # noqa: F401
-from .scenes import (FORCE_BAND_N, FORCE_IN_BAND_MIN, FORCE_RMS_MAX_N, NOT_EXPERIMENTS, PROGRAMS, ROOT,  # noqa: F401
+from .scenes import (EXPECTED_STOPS, STOP_FORCE_MAX_N, FORCE_BAND_N, FORCE_IN_BAND_MIN, FORCE_RMS_MAX_N, NOT_EXPERIMENTS, PROGRAMS, ROOT,  # noqa: F401
                      SCENE_DIR, TOOLS, force_band, key_metrics, load_scene, paper_program, scene_path,
                      shipped_scenes, tray_index)
