@@ -12,13 +12,17 @@ stiff force loop, K_P,z 8, K_I,z 16; scripts/sweeps/sweep_speed.py):
   speed law, careful   bent_bar_speed_law_careful.yaml (budget 0.35 N, the
                        speed rising at 0.005 m/s^2)
 and with bent_bar_to_end_cap.yaml as shipped (the paper's slide gain), for
-reference. A run meets the targets when it ends at the bar's end (status ok,
+reference. The careful law is also run with its speed's rise (accel_mps2)
+swept over RISES: a change of the slide speed is itself a disturbance of the
+force loop on a sloped or curved bar, and the rise trades the speed on the
+gentle bars against the force on the waves (rise.csv, rise.md). A run meets the targets when it ends at the bar's end (status ok,
 ended by `done`, the last true contact within 10 mm of the bar's end vertex)
 with the true force's RMS error <= 0.5 N, >= 95 % of the slide within
 5 +- 0.5 N and no contact loss. Per bar: the fastest fixed gain that meets
 them (on every seed), and the law's speed (the mean over the seeds that
 measured one) and whether it meets them.
-Writes family.csv (per run), family_bars.csv and family.md (per bar) and family.png into --out.
+Writes family.csv (per run), family_bars.csv and family.md (per bar), family.png and
+rise.csv and rise.md (per rise) into --out.
 """
 import csv
 import glob
@@ -37,6 +41,9 @@ FIXED, SHIPPED = "fixed gain", "end-cap program (paper's gain)"
 # label, program, the prefix of its columns in family_bars.csv
 LAWS = [("speed law", "bent_bar_speed_law", "law"), ("speed law, careful", "bent_bar_speed_law_careful", "careful")]
 END_MM = sweep_speed.END_MM
+RISE = "careful law, rise"
+RISES = [0.002, 0.005, 0.01, 0.02, 0.05]  # m/s^2: the careful law's accel_mps2 (0.005 as shipped)
+LAW_DURATION_S = 90.0  # s: a law sliding at its v_min (5 mm/s) the whole bar still reaches its end
 
 
 def bars():
@@ -48,10 +55,18 @@ def bars():
 def one(job):
     bar, label, program, kp, seed, out = job
     d = os.path.join(out, "runs", bar.split("/")[-1], f"{label.replace(' ', '_').replace(',', '')}_{kp:g}_{seed}")
-    duration = 3.0 + 1.5 * 0.36 / (0.025 * kp) if label == FIXED else 40.0
+    duration = 3.0 + 1.5 * 0.36 / (0.025 * kp) if label == FIXED else LAW_DURATION_S
     s = ts.run.run(bar, d, ["--seed", str(seed), "--set", "program=" + program, "--set", f"duration={duration:.1f}"])
     s["end_distance_m"] = sweep_speed.end_distance(d, bar)
     return bar, label, kp, seed, s
+
+
+def rise_variant(accel, out):
+    """bent_bar_speed_law_careful.yaml with speed_law.accel_mps2 = accel."""
+    p = sweep_speed.program_yaml.load(os.path.join(sweep_speed.PROGRAMS, "bent_bar_speed_law_careful.yaml"))
+    p["speed_law"]["accel_mps2"] = accel
+    return sweep_speed.write_program(p, f"bent_bar_speed_law_careful_rise{accel:g}",
+                                     f"bent_bar_speed_law_careful.yaml with speed_law.accel_mps2 = {accel}", out)
 
 
 def meets(r):
@@ -62,6 +77,7 @@ def meets(r):
 def main():
     a = ts.parse_args(__doc__, "family")
     programs = {kp: sweep_speed.variant("bent_bar_speed_law", kp, a.out) for kp in GAINS}
+    rises = {r: rise_variant(r, a.out) for r in RISES}
     shipped = os.path.join(sweep_speed.PROGRAMS, "bent_bar_to_end_cap.yaml")
     jobs = []
     for bar in bars():
@@ -70,6 +86,7 @@ def main():
             jobs += [(bar, label, os.path.join(sweep_speed.PROGRAMS, prog + ".yaml"), 0.0, seed, a.out)
                      for label, prog, _ in LAWS]
             jobs.append((bar, SHIPPED, shipped, 0.0, seed, a.out))
+            jobs += [(bar, RISE, rises[r], r, seed, a.out) for r in RISES]
     rows, failed = [], False
     for k, n, (bar, label, kp, seed, s) in ts.pmap(one, jobs, a.jobs):
         if s.get("status") == "no_summary":
@@ -77,6 +94,7 @@ def main():
             print(f"{bar} {label} {kp:g}: no summary: {s.get('error', '')[-300:]}", file=sys.stderr)
         phases = [p["name"] for p in s.get("phases", [])]
         r = {"bar": bar.split("/")[-1], "controller": label, "kp_x": kp if label == FIXED else float("nan"),
+             "accel_mps2": kp if label == RISE else float("nan"),
              "seed": seed, "status": s.get("status"), "ended_done": "done" in phases,
              "speed_mm_s": 1000.0 * sweep_speed.num(s.get("slide_speed_mps")),
              "rms_n": sweep_speed.num(s.get("force_true_rms_error_n")),
@@ -87,15 +105,15 @@ def main():
         rows.append(r)
         print(f"[{k}/{n}] {r['bar']} {label} {kp:g} seed {seed}: {r['status']}, {r['speed_mm_s']:.1f} mm/s, "
               f"RMS {r['rms_n']:.2f} N, in band {r['in_band']:.3f}, met {r['met']}", flush=True)
-    order = [FIXED] + [label for label, _, _ in LAWS] + [SHIPPED]
+    order = [FIXED] + [label for label, _, _ in LAWS] + [SHIPPED, RISE]
     rows.sort(key=lambda r: (r["bar"], order.index(r["controller"]), r["kp_x"] if r["kp_x"] == r["kp_x"] else 0,
-                             r["seed"]))
+                             r["accel_mps2"] if r["accel_mps2"] == r["accel_mps2"] else 0, r["seed"]))
     ts.write_csv(os.path.join(a.out, "family.csv"), rows)
 
     # Per bar: a setting meets the targets when every seed does; its speed is the seeds' mean.
-    def setting(bar, label, kp=None):
+    def setting(bar, label, kp=None, accel=None):
         g = [r for r in rows if r["bar"] == bar and r["controller"] == label
-             and (kp is None or r["kp_x"] == kp)]
+             and (kp is None or r["kp_x"] == kp) and (accel is None or r["accel_mps2"] == accel)]
         if not g:
             return None
         v = [r["speed_mm_s"] for r in g if r["speed_mm_s"] == r["speed_mm_s"]]  # seeds that measured a speed
@@ -175,6 +193,28 @@ def main():
             else:
                 f.write("No single fixed gain meets them on all of these bars.\n")
 
+    # The careful law's rise: bars within the targets and its speed there, per rise.
+    rise_rows = []
+    for acc in RISES:
+        per = [(b, setting(b["bar"], RISE, accel=acc)) for b in per_bar]
+        met = [(b, st) for b, st in per if st["met"]]
+        fixed_bars = [b for b in per_bar if b["best"]]
+        rise_rows.append({
+            "accel_mps2": acc, "bars": len(per), "met": len(met),
+            "met_where_a_fixed_gain_does": sum(1 for b, st in met if b["best"]), "fixed_met": len(fixed_bars),
+            "speed_mm_s": sum(st["speed"] for _, st in met) / len(met) if met else float("nan"),
+            "gentle_speed_mm_s": (lambda g: sum(g) / len(g) if g else float("nan"))(
+                [st["speed"] for b, st in met if not b["bar"].startswith("wavy")]),
+            "not_slower": sum(1 for b, st in met if b["best"] is None or st["speed"] >= b["best"]["speed"])})
+    ts.write_csv(os.path.join(a.out, "rise.csv"), rise_rows)
+    with open(os.path.join(a.out, "rise.md"), "w") as f:
+        f.write("| rise (m/s^2) | bars within the targets | of the bars some fixed gain passes | mean speed there "
+                "(mm/s) | on the bars that are not waves (mm/s) | not slower than the fastest fixed gain |\n"
+                "|---|---|---|---|---|---|\n")
+        for r in rise_rows:
+            f.write(f"| {r['accel_mps2']:g} | {r['met']} of {r['bars']} | {r['met_where_a_fixed_gain_does']} of "
+                    f"{r['fixed_met']} | {r['speed_mm_s']:.1f} | {r['gentle_speed_mm_s']:.1f} | {r['not_slower']} |\n")
+
     cols = 5
     nrow = math.ceil(len(per_bar) / cols)
     fig, ax = plt.subplots(nrow, cols, figsize=(3.2 * cols, 2.6 * nrow), squeeze=False)
@@ -198,6 +238,7 @@ def main():
                  "the careful speed law (red), the end-cap program (green); star: within the targets", fontsize=10)
     save(fig, os.path.join(a.out, "family.png"), dpi=90)
     print(open(os.path.join(a.out, "family.md")).read())
+    print(open(os.path.join(a.out, "rise.md")).read())
     return 1 if failed else 0
 
 

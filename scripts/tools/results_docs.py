@@ -125,7 +125,7 @@ def run_figures(summary):
 def collect(out):
     """results.json's content (without commit and machine) from out/."""
     res = {"runs": {}, "deploy": {}, "compare": {}, "force_targets": [], "force_sweep": [],
-           "correction": [], "speed": [], "family": [], "contours": [], "rehearsal": []}
+           "correction": [], "speed": [], "family": [], "family_rise": [], "contours": [], "rehearsal": []}
     for name in RUNS:
         res["runs"][name] = run_figures(load_json(os.path.join(out, name, "summary.json")))
     for name in DEPLOYS:
@@ -168,6 +168,8 @@ def collect(out):
     for r in load_csv(os.path.join(out, "family", "family_bars.csv")):  # per bar, seeds 1-3
         res["family"].append({k: (rnd(num(v)) if k.endswith(("_mm_s", "_rms_n", "_in_band")) else v)
                               for k, v in r.items()})
+    for r in load_csv(os.path.join(out, "family", "rise.csv")):  # per rise of the careful law, seeds 1-3
+        res["family_rise"].append({k: (rnd(num(v)) if k.endswith(("_mps2", "_mm_s")) else int(v)) for k, v in r.items()})
     for sub, effects in (("contours", False), ("contours_sensor_effects", True)):
         d = os.path.join(out, sub)
         need(d)
@@ -317,6 +319,14 @@ def render_family(res):
                   "end-cap program: speed", "met"], rows)
 
 
+def render_rise(res):
+    rows = [[f(r["accel_mps2"], "g"), f"{r['met']} of {r['bars']}", f"{r['met_where_a_fixed_gain_does']} of {r['fixed_met']}",
+             f(r["speed_mm_s"], ".1f"), f(r["gentle_speed_mm_s"], ".1f"), r["not_slower"]] for r in res["family_rise"]]
+    return table(["rise accel_mps2 (m/s^2)", "bars within the targets", "of the bars some fixed gain passes",
+                  "mean speed there (mm/s)", "on those that are not waves (mm/s)",
+                  "not slower than the fastest fixed gain"], rows)
+
+
 def render_contours(res):
     rows = [[r["set"], r["run"], r["status"], f(r["closure_m"], ".1f", 1000), f(r["end_distance_m"], ".1f", 1000),
              f(r["rms_m"], ".2f", 1000), r["gap_crossings"], r["unwinds"], f(r["force_true_rms_error_n"], ".2f")]
@@ -414,6 +424,12 @@ def render_results_md(res):
         "fast as the fastest fixed gain that does. Plot: `docs/img/family.png`.",
         "",
         render_family(res),
+        "",
+        "The careful law with its speed's rise swept (out/family/rise.csv; 0.005 m/s^2 as shipped). A",
+        "change of the slide speed is itself a disturbance of the force loop on a sloped or curved bar:",
+        "a faster rise gains speed on the bars it passes and passes fewer of them.",
+        "",
+        render_rise(res),
         "",
         "## Closed contours (out/contours/, out/contours_sensor_effects/)",
         "",
