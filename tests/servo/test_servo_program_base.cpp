@@ -361,15 +361,21 @@ TEST(ServoProgramBase, BentBarSpeedLawTurnsTheLawOnInExplore) {
                  {"speed_law.horizon_s", "0.05"},
                  {"speed_law.angle_rate_ref", "1.0"},
                  {"speed_law.extent_full_m", "0.02"},
-                 {"speed_law.extent_min_m", "0.0"}});
+                 {"speed_law.extent_min_m", "0.0"},
+                 {"slope_feedforward.phases[0]", "explore"}});
   const ServoParams p = loadShipped("bent_bar_speed_law.yaml");
   ASSERT_EQ(p.speed_law.phases.size(), 1u);
   EXPECT_EQ(p.speed_law.phases[0], "explore");
   EXPECT_DOUBLE_EQ(p.speed_law.law.v_max, 0.08);
   EXPECT_EQ(p.speed_law.axis, 0);
-  // The base programs keep it off.
+  ASSERT_EQ(p.slope_feedforward.phases.size(), 1u);  // and the slope feed-forward, in the same phase
+  EXPECT_EQ(p.slope_feedforward.phases[0], "explore");
+  EXPECT_DOUBLE_EQ(p.slope_feedforward.window_m, 0.0005);
+  // The base programs keep both off.
   EXPECT_TRUE(loadShipped("bent_bar_to_end_cap.yaml").speed_law.phases.empty());
   EXPECT_TRUE(loadShipped("bent_bar.yaml").speed_law.phases.empty());
+  EXPECT_TRUE(loadShipped("bent_bar_to_end_cap.yaml").slope_feedforward.phases.empty());
+  EXPECT_TRUE(loadShipped("bent_bar.yaml").slope_feedforward.phases.empty());
 }
 
 TEST(ServoProgramBase, CarefulSpeedLawChangesOnlyTheBudgetAndTheRise) {

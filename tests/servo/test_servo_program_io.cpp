@@ -149,6 +149,15 @@ TEST(ServoProgramIo, BadProgramsNameFilePhaseField) {
   expectRejected("bad_speed_phase", "speed_law: {phases: [hlod]}\n" + program(""), {"speed_law.phases", "'hlod'"});
   expectRejected("bad_speed_axis", "speed_law: {axis: z}\n" + program(""), {"speed_law.axis", "'z'", "x or y"});
   expectRejected("bad_speed_key", "speed_law: {vmax: 0.1}\n" + program(""), {"speed_law.vmax", "unknown key"});
+  // The slope feed-forward's block likewise.
+  expectRejected("bad_slope_window", "slope_feedforward: {phases: [hold], window_m: 0.1}\n" + program(""),
+                 {"slope_feedforward.window_m", "[0, 0.05] m"});
+  expectRejected("bad_slope_phase", "slope_feedforward: {phases: [hlod]}\n" + program(""),
+                 {"slope_feedforward.phases", "'hlod'"});
+  expectRejected("bad_slope_axis", "slope_feedforward: {axis: z}\n" + program(""),
+                 {"slope_feedforward.axis", "'z'", "x or y"});
+  expectRejected("bad_slope_key", "slope_feedforward: {window: 0.001}\n" + program(""),
+                 {"slope_feedforward.window", "unknown key"});
   {
     const std::string body = program("").substr(program("").find('\n') + 1);  // without its controller: line
     expectRejected("bad_mode", "controller: {mode: li}\n" + body,

@@ -318,11 +318,31 @@ ConfigResult readSpeedLaw(const YAML::Node& sl, const Where& w, SpeedLawConfig& 
   return ConfigResult::success();
 }
 
+/// slope_feedforward: the block of SlopeFeedforwardConfig (servo_params.hpp);
+/// the range and the phase names are checked by TactileServo::configure.
+ConfigResult readSlopeFeedforward(const YAML::Node& sf, const Where& w, SlopeFeedforwardConfig& c) {
+  ConfigResult r = checkKeys(sf, w, {"phases", "axis", "window_m"});
+  if (!r) return r;
+  if (const YAML::Node ph = sf["phases"]) {
+    if (!ph.IsSequence()) return fail(w.child("phases"), "must be a list of phase names ([] = off)");
+    if (!(r = read(sf, "phases", c.phases, w))) return r;
+  }
+  if (sf["axis"]) {
+    std::string a;
+    if (!(r = read(sf, "axis", a, w))) return r;
+    if (a == "x") c.axis = 0;
+    else if (a == "y") c.axis = 1;
+    else return fail(w.child("axis"), "'" + a + "': must be x or y (the slide axis of {s})");
+  }
+  return read(sf, "window_m", c.window_m, w);
+}
+
 ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoParams& out) {
   ServoParams p;
   p.source = file;
   const Where top{file, ""};
-  ConfigResult r = checkKeys(root, top, {"controller", "safety", "watchdogs", "force_estimate", "speed_law", "phase_defaults", "phases"});
+  ConfigResult r = checkKeys(root, top, {"controller", "safety", "watchdogs", "force_estimate", "speed_law", "slope_feedforward",
+                                         "phase_defaults", "phases"});
   if (!r) return r;
   if (const YAML::Node c = root["controller"]) {
     const Where w = top.child("controller");
@@ -442,6 +462,9 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
   }
   if (const YAML::Node sl = root["speed_law"]) {
     if (!(r = readSpeedLaw(sl, top.child("speed_law"), p.speed_law))) return r;
+  }
+  if (const YAML::Node sf = root["slope_feedforward"]) {
+    if (!(r = readSlopeFeedforward(sf, top.child("slope_feedforward"), p.slope_feedforward))) return r;
   }
   Defaults d;
   if (const YAML::Node pd = root["phase_defaults"]) {

@@ -6,6 +6,25 @@
 
 namespace tactile {
 
+namespace {
+/// Per phase of `p`: listed in `names` (a block's `phases`); a name that is no
+/// phase, or a terminal one (nothing slides there), is an error naming `key`.
+ConfigResult phaseFlags(const ServoParams& p, const std::vector<std::string>& names, const char* key,
+                        std::vector<char>& flags) {
+  flags.assign(p.phases.size(), 0);
+  for (const std::string& name : names) {
+    std::size_t i = 0;
+    while (i < p.phases.size() && p.phases[i].name != name) ++i;
+    if (i == p.phases.size())
+      return ConfigResult::failure(p.source + ": " + key + ".phases: no phase '" + name + "'");
+    if (p.phases[i].terminal)
+      return ConfigResult::failure(p.source + ": " + key + ".phases: '" + name + "' is terminal (nothing to slide)");
+    flags[i] = 1;
+  }
+  return ConfigResult::success();
+}
+}  // namespace
+
 ConfigResult TactileServo::configure(const ServoParams& p) {
   configured_ = false;
   ConfigResult r = law_.configure(p);  // c_z, motion sign, mount; per phase s_d, J^-1, P, gains
@@ -15,15 +34,11 @@ ConfigResult TactileServo::configure(const ServoParams& p) {
   if (r) r = force_est_.configure(p.force_estimate, (p.source + ": force_estimate").c_str());
   if (r) r = speed_law_.configure(p.speed_law.law, (p.source + ": speed_law").c_str());
   if (!r) return r;
-  speed_phase_.assign(p.phases.size(), 0);
-  for (const std::string& name : p.speed_law.phases) {
-    std::size_t i = 0;
-    while (i < p.phases.size() && p.phases[i].name != name) ++i;
-    if (i == p.phases.size()) return ConfigResult::failure(p.source + ": speed_law.phases: no phase '" + name + "'");
-    if (p.phases[i].terminal)
-      return ConfigResult::failure(p.source + ": speed_law.phases: '" + name + "' is terminal (nothing to slide)");
-    speed_phase_[i] = 1;
-  }
+  if (!(r = phaseFlags(p, p.speed_law.phases, "speed_law", speed_phase_))) return r;
+  if (!(r = phaseFlags(p, p.slope_feedforward.phases, "slope_feedforward", slope_phase_))) return r;
+  if (!(r = slope_ff_.configure(p.slope_feedforward.window_m, p.slope_feedforward.axis,
+                                (p.source + ": slope_feedforward").c_str())))
+    return r;
   if (!(std::isfinite(p.speed_law.rate_tau_s) && p.speed_law.rate_tau_s > 0.0 && p.speed_law.rate_tau_s <= 10.0))
     return rangeError(p.source + ": speed_law.rate_tau_s", p.speed_law.rate_tau_s, "must be in (0, 10] s");
   if (p.speed_law.axis < 0 || p.speed_law.axis > 1)
@@ -43,6 +58,7 @@ void TactileServo::reset() {
   force_est_.reset();
   speed_law_.reset();
   speed_filter_.reset();
+  slope_ff_.reset();
   has_cmd_ = false;
   waiting_ = false;
 }
@@ -61,6 +77,7 @@ void TactileServo::enterPhase(int idx, double now) {
   if (program_.resetsIntegrator(idx)) law_.resetIntegrator();
   speed_law_.reset();  // a new phase slides from v_min
   speed_filter_.reset();
+  slope_ff_.reset();  // and measures its slope afresh
   safety_.resetRecovery();
 }
 
@@ -287,6 +304,7 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   if (program_.requiresContact(ph) && !PhaseProgram::hasContact(f)) {
     speed_law_.reset();  // back in contact: slide from v_min
     speed_filter_.reset();
+    slope_ff_.reset();
     const double dz = safety_.contactLoss(dt);
     if (dz == 0.0) return finish(ServoStatus::ContactLost, now, out);
     u(kZ) = dz;
@@ -303,6 +321,12 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   if (cap >= 0.0) {
     const int a = params_.speed_law.axis;
     u(a) = std::clamp(u(a), -cap * dt, cap * dt);
+  }
+  if (static_cast<std::size_t>(ph) < slope_phase_.size() && slope_phase_[static_cast<std::size_t>(ph)]) {
+    // The slide's slope along z_s (slope_feedforward.hpp): a change of the
+    // slide speed or of the slope does not wait for the force PI's integral.
+    const int a = params_.slope_feedforward.axis;
+    u(kZ) += slope_ff_.step(meas_ * law_.sensorMount(), true) * u(a);
   }
   const double unwind = params_.phases[static_cast<std::size_t>(ph)].unwind_rate;
   if (unwind > 0.0)  // WRIST: against the yaw the phase was entered with (its wrist_unwound ends it)

@@ -56,6 +56,7 @@
 #include "tactile_servo/phase_program.hpp"
 #include "tactile_servo/safety_supervisor.hpp"
 #include "tactile_servo/servo_params.hpp"
+#include "tactile_servo/slope_feedforward.hpp"
 #include "tactile_servo/speed_law.hpp"
 #include "tactile_servo/watchdog.hpp"
 #include "tactile_types/config_result.hpp"
@@ -159,6 +160,8 @@ class TactileServo {
   SpeedLaw speed_law_;
   SpeedLawFilter speed_filter_;
   std::vector<char> speed_phase_;  ///< per phase: the speed law acts in it (configuration time)
+  SlopeFeedforward slope_ff_;
+  std::vector<char> slope_phase_;  ///< per phase: the slope is fed forward in it (configuration time)
   /// The speed law's cap on the slide axis for this cycle (m/s; < 0: none).
   double slideCap(int phase, const ContactFeatures& f, double f_hat, double f_d, double extent, double excess,
                   double dt, ServoOutput& out);

@@ -196,6 +196,13 @@ struct SpeedLawConfig {
   SpeedLawParams law;
 };
 
+/// The slide's slope fed forward along z_s (slope_feedforward.hpp).
+struct SlopeFeedforwardConfig {
+  std::vector<std::string> phases;  ///< the phases it acts in; empty = off
+  int axis = 0;                     ///< the slide axis of {s}: 0 x_s, 1 y_s
+  double window_m = 0.0005;         ///< m, (0, 0.05]: the slide over which the slope is measured
+};
+
 struct ServoParams {
   KDL::Frame sensor_mount = KDL::Frame::Identity();  ///< {e}T{s}
   Vec6 motion_sign = defaultMotionSign();
@@ -206,6 +213,7 @@ struct ServoParams {
   WatchdogParams watchdogs;
   ForceEstimateParams force_estimate;                 ///< the force the law and the transitions use (force_estimator.hpp)
   SpeedLawConfig speed_law;                           ///< the slide speed from the contact (speed_law.hpp)
+  SlopeFeedforwardConfig slope_feedforward;           ///< the slide's slope along z_s (slope_feedforward.hpp)
   std::vector<PhaseParams> phases;
   std::string initial_phase;                          ///< empty = first phase
   std::string source;                                 ///< file name, for messages
