@@ -126,7 +126,13 @@ def shipped():
         ex["transitions"][0]["for_s"] = 0.1
         p["speed_law"].update(phases=["explore"], v_max=0.08, rate_tau_s=0.1, force_deadband_n=0.3, horizon_s=0.05,
                               angle_rate_ref=1.0, extent_full_m=0.02, extent_min_m=0.0)
+        p["slope_feedforward"]["phases"] = ["explore"]
     expect("bent_bar_speed_law.yaml", "bent_bar_to_end_cap.yaml", speed_law)
+
+    def careful(p):
+        p["speed_law"].update(accel_mps2=0.005, force_budget_n=0.35, force_deadband_n=0.15)
+        p["slope_feedforward"]["phases"] = []
+    expect("bent_bar_speed_law_careful.yaml", "bent_bar_speed_law.yaml", careful)
     for f in sorted(os.listdir(PROGRAMS)):
         if f.endswith(".yaml"):
             check(isinstance(P.load(os.path.join(PROGRAMS, f)).get("phases"), list), f"{f} loads with its phases")

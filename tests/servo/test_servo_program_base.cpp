@@ -378,13 +378,15 @@ TEST(ServoProgramBase, BentBarSpeedLawTurnsTheLawOnInExplore) {
   EXPECT_TRUE(loadShipped("bent_bar.yaml").slope_feedforward.phases.empty());
 }
 
-TEST(ServoProgramBase, CarefulSpeedLawChangesOnlyTheBudgetAndTheRise) {
+TEST(ServoProgramBase, CarefulSpeedLawChangesOnlyTheBudgetAndTheRiseAndDropsTheSlope) {
   expectOverlay("bent_bar_speed_law_careful.yaml", "bent_bar_speed_law.yaml",
                 {{"speed_law.accel_mps2", "0.005"},
                  {"speed_law.force_budget_n", "0.35"},
-                 {"speed_law.force_deadband_n", "0.15"}});
+                 {"speed_law.force_deadband_n", "0.15"},
+                 {"slope_feedforward.phases[0]", kAbsent}});  // phases: [] (off)
   const ServoParams p = loadShipped("bent_bar_speed_law_careful.yaml");
   EXPECT_DOUBLE_EQ(p.speed_law.law.accel_mps2, 0.005);
   EXPECT_DOUBLE_EQ(p.speed_law.law.force_budget_n, 0.35);
   EXPECT_EQ(p.speed_law.phases.size(), 1u);
+  EXPECT_TRUE(p.slope_feedforward.phases.empty());
 }
