@@ -289,24 +289,31 @@ ConfigResult readPhase(const YAML::Node& n, const Where& w0, const Defaults& d, 
   return ConfigResult::success();
 }
 
+/// A slide block's `phases` (the phases it acts in, [] = off) and `axis` (x or
+/// y of {s}), as speed_law and slope_feedforward have them.
+ConfigResult readPhasesAndAxis(const YAML::Node& n, const Where& w, std::vector<std::string>& phases, int& axis) {
+  ConfigResult r = ConfigResult::success();
+  if (const YAML::Node ph = n["phases"]) {
+    if (!ph.IsSequence()) return fail(w.child("phases"), "must be a list of phase names ([] = off)");
+    if (!(r = read(n, "phases", phases, w))) return r;
+  }
+  if (n["axis"]) {
+    std::string a;
+    if (!(r = read(n, "axis", a, w))) return r;
+    if (a == "x") axis = 0;
+    else if (a == "y") axis = 1;
+    else return fail(w.child("axis"), "'" + a + "': must be x or y (the slide axis of {s})");
+  }
+  return r;
+}
+
 /// speed_law: the block of SpeedLawConfig (servo_params.hpp); the ranges and
 /// the phase names are checked by TactileServo::configure (loadImpl's last step).
 ConfigResult readSpeedLaw(const YAML::Node& sl, const Where& w, SpeedLawConfig& c) {
   ConfigResult r = checkKeys(sl, w, {"phases", "axis", "rate_tau_s", "v_max", "v_min", "accel_mps2", "force_budget_n", "force_deadband_n",
                                      "horizon_s", "angle_rate_ref", "curvature_ref", "extent_full_m", "extent_min_m",
                                      "excess_ref_n"});
-  if (!r) return r;
-  if (const YAML::Node ph = sl["phases"]) {
-    if (!ph.IsSequence()) return fail(w.child("phases"), "must be a list of phase names ([] = off)");
-    if (!(r = read(sl, "phases", c.phases, w))) return r;
-  }
-  if (sl["axis"]) {
-    std::string a;
-    if (!(r = read(sl, "axis", a, w))) return r;
-    if (a == "x") c.axis = 0;
-    else if (a == "y") c.axis = 1;
-    else return fail(w.child("axis"), "'" + a + "': must be x or y (the slide axis of {s})");
-  }
+  if (!r || !(r = readPhasesAndAxis(sl, w, c.phases, c.axis))) return r;
   SpeedLawParams& lp = c.law;
   for (auto rr : {read(sl, "rate_tau_s", c.rate_tau_s, w), read(sl, "v_max", lp.v_max, w), read(sl, "v_min", lp.v_min, w),
                   read(sl, "accel_mps2", lp.accel_mps2, w), read(sl, "force_budget_n", lp.force_budget_n, w),
@@ -322,18 +329,7 @@ ConfigResult readSpeedLaw(const YAML::Node& sl, const Where& w, SpeedLawConfig& 
 /// the range and the phase names are checked by TactileServo::configure.
 ConfigResult readSlopeFeedforward(const YAML::Node& sf, const Where& w, SlopeFeedforwardConfig& c) {
   ConfigResult r = checkKeys(sf, w, {"phases", "axis", "window_m"});
-  if (!r) return r;
-  if (const YAML::Node ph = sf["phases"]) {
-    if (!ph.IsSequence()) return fail(w.child("phases"), "must be a list of phase names ([] = off)");
-    if (!(r = read(sf, "phases", c.phases, w))) return r;
-  }
-  if (sf["axis"]) {
-    std::string a;
-    if (!(r = read(sf, "axis", a, w))) return r;
-    if (a == "x") c.axis = 0;
-    else if (a == "y") c.axis = 1;
-    else return fail(w.child("axis"), "'" + a + "': must be x or y (the slide axis of {s})");
-  }
+  if (!r || !(r = readPhasesAndAxis(sf, w, c.phases, c.axis))) return r;
   return read(sf, "window_m", c.window_m, w);
 }
 
