@@ -331,6 +331,11 @@ INSTANTIATE_TEST_SUITE_P(Scenes, SimLoop,
                                            // The force estimate at its bound on an estimated wrench with
                                            // its error (bias, noise: the same numbers at the same times).
                                            Case{"off_centre_load.yaml", ControllerMode::Proposed},
+                                           // The speed law and the slope feed-forward (the bent bar at
+                                           // 60 mm/s), and a wave tighter than the pad (the careful law
+                                           // stopped by the surface-too-curved watchdog).
+                                           Case{"bent_bar_speed_law.yaml", ControllerMode::Proposed},
+                                           Case{"tight_wave.yaml", ControllerMode::Proposed},
                                            // The physics and timing effects (friction, FRI delay, KRC cycle).
                                            Case{"edge_exploration.yaml", ControllerMode::Proposed,
                                                 "{friction_mu: 0.5, fri_delay_s: 0.002, krc_cycle_s: 0.002}",
