@@ -203,9 +203,8 @@ def main():
         rise_rows.append({
             "accel_mps2": acc, "bars": len(per), "met": len(met),
             "met_where_a_fixed_gain_does": sum(1 for b, st in met if b["best"]), "fixed_met": len(fixed_bars),
-            "speed_mm_s": sum(st["speed"] for _, st in met) / len(met) if met else float("nan"),
-            "gentle_speed_mm_s": (lambda g: sum(g) / len(g) if g else float("nan"))(
-                [st["speed"] for b, st in met if not b["bar"].startswith("wavy")]),
+            "speed_mm_s": ts.mean([st["speed"] for _, st in met]),
+            "gentle_speed_mm_s": ts.mean([st["speed"] for b, st in met if not b["bar"].startswith("wavy")]),
             "not_slower": sum(1 for b, st in met if b["best"] is None or st["speed"] >= b["best"]["speed"])})
     ts.write_csv(os.path.join(a.out, "rise.csv"), rise_rows)
     with open(os.path.join(a.out, "rise.md"), "w") as f:

@@ -753,11 +753,22 @@ TEST(ShippedPrograms, EdgeAcrossTheRowsKeepsTheLoadOnTheImage) {
   EXPECT_LT(shipped.line, 0.0005);
 }
 
+// The family's force targets on a slide (scripts/sweeps/sweep_family.py):
+// ended by the program (`done`), status ok, true-force RMS error <= 0.5 N,
+// >= 95 % of the time within 5 +- 0.5 N, no contact loss.
+static bool meetsSlideTargets(const RunResult& r) {
+  bool done = false;
+  for (const auto& p : r.phases) done = done || p.name == "done";
+  return r.summary.status == "ok" && done && r.summary.force_true_rms_error_n <= 0.5 &&
+         r.summary.force_true_in_band_fraction >= 0.95 && r.summary.contact_lost_count == 0;
+}
+
 // The speed law (tactile_servo/speed_law.hpp, bent_bar_speed_law.yaml): the
 // bent bar to its end cap with the slide speed chosen from a 0.5 N error
 // budget of the true force. Targets, on each of seeds 1-3: a mean slide speed
 // of at least 40 mm/s, RMS error <= 0.5 N, >= 95 % of the time within
-// 5 +- 0.5 N, no contact loss (measured: 55-59 mm/s, 0.20-0.27 N, 0.955-0.98).
+// 5 +- 0.5 N, no contact loss (measured, with the slope feed-forward:
+// 59.6-60.9 mm/s, 0.14-0.20 N, 0.994-1.0).
 // The careful speed law (bent_bar_speed_law_careful.yaml), one program for
 // bars it has not seen: a wave in height of A 2 mm over L 90 mm (R 103 mm,
 // tighter than the shipped end-cap program follows within the targets) and
@@ -782,12 +793,7 @@ TEST(Experiments, CarefulSpeedLawAdaptsWhereNoSingleFixedGainDoes) {
     }
     return test::runFull(sc);
   };
-  auto met = [](const RunResult& r) {
-    bool done = false;
-    for (const auto& p : r.phases) done = done || p.name == "done";
-    return r.summary.status == "ok" && done && r.summary.force_true_rms_error_n <= 0.5 &&
-           r.summary.force_true_in_band_fraction >= 0.95 && r.summary.contact_lost_count == 0;
-  };
+  const auto met = meetsSlideTargets;
   const std::string careful = "bent_bar_speed_law_careful.yaml", fixed = "bent_bar_speed_law.yaml";
   for (int seed = 1; seed <= 3; ++seed) {
     const RunResult wave = runBar("wavy_a2mm_l90mm", careful, seed, 0.0);
@@ -807,7 +813,8 @@ TEST(Experiments, CarefulSpeedLawAdaptsWhereNoSingleFixedGainDoes) {
 // The slope feed-forward (slope_feedforward.hpp) with the speed law as
 // shipped (bent_bar_speed_law.yaml) on a wave in height it has not seen
 // (A 1.5 mm, L 90 mm, R 137 mm): on each of seeds 1-3 the law meets the force
-// targets to the wave's end with it (measured: 96-99 % within 5 +- 0.5 N,
+// targets with it (ended by its end rule; the family's sweep finds that end
+// within 10 mm of the wave's) (measured: 96-99 % within 5 +- 0.5 N,
 // 31-33 mm/s) and misses them without it (83-93 %, 25-28 mm/s).
 TEST(Experiments, SlopeFeedforwardLetsTheSpeedLawHoldTheForceOnAWave) {
   const std::string program = std::string(TACTILE_SOURCE_DIR) + "/components/servo/programs/bent_bar_speed_law.yaml";
@@ -820,13 +827,9 @@ TEST(Experiments, SlopeFeedforwardLetsTheSpeedLawHoldTheForceOnAWave) {
       if (!ff) sc.servo.slope_feedforward.phases.clear();
       r[ff] = test::runFull(sc);
     }
-    bool done = false;
-    for (const auto& p : r[1].phases) done = done || p.name == "done";
-    EXPECT_EQ(r[1].summary.status, "ok") << seed;
-    EXPECT_TRUE(done) << seed;
-    EXPECT_LE(r[1].summary.force_true_rms_error_n, 0.5) << seed;
-    EXPECT_GE(r[1].summary.force_true_in_band_fraction, 0.95) << seed;
-    EXPECT_EQ(r[1].summary.contact_lost_count, 0) << seed;
+    EXPECT_TRUE(meetsSlideTargets(r[1])) << seed << ": " << r[1].summary.status << ", RMS "
+                                         << r[1].summary.force_true_rms_error_n << " N, in band "
+                                         << r[1].summary.force_true_in_band_fraction;
     EXPECT_LT(r[0].summary.force_true_in_band_fraction, 0.95) << seed;
     EXPECT_GT(r[1].summary.slide_speed_mps, r[0].summary.slide_speed_mps) << seed;
   }

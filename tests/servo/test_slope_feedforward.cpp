@@ -1,7 +1,7 @@
 // The slide's slope fed forward along z_s (tactile_servo/slope_feedforward.hpp):
 // the slope of a straight inclined path, measured in {s} whatever the pad's
-// orientation, along x_s or y_s; nothing before a window's slide; 0 out of
-// contact and a fresh window after it; clamped; off at window 0; the ranges
+// orientation, along x_s or y_s; nothing before a window's slide; 0 after a
+// reset and a fresh window; clamped; off at window 0; the ranges
 // named; step() does not allocate. Inside the servo: on an inclined bar a
 // change of the slide speed disturbs the force far less with the feed-forward
 // than without it, and a phase name it does not know is a configuration error.
@@ -46,7 +46,7 @@ TEST(SlopeFeedforward, AStraightInclinedPathGivesItsSlope) {
     for (int axis : {0, 1}) {
       for (double sigma : {-0.3, 0.0, 0.12, 0.7}) {
         SlopeFeedforward ff = configured(0.0005, axis);
-        for (int k = 0; k <= 40; ++k) ff.step(along(R, p0, axis, -0.0002 * k, sigma), true);  // 8 mm, backwards too
+        for (int k = 0; k <= 40; ++k) ff.step(along(R, p0, axis, -0.0002 * k, sigma));  // 8 mm, backwards too
         EXPECT_NEAR(ff.slope(), sigma, 1e-9) << "axis " << axis << " sigma " << sigma;
       }
     }
@@ -59,35 +59,37 @@ TEST(SlopeFeedforward, TheSlopeChangesOnlyAfterAWindowOfSlide) {
   SlopeFeedforward ff = configured(0.0005);
   const KDL::Rotation R = KDL::Rotation::Identity();
   const KDL::Vector p0(0, 0, 0);
-  EXPECT_EQ(ff.step(along(R, p0, 0, 0.0, 0.2), true), 0.0);     // the window's start
-  EXPECT_EQ(ff.step(along(R, p0, 0, 0.0002, 0.2), true), 0.0);  // 0.2 mm
-  EXPECT_EQ(ff.step(along(R, p0, 0, 0.0004, 0.2), true), 0.0);  // 0.4 mm
-  EXPECT_NEAR(ff.step(along(R, p0, 0, 0.0006, 0.2), true), 0.2, 1e-12);  // 0.6 mm >= 0.5 mm
+  EXPECT_EQ(ff.step(along(R, p0, 0, 0.0, 0.2)), 0.0);     // the window's start
+  EXPECT_EQ(ff.step(along(R, p0, 0, 0.0002, 0.2)), 0.0);  // 0.2 mm
+  EXPECT_EQ(ff.step(along(R, p0, 0, 0.0004, 0.2)), 0.0);  // 0.4 mm
+  EXPECT_NEAR(ff.step(along(R, p0, 0, 0.0006, 0.2)), 0.2, 1e-12);  // 0.6 mm >= 0.5 mm
   // Standing still (no slide): the slope holds, however the pad moves along z_s.
   for (int k = 1; k <= 10; ++k)
-    EXPECT_NEAR(ff.step(KDL::Frame(R, KDL::Vector(0.0006, 0, 0.00012 + 0.001 * k)), true), 0.2, 1e-12);
+    EXPECT_NEAR(ff.step(KDL::Frame(R, KDL::Vector(0.0006, 0, 0.00012 + 0.001 * k))), 0.2, 1e-12);
 }
 
-TEST(SlopeFeedforward, OutOfContactItIsZeroAndStartsAfresh) {
+// A reset (the servo's on a contact lost or a new phase): 0, and the next
+// window starts afresh.
+TEST(SlopeFeedforward, AResetIsZeroAndStartsAfresh) {
   SlopeFeedforward ff = configured(0.0005);
   const KDL::Rotation R = KDL::Rotation::Identity();
-  for (int k = 0; k <= 10; ++k) ff.step(along(R, KDL::Vector(), 0, 0.0002 * k, 0.3), true);
+  for (int k = 0; k <= 10; ++k) ff.step(along(R, KDL::Vector(), 0, 0.0002 * k, 0.3));
   ASSERT_NEAR(ff.slope(), 0.3, 1e-12);
-  EXPECT_EQ(ff.step(along(R, KDL::Vector(), 0, 0.0022, 0.3), false), 0.0);
+  ff.reset();
+  EXPECT_EQ(ff.slope(), 0.0);
   // Back in contact 10 mm further and 5 mm higher: the jump is not a slope.
   const KDL::Vector p1(0.012, 0, 0.005);
-  EXPECT_EQ(ff.step(along(R, p1, 0, 0.0, -0.1), true), 0.0);
-  EXPECT_EQ(ff.step(along(R, p1, 0, 0.0002, -0.1), true), 0.0);
-  EXPECT_NEAR(ff.step(along(R, p1, 0, 0.0006, -0.1), true), -0.1, 1e-12);
+  EXPECT_EQ(ff.step(along(R, p1, 0, 0.0, -0.1)), 0.0);
+  EXPECT_EQ(ff.step(along(R, p1, 0, 0.0002, -0.1)), 0.0);
+  EXPECT_NEAR(ff.step(along(R, p1, 0, 0.0006, -0.1)), -0.1, 1e-12);
 }
 
 TEST(SlopeFeedforward, SteeperThan45DegIsClampedAndOffIsZero) {
   SlopeFeedforward ff = configured(0.0005);
-  for (int k = 0; k <= 10; ++k) ff.step(along(KDL::Rotation::Identity(), KDL::Vector(), 0, 0.0002 * k, -3.0), true);
+  for (int k = 0; k <= 10; ++k) ff.step(along(KDL::Rotation::Identity(), KDL::Vector(), 0, 0.0002 * k, -3.0));
   EXPECT_EQ(ff.slope(), -SlopeFeedforward::kMaxSlope);
   SlopeFeedforward off = configured(0.0);
-  EXPECT_FALSE(off.enabled());
-  for (int k = 0; k <= 10; ++k) off.step(along(KDL::Rotation::Identity(), KDL::Vector(), 0, 0.0002 * k, 0.3), true);
+  for (int k = 0; k <= 10; ++k) off.step(along(KDL::Rotation::Identity(), KDL::Vector(), 0, 0.0002 * k, 0.3));
   EXPECT_EQ(off.slope(), 0.0);
 }
 
@@ -107,7 +109,10 @@ TEST(SlopeFeedforward, TheRangesAreNamed) {
 TEST(SlopeFeedforward, StepDoesNotAllocate) {
   SlopeFeedforward ff = configured(0.0005);
   test::AllocationScope scope;
-  for (int k = 0; k < 500; ++k) ff.step(along(KDL::Rotation::RPY(0.1, 0.2, 0.3), KDL::Vector(), 0, 0.0001 * k, 0.1), k % 100 != 0);
+  for (int k = 0; k < 500; ++k) {
+    ff.step(along(KDL::Rotation::RPY(0.1, 0.2, 0.3), KDL::Vector(), 0, 0.0001 * k, 0.1));
+    if (k % 100 == 0) ff.reset();
+  }
   EXPECT_EQ(scope.count(), 0u);
 }
 

@@ -326,7 +326,7 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
     // The slide's slope along z_s (slope_feedforward.hpp): a change of the
     // slide speed or of the slope does not wait for the force PI's integral.
     const int a = params_.slope_feedforward.axis;
-    u(kZ) += slope_ff_.step(meas_ * law_.sensorMount(), true) * u(a);
+    u(kZ) += slope_ff_.step(meas_ * law_.sensorMount()) * u(a);
   }
   const double unwind = params_.phases[static_cast<std::size_t>(ph)].unwind_rate;
   if (unwind > 0.0)  // WRIST: against the yaw the phase was entered with (its wrist_unwound ends it)

@@ -22,11 +22,8 @@ void SlopeFeedforward::reset() {
   slope_ = 0.0;
 }
 
-double SlopeFeedforward::step(const KDL::Frame& T_gs, bool contact) {
-  if (window_ <= 0.0 || !contact) {
-    reset();
-    return slope_;
-  }
+double SlopeFeedforward::step(const KDL::Frame& T_gs) {
+  if (window_ <= 0.0) return slope_;  // off: 0
   if (!anchored_) {
     anchor_ = T_gs.p;
     anchored_ = true;

@@ -200,7 +200,7 @@ struct SpeedLawConfig {
 struct SlopeFeedforwardConfig {
   std::vector<std::string> phases;  ///< the phases it acts in; empty = off
   int axis = 0;                     ///< the slide axis of {s}: 0 x_s, 1 y_s
-  double window_m = 0.0005;         ///< m, (0, 0.05]: the slide over which the slope is measured
+  double window_m = 0.0005;         ///< m, [0, 0.05]: the slide over which the slope is measured (0: off)
 };
 
 struct ServoParams {

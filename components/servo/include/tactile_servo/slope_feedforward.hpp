@@ -21,7 +21,8 @@
 // removes them in a plant whose compliance is C_z exactly, but on the
 // simulated pad the force's noise (0.13 N, 0.07 mm of C_z f per 0.5 mm
 // window) made the family of bars worse (docs/design.md), so the slope is the
-// path's. Out of contact the slope is 0 and the next window starts afresh.
+// path's. The servo resets it when the contact is lost or a phase begins:
+// the slope 0, the next window afresh.
 // Real-time: step() does not allocate, throw, log or block.
 #pragma once
 
@@ -38,13 +39,12 @@ class SlopeFeedforward {
   /// window_m in [0, 0.05] m (0: off, slope() stays 0); axis 0 (x_s) or 1
   /// (y_s). `where` prefixes the key in messages.
   ConfigResult configure(double window_m, int axis, const char* where = "slope_feedforward");
-  /// The slope to 0 and the next window from the next pose.
+  /// The slope to 0 and the next window from the next pose (a new phase, a
+  /// contact lost: the servo calls it).
   void reset();
-  /// One cycle: T_gs the measured sensor pose in {g}; `contact` the pad
-  /// touches. Returns slope().
-  double step(const KDL::Frame& T_gs, bool contact);
+  /// One cycle in contact: T_gs the measured sensor pose in {g}. Returns slope().
+  double step(const KDL::Frame& T_gs);
   double slope() const { return slope_; }  ///< dz_s / d(slide), clamped
-  bool enabled() const { return window_ > 0.0; }
 
  private:
   double window_ = 0.0;
