@@ -35,15 +35,8 @@ py=/usr/bin/python3
 registry="$root/experiments.yaml"
 # One field of the registry entry $1 ($2: a key, e.g. scene), or the names (no arguments).
 registry_get() {
-  "$py" - "$registry" "$@" <<'PY'
-import sys, yaml
-entries = yaml.safe_load(open(sys.argv[1]))["experiments"]
-if len(sys.argv) == 2:
-    print(" ".join(entries))
-else:
-    v = entries[sys.argv[2]][sys.argv[3]]
-    print("" if v is None else v)
-PY
+  if [ $# -eq 0 ]; then "$py" "$root/scripts/tools/registry.py" --file "$registry" names
+  else "$py" "$root/scripts/tools/registry.py" --file "$registry" get "$1" "$2"; fi
 }
 names="$(registry_get)"
 usage() { echo "usage: $0 EXPERIMENT [--controller proposed|baseline|no_rotation]" >&2

@@ -38,13 +38,7 @@ run() {  # run NAME SCENE [args]: a non-zero exit is reported, not fatal (the no
 # Every experiment of the registry (experiments.yaml): its scene with its
 # controller, into out/<experiment>/.
 registry() {  # one line per registry entry: NAME SCENE CONTROLLER ('-' for the program's own)
-  /usr/bin/python3 - "$root" <<'PY'
-import sys
-sys.path.insert(0, sys.argv[1] + "/scripts/sweeps")
-from tactile_sweeps import registry
-for name, e in registry.load().items():
-    print(name, e["scene"], e.get("controller") or "-")
-PY
+  /usr/bin/python3 "$root/scripts/tools/registry.py" rows
 }
 experiments="$(registry)"
 while read -r name scene controller; do

@@ -41,15 +41,8 @@ py=/usr/bin/python3
 registry="$root/experiments.yaml"
 # The registry's robot experiments (no argument), or one field ($1 entry, $2 key).
 registry_get() {
-  "$py" - "$registry" "$@" <<'PY'
-import sys, yaml
-entries = yaml.safe_load(open(sys.argv[1]))["experiments"]
-if len(sys.argv) == 2:
-    print(" ".join(n for n, e in entries.items() if e.get("robot")))
-else:
-    v = entries[sys.argv[2]][sys.argv[3]]
-    print("" if v is None else v)
-PY
+  if [ $# -eq 0 ]; then "$py" "$root/scripts/tools/registry.py" --file "$registry" names --robot
+  else "$py" "$root/scripts/tools/registry.py" --file "$registry" get "$1" "$2"; fi
 }
 usage() { sed -n '6,19p' "$0" | sed 's/^# \{0,1\}//' >&2
           echo "  robot experiments (experiments.yaml): $(registry_get)" >&2; exit 2; }

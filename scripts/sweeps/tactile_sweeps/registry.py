@@ -38,3 +38,36 @@ def scenes(path=PATH):
         if n not in out:
             out.append(n)
     return out
+
+
+def main(argv=None):
+    """The registry for the shell scripts (scripts/tools/registry.py; run_experiment.sh, run_deployment.sh, run_robot.sh):
+      registry.py names [--robot]   the names, one line, space-separated
+      registry.py get NAME KEY      one field ('' when null or absent)
+      registry.py rows              NAME SCENE CONTROLLER per line ('-': the program's own)
+    An unknown name exits 2 with the names the registry has."""
+    import argparse
+    import sys
+    ap = argparse.ArgumentParser(prog="registry.py", description=main.__doc__.splitlines()[0])
+    ap.add_argument("--file", default=PATH, help="the registry (default: this tree's experiments.yaml)")
+    sub = ap.add_subparsers(dest="cmd", required=True)
+    n = sub.add_parser("names")
+    n.add_argument("--robot", action="store_true", help="only those that run on the real arm (robot: true)")
+    g = sub.add_parser("get")
+    g.add_argument("name")
+    g.add_argument("key")
+    sub.add_parser("rows")
+    a = ap.parse_args(argv)
+    entries = load(a.file)
+    if a.cmd == "names":
+        print(" ".join(experiments(a.file, robot=True if a.robot else None)))
+    elif a.cmd == "get":
+        if a.name not in entries:
+            sys.stderr.write(f"{a.file}: no experiment '{a.name}' (experiments: {' '.join(entries)})\n")
+            return 2
+        v = entries[a.name].get(a.key)
+        print("" if v is None else v)
+    else:
+        for name, e in entries.items():
+            print(name, e["scene"], e.get("controller") or "-")
+    return 0
