@@ -124,14 +124,17 @@ def shipped():
         ex = phase(p, "explore")
         ex["kp_per_s"]["x"] = 3.2
         ex["transitions"][0]["for_s"] = 0.1
-        p["speed_law"].update(phases=["explore"], v_max=0.08, rate_tau_s=0.1, force_deadband_n=0.3, horizon_s=0.05,
-                              angle_rate_ref=1.0, extent_full_m=0.02, extent_min_m=0.0)
+        p["speed_law"].update(phases=["explore"], v_max=0.08, accel_mps2=0.2, rate_tau_s=0.1, force_deadband_n=0.4,
+                              horizon_s=0.05, angle_rate_ref=4.0, excess_ref_n=3.0, extent_full_m=0.016, extent_min_m=0.0)
         p["slope_feedforward"]["phases"] = ["explore"]
+        p["force_estimate"]["tau_s"] = 0.02
     expect("bent_bar_speed_law.yaml", "bent_bar_to_end_cap.yaml", speed_law)
 
     def careful(p):
-        p["speed_law"].update(accel_mps2=0.005, force_budget_n=0.35, force_deadband_n=0.15)
+        p["speed_law"].update(accel_mps2=0.005, force_budget_n=0.35, force_deadband_n=0.15, angle_rate_ref=1.0,
+                              excess_ref_n=1.2, extent_full_m=0.02)
         p["slope_feedforward"]["phases"] = []
+        p["force_estimate"]["tau_s"] = 0.08
     expect("bent_bar_speed_law_careful.yaml", "bent_bar_speed_law.yaml", careful)
     for f in sorted(os.listdir(PROGRAMS)):
         if f.endswith(".yaml"):

@@ -356,13 +356,16 @@ TEST(ServoProgramBase, BentBarSpeedLawTurnsTheLawOnInExplore) {
                  {"phases[explore].transitions[0].for_s", "0.1"},
                  {"speed_law.phases[0]", "explore"},
                  {"speed_law.v_max", "0.08"},
+                 {"speed_law.accel_mps2", "0.2"},
                  {"speed_law.rate_tau_s", "0.1"},
-                 {"speed_law.force_deadband_n", "0.3"},
+                 {"speed_law.force_deadband_n", "0.4"},
                  {"speed_law.horizon_s", "0.05"},
-                 {"speed_law.angle_rate_ref", "1.0"},
-                 {"speed_law.extent_full_m", "0.02"},
+                 {"speed_law.angle_rate_ref", "4.0"},
+                 {"speed_law.excess_ref_n", "3.0"},
+                 {"speed_law.extent_full_m", "0.016"},
                  {"speed_law.extent_min_m", "0.0"},
-                 {"slope_feedforward.phases[0]", "explore"}});
+                 {"slope_feedforward.phases[0]", "explore"},
+                 {"force_estimate.tau_s", "0.02"}});
   const ServoParams p = loadShipped("bent_bar_speed_law.yaml");
   ASSERT_EQ(p.speed_law.phases.size(), 1u);
   EXPECT_EQ(p.speed_law.phases[0], "explore");
@@ -371,6 +374,7 @@ TEST(ServoProgramBase, BentBarSpeedLawTurnsTheLawOnInExplore) {
   ASSERT_EQ(p.slope_feedforward.phases.size(), 1u);  // and the slope feed-forward, in the same phase
   EXPECT_EQ(p.slope_feedforward.phases[0], "explore");
   EXPECT_DOUBLE_EQ(p.slope_feedforward.window_m, 0.0005);
+  EXPECT_DOUBLE_EQ(p.force_estimate.tau_s, 0.02);  // the correction follows a load moving to the housing
   // The base programs keep both off.
   EXPECT_TRUE(loadShipped("bent_bar_to_end_cap.yaml").speed_law.phases.empty());
   EXPECT_TRUE(loadShipped("bent_bar.yaml").speed_law.phases.empty());
@@ -383,10 +387,16 @@ TEST(ServoProgramBase, CarefulSpeedLawChangesOnlyTheBudgetAndTheRiseAndDropsTheS
                 {{"speed_law.accel_mps2", "0.005"},
                  {"speed_law.force_budget_n", "0.35"},
                  {"speed_law.force_deadband_n", "0.15"},
-                 {"slope_feedforward.phases[0]", kAbsent}});  // phases: [] (off)
+                 {"speed_law.angle_rate_ref", "1.0"},
+                 {"speed_law.excess_ref_n", "1.2"},
+                 {"speed_law.extent_full_m", "0.02"},
+                 {"slope_feedforward.phases[0]", kAbsent},  // phases: [] (off)
+                 {"force_estimate.tau_s", "0.08"}});
   const ServoParams p = loadShipped("bent_bar_speed_law_careful.yaml");
   EXPECT_DOUBLE_EQ(p.speed_law.law.accel_mps2, 0.005);
   EXPECT_DOUBLE_EQ(p.speed_law.law.force_budget_n, 0.35);
   EXPECT_EQ(p.speed_law.phases.size(), 1u);
   EXPECT_TRUE(p.slope_feedforward.phases.empty());
+  // The end-cap program's force estimate (0.08 s), as with the law it was measured against.
+  EXPECT_DOUBLE_EQ(p.force_estimate.tau_s, loadShipped("bent_bar_to_end_cap.yaml").force_estimate.tau_s);
 }
