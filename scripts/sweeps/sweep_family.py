@@ -5,13 +5,14 @@ per bar, fixed slide gains against the speed law (a Pareto front per bar).
 usage: sweep_family.py [--out out/family] [--jobs N] [--seeds N] [--sim PATH]
 
 Every bar is run with bent_bar_speed_law.yaml (the end-cap program with the
-stiff force loop, K_P,z 8, K_I,z 16, and the slope fed forward along z_s;
-scripts/sweeps/sweep_speed.py):
+stiff force loop, K_P,z 8, K_I,z 16, the slope fed forward along z_s and the
+force estimate's correction within 0.02 s; scripts/sweeps/sweep_speed.py):
   fixed gain           the law off, the slide gain kp_per_s.x swept over
                        GAINS (25 mm x kp commanded; translation limits 0.08 m/s)
   speed law            the law on, as shipped (error budget 0.5 N)
   speed law, careful   bent_bar_speed_law_careful.yaml (budget 0.35 N, the
-                       speed rising at 0.005 m/s^2, no slope feed-forward)
+                       speed rising at 0.005 m/s^2, no slope feed-forward,
+                       the force estimate's 0.08 s)
 and with bent_bar_to_end_cap.yaml as shipped (the paper's slide gain), for
 reference. The careful law is also run with its speed's rise (accel_mps2)
 swept over RISES: a change of the slide speed is itself a disturbance of the

@@ -17,8 +17,8 @@ higher, the arm's estimated wrench with its error) with four controllers:
   Li et al. baseline, estimate bent_bar_to_end_cap.yaml, controller baseline
   Li et al. baseline, tactile  bent_bar_paper.yaml, controller baseline
 and two more series with bent_bar_speed_law.yaml (the force loop stiffer:
-K_P,z 8, K_I,z 16, the slope fed forward along z_s; the end rule 0.1 s of a
-point):
+K_P,z 8, K_I,z 16, the slope fed forward along z_s, the force estimate's
+correction within 0.02 s; the end rule 0.1 s of a point):
   fixed gain, stiff force loop  the speed law off, kp_per_s.x as above
   speed law                     the law on (tactile_servo/speed_law.hpp), its
                                 error budget force_budget_n swept (BUDGETS)
