@@ -52,7 +52,7 @@ PROGRAMS = os.path.join(ts.ROOT, "components", "servo", "programs")
 GAINS = [0.2, 0.4, 0.8, 1.2, 1.6, 2.0, 2.4, 3.0, 4.0]  # 1/s: 5 .. 100 mm/s commanded at a 25 mm CoP_x error
 LIMIT = 0.08  # m/s
 END_MM = 10.0  # "to the end of the bar": the last contact within 10 mm of its end vertex (the end cap's radius + 5 mm)
-BUDGETS = [0.35, 0.5, 0.75, 1.0]  # N: the speed law's error budget (above its 0.3 N dead band)
+BUDGETS = [0.45, 0.5, 0.75, 1.0]  # N: the speed law's error budget (above its 0.4 N dead band)
 LAW = "speed law"
 SERIES = [("proposed, force estimate", "bent_bar_to_end_cap", "proposed"),
           ("proposed, tactile force", "bent_bar_paper", "proposed"),

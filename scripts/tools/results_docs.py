@@ -159,8 +159,9 @@ def collect(out):
         law = r["controller"] == "speed law"
         groups.setdefault((r["controller"], r["budget_n"] if law else r["kp_x"]), []).append(r)
     for (ctl, setting), rs in groups.items():
-        def mean(k):
-            return rnd(sum(num(x[k]) for x in rs) / len(rs))
+        def mean(k):  # over the seeds that measured one (a run without a summary has none)
+            v = [num(x[k]) for x in rs if num(x[k]) is not None]
+            return rnd(sum(v) / len(v)) if v else None
         res["speed"].append({"controller": ctl, "setting": setting, "seeds": len(rs),
                              "speed_mm_s": mean("speed_mm_s"), "rms_n": mean("rms_n"), "in_band": mean("in_band"),
                              "losses": sum(int(x["losses"]) for x in rs),
