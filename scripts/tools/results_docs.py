@@ -160,7 +160,7 @@ def collect(out):
         groups.setdefault((r["controller"], r["budget_n"] if law else r["kp_x"]), []).append(r)
     for (ctl, setting), rs in groups.items():
         def mean(k):  # over the seeds that measured one (a run without a summary has none)
-            v = [num(x[k]) for x in rs if num(x[k]) is not None]
+            v = [y for y in (num(x[k]) for x in rs) if y is not None]
             return rnd(sum(v) / len(v)) if v else None
         res["speed"].append({"controller": ctl, "setting": setting, "seeds": len(rs),
                              "speed_mm_s": mean("speed_mm_s"), "rms_n": mean("rms_n"), "in_band": mean("in_band"),

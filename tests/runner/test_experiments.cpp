@@ -782,30 +782,29 @@ static bool meetsSlideTargets(const RunResult& r) {
 // (no slope feed-forward, the force estimate's 0.08 s; with the shipped law's
 // loop a fixed gain holds the wave: docs/design.md, "The speed law").
 TEST(Experiments, CarefulSpeedLawAdaptsWhereNoSingleFixedGainDoes) {
-  const std::string program = std::string(TACTILE_SOURCE_DIR) + "/components/servo/programs/";
-  auto runBar = [&](const std::string& bar, const std::string& prog, int seed, double kp) {
+  const std::string careful = std::string(TACTILE_SOURCE_DIR) + "/components/servo/programs/bent_bar_speed_law_careful.yaml";
+  // kp = 0: the careful law; kp > 0: the same program with the law off and that slide gain.
+  auto runBar = [&](const std::string& bar, int seed, double kp) {
     Scene sc = test::loadShipped("curved/" + bar + ".yaml",
-                                 {"program=" + program + prog, "seed=" + std::to_string(seed), "duration=60"});
+                                 {"program=" + careful, "seed=" + std::to_string(seed), "duration=60"});
     if (kp > 0.0) {
-      sc.servo.speed_law.phases.clear();          // a fixed gain: the law off,
-      sc.servo.slope_feedforward.phases.clear();  // (off in the careful program already)
+      sc.servo.speed_law.phases.clear();
       for (auto& ph : sc.servo.phases)
         if (ph.name == "explore") ph.kp(0) = kp;
     }
     return test::runFull(sc);
   };
   const auto met = meetsSlideTargets;
-  const std::string careful = "bent_bar_speed_law_careful.yaml", fixed = careful;
   for (int seed = 1; seed <= 3; ++seed) {
-    const RunResult wave = runBar("wavy_a2mm_l90mm", careful, seed, 0.0);
-    const RunResult bend = runBar("bend_right", careful, seed, 0.0);
+    const RunResult wave = runBar("wavy_a2mm_l90mm", seed, 0.0);
+    const RunResult bend = runBar("bend_right", seed, 0.0);
     EXPECT_TRUE(met(wave)) << seed << ": " << wave.summary.status << ", in band "
                            << wave.summary.force_true_in_band_fraction;
     EXPECT_TRUE(met(bend)) << seed << ": " << bend.summary.status << ", in band "
                            << bend.summary.force_true_in_band_fraction;
     EXPECT_GE(bend.summary.slide_speed_mps, 1.5 * wave.summary.slide_speed_mps) << seed;
-    EXPECT_FALSE(met(runBar("wavy_a2mm_l90mm", fixed, seed, 0.8))) << seed;
-    const RunResult slow = runBar("bend_right", fixed, seed, 0.6);
+    EXPECT_FALSE(met(runBar("wavy_a2mm_l90mm", seed, 0.8))) << seed;
+    const RunResult slow = runBar("bend_right", seed, 0.6);
     EXPECT_TRUE(met(slow)) << seed;
     EXPECT_LE(slow.summary.slide_speed_mps, 0.7 * bend.summary.slide_speed_mps) << seed;
   }

@@ -382,7 +382,7 @@ TEST(ServoProgramBase, BentBarSpeedLawTurnsTheLawOnInExplore) {
   EXPECT_TRUE(loadShipped("bent_bar.yaml").slope_feedforward.phases.empty());
 }
 
-TEST(ServoProgramBase, CarefulSpeedLawChangesOnlyTheBudgetAndTheRiseAndDropsTheSlope) {
+TEST(ServoProgramBase, CarefulSpeedLawChangesTheBudgetAndTheRiseAndKeepsTheEndCapEstimate) {
   expectOverlay("bent_bar_speed_law_careful.yaml", "bent_bar_speed_law.yaml",
                 {{"speed_law.accel_mps2", "0.005"},
                  {"speed_law.force_budget_n", "0.35"},
