@@ -6,9 +6,11 @@ usage: sweep_family.py [--out out/family] [--jobs N] [--seeds N] [--sim PATH]
 
 Every bar is run with bent_bar_speed_law.yaml (the end-cap program with the
 stiff force loop, K_P,z 8, K_I,z 16, the slope fed forward along z_s and the
-force estimate's correction within 0.02 s; scripts/sweeps/sweep_speed.py):
+force estimate's correction within 0.02 s and up to the whole set point;
+scripts/sweeps/sweep_speed.py):
   fixed gain           the law off, the slide gain kp_per_s.x swept over
-                       GAINS (25 mm x kp commanded; translation limits 0.08 m/s)
+                       GAINS (25 mm x kp commanded; translation limits 0.12 m/s,
+                       the law's ceiling)
   speed law            the law on, as shipped (error budget 0.5 N)
   speed law, careful   bent_bar_speed_law_careful.yaml (budget 0.35 N, the
                        speed rising at 0.005 m/s^2, no slope feed-forward,
@@ -38,7 +40,7 @@ from tactile_sweeps.plot import plt, save  # noqa: E402
 
 import sweep_speed  # noqa: E402  (its program writer and end distance)
 
-GAINS = [0.4, 0.5, 0.6, 0.7, 0.8, 1.0, 1.2, 1.6, 2.0, 2.4, 3.2]  # 1/s: 10 .. 80 mm/s commanded at a 25 mm CoP_x error
+GAINS = [0.4, 0.5, 0.6, 0.7, 0.8, 1.0, 1.2, 1.6, 2.0, 2.4, 3.2, 4.0, 4.8]  # 1/s: 10 .. 120 mm/s commanded at a 25 mm CoP_x error
 FIXED, SHIPPED = "fixed gain", "end-cap program (paper's gain)"
 # label, program, the prefix of its columns in family_bars.csv
 LAWS = [("speed law", "bent_bar_speed_law", "law"), ("speed law, careful", "bent_bar_speed_law_careful", "careful")]

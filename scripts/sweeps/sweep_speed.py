@@ -7,8 +7,9 @@ usage: sweep_speed.py [--out out/speed] [--jobs N] [--seeds N] [--sim PATH]
 The slide is driven by the CoP_x pseudo-measurement of the explore phase
 (s_d.cop_x = -25 mm, Eq. 18): its gain kp_per_s.x sets the speed (25 mm x kp).
 For each gain this writes a variant of the program with that gain and the
-translation limits raised to 0.08 m/s (safety.max_trans_speed and
-u_max_per_s.x/y; the shipped 0.05 m/s would cap the sweep at 50 mm/s), and runs
+translation limits raised to 0.12 m/s (safety.max_trans_speed and
+u_max_per_s.x/y; the shipped 0.05 m/s would cap the sweep at 50 mm/s; 0.12 m/s
+is the speed law's own ceiling, bent_bar_speed_law.yaml), and runs
 the bent bar (sim/scenes/bent_bar_fused.yaml: the bent bar, started 10 mm
 higher, the arm's estimated wrench with its error) with four controllers:
   proposed, force estimate     bent_bar_to_end_cap.yaml (the tactile force corrected
@@ -18,7 +19,8 @@ higher, the arm's estimated wrench with its error) with four controllers:
   Li et al. baseline, tactile  bent_bar_paper.yaml, controller baseline
 and two more series with bent_bar_speed_law.yaml (the force loop stiffer:
 K_P,z 8, K_I,z 16, the slope fed forward along z_s, the force estimate's
-correction within 0.02 s; the end rule 0.1 s of a point):
+correction within 0.02 s and up to the whole set point; the end rule 0.1 s
+of a point):
   fixed gain, stiff force loop  the speed law off, kp_per_s.x as above
   speed law                     the law on (tactile_servo/speed_law.hpp), its
                                 error budget force_budget_n swept (BUDGETS)
@@ -49,8 +51,8 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import program_yaml  # noqa: E402
 
 PROGRAMS = os.path.join(ts.ROOT, "components", "servo", "programs")
-GAINS = [0.2, 0.4, 0.8, 1.2, 1.6, 2.0, 2.4, 3.0, 4.0]  # 1/s: 5 .. 100 mm/s commanded at a 25 mm CoP_x error
-LIMIT = 0.08  # m/s
+GAINS = [0.2, 0.4, 0.8, 1.2, 1.6, 2.0, 2.4, 3.0, 4.0, 4.8]  # 1/s: 5 .. 120 mm/s commanded at a 25 mm CoP_x error
+LIMIT = 0.12  # m/s: the speed law's ceiling (bent_bar_speed_law.yaml)
 END_MM = 10.0  # "to the end of the bar": the last contact within 10 mm of its end vertex (the end cap's radius + 5 mm)
 BUDGETS = [0.45, 0.5, 0.75, 1.0]  # N: the speed law's error budget (above its 0.4 N dead band)
 LAW = "speed law"

@@ -117,24 +117,27 @@ def shipped():
     expect("bent_bar_to_end_cap.yaml", "bent_bar.yaml", end_cap)
 
     def speed_law(p):
-        p["safety"]["max_trans_speed"] = 0.08
+        p["safety"]["max_trans_speed"] = 0.12
         p["phase_defaults"]["kp_per_s"]["z"] = 8.0
         p["phase_defaults"]["ki_per_s2"]["z"] = 16.0
-        p["phase_defaults"]["u_max_per_s"].update(x=0.08, y=0.08)
+        p["phase_defaults"]["u_max_per_s"].update(x=0.12, y=0.12)
         ex = phase(p, "explore")
-        ex["kp_per_s"]["x"] = 3.2
+        ex["kp_per_s"]["x"] = 4.8
         ex["transitions"][0]["for_s"] = 0.1
-        p["speed_law"].update(phases=["explore"], v_max=0.08, accel_mps2=0.2, rate_tau_s=0.1, force_deadband_n=0.4,
-                              horizon_s=0.05, angle_rate_ref=4.0, excess_ref_n=3.0, extent_full_m=0.016, extent_min_m=0.0)
+        p["speed_law"].update(phases=["explore"], v_max=0.12, accel_mps2=1.0, rate_tau_s=0.1, force_deadband_n=0.4,
+                              horizon_s=0.05, angle_rate_ref=8.0, excess_ref_n=3.0, extent_full_m=0.016, extent_min_m=0.0)
         p["slope_feedforward"]["phases"] = ["explore"]
-        p["force_estimate"]["tau_s"] = 0.02
+        p["force_estimate"].update(tau_s=0.02, max_correction_n=5.0)
     expect("bent_bar_speed_law.yaml", "bent_bar_to_end_cap.yaml", speed_law)
 
     def careful(p):
-        p["speed_law"].update(accel_mps2=0.005, force_budget_n=0.35, force_deadband_n=0.15, angle_rate_ref=1.0,
-                              excess_ref_n=1.2, extent_full_m=0.02)
+        p["safety"]["max_trans_speed"] = 0.08
+        p["phase_defaults"]["u_max_per_s"].update(x=0.08, y=0.08)
+        phase(p, "explore")["kp_per_s"]["x"] = 3.2
+        p["speed_law"].update(v_max=0.08, accel_mps2=0.005, force_budget_n=0.35, force_deadband_n=0.15,
+                              angle_rate_ref=1.0, excess_ref_n=1.2, extent_full_m=0.02)
         p["slope_feedforward"]["phases"] = []
-        p["force_estimate"]["tau_s"] = 0.08
+        p["force_estimate"].update(tau_s=0.08, max_correction_n=4.0)
     expect("bent_bar_speed_law_careful.yaml", "bent_bar_speed_law.yaml", careful)
     for f in sorted(os.listdir(PROGRAMS)):
         if f.endswith(".yaml"):

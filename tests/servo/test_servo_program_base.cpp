@@ -347,34 +347,36 @@ TEST(ServoProgramBase, BentBarToEndCapAddsTheEndCapTransition) {
 
 TEST(ServoProgramBase, BentBarSpeedLawTurnsTheLawOnInExplore) {
   expectOverlay("bent_bar_speed_law.yaml", "bent_bar_to_end_cap.yaml",
-                {{"safety.max_trans_speed", "0.08"},
+                {{"safety.max_trans_speed", "0.12"},
                  {"phase_defaults.kp_per_s.z", "8.0"},
                  {"phase_defaults.ki_per_s2.z", "16.0"},
-                 {"phase_defaults.u_max_per_s.x", "0.08"},
-                 {"phase_defaults.u_max_per_s.y", "0.08"},
-                 {"phases[explore].kp_per_s.x", "3.2"},
+                 {"phase_defaults.u_max_per_s.x", "0.12"},
+                 {"phase_defaults.u_max_per_s.y", "0.12"},
+                 {"phases[explore].kp_per_s.x", "4.8"},
                  {"phases[explore].transitions[0].for_s", "0.1"},
                  {"speed_law.phases[0]", "explore"},
-                 {"speed_law.v_max", "0.08"},
-                 {"speed_law.accel_mps2", "0.2"},
+                 {"speed_law.v_max", "0.12"},
+                 {"speed_law.accel_mps2", "1.0"},
                  {"speed_law.rate_tau_s", "0.1"},
                  {"speed_law.force_deadband_n", "0.4"},
                  {"speed_law.horizon_s", "0.05"},
-                 {"speed_law.angle_rate_ref", "4.0"},
+                 {"speed_law.angle_rate_ref", "8.0"},
                  {"speed_law.excess_ref_n", "3.0"},
                  {"speed_law.extent_full_m", "0.016"},
                  {"speed_law.extent_min_m", "0.0"},
                  {"slope_feedforward.phases[0]", "explore"},
+                 {"force_estimate.max_correction_n", "5.0"},
                  {"force_estimate.tau_s", "0.02"}});
   const ServoParams p = loadShipped("bent_bar_speed_law.yaml");
   ASSERT_EQ(p.speed_law.phases.size(), 1u);
   EXPECT_EQ(p.speed_law.phases[0], "explore");
-  EXPECT_DOUBLE_EQ(p.speed_law.law.v_max, 0.08);
+  EXPECT_DOUBLE_EQ(p.speed_law.law.v_max, 0.12);
   EXPECT_EQ(p.speed_law.axis, 0);
   ASSERT_EQ(p.slope_feedforward.phases.size(), 1u);  // and the slope feed-forward, in the same phase
   EXPECT_EQ(p.slope_feedforward.phases[0], "explore");
   EXPECT_DOUBLE_EQ(p.slope_feedforward.window_m, 0.0005);
   EXPECT_DOUBLE_EQ(p.force_estimate.tau_s, 0.02);  // the correction follows a load moving to the housing
+  EXPECT_DOUBLE_EQ(p.force_estimate.max_correction_n, 5.0);  // all of it
   // The base programs keep both off.
   EXPECT_TRUE(loadShipped("bent_bar_to_end_cap.yaml").speed_law.phases.empty());
   EXPECT_TRUE(loadShipped("bent_bar.yaml").speed_law.phases.empty());
@@ -384,13 +386,19 @@ TEST(ServoProgramBase, BentBarSpeedLawTurnsTheLawOnInExplore) {
 
 TEST(ServoProgramBase, CarefulSpeedLawChangesTheBudgetAndTheRiseAndKeepsTheEndCapEstimate) {
   expectOverlay("bent_bar_speed_law_careful.yaml", "bent_bar_speed_law.yaml",
-                {{"speed_law.accel_mps2", "0.005"},
+                {{"safety.max_trans_speed", "0.08"},
+                 {"phase_defaults.u_max_per_s.x", "0.08"},
+                 {"phase_defaults.u_max_per_s.y", "0.08"},
+                 {"phases[explore].kp_per_s.x", "3.2"},
+                 {"speed_law.v_max", "0.08"},
+                 {"speed_law.accel_mps2", "0.005"},
                  {"speed_law.force_budget_n", "0.35"},
                  {"speed_law.force_deadband_n", "0.15"},
                  {"speed_law.angle_rate_ref", "1.0"},
                  {"speed_law.excess_ref_n", "1.2"},
                  {"speed_law.extent_full_m", "0.02"},
                  {"slope_feedforward.phases[0]", kAbsent},  // phases: [] (off)
+                 {"force_estimate.max_correction_n", "4.0"},
                  {"force_estimate.tau_s", "0.08"}});
   const ServoParams p = loadShipped("bent_bar_speed_law_careful.yaml");
   EXPECT_DOUBLE_EQ(p.speed_law.law.accel_mps2, 0.005);
