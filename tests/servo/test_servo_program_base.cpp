@@ -361,7 +361,9 @@ TEST(ServoProgramBase, BentBarSpeedLawTurnsTheLawOnInExplore) {
                  {"speed_law.force_deadband_n", "0.4"},
                  {"speed_law.horizon_s", "0.05"},
                  {"speed_law.angle_rate_ref", "8.0"},
-                 {"speed_law.excess_ref_n", "3.0"},
+                 {"speed_law.excess_against", "tactile"},
+                 {"speed_law.excess_deadband_n", "1.6"},
+                 {"speed_law.excess_ref_n", "4.0"},
                  {"speed_law.extent_full_m", "0.016"},
                  {"speed_law.extent_min_m", "0.0"},
                  {"slope_feedforward.phases[0]", "explore"},
@@ -372,6 +374,8 @@ TEST(ServoProgramBase, BentBarSpeedLawTurnsTheLawOnInExplore) {
   EXPECT_EQ(p.speed_law.phases[0], "explore");
   EXPECT_DOUBLE_EQ(p.speed_law.law.v_max, 0.12);
   EXPECT_EQ(p.speed_law.axis, 0);
+  EXPECT_TRUE(p.speed_law.excess_against_tactile);  // the load the taxels miss
+  EXPECT_DOUBLE_EQ(p.speed_law.law.excess_deadband_n, 1.6);
   ASSERT_EQ(p.slope_feedforward.phases.size(), 1u);  // and the slope feed-forward, in the same phase
   EXPECT_EQ(p.slope_feedforward.phases[0], "explore");
   EXPECT_DOUBLE_EQ(p.slope_feedforward.window_m, 0.0005);
@@ -396,6 +400,8 @@ TEST(ServoProgramBase, CarefulSpeedLawChangesTheBudgetAndTheRiseAndKeepsTheEndCa
                  {"speed_law.force_deadband_n", "0.15"},
                  {"speed_law.angle_rate_ref", "1.0"},
                  {"speed_law.excess_ref_n", "1.2"},
+                 {"speed_law.excess_deadband_n", "0.0"},
+                 {"speed_law.excess_against", "estimate"},
                  {"speed_law.extent_full_m", "0.02"},
                  {"slope_feedforward.phases[0]", kAbsent},  // phases: [] (off)
                  {"force_estimate.max_correction_n", "4.0"},

@@ -149,6 +149,10 @@ TEST(ServoProgramIo, BadProgramsNameFilePhaseField) {
   expectRejected("bad_speed_phase", "speed_law: {phases: [hlod]}\n" + program(""), {"speed_law.phases", "'hlod'"});
   expectRejected("bad_speed_axis", "speed_law: {axis: z}\n" + program(""), {"speed_law.axis", "'z'", "x or y"});
   expectRejected("bad_speed_key", "speed_law: {vmax: 0.1}\n" + program(""), {"speed_law.vmax", "unknown key"});
+  expectRejected("bad_speed_excess_against", "speed_law: {excess_against: wrench}\n" + program(""),
+                 {"speed_law.excess_against", "'wrench'", "estimate", "tactile"});
+  expectRejected("bad_speed_excess_deadband", "speed_law: {phases: [hold], excess_ref_n: 2.0, excess_deadband_n: 2.0}\n" + program(""),
+                 {"speed_law.excess_deadband_n", "[0, excess_ref_n)"});
   // The slope feed-forward's block likewise.
   expectRejected("bad_slope_window", "slope_feedforward: {phases: [hold], window_m: 0.1}\n" + program(""),
                  {"slope_feedforward.window_m", "[0, 0.05] m"});

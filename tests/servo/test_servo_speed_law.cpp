@@ -98,6 +98,38 @@ TEST(ServoSpeedLaw, ABendOrAForceErrorSlowsTheSlide) {
   }
 }
 
+// The wrench's excess (speed_law.excess_against): the arm's wrench along z_s
+// 2.8 N above the taxels' 5 N, the force estimate following the wrench within
+// 0.02 s (bounded at 5 N, bent_bar_speed_law.yaml's). Against the tactile
+// force the excess is the load the taxels miss: 1.2 N past the 1.6 N dead
+// band of 4 N, half of v_max. Against f_hat, which has taken that load in,
+// there is none, and only the force error (f_hat 2.8 N above f_d, against a
+// 50 N budget here) slows the slide.
+TEST(ServoSpeedLaw, TheWrenchExcessIsTheLoadTheTaxelsMiss) {
+  for (const bool tactile : {true, false}) {
+    ServoParams p = slide(true);
+    p.force_estimate.fused = true;
+    p.force_estimate.tau_s = 0.02;
+    p.force_estimate.max_correction_n = 5.0;
+    p.speed_law.law.force_budget_n = 50.0;
+    p.speed_law.law.excess_deadband_n = 1.6;
+    p.speed_law.law.excess_ref_n = 4.0;
+    p.speed_law.excess_against_tactile = tactile;
+    Loop l(p);
+    l.in.features.force = 5.0;
+    l.in.have_wrench = true;
+    l.in.wrench.w[2] = -7.8;
+    l.slideFor(2.0);
+    if (tactile) {
+      EXPECT_NEAR(l.out.slide_speed, 0.03, 1e-4);
+      EXPECT_EQ(l.out.speed_limiter, SpeedLimiter::WrenchExcess);
+    } else {
+      EXPECT_NEAR(l.out.slide_speed, 0.06 * (1.0 - 2.8 / 50.0), 1e-3);
+      EXPECT_EQ(l.out.speed_limiter, SpeedLimiter::Force);
+    }
+  }
+}
+
 TEST(ServoSpeedLaw, AnUnknownPhaseIsNamed) {
   ServoParams p = slide(true);
   p.source = "prog.yaml";

@@ -84,6 +84,25 @@ TEST(SpeedLaw, EachInputAloneLowersTheSpeedByItsFraction) {
   EXPECT_NEAR(settle(law, below), p.v_max, 1e-12);
 }
 
+// The wrench's excess past its dead band: nothing up to it, then linear to
+// v_min at excess_ref_n (1.6 and 4 N: bent_bar_speed_law.yaml's). Exact.
+TEST(SpeedLaw, TheWrenchExcessSlowsOnlyPastItsDeadBand) {
+  SpeedLawParams p;
+  p.excess_deadband_n = 1.6;
+  p.excess_ref_n = 4.0;
+  SpeedLaw law;
+  ASSERT_TRUE(law.configure(p).ok());
+  SpeedLawInput in;
+  in.wrench_excess_n = 1.6;  // what the firing threshold hides: full speed
+  EXPECT_NEAR(settle(law, in), p.v_max, 1e-12);
+  EXPECT_EQ(law.limiter(), SpeedLimiter::None);
+  in.wrench_excess_n = 2.8;  // half way from the dead band to the reference
+  EXPECT_NEAR(settle(law, in), 0.5 * p.v_max, 1e-12);
+  EXPECT_EQ(law.limiter(), SpeedLimiter::WrenchExcess);
+  in.wrench_excess_n = 4.0;
+  EXPECT_NEAR(settle(law, in), p.v_min, 1e-12);
+}
+
 TEST(SpeedLaw, TheSlowestInputDecides) {
   SpeedLaw law = configured();
   SpeedLawInput in;
@@ -138,6 +157,8 @@ TEST(SpeedLaw, RangesNameTheKey) {
       {"speed_law.curvature_ref", [](SpeedLawParams& p) { p.curvature_ref = -1.0; }},
       {"speed_law.extent_full_m", [](SpeedLawParams& p) { p.extent_full_m = 0.01; }},
       {"speed_law.excess_ref_n", [](SpeedLawParams& p) { p.excess_ref_n = 0.0; }},
+      {"speed_law.excess_deadband_n", [](SpeedLawParams& p) { p.excess_deadband_n = p.excess_ref_n; }},
+      {"speed_law.excess_deadband_n", [](SpeedLawParams& p) { p.excess_deadband_n = -0.1; }},
   };
   for (const Bad& b : bad) {
     SpeedLawParams p;

@@ -312,15 +312,23 @@ ConfigResult readPhasesAndAxis(const YAML::Node& n, const Where& w, std::vector<
 ConfigResult readSpeedLaw(const YAML::Node& sl, const Where& w, SpeedLawConfig& c) {
   ConfigResult r = checkKeys(sl, w, {"phases", "axis", "rate_tau_s", "v_max", "v_min", "accel_mps2", "force_budget_n", "force_deadband_n",
                                      "horizon_s", "angle_rate_ref", "curvature_ref", "extent_full_m", "extent_min_m",
-                                     "excess_ref_n"});
+                                     "excess_ref_n", "excess_deadband_n", "excess_against"});
   if (!r || !(r = readPhasesAndAxis(sl, w, c.phases, c.axis))) return r;
+  if (sl["excess_against"]) {
+    std::string a;
+    if (!(r = read(sl, "excess_against", a, w))) return r;
+    if (a == "tactile") c.excess_against_tactile = true;
+    else if (a == "estimate") c.excess_against_tactile = false;
+    else return fail(w.child("excess_against"), "'" + a + "': must be estimate (f_hat) or tactile (Eq. 2's f)");
+  }
   SpeedLawParams& lp = c.law;
   for (auto rr : {read(sl, "rate_tau_s", c.rate_tau_s, w), read(sl, "v_max", lp.v_max, w), read(sl, "v_min", lp.v_min, w),
                   read(sl, "accel_mps2", lp.accel_mps2, w), read(sl, "force_budget_n", lp.force_budget_n, w),
                   read(sl, "force_deadband_n", lp.force_deadband_n, w),
                   read(sl, "horizon_s", lp.horizon_s, w), read(sl, "angle_rate_ref", lp.angle_rate_ref, w),
                   read(sl, "curvature_ref", lp.curvature_ref, w), read(sl, "extent_full_m", lp.extent_full_m, w),
-                  read(sl, "extent_min_m", lp.extent_min_m, w), read(sl, "excess_ref_n", lp.excess_ref_n, w)})
+                  read(sl, "extent_min_m", lp.extent_min_m, w), read(sl, "excess_ref_n", lp.excess_ref_n, w),
+                  read(sl, "excess_deadband_n", lp.excess_deadband_n, w)})
     if (!rr) return rr;
   return ConfigResult::success();
 }

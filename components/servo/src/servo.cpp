@@ -258,7 +258,7 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   const KDL::Vector F(in.wrench.w[0], in.wrench.w[1], in.wrench.w[2]);
   const double f_hat = force_est_.step(f.force, contact, wrench_fresh, F, z_s, dt, f.area);
   double f_law = f_hat;  // the force the law holds at its set point
-  double excess = 0.0;   // the wrench along z_s less f_hat (N): load the taxels do not carry
+  double excess = 0.0;   // the wrench along z_s less f_hat or f (N): load the taxels do not carry
   const double extent = std::sqrt(12.0 * std::max(0.0, f.lambda1));  // the image's length along the edge (a uniform line's)
   // The force the law uses (the tactile force, or f_hat: the correction is
   // bounded, so a wrench beyond it still shows) against the arm's estimated
@@ -274,7 +274,7 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
     const double f_d = params_.phases[static_cast<std::size_t>(phc)].s_d(kZ) / law_.c_z();
     const bool regulated = program_.requiresContact(phc) && f_d > 0.0;
     const double f_w = std::fabs(dot(F - force_est_.tare(), z_s));
-    if (wrench_fresh && contact) excess = f_w - f_hat;
+    if (wrench_fresh && contact) excess = f_w - (params_.speed_law.excess_against_tactile ? f.force : f_hat);
     if (watchdogs_.surfaceTooCurved(f_w, f_d, regulated, contact, f.force, extent, wrench_fresh, dt))
       return finish(ServoStatus::SurfaceTooCurved, now, out);
     // The first reaction: lift by the load the taxels miss (0 unless configured).

@@ -35,6 +35,8 @@ ConfigResult SpeedLaw::configure(const SpeedLawParams& p, const char* where) {
     return rangeError(w + "extent_full_m", p.extent_full_m, "must be in (extent_min_m, 1] m");
   if (!(in(p.excess_ref_n, 0.0, 1e4) && p.excess_ref_n > 0))
     return rangeError(w + "excess_ref_n", p.excess_ref_n, "must be in (0, 1e4] N");
+  if (!(in(p.excess_deadband_n, 0.0, p.excess_ref_n) && p.excess_deadband_n < p.excess_ref_n))
+    return rangeError(w + "excess_deadband_n", p.excess_deadband_n, "must be in [0, excess_ref_n) N");
   p_ = p;
   configured_ = true;
   reset();
@@ -64,7 +66,7 @@ SpeedLawStatus SpeedLaw::step(const SpeedLawInput& in, double dt) {
       unit(1.0 - std::fabs(in.angle_rate) / p_.angle_rate_ref),
       unit(1.0 - std::fabs(in.curvature) / p_.curvature_ref),
       unit((in.extent_m - p_.extent_min_m) / (p_.extent_full_m - p_.extent_min_m)),
-      unit(1.0 - std::max(0.0, in.wrench_excess_n) / p_.excess_ref_n)};
+      unit(1.0 - std::max(0.0, in.wrench_excess_n - p_.excess_deadband_n) / (p_.excess_ref_n - p_.excess_deadband_n))};
   int k = 0;
   for (int i = 1; i < 5; ++i)
     if (a[i] < a[k]) k = i;

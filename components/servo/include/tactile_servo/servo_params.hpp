@@ -193,6 +193,13 @@ struct SpeedLawConfig {
   std::vector<std::string> phases;  ///< the phases it acts in; empty = off
   int axis = 0;                     ///< the slide axis of {s}: 0 x_s, 1 y_s
   double rate_tau_s = 0.05;         ///< s, (0, 10]: low-pass of the force error, its rate, the angle's rate, the curvature
+  /// The wrench's excess against Eq. 2's tactile force f (true; files:
+  /// excess_against: tactile) or against the force estimate f_hat (false;
+  /// estimate). A force estimate that follows the wrench within a few cycles
+  /// (force_estimate.tau_s 0.02 s, its bound the whole set point) leaves no
+  /// excess over f_hat to see; against f the excess is the load the taxels
+  /// miss, which grows as the pad starts to bridge a trough.
+  bool excess_against_tactile = false;
   SpeedLawParams law;
 };
 

@@ -20,8 +20,12 @@
 //                   1 / 0.182 m for bent_bar_fused, sim/scenes/curved/README.md);
 //   extent_m        the image's extent along the edge (sqrt(12 lambda1)):
 //                   a_e = (extent - extent_min) / (extent_full - extent_min);
-//   wrench_excess_n the arm's wrench along z_s less f_hat (N): load the taxels
-//                   do not carry (the pad's ends, its housing); a_x = 1 - excess / excess_ref.
+//   wrench_excess_n the arm's wrench along z_s less the force the taxels
+//                   report (f_hat, or Eq. 2's tactile force f: SpeedLawConfig's
+//                   excess_against, servo_params.hpp) (N): load the taxels do
+//                   not carry (the pad's ends, its housing), past a dead band
+//                   d_x (against f, the load the firing threshold always hides):
+//                   a_x = 1 - max(0, excess - d_x) / (excess_ref - d_x).
 // Each a_i is clamped to [0, 1]; the target speed is
 //   v* = max(v_min, v_max min_i a_i)
 // (the slowest input decides: the fastest speed every input allows). The
@@ -48,6 +52,7 @@ struct SpeedLawParams {
   double extent_full_m = 0.0476;  ///< m, (extent_min_m, 1]: the image's extent at full speed (the pad)
   double extent_min_m = 0.0119;   ///< m, [0, 1): the extent at which the slide stops (a quarter of the pad)
   double excess_ref_n = 1.2;      ///< N, (0, 1e4]: the wrench's excess that stops the slide
+  double excess_deadband_n = 0.0; ///< N, [0, excess_ref_n): the excess that does not slow the slide
 };
 
 struct SpeedLawInput {
@@ -56,7 +61,7 @@ struct SpeedLawInput {
   double angle_rate = 0.0;         ///< d alpha_z / dt (rad/s)
   double curvature = 0.0;          ///< of the edge line along the pad (1/m)
   double extent_m = 0.0476;        ///< the image's extent along the edge (m)
-  double wrench_excess_n = 0.0;    ///< wrench along z_s - f_hat (N)
+  double wrench_excess_n = 0.0;    ///< wrench along z_s less the taxels' force (N)
 };
 
 enum class SpeedLawStatus : unsigned char {
@@ -76,7 +81,7 @@ struct SpeedLawSignals {
   bool alpha_defined = false;   ///< alpha_z is a measurement (ContactFeatures::alpha_defined)
   double curvature = 0.0;       ///< 1/m (ContactFeatures::curvature)
   double extent_m = 0.0;        ///< sqrt(12 lambda1) (m)
-  double wrench_excess_n = 0.0; ///< wrench along z_s less f_hat (N); 0 without a fresh wrench
+  double wrench_excess_n = 0.0; ///< wrench along z_s less f_hat or f (N); 0 without a fresh wrench
 };
 
 /// Low-passes the force error, the curvature and the wrench's excess with
