@@ -123,7 +123,7 @@ def shipped():
         p["phase_defaults"]["u_max_per_s"].update(x=0.12, y=0.12)
         ex = phase(p, "explore")
         ex["kp_per_s"]["x"] = 4.8
-        ex["transitions"][0]["for_s"] = 0.1
+        ex["transitions"][0]["for_s"] = 0.08
         p["speed_law"].update(phases=["explore"], v_max=0.12, accel_mps2=1.0, rate_tau_s=0.1, force_deadband_n=0.4,
                               horizon_s=0.05, angle_rate_ref=8.0, excess_ref_n=4.0, extent_full_m=0.016, extent_min_m=0.0,
                               excess_against="tactile", excess_deadband_n=1.6)
@@ -135,6 +135,7 @@ def shipped():
         p["safety"]["max_trans_speed"] = 0.08
         p["phase_defaults"]["u_max_per_s"].update(x=0.08, y=0.08)
         phase(p, "explore")["kp_per_s"]["x"] = 3.2
+        phase(p, "explore")["transitions"][0]["for_s"] = 0.1
         p["speed_law"].update(v_max=0.08, accel_mps2=0.005, force_budget_n=0.35, force_deadband_n=0.15,
                               angle_rate_ref=1.0, excess_ref_n=1.2, extent_full_m=0.02, excess_deadband_n=0.0,
                               excess_against="estimate")
