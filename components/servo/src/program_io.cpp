@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <climits>
+#include <initializer_list>
 #include <cmath>
 #include <cstdlib>
 #include <utility>
@@ -289,6 +290,26 @@ ConfigResult readPhase(const YAML::Node& n, const Where& w0, const Defaults& d, 
   return ConfigResult::success();
 }
 
+/// A key whose value is one of `names`: `index` set to its position when the
+/// key is there (unchanged otherwise); any other value fails with "'value':
+/// must be <allowed>".
+ConfigResult readChoice(const YAML::Node& n, const char* key, const Where& w, std::initializer_list<const char*> names,
+                        const char* allowed, int& index) {
+  if (!n[key]) return ConfigResult::success();
+  std::string v;
+  ConfigResult r = read(n, key, v, w);
+  if (!r) return r;
+  int i = 0;
+  for (const char* name : names) {
+    if (v == name) {
+      index = i;
+      return r;
+    }
+    ++i;
+  }
+  return fail(w.child(key), "'" + v + "': must be " + allowed);
+}
+
 /// A slide block's `phases` (the phases it acts in, [] = off) and `axis` (x or
 /// y of {s}), as speed_law and slope_feedforward have them.
 ConfigResult readPhasesAndAxis(const YAML::Node& n, const Where& w, std::vector<std::string>& phases, int& axis) {
@@ -297,14 +318,7 @@ ConfigResult readPhasesAndAxis(const YAML::Node& n, const Where& w, std::vector<
     if (!ph.IsSequence()) return fail(w.child("phases"), "must be a list of phase names ([] = off)");
     if (!(r = read(n, "phases", phases, w))) return r;
   }
-  if (n["axis"]) {
-    std::string a;
-    if (!(r = read(n, "axis", a, w))) return r;
-    if (a == "x") axis = 0;
-    else if (a == "y") axis = 1;
-    else return fail(w.child("axis"), "'" + a + "': must be x or y (the slide axis of {s})");
-  }
-  return r;
+  return readChoice(n, "axis", w, {"x", "y"}, "x or y (the slide axis of {s})", axis);
 }
 
 /// speed_law: the block of SpeedLawConfig (servo_params.hpp); the ranges and
@@ -314,13 +328,11 @@ ConfigResult readSpeedLaw(const YAML::Node& sl, const Where& w, SpeedLawConfig& 
                                      "horizon_s", "angle_rate_ref", "curvature_ref", "extent_full_m", "extent_min_m",
                                      "excess_ref_n", "excess_deadband_n", "excess_against"});
   if (!r || !(r = readPhasesAndAxis(sl, w, c.phases, c.axis))) return r;
-  if (sl["excess_against"]) {
-    std::string a;
-    if (!(r = read(sl, "excess_against", a, w))) return r;
-    if (a == "tactile") c.excess_against_tactile = true;
-    else if (a == "estimate") c.excess_against_tactile = false;
-    else return fail(w.child("excess_against"), "'" + a + "': must be estimate (f_hat) or tactile (Eq. 2's f)");
-  }
+  int against = c.excess_against_tactile ? 1 : 0;
+  if (!(r = readChoice(sl, "excess_against", w, {"estimate", "tactile"}, "estimate (f_hat) or tactile (Eq. 2's f)",
+                       against)))
+    return r;
+  c.excess_against_tactile = against == 1;
   SpeedLawParams& lp = c.law;
   for (auto rr : {read(sl, "rate_tau_s", c.rate_tau_s, w), read(sl, "v_max", lp.v_max, w), read(sl, "v_min", lp.v_min, w),
                   read(sl, "accel_mps2", lp.accel_mps2, w), read(sl, "force_budget_n", lp.force_budget_n, w),
@@ -401,14 +413,9 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
     if (const YAML::Node cl = s["contact_loss"]) {
       const Where wc = w.child("contact_loss");
       if (!(r = checkKeys(cl, wc, {"mode", "backoff_distance", "search_speed", "search_max_distance"}))) return r;
-      std::string m;
-      if (cl["mode"]) {
-        if (!(r = read(cl, "mode", m, wc))) return r;
-        if (m == "hold") sp.contact_loss = ContactLossMode::Hold;
-        else if (m == "backoff") sp.contact_loss = ContactLossMode::Backoff;
-        else if (m == "search") sp.contact_loss = ContactLossMode::Search;
-        else return fail(wc.child("mode"), "'" + m + "': must be hold, backoff or search");
-      }
+      int mode = static_cast<int>(sp.contact_loss);
+      if (!(r = readChoice(cl, "mode", wc, {"hold", "backoff", "search"}, "hold, backoff or search", mode))) return r;
+      sp.contact_loss = static_cast<ContactLossMode>(mode);
       for (auto rr : {read(cl, "backoff_distance", sp.backoff_distance, wc), read(cl, "search_speed", sp.search_speed, wc),
                       read(cl, "search_max_distance", sp.search_max_distance, wc)})
         if (!rr) return rr;
