@@ -763,6 +763,14 @@ static bool meetsSlideTargets(const RunResult& r) {
          r.summary.force_true_in_band_fraction >= 0.95 && r.summary.contact_lost_count == 0;
 }
 
+// A fixed slide gain, as the sweeps compare it with the law: the speed law
+// off and K_P,x of the `explore` phase set to `kp` (1/s).
+static void useFixedGain(Scene& sc, double kp) {
+  sc.servo.speed_law.phases.clear();
+  for (auto& ph : sc.servo.phases)
+    if (ph.name == "explore") ph.kp(0) = kp;
+}
+
 // The speed law (tactile_servo/speed_law.hpp, bent_bar_speed_law.yaml): the
 // bent bar to its end cap with the slide speed chosen from a 0.5 N error
 // budget of the true force. Targets, on each of seeds 1-3: a mean slide speed
@@ -787,11 +795,7 @@ TEST(Experiments, CarefulSpeedLawAdaptsWhereNoSingleFixedGainDoes) {
   auto runBar = [&](const std::string& bar, int seed, double kp) {
     Scene sc = test::loadShipped("curved/" + bar + ".yaml",
                                  {"program=" + careful, "seed=" + std::to_string(seed), "duration=60"});
-    if (kp > 0.0) {
-      sc.servo.speed_law.phases.clear();
-      for (auto& ph : sc.servo.phases)
-        if (ph.name == "explore") ph.kp(0) = kp;
-    }
+    if (kp > 0.0) useFixedGain(sc, kp);
     return test::runFull(sc);
   };
   const auto met = meetsSlideTargets;
@@ -857,10 +861,8 @@ TEST(Experiments, SpeedLawSlowsWhereThePadStartsToBridgeATrough) {
         sc.servo.speed_law.excess_against_tactile = false;
         sc.servo.speed_law.law.excess_deadband_n = 0.0;
         sc.servo.speed_law.law.excess_ref_n = 3.0;
-      } else if (variant == 2) {  // the fixed gain at the ceiling
-        sc.servo.speed_law.phases.clear();
-        for (auto& ph : sc.servo.phases)
-          if (ph.name == "explore") ph.kp(0) = 4.8;
+      } else if (variant == 2) {
+        useFixedGain(sc, 4.8);  // the fixed gain at the ceiling
       }
       return test::runFull(sc);
     };
@@ -897,9 +899,7 @@ TEST(Experiments, SpeedLawSlidesTheBentBarWithinItsBudget) {
     law_speed += s.slide_speed_mps / 3.0;
     for (int k = 0; k < 2; ++k) {
       Scene fx = test::loadShipped("bent_bar_speed_law.yaml", {"seed=" + std::to_string(seed)});
-      fx.servo.speed_law.phases.clear();  // a fixed gain: the law off
-      for (auto& ph : fx.servo.phases)
-        if (ph.name == "explore") ph.kp(0) = gains[k];
+      useFixedGain(fx, gains[k]);
       const RunResult r = test::runFull(fx);
       fixed_met[k] = fixed_met[k] && meetsSlideTargets(r);
       fixed_speed[k] += r.summary.slide_speed_mps / 3.0;
