@@ -52,7 +52,9 @@ import program_yaml  # noqa: E402
 
 PROGRAMS = os.path.join(ts.ROOT, "components", "servo", "programs")
 GAINS = [0.2, 0.4, 0.8, 1.2, 1.6, 2.0, 2.4, 3.0, 4.0, 4.8]  # 1/s: 5 .. 120 mm/s commanded at a 25 mm CoP_x error
-LIMIT = 0.12  # m/s: the speed law's ceiling (bent_bar_speed_law.yaml)
+# m/s: the speed law's ceiling, read from its program, so that the fixed gains
+# always share it
+LIMIT = float(program_yaml.load(os.path.join(PROGRAMS, "bent_bar_speed_law.yaml"))["safety"]["max_trans_speed"])
 END_MM = 10.0  # "to the end of the bar": the last contact within 10 mm of its end vertex (the end cap's radius + 5 mm)
 BUDGETS = [0.45, 0.5, 0.75, 1.0]  # N: the speed law's error budget (above its 0.4 N dead band)
 LAW = "speed law"
