@@ -126,7 +126,7 @@ def shipped():
         ex["transitions"][0]["for_s"] = 0.08
         p["speed_law"].update(phases=["explore"], v_max=0.12, accel_mps2=1.0, rate_tau_s=0.1, force_deadband_n=0.4,
                               horizon_s=0.05, angle_rate_ref=8.0, excess_ref_n=4.0, extent_full_m=0.016, extent_min_m=0.0,
-                              excess_against="tactile", excess_deadband_n=1.6)
+                              excess_against="tactile", excess_deadband_n=1.6, excess_deadband_per_m=40.0)
         p["slope_feedforward"]["phases"] = ["explore"]
         p["force_estimate"].update(tau_s=0.02, max_correction_n=5.0)
     expect("bent_bar_speed_law.yaml", "bent_bar_to_end_cap.yaml", speed_law)
@@ -138,6 +138,7 @@ def shipped():
         phase(p, "explore")["transitions"][0]["for_s"] = 0.1
         p["speed_law"].update(v_max=0.08, accel_mps2=0.005, force_budget_n=0.35, force_deadband_n=0.15,
                               angle_rate_ref=1.0, excess_ref_n=1.2, extent_full_m=0.02, excess_deadband_n=0.0,
+                              excess_deadband_per_m=0.0,
                               excess_against="estimate")
         p["slope_feedforward"]["phases"] = []
         p["force_estimate"].update(tau_s=0.08, max_correction_n=4.0)

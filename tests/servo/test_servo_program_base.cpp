@@ -363,6 +363,7 @@ TEST(ServoProgramBase, BentBarSpeedLawTurnsTheLawOnInExplore) {
                  {"speed_law.angle_rate_ref", "8.0"},
                  {"speed_law.excess_against", "tactile"},
                  {"speed_law.excess_deadband_n", "1.6"},
+                 {"speed_law.excess_deadband_per_m", "40.0"},
                  {"speed_law.excess_ref_n", "4.0"},
                  {"speed_law.extent_full_m", "0.016"},
                  {"speed_law.extent_min_m", "0.0"},
@@ -376,6 +377,8 @@ TEST(ServoProgramBase, BentBarSpeedLawTurnsTheLawOnInExplore) {
   EXPECT_EQ(p.speed_law.axis, 0);
   EXPECT_TRUE(p.speed_law.excess_against_tactile);  // the load the taxels miss
   EXPECT_DOUBLE_EQ(p.speed_law.law.excess_deadband_n, 1.6);
+  EXPECT_DOUBLE_EQ(p.speed_law.law.excess_deadband_per_m, 40.0);  // a short image hides more
+  EXPECT_DOUBLE_EQ(p.speed_law.law.excess_short_max_m, 0.04);
   ASSERT_EQ(p.slope_feedforward.phases.size(), 1u);  // and the slope feed-forward, in the same phase
   EXPECT_EQ(p.slope_feedforward.phases[0], "explore");
   EXPECT_DOUBLE_EQ(p.slope_feedforward.window_m, 0.0005);
@@ -402,6 +405,7 @@ TEST(ServoProgramBase, CarefulSpeedLawChangesTheBudgetAndTheRiseAndKeepsTheEndCa
                  {"speed_law.angle_rate_ref", "1.0"},
                  {"speed_law.excess_ref_n", "1.2"},
                  {"speed_law.excess_deadband_n", "0.0"},
+                 {"speed_law.excess_deadband_per_m", "0.0"},
                  {"speed_law.excess_against", "estimate"},
                  {"speed_law.extent_full_m", "0.02"},
                  {"slope_feedforward.phases[0]", kAbsent},  // phases: [] (off)

@@ -153,6 +153,10 @@ TEST(ServoProgramIo, BadProgramsNameFilePhaseField) {
                  {"speed_law.excess_against", "'wrench'", "estimate", "tactile"});
   expectRejected("bad_speed_excess_deadband", "speed_law: {phases: [hold], excess_ref_n: 2.0, excess_deadband_n: 2.0}\n" + program(""),
                  {"speed_law.excess_deadband_n", "[0, excess_ref_n)"});
+  expectRejected("bad_speed_excess_per_m", "speed_law: {phases: [hold], excess_deadband_per_m: -40}\n" + program(""),
+                 {"speed_law.excess_deadband_per_m", "-40", "[0, 1e4] N/m"});
+  expectRejected("bad_speed_excess_short", "speed_law: {phases: [hold], excess_short_max_m: 2}\n" + program(""),
+                 {"speed_law.excess_short_max_m", "[0, 1] m"});
   // The slope feed-forward's block likewise.
   expectRejected("bad_slope_window", "slope_feedforward: {phases: [hold], window_m: 0.1}\n" + program(""),
                  {"slope_feedforward.window_m", "[0, 0.05] m"});

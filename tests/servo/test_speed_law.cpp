@@ -103,6 +103,41 @@ TEST(SpeedLaw, TheWrenchExcessSlowsOnlyPastItsDeadBand) {
   EXPECT_NEAR(settle(law, in), p.v_min, 1e-12);
 }
 
+// A short image's dead band grows with its extent (40 N/m up to 40 mm:
+// bent_bar_speed_law.yaml's); a longer image (a line along the pad, two spots
+// at its ends) keeps the base dead band. Exact.
+TEST(SpeedLaw, AShortImagesExcessDeadBandGrowsWithItsExtent) {
+  SpeedLawParams p;
+  p.excess_deadband_n = 1.6;
+  p.excess_ref_n = 4.0;
+  p.excess_deadband_per_m = 40.0;
+  p.excess_short_max_m = 0.04;
+  p.extent_min_m = 0.0;
+  p.extent_full_m = 0.016;  // the extent's own input does not slow any of these
+  SpeedLaw law;
+  ASSERT_TRUE(law.configure(p).ok());
+  SpeedLawInput in;
+  in.wrench_excess_n = 2.8;
+  in.extent_m = 0.03;  // dead band 1.6 + 1.2 N: the taxels miss 2.8 N of a convex bend's load
+  EXPECT_NEAR(settle(law, in), p.v_max, 1e-12);
+  EXPECT_EQ(law.limiter(), SpeedLimiter::None);
+  in.wrench_excess_n = 4.0;  // 1.2 N past it, half of excess_ref_n - excess_deadband_n
+  EXPECT_NEAR(settle(law, in), 0.5 * p.v_max, 1e-12);
+  EXPECT_EQ(law.limiter(), SpeedLimiter::WrenchExcess);
+  in.extent_m = 0.04;  // the longest image that grows it: 1.6 + 1.6 N
+  EXPECT_NEAR(settle(law, in), (1.0 - 0.8 / 2.4) * p.v_max, 1e-12);
+  in.extent_m = 0.0476;  // a line along the whole pad: 1.6 N, 4 N stops it
+  EXPECT_NEAR(settle(law, in), p.v_min, 1e-12);
+  in.extent_m = 0.07;  // two spots at the pad's ends: a bridged trough
+  EXPECT_NEAR(settle(law, in), p.v_min, 1e-12);
+  in.wrench_excess_n = 2.8;
+  EXPECT_NEAR(settle(law, in), 0.5 * p.v_max, 1e-12);
+  p.excess_deadband_per_m = 0.0;  // off: the extent does not matter
+  ASSERT_TRUE(law.configure(p).ok());
+  in.extent_m = 0.03;
+  EXPECT_NEAR(settle(law, in), 0.5 * p.v_max, 1e-12);
+}
+
 TEST(SpeedLaw, TheSlowestInputDecides) {
   SpeedLaw law = configured();
   SpeedLawInput in;
@@ -159,6 +194,9 @@ TEST(SpeedLaw, RangesNameTheKey) {
       {"speed_law.excess_ref_n", [](SpeedLawParams& p) { p.excess_ref_n = 0.0; }},
       {"speed_law.excess_deadband_n", [](SpeedLawParams& p) { p.excess_deadband_n = p.excess_ref_n; }},
       {"speed_law.excess_deadband_n", [](SpeedLawParams& p) { p.excess_deadband_n = -0.1; }},
+      {"speed_law.excess_deadband_per_m", [](SpeedLawParams& p) { p.excess_deadband_per_m = -1.0; }},
+      {"speed_law.excess_deadband_per_m", [](SpeedLawParams& p) { p.excess_deadband_per_m = std::nan(""); }},
+      {"speed_law.excess_short_max_m", [](SpeedLawParams& p) { p.excess_short_max_m = 1.5; }},
   };
   for (const Bad& b : bad) {
     SpeedLawParams p;

@@ -37,6 +37,10 @@ ConfigResult SpeedLaw::configure(const SpeedLawParams& p, const char* where) {
     return rangeError(w + "excess_ref_n", p.excess_ref_n, "must be in (0, 1e4] N");
   if (!(in(p.excess_deadband_n, 0.0, p.excess_ref_n) && p.excess_deadband_n < p.excess_ref_n))
     return rangeError(w + "excess_deadband_n", p.excess_deadband_n, "must be in [0, excess_ref_n) N");
+  if (!in(p.excess_deadband_per_m, 0.0, 1e4))
+    return rangeError(w + "excess_deadband_per_m", p.excess_deadband_per_m, "must be in [0, 1e4] N/m");
+  if (!in(p.excess_short_max_m, 0.0, 1.0))
+    return rangeError(w + "excess_short_max_m", p.excess_short_max_m, "must be in [0, 1] m");
   p_ = p;
   configured_ = true;
   reset();
@@ -66,7 +70,8 @@ SpeedLawStatus SpeedLaw::step(const SpeedLawInput& in, double dt) {
       unit(1.0 - std::fabs(in.angle_rate) / p_.angle_rate_ref),
       unit(1.0 - std::fabs(in.curvature) / p_.curvature_ref),
       unit((in.extent_m - p_.extent_min_m) / (p_.extent_full_m - p_.extent_min_m)),
-      unit(1.0 - std::max(0.0, in.wrench_excess_n - p_.excess_deadband_n) / (p_.excess_ref_n - p_.excess_deadband_n))};
+      unit(1.0 - std::max(0.0, in.wrench_excess_n - p_.excess_deadband_n - p_.excess_deadband_per_m * (in.extent_m > p_.excess_short_max_m ? 0.0 : std::max(0.0, in.extent_m))) /
+                     (p_.excess_ref_n - p_.excess_deadband_n))};
   int k = 0;
   for (int i = 1; i < 5; ++i)
     if (a[i] < a[k]) k = i;

@@ -25,7 +25,12 @@
 //                   excess_against, servo_params.hpp) (N): load the taxels do
 //                   not carry (the pad's ends, its housing), past a dead band
 //                   d_x (against f, the load the firing threshold always hides):
-//                   a_x = 1 - max(0, excess - d_x) / (excess_ref - d_x).
+//                   a_x = 1 - max(0, excess - d_x - k_x e) / (excess_ref - d_x),
+//                   e the image's extent if it is at most excess_short_max_m,
+//                   else 0: a short image (a convex bend under the rigid pad)
+//                   hides more of its load below the threshold than a line
+//                   along the pad or two spots at its ends (a bridged trough)
+//                   do; k_x = excess_deadband_per_m.
 // Each a_i is clamped to [0, 1]; the target speed is
 //   v* = max(v_min, v_max min_i a_i)
 // (the slowest input decides: the fastest speed every input allows). The
@@ -53,6 +58,9 @@ struct SpeedLawParams {
   double extent_min_m = 0.0119;   ///< m, [0, 1): the extent at which the slide stops (a quarter of the pad)
   double excess_ref_n = 1.2;      ///< N, (0, 1e4]: the wrench's excess that stops the slide
   double excess_deadband_n = 0.0; ///< N, [0, excess_ref_n): the excess that does not slow the slide
+  double excess_deadband_per_m = 0.0; ///< N/m, [0, 1e4]: the dead band's growth with the extent of a short image
+  double excess_short_max_m = 0.04;   ///< m, [0, 1]: the longest image that grows it (a longer one: a line along the
+                                      ///< pad or two spots at its ends)
 };
 
 struct SpeedLawInput {
