@@ -73,6 +73,14 @@ def rise_variant(accel, out):
                                      f"bent_bar_speed_law_careful.yaml with speed_law.accel_mps2 = {accel}", out)
 
 
+def end_note(r):
+    """How a run ended, beside its status: not by the end rule, or by it short of the bar's end (a crest
+    read as the end cap)."""
+    if not r["ended_done"]:
+        return " (not at the end)"
+    return " (done before the end)" if not r["end_mm"] <= END_MM else ""
+
+
 def meets(r):
     return (r["status"] == "ok" and r["ended_done"] and r["end_mm"] <= END_MM and r["rms_n"] <= 0.5
             and r["in_band"] >= 0.95 and r["losses"] == 0)
@@ -123,8 +131,7 @@ def main():
         v = [r["speed_mm_s"] for r in g if r["speed_mm_s"] == r["speed_mm_s"]]  # seeds that measured a speed
         return {"met": all(r["met"] == "yes" for r in g), "speed": sum(v) / len(v) if v else float("nan"),
                 "rms": max(r["rms_n"] for r in g), "in_band": min(r["in_band"] for r in g),
-                "status": ", ".join(sorted({r["status"] + ("" if r["ended_done"] else " (not at the end)")
-                                             for r in g}))}
+                "status": ", ".join(sorted({r["status"] + end_note(r) for r in g}))}
 
     per_bar = []
     for bar in sorted({r["bar"] for r in rows}):
