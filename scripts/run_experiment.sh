@@ -53,7 +53,7 @@ done <<< "$experiments"
 /usr/bin/python3 "$root/scripts/sweeps/force_targets.py" --sim "$sim" --seeds 3 --out "$out/force_targets" > "$out/force_targets.log" 2>&1 \
   || echo "  (force_targets.py: a scene misses the true-force targets or did not run: $out/force_targets.log)"
 /usr/bin/python3 "$root/scripts/sweeps/sweep_speed.py" --sim "$sim" --seeds 3 --out "$out/speed" > "$out/speed.log" 2>&1 || echo "  (sweep_speed.py failed: $out/speed.log)"
-/usr/bin/python3 "$root/scripts/sweeps/sweep_family.py" --sim "$sim" --seeds 3 --out "$out/family" > "$out/family.log" 2>&1 || echo "  (sweep_family.py failed: $out/family.log)"
+/usr/bin/python3 "$root/scripts/sweeps/sweep_family.py" --sim "$sim" --seeds 3 --pool-seeds 15 --out "$out/family" > "$out/family.log" 2>&1 || echo "  (sweep_family.py failed: $out/family.log)"
 /usr/bin/python3 "$root/scripts/sweeps/run_contours.py" --sim "$sim" --out "$out/contours" > "$out/contours.log" 2>&1 || echo "  (run_contours.py failed: $out/contours.log)"
 /usr/bin/python3 "$root/scripts/sweeps/run_contours.py" --sim "$sim" --out "$out/contours_sensor_effects" --seeds 3 --sensor-effects \
   > "$out/contours_sensor_effects.log" 2>&1 || echo "  (run_contours.py --sensor-effects failed: $out/contours_sensor_effects.log)"

@@ -125,7 +125,7 @@ def run_figures(summary):
 def collect(out):
     """results.json's content (without commit and machine) from out/."""
     res = {"runs": {}, "deploy": {}, "compare": {}, "force_targets": [], "force_sweep": [],
-           "correction": [], "speed": [], "family": [], "family_rise": [], "contours": [], "rehearsal": []}
+           "correction": [], "speed": [], "family": [], "family_rise": [], "family_pooled": [], "contours": [], "rehearsal": []}
     for name in RUNS:
         res["runs"][name] = run_figures(load_json(os.path.join(out, name, "summary.json")))
     for name in DEPLOYS:
@@ -169,6 +169,8 @@ def collect(out):
     for r in load_csv(os.path.join(out, "family", "family_bars.csv")):  # per bar, seeds 1-3
         res["family"].append({k: (rnd(num(v)) if k.endswith(("_mm_s", "_rms_n", "_in_band")) else v)
                               for k, v in r.items()})
+    for r in load_csv(os.path.join(out, "family", "pooled.csv")):  # per bar, the law against the fixed gains, seeds 1-15
+        res["family_pooled"].append({k: (rnd(num(v)) if k.endswith(("_mm_s", "ratio")) else v) for k, v in r.items()})
     for r in load_csv(os.path.join(out, "family", "rise.csv")):  # per rise of the careful law, seeds 1-3
         res["family_rise"].append({k: (rnd(num(v)) if k.endswith(("_mps2", "_mm_s")) else int(v)) for k, v in r.items()})
     for sub, effects in (("contours", False), ("contours_sensor_effects", True)):
@@ -320,6 +322,16 @@ def render_family(res):
                   "end-cap program: speed", "met"], rows)
 
 
+def render_pooled(res):
+    rows = [[r["bar"], f"{r['fixed_kp_x']}: {f(r['fixed_speed_mm_s'], '.1f')} mm/s",
+             f"{f(r['law_speed_mm_s'], '.1f')} mm/s ({f(r['law_speed_sd_mm_s'], '.1f')})", r["law_met"],
+             f(r["ratio"], ".2f"), r["law_not_slower"]]
+            for r in res["family_pooled"] if r["fixed_kp_x"] not in ("", "nan")]
+    return table(["bar", "fastest fixed gain within the targets on every seed: kp_x, speed",
+                  "speed law: speed (spread over the seeds)", "law within the targets on every seed",
+                  "law / fixed", "not slower"], rows)
+
+
 def render_rise(res):
     rows = [[f(r["accel_mps2"], "g"), f"{r['met']} of {r['bars']}", f"{r['met_where_a_fixed_gain_does']} of {r['fixed_met']}",
              f(r["speed_mm_s"], ".1f"), f(r["gentle_speed_mm_s"], ".1f"), r["not_slower"]] for r in res["family_rise"]]
@@ -432,6 +444,12 @@ def render_results_md(res):
         "the end': the run ended otherwise. Plot: `docs/img/family.png`.",
         "",
         render_family(res),
+        "",
+        "The same comparison over seeds 1-15 (out/family/pooled.csv; why: docs/design.md, \"The speed",
+        "law\"): the fixed gains and the speed law as shipped. The spread is one standard deviation of the",
+        "law's speed over the seeds.",
+        "",
+        render_pooled(res),
         "",
         "The careful law with its speed's rise swept (out/family/rise.csv; 0.005 m/s^2 as shipped). A",
         "change of the slide speed is itself a disturbance of the force loop on a sloped or curved bar:",
