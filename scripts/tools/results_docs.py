@@ -326,7 +326,7 @@ def render_pooled(res):
     rows = [[r["bar"], f"{r['fixed_kp_x']}: {f(r['fixed_speed_mm_s'], '.1f')} mm/s",
              f"{f(r['law_speed_mm_s'], '.1f')} mm/s ({f(r['law_speed_sd_mm_s'], '.1f')})", r["law_met"],
              f(r["ratio"], ".2f"), r["law_not_slower"]]
-            for r in res["family_pooled"] if r["fixed_kp_x"] not in ("", "nan")]
+            for r in res.get("family_pooled", []) if r["fixed_kp_x"] not in ("", "nan")]
     return table(["bar", "fastest fixed gain within the targets on every seed: kp_x, speed",
                   "speed law: speed (spread over the seeds)", "law within the targets on every seed",
                   "law / fixed", "not slower"], rows)
