@@ -63,6 +63,9 @@ SpeedLawStatus SpeedLaw::step(const SpeedLawInput& in, double dt) {
     limiter_ = SpeedLimiter::None;
     return SpeedLawStatus::InvalidInput;
   }
+  // The wrench excess's dead band: grown by a short image's extent (header).
+  const double short_extent = in.extent_m > p_.excess_short_max_m ? 0.0 : std::max(0.0, in.extent_m);
+  const double excess_deadband = p_.excess_deadband_n + p_.excess_deadband_per_m * short_extent;
   // One admissible fraction of v_max per input (header); the smallest decides.
   const double a[5] = {
       unit(1.0 - std::max(0.0, std::fabs(in.force_error_n + p_.horizon_s * in.force_error_rate) - p_.force_deadband_n) /
@@ -70,8 +73,7 @@ SpeedLawStatus SpeedLaw::step(const SpeedLawInput& in, double dt) {
       unit(1.0 - std::fabs(in.angle_rate) / p_.angle_rate_ref),
       unit(1.0 - std::fabs(in.curvature) / p_.curvature_ref),
       unit((in.extent_m - p_.extent_min_m) / (p_.extent_full_m - p_.extent_min_m)),
-      unit(1.0 - std::max(0.0, in.wrench_excess_n - p_.excess_deadband_n - p_.excess_deadband_per_m * (in.extent_m > p_.excess_short_max_m ? 0.0 : std::max(0.0, in.extent_m))) /
-                     (p_.excess_ref_n - p_.excess_deadband_n))};
+      unit(1.0 - std::max(0.0, in.wrench_excess_n - excess_deadband) / (p_.excess_ref_n - p_.excess_deadband_n))};
   int k = 0;
   for (int i = 1; i < 5; ++i)
     if (a[i] < a[k]) k = i;
