@@ -110,28 +110,39 @@ def record(bar, label, kp, seed, s):
     return r
 
 
+def setting(rows, bar, label, kp=None, accel=None):
+    """One setting on one bar over its seeds in rows: it meets the targets when every seed does; its speed is the
+    mean over the seeds that measured one; RMS and in band the worst seed's. None without a run."""
+    g = [r for r in rows if r["bar"] == bar and r["controller"] == label
+         and (kp is None or r["kp_x"] == kp) and (accel is None or r["accel_mps2"] == accel)]
+    if not g:
+        return None
+    v = [r["speed_mm_s"] for r in g if r["speed_mm_s"] == r["speed_mm_s"]]  # seeds that measured a speed
+    return {"met": all(r["met"] == "yes" for r in g), "speed": sum(v) / len(v) if v else float("nan"),
+            "speeds": v, "rms": max(r["rms_n"] for r in g), "in_band": min(r["in_band"] for r in g),
+            "status": ", ".join(sorted({r["status"] + end_note(r) for r in g}))}
+
+
+def fastest_fixed(rows, bar):
+    """(kp, setting) of the fastest fixed gain that meets the targets on every seed of the bar, or None."""
+    passing = [(kp, st) for kp, st in ((kp, setting(rows, bar, FIXED, kp)) for kp in GAINS) if st and st["met"]]
+    return max(passing, key=lambda p: p[1]["speed"]) if passing else None
+
+
 def pooled(rows, n_seeds, out):
     """The fixed gains against the speed law over seeds 1..n_seeds (rows: every run of them)."""
     law_label = LAWS[0][0]
     res = []
     for bar in sorted({r["bar"] for r in rows}):
-        def runs(label, kp=None):
-            return [r for r in rows if r["bar"] == bar and r["controller"] == label and (kp is None or r["kp_x"] == kp)]
-        best = None
-        for kp in GAINS:
-            g = runs(FIXED, kp)
-            if len(g) == n_seeds and all(r["met"] == "yes" for r in g):
-                v = ts.mean([r["speed_mm_s"] for r in g])
-                best = (kp, v) if best is None or v > best[1] else best
-        law = runs(law_label)
-        v = [r["speed_mm_s"] for r in law if r["speed_mm_s"] == r["speed_mm_s"]]
-        met = len(law) == n_seeds and all(r["met"] == "yes" for r in law)
-        res.append({"bar": bar, "fixed_kp_x": best[0] if best else float("nan"),
-                    "fixed_speed_mm_s": best[1] if best else float("nan"),
-                    "law_speed_mm_s": ts.mean(v), "law_speed_sd_mm_s": statistics.pstdev(v) if len(v) > 1 else float("nan"),
-                    "law_met": "yes" if met else "no",
-                    "ratio": ts.mean(v) / best[1] if best else float("nan"),
-                    "law_not_slower": "yes" if met and best and ts.mean(v) >= best[1] else "no"})
+        best = fastest_fixed(rows, bar)
+        fixed_v = best[1]["speed"] if best else float("nan")
+        law = setting(rows, bar, law_label)
+        v = law["speeds"]
+        res.append({"bar": bar, "fixed_kp_x": best[0] if best else float("nan"), "fixed_speed_mm_s": fixed_v,
+                    "law_speed_mm_s": law["speed"],
+                    "law_speed_sd_mm_s": statistics.pstdev(v) if len(v) > 1 else float("nan"),
+                    "law_met": "yes" if law["met"] else "no", "ratio": law["speed"] / fixed_v,
+                    "law_not_slower": "yes" if law["met"] and best and law["speed"] >= fixed_v else "no"})
     ts.write_csv(os.path.join(out, "pooled.csv"), res)
     with_fixed = [r for r in res if r["fixed_speed_mm_s"] == r["fixed_speed_mm_s"]]
     with open(os.path.join(out, "pooled.md"), "w") as f:
@@ -196,26 +207,17 @@ def main():
                 print(f"[pooled {k}/{n}]", flush=True)
         pooled(pool, a.pool_seeds, a.out)
 
-    # Per bar: a setting meets the targets when every seed does; its speed is the seeds' mean.
-    def setting(bar, label, kp=None, accel=None):
-        g = [r for r in rows if r["bar"] == bar and r["controller"] == label
-             and (kp is None or r["kp_x"] == kp) and (accel is None or r["accel_mps2"] == accel)]
-        if not g:
-            return None
-        v = [r["speed_mm_s"] for r in g if r["speed_mm_s"] == r["speed_mm_s"]]  # seeds that measured a speed
-        return {"met": all(r["met"] == "yes" for r in g), "speed": sum(v) / len(v) if v else float("nan"),
-                "rms": max(r["rms_n"] for r in g), "in_band": min(r["in_band"] for r in g),
-                "status": ", ".join(sorted({r["status"] + end_note(r) for r in g}))}
+    # Per bar, over seeds 1..--seeds (setting(), fastest_fixed()).
+    def at(bar, label, kp=None, accel=None):
+        return setting(rows, bar, label, kp, accel)
 
     per_bar = []
     for bar in sorted({r["bar"] for r in rows}):
-        fixed = [(kp, setting(bar, FIXED, kp)) for kp in GAINS]
-        passing = [(kp, s) for kp, s in fixed if s["met"]]
-        best = max(passing, key=lambda p: p[1]["speed"]) if passing else None
+        best = fastest_fixed(rows, bar)
         b = {"bar": bar, "best_kp": best[0] if best else None, "best": best[1] if best else None,
-             "shipped": setting(bar, SHIPPED), "laws": []}
+             "shipped": at(bar, SHIPPED), "laws": []}
         for label, _, _ in LAWS:
-            lw = setting(bar, label)
+            lw = at(bar, label)
             lw["not_slower"] = bool(lw["met"] and (best is None or lw["speed"] >= best[1]["speed"]))
             b["laws"].append(lw)
         per_bar.append(b)
@@ -267,12 +269,12 @@ def main():
             met = [b for b in per_bar if b["laws"][i]["met"]]
             if not met:
                 continue
-            single = [kp for kp in GAINS if all(setting(b["bar"], FIXED, kp)["met"] for b in met)]
+            single = [kp for kp in GAINS if all(at(b["bar"], FIXED, kp)["met"] for b in met)]
             law_v = sum(b["laws"][i]["speed"] for b in met) / len(met)
             f.write(f"\nThe {label} on the {len(met)} bars it meets the targets on: {law_v:.1f} mm/s mean. ")
             if single:
                 kp = max(single)
-                fix_v = sum(setting(b["bar"], FIXED, kp)["speed"] for b in met) / len(met)
+                fix_v = sum(at(b["bar"], FIXED, kp)["speed"] for b in met) / len(met)
                 f.write(f"The fastest single fixed gain that meets them on the same bars, kp {kp:g}: {fix_v:.1f} mm/s "
                         "mean.\n")
             else:
@@ -281,7 +283,7 @@ def main():
     # The careful law's rise: bars within the targets and its speed there, per rise.
     rise_rows = []
     for acc in RISES:
-        per = [(b, setting(b["bar"], RISE, accel=acc)) for b in per_bar]
+        per = [(b, at(b["bar"], RISE, accel=acc)) for b in per_bar]
         met = [(b, st) for b, st in per if st["met"]]
         fixed_bars = [b for b in per_bar if b["best"]]
         rise_rows.append({
@@ -304,7 +306,7 @@ def main():
     fig, ax = plt.subplots(nrow, cols, figsize=(3.2 * cols, 2.6 * nrow), squeeze=False)
     for i, b in enumerate(per_bar):
         x = ax[i // cols][i % cols]
-        fr = [setting(b["bar"], FIXED, kp) for kp in GAINS]
+        fr = [at(b["bar"], FIXED, kp) for kp in GAINS]
         x.plot([s["speed"] for s in fr], [s["rms"] for s in fr], "-", color="tab:blue", lw=1)
         for s in fr:
             x.plot(s["speed"], s["rms"], "o" if s["met"] else "x", color="tab:blue", ms=5)
