@@ -8,7 +8,9 @@
 #   1. $OROCOS_SOURCE_DIR: a folder of the upstream `git archive` snapshots
 #      (log4cpp-*.tar.gz, rtt-*.tar.gz, ocl-*.tar.gz) with a SHA256SUMS file,
 #      checked before use;
-#   2. otherwise a git clone of the upstream repositories at the pinned commits.
+#   2. otherwise ../shared/third_party beside the repository, when it holds
+#      SHA256SUMS (the same archives, checked the same way);
+#   3. otherwise a git clone of the upstream repositories at the pinned commits.
 #
 # Idempotent: $OROCOS_PREFIX/share/tactile_servo/orocos.stamp names the commits
 # and the target; a second run with the same stamp does nothing.
@@ -92,6 +94,12 @@ fail() {
 }
 
 # ---- sources ---------------------------------------------------------------
+# The pinned archives beside the repository (../shared/third_party) serve
+# when OROCOS_SOURCE_DIR is not given, so the set-up needs no internet there.
+sibling="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)/../shared/third_party"
+if [ -z "${OROCOS_SOURCE_DIR:-}" ] && [ -f "$sibling/SHA256SUMS" ]; then
+  OROCOS_SOURCE_DIR="$sibling"
+fi
 if [ -n "${OROCOS_SOURCE_DIR:-}" ]; then
   src_dir="$(cd "$OROCOS_SOURCE_DIR" && pwd)"
   step="checksums"

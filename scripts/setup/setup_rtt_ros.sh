@@ -10,7 +10,9 @@
 # Sources, in this order:
 #   1. $OROCOS_SOURCE_DIR/rtt_ros_integration-toolchain-2.10-<short>.tar.gz,
 #      checked against $OROCOS_SOURCE_DIR/SHA256SUMS;
-#   2. otherwise a git clone of upstream at the pinned commit.
+#   2. otherwise ../shared/third_party beside the repository, when it holds
+#      SHA256SUMS (the same archive, checked the same way);
+#   3. otherwise a git clone of upstream at the pinned commit.
 #
 # Idempotent: $OROCOS_PREFIX/ros/share/tactile_servo/rtt_ros.stamp names the
 # commit and the package list; a second run with the same stamp does nothing.
@@ -97,6 +99,12 @@ fail() {
 # ---- sources -------------------------------------------------------------------
 unpacked="$work/unpacked"
 mkdir -p "$unpacked"
+# The pinned archives beside the repository (../shared/third_party) serve
+# when OROCOS_SOURCE_DIR is not given, so the set-up needs no internet there.
+sibling="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)/../shared/third_party"
+if [ -z "${OROCOS_SOURCE_DIR:-}" ] && [ -f "$sibling/SHA256SUMS" ]; then
+  OROCOS_SOURCE_DIR="$sibling"
+fi
 if [ -n "${OROCOS_SOURCE_DIR:-}" ]; then
   src_dir="$(cd "$OROCOS_SOURCE_DIR" && pwd)"
   archive="$src_dir/rtt_ros_integration-toolchain-2.10-${commit:0:10}.tar.gz"
