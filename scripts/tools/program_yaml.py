@@ -9,7 +9,9 @@ components/servo/include/tactile_servo/program_io.hpp ("Overlays"):
   * a scalar, any other list or a value of another kind replaces the base's;
   * `~` (None) removes the base's key;
   * a key or a name the base does not have is an error, as is a missing base
-    file and a cycle of bases.
+    file and a cycle of bases;
+  * `add_phases` lists whole phases appended after the base's, each with a
+    name the base's phases do not have.
 
 load(path) returns the merged program (a dict without `base`); ProgramError
 names the file and the key. The YAML is read with YAML 1.2 booleans only
@@ -105,4 +107,26 @@ def load(path, _chain=()):
         raise ProgramError(f"{path}: base: '{rel}' is a cycle of bases: {' -> '.join(loop)}")
     if not os.path.exists(base_file):
         raise ProgramError(f"{path}: base: '{rel}': {base_file}: cannot open file")
-    return merge(load(base_file, chain), doc, path, base_file)
+    added = doc.pop("add_phases", None)
+    merged = merge(load(base_file, chain), doc, path, base_file)
+    if added is not None:
+        append_phases(merged, added, path, base_file)
+    return merged
+
+
+def append_phases(merged, added, file, base_file):
+    """An overlay's `add_phases`: whole phases after the base's, each with a name the base lacks."""
+    if not _named_list(added):
+        raise ProgramError(f"{file}: add_phases: must be a list of phases, each a mapping with a name")
+    phases = merged.get("phases")
+    if not _named_list(phases):
+        raise ProgramError(f"{file}: add_phases: the base {base_file} has no list of phases to add to")
+    in_base = len(phases)
+    for item in added:
+        name = str(item["name"])
+        names = [str(p["name"]) for p in phases]
+        if name in names:
+            why = (f"a phase of that name is in the base {base_file} (change it under phases)"
+                   if names.index(name) < in_base else "given twice")
+            raise ProgramError(f"{file}: add_phases[{name}]: {why}")
+        phases.append(copy.deepcopy(item))

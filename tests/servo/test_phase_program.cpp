@@ -354,6 +354,45 @@ TEST(PhaseProgram, WristAndLoopParametersAreChecked) {
   EXPECT_TRUE(prog.configure(p).ok());
 }
 
+// joint_margin: fires once the measured joint closest to its limit is within
+// the transition's angle of it (ProgramSignals::joint_margin, which
+// TactileServo takes from ServoInput::q); never while the joints are unknown
+// (the default +inf); and its angle is checked at configuration.
+TEST(PhaseProgram, JointMarginFiresWithinItsAngleOfALimit) {
+  ServoParams p;
+  p.phases.push_back(phaseOn("check", TransitionEvent::JointMargin, "done"));
+  p.phases[0].transitions[0].angle_rad = 0.1;
+  p.phases.push_back(identityPhase("done", 0, 0));
+  p.phases[1].terminal = true;
+  PhaseProgram prog;
+  ASSERT_TRUE(prog.configure(p).ok());
+  const ContactFeatures point = makeFeatures(0, 0, 0, 0.002, 0, 0, 0, ContactType::Point);
+  const int check = prog.indexOf("check"), done = prog.indexOf("done");
+  prog.observe(ProgramSignals{});  // joints unknown
+  prog.enter(check, 0.0);
+  EXPECT_EQ(stepOnce(prog, point, Vec6::Zero(), 0.01), check);
+  ProgramSignals s;
+  s.joint_margin = 0.1001;
+  prog.observe(s);
+  EXPECT_EQ(stepOnce(prog, point, Vec6::Zero(), 0.02), check);
+  s.joint_margin = 0.1;
+  prog.observe(s);
+  EXPECT_EQ(stepOnce(prog, point, Vec6::Zero(), 0.03), done);
+  // Out of contact too: the arm's room does not depend on the image.
+  prog.reset();
+  prog.enter(check, 0.0);
+  s.joint_margin = 0.05;
+  prog.observe(s);
+  EXPECT_EQ(stepOnce(prog, makeFeatures(0, 0, 0, 0, 0, 0, 0, ContactType::None), Vec6::Zero(), 0.01), done);
+  for (double bad : {0.0, -0.1, 0.53, std::nan("")}) {  // (0, 30] deg
+    p.phases[0].transitions[0].angle_rad = bad;
+    const ConfigResult r = prog.configure(p);
+    ASSERT_FALSE(r.ok()) << bad;
+    EXPECT_NE(r.message().find("angle_deg"), std::string::npos) << r.message();
+    EXPECT_NE(r.message().find("(0, 30] deg"), std::string::npos) << r.message();
+  }
+}
+
 // `multiple`: contact in two or more separate regions (a gap in the edge
 // under the pad, closed_contour.yaml's cross_gap). It holds for its for_s of
 // Multiple contacts, an edge or a point in between restarts the streak, and

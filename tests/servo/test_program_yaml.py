@@ -74,6 +74,13 @@ def rules(d):
     check("t.yaml: controller.c_zz: not in the base" in e, "a key the base lacks is an error: " + e)
     e = error_of(write("p.yaml", "base: base.yaml\nphases:\n  - {name: hodl, P: {z: 1}}\n")) or ""
     check("p.yaml: phases[hodl]: no element named 'hodl'" in e, "a phase the base lacks is an error: " + e)
+    a = P.load(write("a.yaml", "base: base.yaml\nadd_phases:\n  - {name: check, P: {z: 1}}\n"))
+    check([p["name"] for p in a["phases"]] == ["approach", "hold", "check"] and "add_phases" not in a,
+          "add_phases appends whole phases after the base's")
+    e = error_of(write("a2.yaml", "base: base.yaml\nadd_phases:\n  - {name: hold, P: {z: 1}}\n")) or ""
+    check("a2.yaml: add_phases[hold]: a phase of that name is in the base" in e, "add_phases of a base's phase: " + e)
+    e = error_of(write("a3.yaml", "base: base.yaml\nadd_phases:\n  - {name: x}\n  - {name: x}\n")) or ""
+    check("a3.yaml: add_phases[x]: given twice" in e, "add_phases twice: " + e)
 
 
 def phase(prog, name):
@@ -123,7 +130,13 @@ def shipped():
         p["phase_defaults"]["u_max_per_s"].update(x=0.12, y=0.12)
         ex = phase(p, "explore")
         ex["kp_per_s"]["x"] = 4.8
-        ex["transitions"][0]["for_s"] = 0.08
+        ex["transitions"][0].update(to="end_check", for_s=0.08)
+        p["phases"].append({"name": "end_check", "s_d": dict(ex["s_d"]), "jacobian": "touch",
+                            "P": {"x": 1, "y": 1, "z": 1, "wx": 0, "wy": 1, "wz": 1},
+                            "kp_per_s": {"x": 0.6}, "ki_per_s2": {"x": 0.0}, "reset_integrator": False,
+                            "transitions": [{"on": "joint_margin", "to": "done", "angle_deg": 5},
+                                            {"on": "edge", "to": "explore", "for_s": 0.1},
+                                            {"on": "timeout", "to": "done", "timeout_s": 0.25}]})
         p["speed_law"].update(phases=["explore"], v_max=0.12, accel_mps2=1.0, rate_tau_s=0.1, force_deadband_n=0.4,
                               horizon_s=0.05, angle_rate_ref=8.0, excess_ref_n=4.0, extent_full_m=0.016, extent_min_m=0.0,
                               excess_against="tactile", excess_deadband_n=1.6, excess_deadband_per_m=40.0)

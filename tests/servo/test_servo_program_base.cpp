@@ -278,6 +278,51 @@ TEST(ServoProgramBase, KeyTheBaseLacksIsAnError) {
   expectError(twice, {twice + ": phases[hold]: given twice"});
 }
 
+// add_phases: whole phases appended after the base's (in the merged program
+// and in ServoParams), reachable through the overlay's own transitions; a
+// name the base has, a name given twice, a non-list and a phase no
+// transition reaches are errors naming the overlay.
+TEST(ServoProgramBase, AnOverlayAddsWholePhases) {
+  Dir d;
+  d.write("base.yaml", kBase);
+  const std::string o = d.write("o.yaml",
+                                "base: base.yaml\n"
+                                "phases:\n"
+                                "  - name: hold\n"
+                                "    transitions: [{on: point, to: check, for_s: 0.1}]\n"
+                                "add_phases:\n"
+                                "  - name: check\n"
+                                "    P: {z: 1}\n"
+                                "    kp_per_s: {z: 3}\n"
+                                "    transitions: [{on: edge, to: hold}, {on: joint_margin, to: approach, angle_deg: 3}]\n");
+  const YAML::Node n = doc(o);
+  ASSERT_EQ(n["phases"].size(), 3u);
+  EXPECT_EQ(n["phases"][2]["name"].Scalar(), "check");
+  EXPECT_FALSE(n["add_phases"]);
+  ServoParams p;
+  ASSERT_TRUE(loadServoProgram(o, p).ok());
+  ASSERT_EQ(p.phases.size(), 3u);
+  EXPECT_EQ(p.phases[1].transitions[0].to, "check");
+  EXPECT_EQ(p.phases[2].name, "check");
+  EXPECT_EQ(p.phases[2].transitions[1].on, TransitionEvent::JointMargin);
+  EXPECT_NEAR(p.phases[2].transitions[1].angle_rad, 3.0 * 3.14159265358979323846 / 180.0, 1e-15);
+  TactileServo servo;
+  EXPECT_TRUE(servo.configure(p).ok());
+  const std::string again = d.write("again.yaml", "base: base.yaml\nadd_phases:\n  - {name: hold, P: {z: 1}}\n");
+  expectError(again, {again + ": add_phases[hold]: a phase of that name is in the base", "change it under phases"});
+  const std::string twice =
+      d.write("twice2.yaml", "base: base.yaml\nadd_phases:\n  - {name: x, P: {z: 1}}\n  - {name: x, P: {z: 1}}\n");
+  expectError(twice, {twice + ": add_phases[x]: given twice"});
+  const std::string bad = d.write("bad2.yaml", "base: base.yaml\nadd_phases: {name: x}\n");
+  expectError(bad, {bad + ": add_phases: must be a list of phases"});
+  // An added phase nothing reaches (a typo in a transition's target) fails the merged program.
+  const std::string lone = d.write("lone.yaml", "base: base.yaml\nadd_phases:\n  - {name: chek, P: {z: 1}}\n");
+  ServoParams q;
+  const ConfigResult r = loadServoProgram(lone, q);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("chek"), std::string::npos) << r.message();
+}
+
 TEST(ServoProgramBase, MergedProgramIsValidatedAsAWhole) {
   Dir d;
   d.write("base.yaml", kBase);
@@ -353,7 +398,44 @@ TEST(ServoProgramBase, BentBarSpeedLawTurnsTheLawOnInExplore) {
                  {"phase_defaults.u_max_per_s.x", "0.12"},
                  {"phase_defaults.u_max_per_s.y", "0.12"},
                  {"phases[explore].kp_per_s.x", "4.8"},
+                 {"phases[explore].transitions[0].to", "end_check"},
                  {"phases[explore].transitions[0].for_s", "0.08"},
+                 // the end rule's check, a phase the overlay adds (add_phases)
+                 {"phases[end_check]", "{}"},
+                 {"phases[end_check].name", "end_check"},
+                 {"phases[end_check].s_d", "{}"},
+                 {"phases[end_check].s_d.cop_x", "-0.025"},
+                 {"phases[end_check].s_d.cop_y", "0.0017"},
+                 {"phases[end_check].s_d.force", "5.0"},
+                 {"phases[end_check].s_d.dzmp_x", "0"},
+                 {"phases[end_check].s_d.dzmp_y", "0"},
+                 {"phases[end_check].s_d.alpha_z", "0"},
+                 {"phases[end_check].jacobian", "touch"},
+                 {"phases[end_check].P", "{}"},
+                 {"phases[end_check].P.x", "1"},
+                 {"phases[end_check].P.y", "1"},
+                 {"phases[end_check].P.z", "1"},
+                 {"phases[end_check].P.wx", "0"},
+                 {"phases[end_check].P.wy", "1"},
+                 {"phases[end_check].P.wz", "1"},
+                 {"phases[end_check].kp_per_s", "{}"},
+                 {"phases[end_check].kp_per_s.x", "0.6"},
+                 {"phases[end_check].ki_per_s2", "{}"},
+                 {"phases[end_check].ki_per_s2.x", "0.0"},
+                 {"phases[end_check].reset_integrator", "false"},
+                 {"phases[end_check].transitions", "[]"},
+                 {"phases[end_check].transitions[0]", "{}"},
+                 {"phases[end_check].transitions[0].on", "joint_margin"},
+                 {"phases[end_check].transitions[0].to", "done"},
+                 {"phases[end_check].transitions[0].angle_deg", "5"},
+                 {"phases[end_check].transitions[1]", "{}"},
+                 {"phases[end_check].transitions[1].on", "edge"},
+                 {"phases[end_check].transitions[1].to", "explore"},
+                 {"phases[end_check].transitions[1].for_s", "0.1"},
+                 {"phases[end_check].transitions[2]", "{}"},
+                 {"phases[end_check].transitions[2].on", "timeout"},
+                 {"phases[end_check].transitions[2].to", "done"},
+                 {"phases[end_check].transitions[2].timeout_s", "0.25"},
                  {"speed_law.phases[0]", "explore"},
                  {"speed_law.v_max", "0.12"},
                  {"speed_law.accel_mps2", "1.0"},
@@ -384,6 +466,11 @@ TEST(ServoProgramBase, BentBarSpeedLawTurnsTheLawOnInExplore) {
   EXPECT_DOUBLE_EQ(p.slope_feedforward.window_m, 0.0005);
   EXPECT_DOUBLE_EQ(p.force_estimate.tau_s, 0.02);  // the correction follows a load moving to the housing
   EXPECT_DOUBLE_EQ(p.force_estimate.max_correction_n, 5.0);  // all of it
+  // The end rule leads to the check, which ends the run where the arm has no room.
+  ASSERT_EQ(p.phases.back().name, "end_check");
+  EXPECT_EQ(p.phases[0].transitions[0].to, "end_check");
+  EXPECT_EQ(p.phases.back().transitions[0].on, TransitionEvent::JointMargin);
+  EXPECT_NEAR(p.phases.back().transitions[0].angle_rad, 5.0 * 3.14159265358979323846 / 180.0, 1e-15);
   // The base programs keep both off.
   EXPECT_TRUE(loadShipped("bent_bar_to_end_cap.yaml").speed_law.phases.empty());
   EXPECT_TRUE(loadShipped("bent_bar.yaml").speed_law.phases.empty());

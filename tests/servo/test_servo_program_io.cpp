@@ -183,7 +183,11 @@ TEST(ServoProgramIo, BadProgramsNameFilePhaseField) {
   expectRejected("wound_without_angle", program("", "    transitions: [{on: wrist_wound, to: approach}]\n"),
                  {"phases.hold", "transitions[0].angle_deg", "required"});
   expectRejected("angle_elsewhere", program("", "    transitions: [{on: contact_lost, to: approach, angle_deg: 10}]\n"),
-                 {"transitions[0].angle_deg", "only for 'wrist_wound' and 'wrist_unwound'"});
+                 {"transitions[0].angle_deg", "only for 'wrist_wound', 'wrist_unwound' and 'joint_margin'"});
+  expectRejected("margin_without_angle", program("", "    transitions: [{on: joint_margin, to: approach}]\n"),
+                 {"phases.hold", "transitions[0].angle_deg", "required for 'joint_margin'"});
+  expectRejected("bad_margin", program("", "    transitions: [{on: joint_margin, to: approach, angle_deg: 31}]\n"),
+                 {"phases.hold", "transitions[0].angle_deg", "31", "(0, 30] deg"});
   expectRejected("bad_angle", program("", "    transitions: [{on: wrist_unwound, to: approach, angle_deg: 0}]\n"),
                  {"transitions[0].angle_deg", "(0, 720] deg"});
   expectRejected("loop_without_radius", program("", "    transitions: [{on: loop_closed, to: approach, leave_m: 0.03}]\n"),

@@ -194,3 +194,60 @@ TEST(ServoRobotState, NoHeapAllocationWhileWaitingResumingOrDry) {
   }
   EXPECT_EQ(scope.count(), 0u);
 }
+
+// The measured joints (RobotState::q) reach the phase program through the
+// servo stage, the path of the component and of the simulated loop: a
+// joint_margin transition fires once a joint is within its angle of the LWR's
+// limit (kArmJointLimit), whichever joint and sign; a state with a non-finite
+// joint makes the joints unknown, and the event does not fire on them.
+TEST(ServoRobotState, TheMeasuredJointsDriveTheJointMarginEvent) {
+  PhaseParams a = identityPhase("press", 2.0, 1.0);
+  a.requires_contact = false;
+  TransitionParams t;
+  t.on = TransitionEvent::JointMargin;
+  t.angle_rad = 0.1;
+  t.to = "done";
+  a.transitions.push_back(t);
+  PhaseParams c = identityPhase("done", 0.0, 0.0);
+  c.terminal = true;
+  c.requires_contact = false;
+  ServoParams p;
+  p.phases = {a, c};
+  const ContactFeatures f = makeFeatures(0, 0.002, 0, 0, 0.002, 0, 0, ContactType::Point);
+  for (int joint = 0; joint < kArmJoints; ++joint) {
+    for (double sign : {-1.0, 1.0}) {
+      ServoStage stage;
+      ASSERT_TRUE(stage.configure(p, 0.01).ok());
+      Pose pose;
+      pose.p = {0.5, 0.0, 0.4};
+      pose.q = {1.0, 0.0, 0.0, 0.0};
+      RobotState rs;
+      rs.commandable = true;
+      rs.q = {0.1, -0.2, 0.3, 1.2, -0.4, 0.5, 0.6};  // at least 0.8 rad from every limit
+      ServoOutput out;
+      ServoStatus st = ServoStatus::Ok;
+      double now = 0.0;
+      auto cycle = [&](double q_j) {
+        rs.q[static_cast<std::size_t>(joint)] = q_j;
+        rs.time_s = now;
+        ASSERT_TRUE(stage.setRobotState(rs));
+        ASSERT_TRUE(stage.setMeasuredPose(pose));
+        ASSERT_TRUE(stage.step(now, f, out, st));
+        now += 0.01;
+      };
+      const double lim = kArmJointLimit[static_cast<std::size_t>(joint)];
+      cycle(0.0);
+      cycle(sign * (lim - 0.11));
+      ASSERT_STREQ(out.phase.name.data(), "press") << joint;
+      const auto other = static_cast<std::size_t>((joint + 1) % kArmJoints);
+      const double q_other = rs.q[other];
+      rs.q[other] = std::nan("");  // unknown joints: no event, however close the others
+      cycle(sign * (lim - 0.01));
+      ASSERT_STREQ(out.phase.name.data(), "press") << joint;
+      rs.q[other] = q_other;
+      cycle(sign * (lim - 0.09));
+      cycle(sign * (lim - 0.09));  // the transition fired on the last cycle; the phase is entered on this one
+      EXPECT_STREQ(out.phase.name.data(), "done") << joint << " " << sign;
+    }
+  }
+}

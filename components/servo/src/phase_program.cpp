@@ -24,6 +24,7 @@ const char* toString(TransitionEvent e) {
     case TransitionEvent::WristUnwound: return "wrist_unwound";
     case TransitionEvent::LoopClosed: return "loop_closed";
     case TransitionEvent::Multiple: return "multiple";
+    case TransitionEvent::JointMargin: return "joint_margin";
   }
   return "unknown";
 }
@@ -70,6 +71,9 @@ ConfigResult PhaseProgram::configure(const ServoParams& p) {
       if ((tr.on == TransitionEvent::WristWound || tr.on == TransitionEvent::WristUnwound) &&
           !(std::isfinite(tr.angle_rad) && tr.angle_rad > 0 && tr.angle_rad <= 4 * 3.14159265358979323846))
         return err(p, nm, f + ".angle_deg", tr.angle_rad * 180.0 / 3.14159265358979323846, "must be in (0, 720] deg");
+      if (tr.on == TransitionEvent::JointMargin &&
+          !(std::isfinite(tr.angle_rad) && tr.angle_rad > 0 && tr.angle_rad <= 30 * 3.14159265358979323846 / 180.0))
+        return err(p, nm, f + ".angle_deg", tr.angle_rad * 180.0 / 3.14159265358979323846, "must be in (0, 30] deg");
       if (tr.on == TransitionEvent::LoopClosed) {
         if (!(std::isfinite(tr.radius_m) && tr.radius_m > 0 && tr.radius_m <= 1))
           return err(p, nm, f + ".radius_m", tr.radius_m, "must be in (0, 1] m");
@@ -177,6 +181,7 @@ bool PhaseProgram::evaluate(const ContactFeatures& f, const Vec6& e, double now,
       case TransitionEvent::Timeout: cond = now - t_enter_ >= t.timeout_s; break;
       case TransitionEvent::WristWound: cond = std::fabs(signals_.wrist_yaw) >= t.angle_rad; break;
       case TransitionEvent::WristUnwound: cond = std::fabs(signals_.wrist_yaw - yaw_enter_) >= t.angle_rad; break;
+      case TransitionEvent::JointMargin: cond = signals_.joint_margin <= t.angle_rad; break;
       case TransitionEvent::LoopClosed: {
         if (!contact || !signals_.have_point) break;
         if (!anchor_valid_) {

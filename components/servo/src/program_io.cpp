@@ -157,12 +157,16 @@ ConfigResult readTransition(const YAML::Node& n, const Where& w, TransitionParam
   if (t.on == TransitionEvent::Timeout && !n["timeout_s"]) return fail(w.child("timeout_s"), "required for 'timeout'");
   if (t.on == TransitionEvent::ForceAbove && !n["force_n"]) return fail(w.child("force_n"), "required for 'force_above'");
   const bool wrist = t.on == TransitionEvent::WristWound || t.on == TransitionEvent::WristUnwound;
-  if (n["angle_deg"] && !wrist) return fail(w.child("angle_deg"), "only for 'wrist_wound' and 'wrist_unwound'");
-  if (wrist && !n["angle_deg"]) return fail(w.child("angle_deg"), "required for '" + on + "' (deg)");
+  const bool joints = t.on == TransitionEvent::JointMargin;
+  if (n["angle_deg"] && !wrist && !joints)
+    return fail(w.child("angle_deg"), "only for 'wrist_wound', 'wrist_unwound' and 'joint_margin'");
+  if ((wrist || joints) && !n["angle_deg"]) return fail(w.child("angle_deg"), "required for '" + on + "' (deg)");
   double angle_deg = 0.0;
   if (!(r = read(n, "angle_deg", angle_deg, w))) return r;
   if (wrist && !(angle_deg > 0.0 && angle_deg <= 720.0))
     return rangeError(w.child("angle_deg").str(), angle_deg, "must be in (0, 720] deg");
+  if (joints && !(angle_deg > 0.0 && angle_deg <= 30.0))
+    return rangeError(w.child("angle_deg").str(), angle_deg, "must be in (0, 30] deg");
   t.angle_rad = angle_deg * 3.14159265358979323846 / 180.0;
   const bool loop = t.on == TransitionEvent::LoopClosed;
   for (const char* k : {"radius_m", "leave_m"}) {
@@ -589,6 +593,27 @@ ConfigResult mergeInto(YAML::Node base, const YAML::Node& over, const Where& w, 
   return ConfigResult::success();
 }
 
+/// An overlay's `add_phases`: whole phases appended after the base's, each
+/// with a name the base's phases do not have (those change under `phases`).
+ConfigResult appendPhases(YAML::Node merged, const YAML::Node& added, const Where& w, const std::string& base_file) {
+  if (!namedList(added)) return fail(w, "must be a list of phases, each a mapping with a name");
+  const YAML::Node& cmerged = merged;
+  if (!cmerged["phases"] || !namedList(cmerged["phases"]))
+    return fail(w, "the base " + base_file + " has no list of phases to add to");
+  YAML::Node phases = merged["phases"];
+  const std::size_t in_base = phases.size();
+  for (const auto& item : added) {
+    const std::string name = item["name"].Scalar();
+    for (std::size_t i = 0; i < phases.size(); ++i)
+      if (phases[i]["name"].Scalar() == name)
+        return fail(Where{w.file, w.path + "[" + name + "]"},
+                    i < in_base ? "a phase of that name is in the base " + base_file + " (change it under phases)"
+                                : std::string("given twice"));
+    phases.push_back(YAML::Clone(item));
+  }
+  return ConfigResult::success();
+}
+
 /// `root` (read from `file`) with its `base:` chain resolved; `chain` holds
 /// the identities of the files that lead here (a cycle is an error).
 ConfigResult resolveBase(const YAML::Node& root, const std::string& file, std::vector<std::string>& chain,
@@ -619,7 +644,12 @@ ConfigResult resolveBase(const YAML::Node& root, const std::string& file, std::v
   merged = YAML::Clone(merged);
   YAML::Node own = YAML::Clone(root);
   own.remove("base");
+  const YAML::Node& cown = own;
+  const bool adds = static_cast<bool>(cown["add_phases"]);
+  const YAML::Node added = adds ? YAML::Clone(cown["add_phases"]) : YAML::Node();
+  if (adds) own.remove("add_phases");
   if (!(r = mergeInto(merged, own, Where{file, ""}, base_file))) return r;
+  if (adds && !(r = appendPhases(merged, added, Where{file, "add_phases"}, base_file))) return r;
   out = merged;
   return ConfigResult::success();
 }

@@ -152,7 +152,8 @@ double TactileServo::slideCap(int phase, const ContactFeatures& f, double f_hat,
   return out.slide_speed;
 }
 
-void TactileServo::observePose(const KDL::Frame& meas, const ContactFeatures& f, bool first) {
+void TactileServo::observePose(const ServoInput& in, const KDL::Frame& meas, bool first) {
+  const ContactFeatures& f = in.features;
   const KDL::Frame T_gs = meas * law_.sensorMount();
   if (first) {
     wrist_yaw_ = 0.0;
@@ -167,6 +168,12 @@ void TactileServo::observePose(const KDL::Frame& meas, const ContactFeatures& f,
   if (sig.have_point) {
     const KDL::Vector p = T_gs * KDL::Vector(0.0, f.cop_y, 0.0);  // the edge at the pad's centre (WRIST)
     sig.point[0] = p.x(), sig.point[1] = p.y(), sig.point[2] = p.z();
+  }
+  if (in.have_q) {  // the joint closest to its limit (kArmJointLimit)
+    for (int j = 0; j < kArmJoints; ++j) {
+      const auto k = static_cast<std::size_t>(j);
+      sig.joint_margin = std::min(sig.joint_margin, kArmJointLimit[k] - std::fabs(in.q[k]));
+    }
   }
   program_.observe(sig);
 }
@@ -201,7 +208,7 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
     if (!time_ok) return finish(ServoStatus::InvalidInput, now, out);
     cmd_ = meas;
     has_cmd_ = true;
-    observePose(meas, in.features, true);
+    observePose(in, meas, true);
     enterPhase(program_.pending() >= 0 ? program_.pending() : program_.current(), now);
     program_.clearPending();
     return finish(ServoStatus::Starting, now, out);
@@ -213,7 +220,7 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
     if (pose_ok && time_ok) {
       KDL::Frame held;  // where the KRC holds the arm; the start gate passes on it
       cmd_ = toFrame(in.robot_setpoint, held) ? held : meas;
-      observePose(meas, in.features, false);
+      observePose(in, meas, false);
     }
     if (time_ok && std::isfinite(dt) && dt > 0.0) program_.delayEntry(dt);  // the time in the phase stands still
     waiting_ = true;
@@ -232,7 +239,7 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
     return finish(ServoStatus::PhaseTimeout, now, out);
   if (!time_ok || !pose_ok || !(std::isfinite(dt) && dt > 0)) return finish(ServoStatus::InvalidInput, now, out);
   meas_ = meas;
-  observePose(meas, in.features, false);
+  observePose(in, meas, false);
 
   const KDL::Frame base = params_.pose_update == PoseUpdate::Measured ? meas : cmd_;
   const ContactFeatures& f = in.features;

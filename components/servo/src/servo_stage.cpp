@@ -46,6 +46,9 @@ bool ServoStage::setRobotState(const RobotState& r) {
   in_.robot_ready = r.commandable;
   in_.dry_run = r.dry_run;
   in_.robot_setpoint = validPose(r.setpoint) ? r.setpoint : kNoPose;
+  in_.have_q = true;
+  for (double v : r.q) in_.have_q = in_.have_q && std::isfinite(v);
+  if (in_.have_q) in_.q = r.q;
   return true;
 }
 

@@ -13,12 +13,14 @@
 // point in {g}, the servo's: where the edge passes the pad's centre, servo.hpp
 // WRIST; anchored where a loop_closed transition was first evaluated in
 // contact, has gone further than leave_m from the anchor and is back within
-// radius_m; the anchor is kept across phases until reset()). A request (by
+// radius_m; the anchor is kept across phases until reset()) and, from the
+// measured joints, joint_margin (a joint within angle of its limit). A request (by
 // index) is kept until the caller enters it.
 // Real-time: nothing here allocates, throws or logs after configure().
 #pragma once
 
 #include <array>
+#include <limits>
 #include <vector>
 
 #include "tactile_servo/servo_params.hpp"
@@ -31,6 +33,9 @@ struct ProgramSignals {
   double wrist_yaw = 0.0;       ///< rad: rotation of {s} about z_s accumulated since the servo started
   bool have_point = false;      ///< a contact point this cycle
   double point[3] = {0, 0, 0};  ///< m: the contact point (CoP) in {g}
+  /// rad: the measured joint closest to its limit, its distance from it
+  /// (kArmJointLimit); +inf while the joints are unknown.
+  double joint_margin = std::numeric_limits<double>::infinity();
 };
 
 class PhaseProgram {

@@ -52,6 +52,9 @@
 //         - {on: aligned, to: NAME, for_s: 0.2, tolerance: {alpha_z: 0.02, dzmp_y: 0.0005, ...}}
 //         - {on: force_above, to: NAME, force_n: 20}
 //         - {on: timeout, to: NAME, timeout_s: 30}
+//         - {on: wrist_wound | wrist_unwound, to: NAME, angle_deg: 150}   # the yaw about z_s (phase_program.hpp)
+//         - {on: loop_closed, to: NAME, radius_m: 0.002, leave_m: 0.03}
+//         - {on: joint_margin, to: NAME, angle_deg: 3}   # a measured joint within 3 deg of its limit
 //
 // Overlays: a file with `base: B` is B with the file's own keys merged over it,
 // then read as above (errors name the overlay file):
@@ -63,7 +66,10 @@
 //   * `~` (null) removes the base's key;
 //   * a key or a phase name that the base does not have is an error (a typo
 //     would otherwise be silently dropped or added): an overlay only changes
-//     or removes what its base has.
+//     or removes what its base has;
+//   * except `add_phases`: a list of whole phases appended after the base's,
+//     each with a name the base's phases do not have (a phase no transition
+//     reaches is an error of the merged program).
 // B may itself have a base (a chain); a cycle, a missing base file and a key
 // the base lacks are errors naming the file and the key. Configuration time only.
 #pragma once

@@ -85,6 +85,10 @@ struct ServoInput {
   /// Bring-up dry run (RobotState::dry_run): the servo runs as if the arm
   /// followed, but the arm is held, so the stall watchdog is off.
   bool dry_run = false;
+  /// The measured joint positions (RobotState::q, rad) when have_q: the
+  /// phase program's joint_margin event. Unknown: that event never fires.
+  std::array<double, kArmJoints> q{};
+  bool have_q = false;
 };
 
 struct ServoOutput {
@@ -175,7 +179,7 @@ class TactileServo {
   KDL::Rotation yaw_prev_;     ///< {g}R{s} measured at the previous cycle (the wrist yaw's integration)
   double wrist_yaw_ = 0.0;     ///< rad about z_s accumulated since the start (WRIST)
   /// The pose-derived signals of the phase program (WRIST, loop_closed).
-  void observePose(const KDL::Frame& meas, const ContactFeatures& f, bool first);
+  void observePose(const ServoInput& in, const KDL::Frame& meas, bool first);
   uint32_t seq_ = 0;
 };
 

@@ -56,9 +56,10 @@ enum class TransitionEvent : uint8_t {
   WristWound,    ///< |accumulated yaw of {s} about z_s, from the measured poses| >= angle_rad
   WristUnwound,  ///< the accumulated yaw has come back by >= angle_rad since the phase was entered
   LoopClosed,    ///< the loop point (servo.hpp, WRIST) is back within radius_m of its anchor, after leaving it by > leave_m
-  Multiple       ///< contact in two or more separate regions (ContactType::Multiple): e.g. a gap in the edge under the pad
+  Multiple,      ///< contact in two or more separate regions (ContactType::Multiple): e.g. a gap in the edge under the pad
+  JointMargin    ///< a measured joint is within angle_rad of its limit (kArmJointLimit): the arm has no room to go on
 };
-constexpr TransitionEvent kLastTransitionEvent = TransitionEvent::Multiple;
+constexpr TransitionEvent kLastTransitionEvent = TransitionEvent::JointMargin;
 /// The event's name in a program file ("contact", ..., "multiple").
 const char* toString(TransitionEvent e);
 
@@ -84,7 +85,7 @@ struct TransitionParams {
   std::array<double, kNumTol> tolerance;  ///< aligned: per quantity, < 0 = unused
   double timeout_s = 0.0;  ///< timeout: seconds in the phase (> 0)
   double force_n = 0.0;    ///< force_above: threshold (N, > 0)
-  double angle_rad = 0.0;  ///< wrist_wound / wrist_unwound: yaw (rad, > 0; files: angle_deg)
+  double angle_rad = 0.0;  ///< wrist_wound / wrist_unwound: yaw; joint_margin: the margin (rad, > 0; files: angle_deg)
   double radius_m = 0.0;   ///< loop_closed: closure radius (m, > 0)
   double leave_m = 0.0;    ///< loop_closed: distance the contact must first go away from the anchor (m, > radius_m)
   TransitionParams() { tolerance.fill(-1.0); }

@@ -190,6 +190,10 @@ struct Wrench {
 enum class RobotMode : uint8_t { Off = 0, Monitor = 1, Command = 2 };
 
 constexpr int kArmJoints = 7;  ///< the LWR 4+
+/// The LWR 4+'s joint range (rad): |q_i| <= kArmJointLimit[i], +-170 deg for
+/// A1, A3, A5, A7 and +-120 deg for A2, A4, A6 (the KRC's software limits may
+/// lie inside it; the servo's joint_margin event takes a margin from it).
+constexpr std::array<double, kArmJoints> kArmJointLimit{2.967, 2.094, 2.967, 2.094, 2.967, 2.094, 2.967};
 
 /// What the arm's side says each cycle about the arm (port robot_state of the
 /// FRI bridge and of the simulated arm, the same meaning on both): the KRC's
