@@ -181,6 +181,7 @@ void Runner::logServoCycle(double t, RunState& rs, RunResult& out) const {
   out.rows.back().slide_speed = rs.sout.slide_speed;
   out.rows.back().speed_limiter = static_cast<int>(rs.sout.speed_limiter);
   out.rows.back().speed_inputs = rs.sout.speed_inputs;
+  out.rows.back().joint_margin = servo_.servo().program().signals().joint_margin;
   if (feats.contact == ContactType::Edge && std::fabs(feats.dzmp_y) > rs.worst_dzmp) {
     rs.worst_dzmp = std::fabs(feats.dzmp_y);
     rs.worst.t = t;

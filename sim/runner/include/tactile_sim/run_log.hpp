@@ -42,6 +42,9 @@ struct LogRow {
   double slide_speed = std::numeric_limits<double>::quiet_NaN();
   int speed_limiter = -1;
   SpeedLawInput speed_inputs;              ///< what the law saw (zeros where not recorded)
+  /// rad: the measured joint closest to its limit, its distance from it, as
+  /// the phase program saw it (ProgramSignals::joint_margin); NaN where not recorded.
+  double joint_margin = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct PhaseEntry {
