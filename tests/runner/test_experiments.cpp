@@ -839,6 +839,72 @@ TEST(Experiments, SlopeFeedforwardLetsTheSpeedLawHoldTheForceOnAWave) {
   }
 }
 
+// The end rule's check (bent_bar_speed_law.yaml, end_check; docs/design.md,
+// "The end rule's check"). The wave A 3 mm, L 70 mm (R 41 mm): a crest
+// shrinks the image to a point as the bar's end cap does. On each of seeds
+// 1-3 the run enters the check at a crest, returns to explore (the image an
+// edge again) and is stopped by name, surface_too_curved, before the true
+// force reaches 7 N (measured 6.39-6.65 N, 228 mm before the end); with the
+// check cut to one cycle (the end rule alone) it ends ok at that crest.
+// The bend downwards ends with the wrist 0.6-0.7 deg from its limit: the
+// check's joint_margin (5 deg) ends the run at once, ok; without that
+// transition the check's roll reaches the joint limit. At the shipped bent
+// bar's end cap the image stays a point and the check ends the run after its
+// 0.25 s, ok, within the force targets.
+TEST(Experiments, TheEndRulesCheckTellsATightCrestFromTheBarsEnd) {
+  const std::string program = std::string(TACTILE_SOURCE_DIR) + "/components/servo/programs/bent_bar_speed_law.yaml";
+  enum Variant { kShipped, kEndRuleAlone, kNoJointMargin };
+  auto run = [&](const std::string& scene, int seed, Variant v) {
+    Scene sc = test::loadShipped(scene, {"program=" + program, "seed=" + std::to_string(seed), "duration=60"});
+    PhaseParams& check = sc.servo.phases.back();
+    EXPECT_EQ(check.name, "end_check");
+    if (v == kEndRuleAlone) {
+      check.transitions.resize(1);
+      check.transitions[0].on = TransitionEvent::Timeout;
+      check.transitions[0].timeout_s = 1e-6;
+    } else if (v == kNoJointMargin) {
+      check.transitions.erase(check.transitions.begin());
+    }
+    return test::runFull(sc);
+  };
+  auto visits = [](const RunResult& r, const std::string& a, const std::string& b) {  // b entered right after a
+    for (std::size_t i = 1; i < r.phases.size(); ++i)
+      if (r.phases[i - 1].name == a && r.phases[i].name == b) return true;
+    return false;
+  };
+  auto maxTrueForce = [](const RunResult& r) {
+    double m = 0.0;
+    for (const LogRow& row : r.rows) m = std::max(m, row.force_true);
+    return m;
+  };
+  const double kFiveDeg = 5.0 * kPi / 180.0;
+  for (int seed = 1; seed <= 3; ++seed) {
+    const RunResult crest = run("curved/wavy_a3mm_l70mm.yaml", seed, kShipped);
+    EXPECT_EQ(crest.summary.status, "servo_surface_too_curved") << seed;
+    EXPECT_TRUE(visits(crest, "end_check", "explore")) << seed;
+    EXPECT_LT(maxTrueForce(crest), 7.0) << seed;  // the bound for the named stop
+    const RunResult alone = run("curved/wavy_a3mm_l70mm.yaml", seed, kEndRuleAlone);
+    EXPECT_EQ(alone.summary.status, "ok") << seed;  // the crest read as the bar's end
+
+    const RunResult down = run("curved/bend_down.yaml", seed, kShipped);
+    EXPECT_TRUE(meetsSlideTargets(down)) << seed << ": " << down.summary.status;
+    ASSERT_TRUE(visits(down, "end_check", "done")) << seed;
+    double entered = -1.0, margin = 0.0;
+    for (const auto& p : down.phases)
+      if (p.name == "end_check") entered = p.t_enter;
+    for (const LogRow& row : down.rows)
+      if (row.t <= entered + 1e-9) margin = row.joint_margin;
+    EXPECT_LT(margin, kFiveDeg) << seed;
+    EXPECT_GT(margin, 0.0) << seed;
+    EXPECT_NE(run("curved/bend_down.yaml", seed, kNoJointMargin).summary.status, "ok") << seed;
+
+    const RunResult bar = run("bent_bar_speed_law.yaml", seed, kShipped);
+    EXPECT_TRUE(meetsSlideTargets(bar)) << seed << ": " << bar.summary.status;
+    EXPECT_TRUE(visits(bar, "end_check", "done")) << seed;
+    EXPECT_FALSE(visits(bar, "end_check", "explore")) << seed;
+  }
+}
+
 // The wrench's excess against the tactile force (speed_law.excess_against:
 // tactile) on the wave A 3 mm over L 120 mm (R 122 mm), where the pad starts
 // to bridge each trough: the taxels carry half of the wrench, then two spots
