@@ -308,3 +308,57 @@ TEST(SceneObjects, AClosedRingOf64SegmentsLoadsOneMoreIsRefused) {
   EXPECT_NE(bad.message().find("vertices"), std::string::npos) << bad.message();
   EXPECT_NE(bad.message().find("[2, 65]"), std::string::npos) << bad.message();
 }
+
+// The force metrics (computeSummary): a detour, the run leaving a scored phase
+// and back in it within the transient (the end rule's check returning to
+// `explore` at a crest), is scored as the phase it left, and the return starts
+// no new transient; a longer absence, and a phase the run does not come back
+// from, are not scored, and a return after a longer absence starts a new
+// transient. Rows every 10 ms, 5 N in `explore`, 7 N (out of the 5 +- 0.5 N
+// band) elsewhere.
+TEST(Metrics, ADetourWithinTheTransientIsScoredAsThePhaseItLeft) {
+  Scene sc;
+  for (const char* n : {"explore", "end_check", "done"}) {
+    PhaseParams p;
+    p.name = n;
+    p.terminal = std::string(n) == "done";
+    sc.servo.phases.push_back(p);
+  }
+  sc.metrics.force_phases = {"explore"};
+  sc.metrics.transient_s = 0.5;
+  sc.metrics.force_band_n = 0.5;
+  // (phase, until t) segments, from t = 0.
+  auto run = [&](std::initializer_list<std::pair<int, double>> segments) {
+    RunResult out;
+    out.phase_names = {"explore", "end_check", "done"};
+    int k = 0;
+    for (const auto& seg : segments) {
+      for (; 0.01 * k < seg.second - 1e-9; ++k) {
+        LogRow r;
+        r.t = 0.01 * k;
+        r.phase = seg.first;
+        r.sd_force = 5.0;
+        r.force_true = seg.first == 0 ? 5.0 : 7.0;
+        r.true_in_contact = true;
+        r.true_contact = {0.001 * k, 0.0, 0.0};  // 0.1 m/s
+        out.rows.push_back(r);
+      }
+    }
+    out.phases = phaseEntries(sc, out.rows);
+    computeSummary(sc, out);
+    return out.summary;
+  };
+  // A 0.1 s check back to explore, then a final one to done: 100 rows of
+  // explore after its transient, the 10 of the detour, 90 after it.
+  Summary s = run({{0, 1.5}, {1, 1.6}, {0, 2.5}, {1, 2.8}, {2, 3.0}});
+  EXPECT_NEAR(s.force_scored_s, 2.0, 1e-9);
+  EXPECT_NEAR(s.force_true_in_band_fraction, 190.0 / 200.0, 1e-12);
+  EXPECT_DOUBLE_EQ(s.force_true_max_n, 7.0);
+  EXPECT_NEAR(s.slide_speed_mps, 0.1, 1e-9);
+  // A 0.7 s absence (longer than the transient): not scored, and explore's
+  // return waits out a new transient (2.2-2.7 s).
+  s = run({{0, 1.5}, {1, 2.2}, {0, 3.0}, {2, 3.2}});
+  EXPECT_NEAR(s.force_scored_s, 1.3, 1e-9);
+  EXPECT_DOUBLE_EQ(s.force_true_in_band_fraction, 1.0);
+  EXPECT_DOUBLE_EQ(s.force_true_max_n, 5.0);
+}

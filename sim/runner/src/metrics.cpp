@@ -58,24 +58,42 @@ int contactLossCount(const Scene& sc, const std::vector<LogRow>& rows) {
 
 // Force metrics (true force: mean, max, RMS error, in-band fraction and time)
 // and the true contact's path length and slide speed over the scored
-// phases, after each phase's transient.
+// phases, after each phase's transient. A detour, the run leaving a scored
+// phase and back in it within transient_s (the end rule's check returning to
+// `explore` at a crest), is scored as that phase: its rows count, and the
+// return starts no new transient.
 void forceAndPathMetrics(const Scene& sc, const std::vector<LogRow>& rows, Summary& s) {
+  auto scoredPhase = [&](int phase) {
+    const PhaseParams& pp = sc.servo.phases[static_cast<std::size_t>(phase)];
+    return sc.metrics.force_phases.empty() ? (pp.requires_contact && !pp.terminal)
+                                           : phaseIn(sc.metrics.force_phases, pp.name);
+  };
+  // Per row, the phase it is scored as: its own, or for a detour's rows the phase it left.
+  std::vector<int> as(rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) as[i] = rows[i].phase;
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    if (rows[i].phase == rows[i - 1].phase || !scoredPhase(rows[i - 1].phase) || scoredPhase(rows[i].phase)) continue;
+    std::size_t j = i;
+    while (j < rows.size() && !scoredPhase(rows[j].phase)) ++j;
+    if (j < rows.size() && rows[j].phase == rows[i - 1].phase && rows[j].t - rows[i].t < sc.metrics.transient_s)
+      for (std::size_t k = i; k < j; ++k) as[k] = rows[i - 1].phase;
+    i = j;
+  }
   double sum_f = 0, sum_e2 = 0, max_f = 0, path = 0, t_scored = 0;
   double n = 0, in_band = 0, t_force = 0, t_band = 0;
   const LogRow* prev = nullptr;
   const LogRow* last = nullptr;  // the previous row, scored or not: a scored row stands for the time since it
   double phase_t0 = 0;
   int phase_cur = -1;
-  for (const auto& r : rows) {
-    if (r.phase != phase_cur) {
-      phase_cur = r.phase;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const LogRow& r = rows[i];
+    if (as[i] != phase_cur) {
+      phase_cur = as[i];
       phase_t0 = r.t;
     }
     const double dt_row = last ? r.t - last->t : 0.0;
     last = &r;
-    const PhaseParams& pp = sc.servo.phases[static_cast<std::size_t>(r.phase)];
-    const bool scored = sc.metrics.force_phases.empty() ? (pp.requires_contact && !pp.terminal)
-                                                        : phaseIn(sc.metrics.force_phases, pp.name);
+    const bool scored = scoredPhase(as[i]);
     if (!scored || r.t - phase_t0 < sc.metrics.transient_s) {
       prev = nullptr;
       continue;
