@@ -161,12 +161,8 @@ ConfigResult readTransition(const YAML::Node& n, const Where& w, TransitionParam
   if (n["angle_deg"] && !wrist && !joints)
     return fail(w.child("angle_deg"), "only for 'wrist_wound', 'wrist_unwound' and 'joint_margin'");
   if ((wrist || joints) && !n["angle_deg"]) return fail(w.child("angle_deg"), "required for '" + on + "' (deg)");
-  double angle_deg = 0.0;
+  double angle_deg = 0.0;  // its range: PhaseProgram::configure (loadImpl's last step)
   if (!(r = read(n, "angle_deg", angle_deg, w))) return r;
-  if (wrist && !(angle_deg > 0.0 && angle_deg <= 720.0))
-    return rangeError(w.child("angle_deg").str(), angle_deg, "must be in (0, 720] deg");
-  if (joints && !(angle_deg > 0.0 && angle_deg <= 30.0))
-    return rangeError(w.child("angle_deg").str(), angle_deg, "must be in (0, 30] deg");
   t.angle_rad = angle_deg * 3.14159265358979323846 / 180.0;
   const bool loop = t.on == TransitionEvent::LoopClosed;
   for (const char* k : {"radius_m", "leave_m"}) {

@@ -49,6 +49,13 @@ namespace tactile {
 namespace sim {
 
 constexpr int kLwrJoints = 7;
+static_assert(kLwrJoints == kArmJoints, "the simulated arm is the LWR 4+ of tactile_types");
+/// -kArmJointLimit: the LWR's lower joint limits (rad).
+constexpr std::array<double, kLwrJoints> lwrLowerLimits() {
+  std::array<double, kLwrJoints> q{};
+  for (std::size_t i = 0; i < q.size(); ++i) q[i] = -kArmJointLimit[i];
+  return q;
+}
 using JointVec = Eigen::Matrix<double, kLwrJoints, 1>;
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 using Mat6 = Eigen::Matrix<double, 6, 6>;
@@ -82,8 +89,8 @@ struct ArmParams {
   /// Initial joint angles (rad); also the null-space rest posture. Default:
   /// flange pointing down (z_e = -z_g) at about (0.58, 0, 0.40) m.
   std::array<double, kLwrJoints> q_init{0.0, -0.6, 0.0, 1.4, 0.0, -1.1416, 0.0};
-  std::array<double, kLwrJoints> q_min{-2.967, -2.094, -2.967, -2.094, -2.967, -2.094, -2.967};
-  std::array<double, kLwrJoints> q_max{2.967, 2.094, 2.967, 2.094, 2.967, 2.094, 2.967};
+  std::array<double, kLwrJoints> q_min = lwrLowerLimits();
+  std::array<double, kLwrJoints> q_max = kArmJointLimit;  ///< the LWR's range, as the servo's joint_margin reads it
   double k_trans = 1000.0;        ///< N/m (paper default), Eq. 11
   double k_rot = 100.0;           ///< N m/rad
   double damping_ratio = 0.7;     ///< zeta (paper default)
