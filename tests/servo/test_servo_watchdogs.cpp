@@ -229,8 +229,8 @@ TEST(ServoWatchdogs, SurfaceTooCurvedWhenTheWrenchExceedsTheSetPointOffTheImage)
     for (const Case& c : cases) {
       ServoWatchdogs w;
       ASSERT_TRUE(w.configure(p).ok());
-      // The first sample starts the filter (no lag from 0), so a fixed excess
-      // trips at once; start it at the set point, as after a contact at f_d.
+      // The filter starts from no excess; a first sample at the set point,
+      // as after a contact at f_d, leaves it there.
       ASSERT_FALSE(w.surfaceTooCurved(5.0, 5.0, true, true, 5.0, 0.04, true, dt));
       int tripped = -1;
       for (int k = 1; k <= static_cast<int>(2.0 / dt) && tripped < 0; ++k)
@@ -245,6 +245,22 @@ TEST(ServoWatchdogs, SurfaceTooCurvedWhenTheWrenchExceedsTheSetPointOffTheImage)
       EXPECT_STREQ(toString(w.latched()), "surface_too_curved");
       EXPECT_TRUE(watchdogStatus(w.latched()));
     }
+  }
+  // The filter starts from no excess: at the first contact, one sample of
+  // the wrench's noise well above excess_n (2.5 N over f_d, the image a
+  // single taxel) does not stop the run; the same excess held does, on the
+  // cycle the formula above gives counting that first sample.
+  for (double dt : {0.01, 0.001}) {
+    ServoWatchdogs w;
+    ASSERT_TRUE(w.configure(p).ok());
+    EXPECT_FALSE(w.surfaceTooCurved(7.5, 5.0, true, true, 0.2, 0.0, true, dt));
+    EXPECT_FALSE(w.surfaceTooCurved(5.0, 5.0, true, true, 3.0, 0.0, true, dt));
+    ServoWatchdogs held;
+    ASSERT_TRUE(held.configure(p).ok());
+    int tripped = -1;
+    for (int k = 1; k <= static_cast<int>(2.0 / dt) && tripped < 0; ++k)
+      if (held.surfaceTooCurved(7.5, 5.0, true, true, 0.2, 0.0, true, dt)) tripped = k;
+    EXPECT_EQ(tripped, static_cast<int>(std::ceil(-0.05 * std::log(1.0 - 1.2 / 2.5) / dt - 1e-9))) << dt;
   }
   // A phase that holds no force set point restarts the filter; a stale wrench holds it.
   ServoWatchdogs w;

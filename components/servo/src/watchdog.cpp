@@ -109,7 +109,11 @@ bool ServoWatchdogs::surfaceTooCurved(double f_w, double f_d, bool regulated, bo
   }
   if (!fresh || !std::isfinite(f_w) || !std::isfinite(f_d) || !(dt > 0.0)) return false;  // held
   const double e = f_w - f_d;
-  curved_lp_ = curved_have_ ? curved_lp_ + (1.0 - std::exp(-dt / p_.curved_tau_s)) * (e - curved_lp_) : e;
+  // The filter starts from no excess when a force-holding phase begins: one
+  // sample of the wrench's noise at the first contact (0.5 N sigma; 1.24 N
+  // above f_d on one seed's first frame) must not stop the run.
+  if (!curved_have_) curved_lp_ = 0.0;
+  curved_lp_ += (1.0 - std::exp(-dt / p_.curved_tau_s)) * (e - curved_lp_);
   curved_have_ = true;
   curved_short_ =
       !contact || !(extent_m > p_.curved_max_extent_m) || !(f > p_.curved_max_tactile_share * f_w);

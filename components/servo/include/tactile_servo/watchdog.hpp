@@ -20,7 +20,8 @@
 //    a wrench older than `stale_s` is not used.
 //  * surface too curved (off unless surface_too_curved.tau_s > 0): in a phase
 //    that holds a force set point f_d, the arm's wrench along z_s (less its
-//    zero), low-passed with tau_s (against its noise), exceeds f_d by more than
+//    zero), low-passed with tau_s (against its noise; the filter starts from
+//    no excess as the phase begins), exceeds f_d by more than
 //    excess_n while the image spans at most max_extent_m along its principal
 //    axis (sqrt(12 lambda1): the length of a uniform line), or its taxels
 //    carry at most max_tactile_share of the wrench (Eq. 2's f <= share f_w:
