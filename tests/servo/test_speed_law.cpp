@@ -197,6 +197,11 @@ TEST(SpeedLaw, RangesNameTheKey) {
       {"speed_law.excess_deadband_per_m", [](SpeedLawParams& p) { p.excess_deadband_per_m = -1.0; }},
       {"speed_law.excess_deadband_per_m", [](SpeedLawParams& p) { p.excess_deadband_per_m = std::nan(""); }},
       {"speed_law.excess_short_max_m", [](SpeedLawParams& p) { p.excess_short_max_m = 1.5; }},
+      {"speed_law.drive_fraction", [](SpeedLawParams& p) { p.drive_fraction = 1.1; }},
+      {"speed_law.guard_excess_n", [](SpeedLawParams& p) { p.guard_excess_n = 0.0; }},
+      {"speed_law.guard_accel_mps2", [](SpeedLawParams& p) { p.guard_accel_mps2 = 0.0; }},
+      {"speed_law.crawl_mps", [](SpeedLawParams& p) { p.crawl_mps = p.v_max + 0.01; }},
+      {"speed_law.crawl_after_s", [](SpeedLawParams& p) { p.crawl_after_s = -1.0; }},
   };
   for (const Bad& b : bad) {
     SpeedLawParams p;
@@ -209,14 +214,138 @@ TEST(SpeedLaw, RangesNameTheKey) {
   }
 }
 
+// ---- slide(): the rate along the slide axis from the phase's pull ----------
+
+namespace {
+SpeedLawParams slideParams() {
+  SpeedLawParams p;
+  p.v_max = 0.12;
+  p.v_min = 0.005;
+  p.accel_mps2 = 1.0;
+  p.excess_ref_n = 4.0;
+  p.excess_deadband_n = 1.6;
+  p.drive_fraction = 0.6;
+  p.guard_excess_n = 1.4;
+  p.guard_accel_mps2 = 0.6;
+  p.crawl_mps = 0.02;
+  p.crawl_after_s = 0.2;
+  return p;
+}
+}  // namespace
+
+// Capped at +-speed(); below drive_fraction speed() the pull is raised to it,
+// in its own direction; no pull, no slide. With drive_fraction 0 the law only
+// caps (the pull passes below the cap unchanged).
+TEST(SpeedLaw, TheSlideIsCappedAndDrivenInThePullsDirection) {
+  SpeedLaw law;
+  ASSERT_TRUE(law.configure(slideParams()).ok());
+  ASSERT_NEAR(settle(law, SpeedLawInput{}), 0.12, 1e-12);
+  EXPECT_FALSE(law.guarded());
+  EXPECT_DOUBLE_EQ(law.slide(0.5, 0.01), 0.12);     // capped
+  EXPECT_DOUBLE_EQ(law.slide(-0.5, 0.01), -0.12);
+  EXPECT_DOUBLE_EQ(law.slide(0.1, 0.01), 0.1);      // above 0.6 x 0.12: as pulled
+  EXPECT_DOUBLE_EQ(law.slide(0.03, 0.01), 0.072);   // a crest's weak pull: driven at 0.6 x 0.12
+  EXPECT_DOUBLE_EQ(law.slide(-0.03, 0.01), -0.072);
+  EXPECT_DOUBLE_EQ(law.slide(0.0, 0.01), 0.0);
+  SpeedLawParams p = slideParams();
+  p.drive_fraction = 0.0;
+  SpeedLaw cap;
+  ASSERT_TRUE(cap.configure(p).ok());
+  settle(cap, SpeedLawInput{});
+  EXPECT_DOUBLE_EQ(cap.slide(0.03, 0.01), 0.03);
+  EXPECT_DOUBLE_EQ(cap.slide(0.5, 0.01), 0.12);
+  // Non-finite pull or dt: no slide.
+  EXPECT_EQ(law.slide(std::nan(""), 0.01), 0.0);
+  EXPECT_EQ(law.slide(0.03, 0.0), 0.0);
+}
+
+// Guarded (the taxels miss more than guard_excess_n): no drive, and the
+// slide's speed rises at most guard_accel_mps2 per second from the last
+// cycle's, however the pull jumps; below the guard the drive is back.
+TEST(SpeedLaw, TheGuardDropsTheDriveAndSlowsTheSlidesRise) {
+  SpeedLaw law;
+  ASSERT_TRUE(law.configure(slideParams()).ok());
+  SpeedLawInput in;
+  ASSERT_NEAR(settle(law, in), 0.12, 1e-12);
+  EXPECT_DOUBLE_EQ(law.slide(0.03, 0.01), 0.072);  // driven
+  in.wrench_excess_n = 1.5;  // above the guard, below the excess's dead band: the cap stays v_max
+  law.step(in, 0.01);
+  EXPECT_TRUE(law.guarded());
+  EXPECT_DOUBLE_EQ(law.speed(), 0.12);
+  EXPECT_DOUBLE_EQ(law.slide(0.03, 0.01), 0.03);  // not driven: falls at once
+  // The pull jumps to 0.1 m/s (two spots at the pad's ends move the CoP):
+  // the slide rises by 0.6 m/s^2 x 0.01 s a cycle.
+  double v = 0.03;
+  for (int k = 1; k <= 5; ++k) {
+    law.step(in, 0.01);
+    const double s = law.slide(0.1, 0.01);
+    EXPECT_NEAR(s, v + 0.006, 1e-12) << k;
+    v = s;
+  }
+  // It falls at once, and rises from there.
+  law.step(in, 0.01);
+  EXPECT_DOUBLE_EQ(law.slide(0.01, 0.01), 0.01);
+  law.step(in, 0.01);
+  EXPECT_NEAR(law.slide(0.1, 0.01), 0.016, 1e-12);
+  // Below the guard: driven again, and the pull's jump is followed.
+  in.wrench_excess_n = 1.3;
+  law.step(in, 0.01);
+  EXPECT_FALSE(law.guarded());
+  EXPECT_DOUBLE_EQ(law.slide(0.03, 0.01), 0.072);
+  law.step(in, 0.01);
+  EXPECT_DOUBLE_EQ(law.slide(0.1, 0.01), 0.1);
+  // Non-finite input: guarded (v_min and no drive).
+  in.wrench_excess_n = std::nan("");
+  EXPECT_EQ(law.step(in, 0.01), SpeedLawStatus::InvalidInput);
+  EXPECT_TRUE(law.guarded());
+}
+
+// The crawl: once the excess has held the target at v_min (a_x = 0) for
+// crawl_after_s, the excess allows crawl_mps; before, v_min; an excess below
+// excess_ref restarts the count. crawl_mps 0: v_min throughout.
+TEST(SpeedLaw, AnExcessThatHasStoppedTheSlideAWhileLetsItCrawl) {
+  SpeedLaw law;
+  ASSERT_TRUE(law.configure(slideParams()).ok());
+  SpeedLawInput in;
+  settle(law, in);
+  in.wrench_excess_n = 4.5;  // past excess_ref: a_x = 0
+  int first_crawl = -1;
+  for (int k = 1; k <= 100; ++k) {
+    law.step(in, 0.01);
+    if (first_crawl < 0 && law.target() > 0.005) first_crawl = k;
+    if (first_crawl < 0) {
+      EXPECT_DOUBLE_EQ(law.speed(), 0.005) << k;
+      EXPECT_EQ(law.limiter(), SpeedLimiter::WrenchExcess);
+    }
+  }
+  EXPECT_EQ(first_crawl, 20);  // 0.2 s stopped
+  EXPECT_NEAR(law.speed(), 0.02, 1e-12);
+  EXPECT_NEAR(law.target(), 0.02, 1e-12);
+  // The excess falls below its reference, then stops the slide again: v_min anew.
+  in.wrench_excess_n = 3.0;
+  law.step(in, 0.01);
+  in.wrench_excess_n = 4.5;
+  law.step(in, 0.01);
+  EXPECT_DOUBLE_EQ(law.speed(), 0.005);
+  SpeedLawParams p = slideParams();
+  p.crawl_mps = 0.0;
+  SpeedLaw off;
+  ASSERT_TRUE(off.configure(p).ok());
+  for (int k = 0; k < 100; ++k) off.step(in, 0.01);
+  EXPECT_DOUBLE_EQ(off.speed(), 0.005);
+}
+
 TEST(SpeedLaw, StepDoesNotAllocate) {
-  SpeedLaw law = configured();
+  SpeedLaw law;
+  ASSERT_TRUE(law.configure(slideParams()).ok());
   SpeedLawInput in;
   test::AllocationScope scope;
   for (int k = 0; k < 1000; ++k) {
     in.curvature = 0.01 * (k % 700);
     in.force_error_n = 0.001 * (k % 300);
+    in.wrench_excess_n = 0.01 * (k % 500);
     law.step(in, 0.001);
+    law.slide(0.0002 * (k % 400) - 0.04, 0.001);
   }
   EXPECT_EQ(scope.count(), 0u);
 }

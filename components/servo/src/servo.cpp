@@ -327,7 +327,7 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
                               excess, dt, out);
   if (cap >= 0.0) {
     const int a = params_.speed_law.axis;
-    u(a) = std::clamp(u(a), -cap * dt, cap * dt);
+    u(a) = speed_law_.slide(u(a) / dt, dt) * dt;  // capped, driven, guarded (speed_law.hpp)
   }
   if (static_cast<std::size_t>(ph) < slope_phase_.size() && slope_phase_[static_cast<std::size_t>(ph)]) {
     // The slide's slope along z_s (slope_feedforward.hpp): a change of the

@@ -41,6 +41,14 @@ ConfigResult SpeedLaw::configure(const SpeedLawParams& p, const char* where) {
     return rangeError(w + "excess_deadband_per_m", p.excess_deadband_per_m, "must be in [0, 1e4] N/m");
   if (!in(p.excess_short_max_m, 0.0, 1.0))
     return rangeError(w + "excess_short_max_m", p.excess_short_max_m, "must be in [0, 1] m");
+  if (!in(p.drive_fraction, 0.0, 1.0)) return rangeError(w + "drive_fraction", p.drive_fraction, "must be in [0, 1]");
+  if (!(in(p.guard_excess_n, 0.0, 1e4) && p.guard_excess_n > 0))
+    return rangeError(w + "guard_excess_n", p.guard_excess_n, "must be in (0, 1e4] N");
+  if (!(in(p.guard_accel_mps2, 0.0, 10.0) && p.guard_accel_mps2 > 0))
+    return rangeError(w + "guard_accel_mps2", p.guard_accel_mps2, "must be in (0, 10] m/s^2");
+  if (!in(p.crawl_mps, 0.0, p.v_max)) return rangeError(w + "crawl_mps", p.crawl_mps, "must be in [0, v_max] m/s");
+  if (!in(p.crawl_after_s, 0.0, 10.0))
+    return rangeError(w + "crawl_after_s", p.crawl_after_s, "must be in [0, 10] s");
   p_ = p;
   configured_ = true;
   reset();
@@ -51,6 +59,9 @@ void SpeedLaw::reset() {
   v_ = p_.v_min;
   target_ = p_.v_min;
   limiter_ = SpeedLimiter::None;
+  stopped_s_ = 0.0;
+  slide_prev_ = p_.v_min;
+  guarded_ = false;
 }
 
 SpeedLawStatus SpeedLaw::step(const SpeedLawInput& in, double dt) {
@@ -61,19 +72,25 @@ SpeedLawStatus SpeedLaw::step(const SpeedLawInput& in, double dt) {
   if (!finite) {
     v_ = target_ = p_.v_min;
     limiter_ = SpeedLimiter::None;
+    stopped_s_ = 0.0;
+    guarded_ = true;  // no drive on what is not measured
     return SpeedLawStatus::InvalidInput;
   }
   // The wrench excess's dead band: grown by a short image's extent (header).
   const double short_extent = in.extent_m > p_.excess_short_max_m ? 0.0 : std::max(0.0, in.extent_m);
   const double excess_deadband = p_.excess_deadband_n + p_.excess_deadband_per_m * short_extent;
   // One admissible fraction of v_max per input (header); the smallest decides.
-  const double a[5] = {
+  double a[5] = {
       unit(1.0 - std::max(0.0, std::fabs(in.force_error_n + p_.horizon_s * in.force_error_rate) - p_.force_deadband_n) /
                      (p_.force_budget_n - p_.force_deadband_n)),
       unit(1.0 - std::fabs(in.angle_rate) / p_.angle_rate_ref),
       unit(1.0 - std::fabs(in.curvature) / p_.curvature_ref),
       unit((in.extent_m - p_.extent_min_m) / (p_.extent_full_m - p_.extent_min_m)),
       unit(1.0 - std::max(0.0, in.wrench_excess_n - excess_deadband) / (p_.excess_ref_n - p_.excess_deadband_n))};
+  // The crawl (header): the excess has stopped the slide for crawl_after_s.
+  stopped_s_ = a[4] > 0.0 ? 0.0 : stopped_s_ + dt;
+  if (p_.crawl_mps > 0.0 && stopped_s_ >= p_.crawl_after_s - 1e-9) a[4] = std::max(a[4], p_.crawl_mps / p_.v_max);
+  guarded_ = in.wrench_excess_n > p_.guard_excess_n;
   int k = 0;
   for (int i = 1; i < 5; ++i)
     if (a[i] < a[k]) k = i;
@@ -82,6 +99,22 @@ SpeedLawStatus SpeedLaw::step(const SpeedLawInput& in, double dt) {
   // Down at once, up at most accel_mps2.
   v_ = target_ <= v_ ? target_ : std::min(target_, v_ + p_.accel_mps2 * dt);
   return target_ < p_.v_max ? SpeedLawStatus::Limited : SpeedLawStatus::Full;
+}
+
+double SpeedLaw::slide(double pull_mps, double dt) {
+  if (!configured_ || !std::isfinite(pull_mps) || !std::isfinite(dt) || !(dt > 0.0)) {
+    slide_prev_ = 0.0;
+    return 0.0;
+  }
+  double v = std::clamp(pull_mps, -v_, v_);
+  const double drive = p_.drive_fraction * v_;
+  if (!guarded_ && pull_mps != 0.0 && std::fabs(v) < drive) v = std::copysign(drive, pull_mps);
+  if (guarded_) {
+    const double lim = slide_prev_ + p_.guard_accel_mps2 * dt;
+    v = std::clamp(v, -lim, lim);
+  }
+  slide_prev_ = std::fabs(v);
+  return v;
 }
 
 void SpeedLawFilter::step(const SpeedLawSignals& s, double dt, SpeedLawInput& out) {

@@ -1,7 +1,7 @@
 // The slide speed from the contact (beyond the paper): each servo cycle, the
 // fastest slide speed that keeps the true force within a user's error budget,
-// picked from what the servo measures. The servo (servo.hpp) caps the slide
-// axis's PI rate at speed() in the phases its program's speed_law block lists
+// picked from what the servo measures. The servo (servo.hpp) passes the slide
+// axis's PI rate through slide() (at most speed()) in the phases its program's speed_law block lists
 // (SpeedLawConfig, servo_params.hpp); SpeedLawFilter below turns the raw
 // signals of a cycle into SpeedLawInput.
 //
@@ -38,7 +38,24 @@
 // force left the band) and up at most at accel_mps2 (speed up only as fast as
 // the loop settles). v_max is the safety limit (safety.max_trans_speed).
 // A non-finite input holds v_min and reports InvalidInput.
-// Real-time: step() does not allocate, throw, log or block.
+//
+// The slide (slide(): the rate the servo commands along the slide axis, from
+// the phase's pull, the CoP_x term of Eq. 13):
+//   * capped at the speed above, +-speed();
+//   * driven: at least drive_fraction speed() in the pull's direction. Over
+//     a crest the image shrinks to a spot that travels back along the pad
+//     towards the CoP_x set point, the pull fades with it, and the pad
+//     crawls at a third of what the law allows; the drive carries it over;
+//   * guarded: while the taxels miss more than guard_excess_n of the wrench
+//     (wrench_excess_n, low-passed), the load is leaving them (the pad tips
+//     off a crest into a trough it will bridge): no drive, and the slide's
+//     speed rises at most at guard_accel_mps2, so the pull's jump as two
+//     spots at the pad's ends appear does not take the pad into the trough;
+//   * crawling: once the excess has held the target at v_min (a_x = 0) for
+//     crawl_after_s, the pad bridges the trough steadily (its housing or
+//     ends carry the load, the true force in its band): the excess input
+//     allows crawl_mps instead of stopping the slide.
+// Real-time: step() and slide() do not allocate, throw, log or block.
 #pragma once
 
 #include "tactile_types/config_result.hpp"
@@ -61,6 +78,12 @@ struct SpeedLawParams {
   double excess_deadband_per_m = 0.0; ///< N/m, [0, 1e4]: the dead band's growth with the extent of a short image
   double excess_short_max_m = 0.04;   ///< m, [0, 1]: the longest image that grows it (a longer one: a line along the
                                       ///< pad or two spots at its ends)
+  double drive_fraction = 0.0;    ///< [0, 1]: the slide's least share of speed() in the pull's direction (0: cap only)
+  double guard_excess_n = 1e4;    ///< N, (0, 1e4]: the excess above which the slide is not driven and rises slowly
+  double guard_accel_mps2 = 10.0; ///< m/s^2, (0, 10]: the slide's largest rise while guarded
+  double crawl_mps = 0.0;         ///< m/s, [0, v_max]: the slide the excess allows once it has stopped it a while
+                                  ///< (0: v_min)
+  double crawl_after_s = 0.2;     ///< s, [0, 10]: how long the excess must have stopped the slide first
 };
 
 struct SpeedLawInput {
@@ -119,6 +142,11 @@ class SpeedLaw {
   void reset();
   /// One cycle of dt > 0 s: speed() and limiter() updated.
   SpeedLawStatus step(const SpeedLawInput& in, double dt);
+  /// The slide rate (m/s, signed) for the phase's pull `pull_mps` along the
+  /// slide axis, after step() of the same cycle (header: capped, driven,
+  /// guarded). A non-finite pull or dt gives 0.
+  double slide(double pull_mps, double dt);
+  bool guarded() const { return guarded_; }
   double speed() const { return v_; }          ///< m/s
   double target() const { return target_; }    ///< v* (m/s)
   SpeedLimiter limiter() const { return limiter_; }
@@ -129,6 +157,9 @@ class SpeedLaw {
   bool configured_ = false;
   double v_ = 0.0;
   double target_ = 0.0;
+  double stopped_s_ = 0.0;   // how long the excess has held a_x at 0
+  double slide_prev_ = 0.0;  // |slide()| of the last cycle (m/s)
+  bool guarded_ = false;
   SpeedLimiter limiter_ = SpeedLimiter::None;
 };
 
