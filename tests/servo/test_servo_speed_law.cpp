@@ -67,6 +67,22 @@ TEST(ServoSpeedLaw, TheLawCapsTheSlideFromVMinUpToVMax) {
   EXPECT_EQ(l.out.speed_limiter, SpeedLimiter::None);
 }
 
+// The servo's slide is the law's slide() (speed_law.hpp): with the pull weak
+// (K_P,x 1 1/s x 25 mm = 25 mm/s) below drive_fraction 0.6 of v_max (36 mm/s),
+// the drive raises it; with drive_fraction 0 the pull passes unchanged.
+TEST(ServoSpeedLaw, TheDriveRaisesAWeakPullToItsShareOfTheLawsSpeed) {
+  ServoParams p = slide(true);
+  p.phases[0].kp(0) = 1.0;
+  {
+    Loop l(p);
+    EXPECT_NEAR(l.slideFor(2.0), 0.025, 1e-9);
+  }
+  p.speed_law.law.drive_fraction = 0.6;
+  Loop l(p);
+  EXPECT_NEAR(l.slideFor(2.0), 0.036, 1e-9);
+  EXPECT_NEAR(l.out.slide_speed, 0.06, 1e-12);
+}
+
 // The edge turning at half the angle rate reference: half of v_max; a force
 // error of half the budget (the true force 0.25 N low) likewise.
 TEST(ServoSpeedLaw, ABendOrAForceErrorSlowsTheSlide) {
