@@ -326,8 +326,9 @@ ConfigResult readPhasesAndAxis(const YAML::Node& n, const Where& w, std::vector<
 ConfigResult readSpeedLaw(const YAML::Node& sl, const Where& w, SpeedLawConfig& c) {
   ConfigResult r = checkKeys(sl, w, {"phases", "axis", "rate_tau_s", "v_max", "v_min", "accel_mps2", "force_budget_n", "force_deadband_n",
                                      "horizon_s", "angle_rate_ref", "curvature_ref", "extent_full_m", "extent_min_m",
-                                     "excess_ref_n", "excess_deadband_n", "excess_deadband_per_m", "excess_short_max_m", "excess_against", "drive_fraction",
-                                     "guard_excess_n", "guard_accel_mps2", "crawl_mps", "crawl_after_s"});
+                                     "excess_ref_n", "excess_deadband_n", "excess_deadband_per_m", "excess_short_max_m",
+                                     "excess_against", "drive_fraction", "guard_excess_n", "guard_accel_mps2", "crawl_mps",
+                                     "crawl_after_s"});
   if (!r || !(r = readPhasesAndAxis(sl, w, c.phases, c.axis))) return r;
   int against = c.excess_against_tactile ? 1 : 0;
   if (!(r = readChoice(sl, "excess_against", w, {"estimate", "tactile"}, "estimate (f_hat) or tactile (Eq. 2's f)",

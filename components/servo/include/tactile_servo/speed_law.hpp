@@ -1,9 +1,9 @@
 // The slide speed from the contact (beyond the paper): each servo cycle, the
 // fastest slide speed that keeps the true force within a user's error budget,
 // picked from what the servo measures. The servo (servo.hpp) passes the slide
-// axis's PI rate through slide() (at most speed()) in the phases its program's speed_law block lists
-// (SpeedLawConfig, servo_params.hpp); SpeedLawFilter below turns the raw
-// signals of a cycle into SpeedLawInput.
+// axis's PI rate through slide() (at most speed()) in the phases its
+// program's speed_law block lists (SpeedLawConfig, servo_params.hpp);
+// SpeedLawFilter below turns the raw signals of a cycle into SpeedLawInput.
 //
 // Inputs (SpeedLawInput, one cycle):
 //   force_error_n   e = f_d - f_hat (N) and force_error_rate (N/s): the error
