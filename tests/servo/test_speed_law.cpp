@@ -301,8 +301,9 @@ TEST(SpeedLaw, TheGuardDropsTheDriveAndSlowsTheSlidesRise) {
 }
 
 // The crawl: once the excess has held the target at v_min (a_x = 0) for
-// crawl_after_s, the excess allows crawl_mps; before, v_min; an excess below
-// excess_ref restarts the count. crawl_mps 0: v_min throughout.
+// crawl_after_s, the excess allows crawl_mps; before, v_min, and an excess
+// below excess_ref restarts the count; once crawling, only an excess that
+// allows more than crawl_mps ends it. crawl_mps 0: v_min throughout.
 TEST(SpeedLaw, AnExcessThatHasStoppedTheSlideAWhileLetsItCrawl) {
   SpeedLaw law;
   ASSERT_TRUE(law.configure(slideParams()).ok());
@@ -321,12 +322,39 @@ TEST(SpeedLaw, AnExcessThatHasStoppedTheSlideAWhileLetsItCrawl) {
   EXPECT_EQ(first_crawl, 20);  // 0.2 s stopped
   EXPECT_NEAR(law.speed(), 0.02, 1e-12);
   EXPECT_NEAR(law.target(), 0.02, 1e-12);
-  // The excess falls below its reference, then stops the slide again: v_min anew.
+  // Crawling, an excess that allows less than the crawl (3.8 N: a_x 1/12,
+  // 10 mm/s) keeps it, and so does the excess back past its reference.
+  in.wrench_excess_n = 3.8;
+  law.step(in, 0.01);
+  EXPECT_NEAR(law.target(), 0.02, 1e-12);
+  in.wrench_excess_n = 4.5;
+  law.step(in, 0.01);
+  EXPECT_NEAR(law.target(), 0.02, 1e-12);
+  // An excess that allows more than the crawl (3 N: 50 mm/s) ends it; the
+  // excess then stops the slide again: v_min anew.
   in.wrench_excess_n = 3.0;
   law.step(in, 0.01);
   in.wrench_excess_n = 4.5;
   law.step(in, 0.01);
   EXPECT_DOUBLE_EQ(law.speed(), 0.005);
+  // Before the crawl, any excess below the reference starts the wait afresh:
+  // after 0.1 s stopped, one cycle at 3.8 N, then 0.2 s more to the crawl.
+  SpeedLaw again;
+  ASSERT_TRUE(again.configure(slideParams()).ok());
+  SpeedLawInput in2;
+  settle(again, in2);
+  in2.wrench_excess_n = 4.5;
+  for (int k = 0; k < 10; ++k) again.step(in2, 0.01);
+  in2.wrench_excess_n = 3.8;
+  again.step(in2, 0.01);
+  EXPECT_NEAR(again.target(), 0.01, 1e-12);
+  in2.wrench_excess_n = 4.5;
+  for (int k = 1; k <= 19; ++k) {
+    again.step(in2, 0.01);
+    EXPECT_DOUBLE_EQ(again.target(), 0.005) << k;
+  }
+  again.step(in2, 0.01);
+  EXPECT_NEAR(again.target(), 0.02, 1e-12);
   SpeedLawParams p = slideParams();
   p.crawl_mps = 0.0;
   SpeedLaw off;

@@ -54,7 +54,9 @@
 //   * crawling: once the excess has held the target at v_min (a_x = 0) for
 //     crawl_after_s, the pad bridges the trough steadily (its housing or
 //     ends carry the load, the true force in its band): the excess input
-//     allows crawl_mps instead of stopping the slide.
+//     allows crawl_mps instead of stopping the slide, until it allows more
+//     than crawl_mps (an excess hovering about excess_ref_n keeps the crawl;
+//     before the crawl, any excess below it starts the wait afresh).
 // Real-time: step() and slide() do not allocate, throw, log or block.
 #pragma once
 
