@@ -136,10 +136,12 @@ def shipped():
                             "kp_per_s": {"x": 0.6}, "ki_per_s2": {"x": 0.0}, "reset_integrator": False,
                             "transitions": [{"on": "joint_margin", "to": "done", "angle_deg": 5},
                                             {"on": "edge", "to": "explore", "for_s": 0.1},
-                                            {"on": "timeout", "to": "done", "timeout_s": 0.25}]})
+                                            {"on": "contact_lost", "to": "explore", "for_s": 0.02},
+                                            {"on": "timeout", "to": "done", "timeout_s": 0.3}]})
         p["speed_law"].update(phases=["explore"], v_max=0.12, accel_mps2=1.0, rate_tau_s=0.1, force_deadband_n=0.4,
                               horizon_s=0.05, angle_rate_ref=8.0, excess_ref_n=4.0, extent_full_m=0.016, extent_min_m=0.0,
-                              excess_against="tactile", excess_deadband_n=1.6, excess_deadband_per_m=40.0)
+                              excess_against="tactile", excess_deadband_n=1.6, excess_deadband_per_m=40.0,
+                              drive_fraction=0.6, guard_excess_n=1.4, guard_accel_mps2=0.6, crawl_mps=0.02)
         p["slope_feedforward"]["phases"] = ["explore"]
         p["force_estimate"].update(tau_s=0.02, max_correction_n=5.0)
     expect("bent_bar_speed_law.yaml", "bent_bar_to_end_cap.yaml", speed_law)
