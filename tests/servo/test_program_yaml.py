@@ -140,7 +140,7 @@ def shipped():
                                             {"on": "timeout", "to": "done", "timeout_s": 0.3}]})
         p["speed_law"].update(phases=["explore"], v_max=0.12, accel_mps2=1.0, rate_tau_s=0.1, force_deadband_n=0.4,
                               horizon_s=0.05, angle_rate_ref=8.0, excess_ref_n=4.0, extent_full_m=0.016, extent_min_m=0.0,
-                              excess_against="tactile", excess_deadband_n=1.6, excess_deadband_per_m=40.0,
+                              excess_against="tactile", excess_deadband_n=1.8, excess_deadband_per_m=40.0, excess_tau_s=0.03,
                               drive_fraction=0.6, guard_excess_n=1.4, guard_accel_mps2=0.6, crawl_mps=0.02)
         p["slope_feedforward"]["phases"] = ["explore"]
         p["force_estimate"].update(tau_s=0.02, max_correction_n=5.0)

@@ -444,11 +444,12 @@ TEST(ServoProgramBase, BentBarSpeedLawTurnsTheLawOnInExplore) {
                  {"speed_law.v_max", "0.12"},
                  {"speed_law.accel_mps2", "1.0"},
                  {"speed_law.rate_tau_s", "0.1"},
+                 {"speed_law.excess_tau_s", "0.03"},
                  {"speed_law.force_deadband_n", "0.4"},
                  {"speed_law.horizon_s", "0.05"},
                  {"speed_law.angle_rate_ref", "8.0"},
                  {"speed_law.excess_against", "tactile"},
-                 {"speed_law.excess_deadband_n", "1.6"},
+                 {"speed_law.excess_deadband_n", "1.8"},
                  {"speed_law.excess_deadband_per_m", "40.0"},
                  {"speed_law.excess_ref_n", "4.0"},
                  {"speed_law.extent_full_m", "0.016"},
@@ -466,7 +467,8 @@ TEST(ServoProgramBase, BentBarSpeedLawTurnsTheLawOnInExplore) {
   EXPECT_DOUBLE_EQ(p.speed_law.law.v_max, 0.12);
   EXPECT_EQ(p.speed_law.axis, 0);
   EXPECT_TRUE(p.speed_law.excess_against_tactile);  // the load the taxels miss
-  EXPECT_DOUBLE_EQ(p.speed_law.law.excess_deadband_n, 1.6);
+  EXPECT_DOUBLE_EQ(p.speed_law.law.excess_deadband_n, 1.8);
+  EXPECT_DOUBLE_EQ(p.speed_law.excess_tau_s, 0.03);  // the excess on its own, faster low-pass
   EXPECT_DOUBLE_EQ(p.speed_law.law.excess_deadband_per_m, 40.0);  // a short image hides more
   EXPECT_DOUBLE_EQ(p.speed_law.law.excess_short_max_m, 0.04);
   ASSERT_EQ(p.slope_feedforward.phases.size(), 1u);  // and the slope feed-forward, in the same phase

@@ -146,6 +146,8 @@ TEST(ServoProgramIo, BadProgramsNameFilePhaseField) {
   expectRejected("bad_speed_vmin", "speed_law: {phases: [hold], v_min: 1.0}\n" + program(""),
                  {"speed_law.v_min", "[0, v_max]"});
   expectRejected("bad_speed_tau", "speed_law: {rate_tau_s: 0}\n" + program(""), {"speed_law.rate_tau_s", "(0, 10] s"});
+  expectRejected("bad_speed_excess_tau", "speed_law: {excess_tau_s: -0.01}\n" + program(""),
+                 {"speed_law.excess_tau_s", "[0, 10] s"});
   expectRejected("bad_speed_phase", "speed_law: {phases: [hlod]}\n" + program(""), {"speed_law.phases", "'hlod'"});
   expectRejected("bad_speed_axis", "speed_law: {axis: z}\n" + program(""), {"speed_law.axis", "'z'", "x or y"});
   expectRejected("bad_speed_key", "speed_law: {vmax: 0.1}\n" + program(""), {"speed_law.vmax", "unknown key"});

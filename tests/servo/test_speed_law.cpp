@@ -398,6 +398,29 @@ TEST(SpeedLawFilter, AForceRampGivesItsRate) {
   EXPECT_NEAR(2.0 - in.force_error_n, 2.0 * 0.05, 1e-6);
 }
 
+// The wrench's excess is low-passed over its own time constant
+// (speed_law.excess_tau_s), the other inputs over rate_tau_s; 0 means
+// rate_tau_s. A step of 3 N in the excess and of 1 N in the force error:
+// after n cycles the discrete first-order lag has 1 - (tau / (tau + dt))^n of it.
+TEST(SpeedLawFilter, TheExcessHasItsOwnTimeConstant) {
+  const double dt = 0.01;
+  for (double excess_tau : {0.03, 0.0}) {
+    SpeedLawFilter flt;
+    flt.configure(0.1, excess_tau);
+    SpeedLawInput in;
+    SpeedLawSignals s;
+    flt.step(s, dt, in);  // the first cycle initialises at 0
+    s.wrench_excess_n = 3.0;
+    s.force_error_n = 1.0;
+    const double te = excess_tau > 0.0 ? excess_tau : 0.1;
+    for (int n = 1; n <= 5; ++n) {
+      flt.step(s, dt, in);
+      EXPECT_NEAR(in.wrench_excess_n, 3.0 * (1.0 - std::pow(te / (te + dt), n)), 1e-12) << excess_tau << " " << n;
+      EXPECT_NEAR(in.force_error_n, 1.0 - std::pow(0.1 / (0.1 + dt), n), 1e-12) << excess_tau << " " << n;
+    }
+  }
+}
+
 // The edge angle is defined modulo pi: a turn from +89 deg to -89 deg is 2 deg,
 // not 178 deg; an undefined angle (held, not measured) gives no rate.
 TEST(SpeedLawFilter, TheAngleRateIsTakenModuloPiAndOnlyWhenDefined) {

@@ -324,7 +324,7 @@ ConfigResult readPhasesAndAxis(const YAML::Node& n, const Where& w, std::vector<
 /// speed_law: the block of SpeedLawConfig (servo_params.hpp); the ranges and
 /// the phase names are checked by TactileServo::configure (loadImpl's last step).
 ConfigResult readSpeedLaw(const YAML::Node& sl, const Where& w, SpeedLawConfig& c) {
-  ConfigResult r = checkKeys(sl, w, {"phases", "axis", "rate_tau_s", "v_max", "v_min", "accel_mps2", "force_budget_n", "force_deadband_n",
+  ConfigResult r = checkKeys(sl, w, {"phases", "axis", "rate_tau_s", "excess_tau_s", "v_max", "v_min", "accel_mps2", "force_budget_n", "force_deadband_n",
                                      "horizon_s", "angle_rate_ref", "curvature_ref", "extent_full_m", "extent_min_m",
                                      "excess_ref_n", "excess_deadband_n", "excess_deadband_per_m", "excess_short_max_m",
                                      "excess_against", "drive_fraction", "guard_excess_n", "guard_accel_mps2", "crawl_mps",
@@ -336,7 +336,8 @@ ConfigResult readSpeedLaw(const YAML::Node& sl, const Where& w, SpeedLawConfig& 
     return r;
   c.excess_against_tactile = against == 1;
   SpeedLawParams& lp = c.law;
-  for (auto rr : {read(sl, "rate_tau_s", c.rate_tau_s, w), read(sl, "v_max", lp.v_max, w), read(sl, "v_min", lp.v_min, w),
+  for (auto rr : {read(sl, "rate_tau_s", c.rate_tau_s, w), read(sl, "excess_tau_s", c.excess_tau_s, w),
+                  read(sl, "v_max", lp.v_max, w), read(sl, "v_min", lp.v_min, w),
                   read(sl, "accel_mps2", lp.accel_mps2, w), read(sl, "force_budget_n", lp.force_budget_n, w),
                   read(sl, "force_deadband_n", lp.force_deadband_n, w),
                   read(sl, "horizon_s", lp.horizon_s, w), read(sl, "angle_rate_ref", lp.angle_rate_ref, w),

@@ -43,7 +43,9 @@ ConfigResult TactileServo::configure(const ServoParams& p) {
     return rangeError(p.source + ": speed_law.rate_tau_s", p.speed_law.rate_tau_s, "must be in (0, 10] s");
   if (p.speed_law.axis < 0 || p.speed_law.axis > 1)
     return ConfigResult::failure(p.source + ": speed_law.axis: must be x or y");
-  speed_filter_.configure(p.speed_law.rate_tau_s);
+  if (!(std::isfinite(p.speed_law.excess_tau_s) && p.speed_law.excess_tau_s >= 0.0 && p.speed_law.excess_tau_s <= 10.0))
+    return rangeError(p.source + ": speed_law.excess_tau_s", p.speed_law.excess_tau_s, "must be in [0, 10] s (0: rate_tau_s)");
+  speed_filter_.configure(p.speed_law.rate_tau_s, p.speed_law.excess_tau_s);
   params_ = p;
   configured_ = true;
   reset();

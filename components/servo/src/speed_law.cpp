@@ -143,7 +143,7 @@ void SpeedLawFilter::step(const SpeedLawSignals& s, double dt, SpeedLawInput& ou
     ef_ += a * (s.force_error_n - ef_);
     ef_rate_ += a * ((ef_ - ef_prev) / dt - ef_rate_);
     kappa_ += a * (s.curvature - kappa_);
-    excess_ += a * (s.wrench_excess_n - excess_);
+    excess_ += dt / (excess_tau_ + dt) * (s.wrench_excess_n - excess_);
     double w = 0.0;
     if (s.alpha_defined && alpha_prev_ok_) w = std::remainder(s.alpha_z - alpha_prev_, kPi) / dt;  // modulo pi
     alpha_rate_ += a * (w - alpha_rate_);

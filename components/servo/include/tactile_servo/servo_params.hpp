@@ -194,6 +194,11 @@ struct SpeedLawConfig {
   std::vector<std::string> phases;  ///< the phases it acts in; empty = off
   int axis = 0;                     ///< the slide axis of {s}: 0 x_s, 1 y_s
   double rate_tau_s = 0.05;         ///< s, (0, 10]: low-pass of the force error, its rate, the angle's rate, the curvature
+  /// s, [0, 10]: low-pass of the wrench's excess (0: rate_tau_s). Shorter
+  /// than rate_tau_s, the excess sees the pad start to bridge a trough within
+  /// a few cycles, at the price of more of the wrench's noise (its dead band
+  /// must cover it).
+  double excess_tau_s = 0.0;
   /// The wrench's excess against Eq. 2's tactile force f (true; files:
   /// excess_against: tactile) or against the force estimate f_hat (false;
   /// estimate). A force estimate that follows the wrench within a few cycles

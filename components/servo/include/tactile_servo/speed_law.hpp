@@ -124,13 +124,20 @@ struct SpeedLawSignals {
 /// extent is passed through (its drop is the warning). Allocation-free.
 class SpeedLawFilter {
  public:
-  void configure(double tau_s) { tau_ = tau_s; reset(); }
+  /// `tau_s` low-passes the force error, its rate, the angle's rate and the
+  /// curvature; `excess_tau_s` the wrench's excess (0: tau_s).
+  void configure(double tau_s, double excess_tau_s = 0.0) {
+    tau_ = tau_s;
+    excess_tau_ = excess_tau_s > 0.0 ? excess_tau_s : tau_s;
+    reset();
+  }
   void reset() { init_ = false; }
   /// dt > 0 and finite signals; otherwise the state is kept and `out` holds non-finite values.
   void step(const SpeedLawSignals& s, double dt, SpeedLawInput& out);
 
  private:
   double tau_ = 0.05;
+  double excess_tau_ = 0.05;
   bool init_ = false;
   double ef_ = 0, ef_rate_ = 0, alpha_prev_ = 0, alpha_rate_ = 0, kappa_ = 0, excess_ = 0;
   bool alpha_prev_ok_ = false;
