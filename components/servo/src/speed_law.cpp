@@ -89,12 +89,11 @@ SpeedLawStatus SpeedLaw::step(const SpeedLawInput& in, double dt) {
       unit(1.0 - std::max(0.0, in.wrench_excess_n - excess_deadband) / (p_.excess_ref_n - p_.excess_deadband_n))};
   // The crawl (header): the excess has stopped the slide for crawl_after_s;
   // once crawling, only an excess that allows more than the crawl ends it.
-  const bool crawling = stopped_s_ >= p_.crawl_after_s - 1e-9;
   if (a[4] <= 0.0)
     stopped_s_ += dt;
-  else if (!crawling || p_.v_max * a[4] >= p_.crawl_mps)
+  else if (!crawling() || p_.v_max * a[4] >= p_.crawl_mps)
     stopped_s_ = 0.0;
-  if (p_.crawl_mps > 0.0 && stopped_s_ >= p_.crawl_after_s - 1e-9) a[4] = std::max(a[4], p_.crawl_mps / p_.v_max);
+  if (p_.crawl_mps > 0.0 && crawling()) a[4] = std::max(a[4], p_.crawl_mps / p_.v_max);
   guarded_ = in.wrench_excess_n > p_.guard_excess_n;
   int k = 0;
   for (int i = 1; i < 5; ++i)

@@ -166,6 +166,8 @@ class SpeedLaw {
   bool configured_ = false;
   double v_ = 0.0;
   double target_ = 0.0;
+  /// The excess has held a_x at 0 for crawl_after_s (header: crawling).
+  bool crawling() const { return stopped_s_ >= p_.crawl_after_s - 1e-9; }
   double stopped_s_ = 0.0;   // how long the excess has held a_x at 0
   double slide_prev_ = 0.0;  // |slide()| of the last cycle (m/s)
   bool guarded_ = false;
