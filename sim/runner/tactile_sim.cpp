@@ -93,7 +93,7 @@ int mkdirs(const std::string& dir) {
 
 // A servo stop (the force ceiling, a watchdog): what it means, for the user.
 void printServoStop(const Summary& s) {
-  for (int k = static_cast<int>(ServoStatus::ForceCeiling); k <= static_cast<int>(ServoStatus::SurfaceTooCurved); ++k) {
+  for (int k = static_cast<int>(ServoStatus::ForceCeiling); k <= static_cast<int>(kLastServoStatus); ++k) {
     const ServoStatus st = static_cast<ServoStatus>(k);
     if (s.status == std::string("servo_") + toString(st)) std::printf("  %s: %s\n", toString(st), explain(st));
   }

@@ -44,6 +44,9 @@ const char* toString(ServoStatus s) {
     case ServoStatus::ArmStalled: return "arm_stalled";
     case ServoStatus::ForceMismatch: return "force_mismatch";
     case ServoStatus::SurfaceTooCurved: return "surface_too_curved";
+    case ServoStatus::PhantomContact: return "phantom_contact";
+    case ServoStatus::UnseenLoad: return "unseen_load";
+    case ServoStatus::CorrectionSaturated: return "correction_saturated";
   }
   return "unknown";
 }
@@ -76,6 +79,16 @@ const char* explain(ServoStatus s) {
       return "the surface curves more tightly than the rigid pad can follow (or lies where no taxel sees it): the "
              "arm's wrench carries more than the force set point while the image shrank to part of the pad or "
              "vanished; holding";
+    case ServoStatus::PhantomContact:
+      return "the taxels read a load the arm's estimated wrench does not carry (a stuck or pressed region, the "
+             "cable or the cover, a calibration too high): the contact is not real; stopped as the program says";
+    case ServoStatus::UnseenLoad:
+      return "the arm's estimated wrench carries a load no taxel sees (the housing, the cable, a wrong load "
+             "model): stopped as the program says";
+    case ServoStatus::CorrectionSaturated:
+      return "the force estimate's correction stayed at its limit (force_estimate.max_correction_n): the taxels "
+             "and the wrench disagree by more than the estimate may bridge (a calibration off, a wrench bias); "
+             "stopped as the program says";
   }
   return "unknown status";
 }

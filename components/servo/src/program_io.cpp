@@ -361,6 +361,36 @@ ConfigResult readSlopeFeedforward(const YAML::Node& sf, const Where& w, SlopeFee
   return read(sf, "window_m", c.window_m, w);
 }
 
+/// watchdogs' sensor checks (WatchdogParams): phantom_contact, unseen_load,
+/// correction_saturated and what the servo does on one (on_fault, retreat_m);
+/// the ranges are checked by ServoWatchdogs::configure.
+ConfigResult readSensorChecks(const YAML::Node& wd, const Where& w, WatchdogParams& wp) {
+  ConfigResult r = ConfigResult::success();
+  if (const YAML::Node ph = wd["phantom_contact"]) {
+    const Where wc = w.child("phantom_contact");
+    if (!(r = checkKeys(ph, wc, {"window_s", "tolerance_n", "tolerance_rel"}))) return r;
+    for (auto rr : {read(ph, "window_s", wp.phantom_window_s, wc), read(ph, "tolerance_n", wp.phantom_tolerance_n, wc),
+                    read(ph, "tolerance_rel", wp.phantom_tolerance_rel, wc)})
+      if (!rr) return rr;
+  }
+  if (const YAML::Node ul = wd["unseen_load"]) {
+    const Where wc = w.child("unseen_load");
+    if (!(r = checkKeys(ul, wc, {"window_s", "max_n"}))) return r;
+    for (auto rr : {read(ul, "window_s", wp.unseen_window_s, wc), read(ul, "max_n", wp.unseen_max_n, wc)})
+      if (!rr) return rr;
+  }
+  if (const YAML::Node cs = wd["correction_saturated"]) {
+    const Where wc = w.child("correction_saturated");
+    if (!(r = checkKeys(cs, wc, {"window_s"}))) return r;
+    if (!(r = read(cs, "window_s", wp.correction_window_s, wc))) return r;
+  }
+  int retreat = wp.fault_retreat ? 1 : 0;
+  if (!(r = readChoice(wd, "on_fault", w, {"hold", "retreat"}, "hold or retreat (along -z_s by retreat_m)", retreat)))
+    return r;
+  wp.fault_retreat = retreat == 1;
+  return read(wd, "retreat_m", wp.fault_retreat_m, w);
+}
+
 ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoParams& out) {
   ServoParams p;
   p.source = file;
@@ -432,7 +462,10 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
   if (const YAML::Node wd = root["watchdogs"]) {
     const Where w = top.child("watchdogs");
     WatchdogParams& wp = p.watchdogs;
-    if (!(r = checkKeys(wd, w, {"arm_stall", "force_mismatch", "surface_too_curved"}))) return r;
+    if (!(r = checkKeys(wd, w, {"arm_stall", "force_mismatch", "phantom_contact", "unseen_load", "correction_saturated",
+                                "on_fault", "retreat_m", "surface_too_curved"})))
+      return r;
+    if (!(r = readSensorChecks(wd, w, wp))) return r;
     if (const YAML::Node sc = wd["surface_too_curved"]) {
       const Where wc = w.child("surface_too_curved");
       if (!(r = checkKeys(sc, wc, {"tau_s", "excess_n", "max_extent_m", "max_tactile_share", "lift_n"}))) return r;
@@ -453,10 +486,9 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
     }
     if (const YAML::Node fm = wd["force_mismatch"]) {
       const Where wf = w.child("force_mismatch");
-      if (!(r = checkKeys(fm, wf, {"window_s", "tolerance_n", "tolerance_rel", "no_contact_n"}))) return r;
+      if (!(r = checkKeys(fm, wf, {"window_s", "tolerance_n", "tolerance_rel"}))) return r;
       for (auto rr : {read(fm, "window_s", wp.mismatch_window_s, wf), read(fm, "tolerance_n", wp.mismatch_tolerance_n, wf),
-                      read(fm, "tolerance_rel", wp.mismatch_tolerance_rel, wf),
-                      read(fm, "no_contact_n", wp.mismatch_no_contact_n, wf)})
+                      read(fm, "tolerance_rel", wp.mismatch_tolerance_rel, wf)})
         if (!rr) return rr;
     }
   }

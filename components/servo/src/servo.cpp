@@ -113,6 +113,16 @@ ServoStatus TactileServo::finish(ServoStatus st, double now, ServoOutput& out) {
   return st;
 }
 
+ServoStatus TactileServo::onSensorFault(const KDL::Frame& base, double dt, double now, ServoOutput& out) {
+  // The retreat is along -z_s: u_s's z in {s} (Eq. 13).
+  const ServoStatus st = watchdogs_.latched();
+  const double d = watchdogs_.faultRetreat(safety_.maxTransStep(dt));
+  if (d <= 0.0) return finish(st, now, out);
+  Vec6 u = Vec6::Zero();
+  u(kZ) = -d;
+  return applyIncrement(base, u, dt, st, now, out);
+}
+
 ServoStatus TactileServo::applyIncrement(const KDL::Frame& base, Vec6 u_s, double dt, ServoStatus st, double now,
                                          ServoOutput& out) {
   if (!u_s.allFinite()) return finish(ServoStatus::InvalidInput, now, out);
@@ -121,7 +131,7 @@ ServoStatus TactileServo::applyIncrement(const KDL::Frame& base, Vec6 u_s, doubl
   const bool clipped = safety_.clipWorkspace(base.p, T_ge_new);
   // Commanded motion (not the ceiling's retreat, not held at the workspace
   // box): the measured pose must follow.
-  if (st != ServoStatus::ForceCeiling && !clipped && !dry_run_) {
+  if (st != ServoStatus::ForceCeiling && !watchdogStatus(st) && !clipped && !dry_run_) {
     motion_cycle_ = true;
     if (watchdogs_.armStalled(meas_ * law_.sensorMount(), u_s, in_contact_, now))
       return finish(ServoStatus::ArmStalled, now, out);
@@ -215,8 +225,15 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
     program_.clearPending();
     return finish(ServoStatus::Starting, now, out);
   }
-  // Watchdogs: a latched one holds.
-  if (watchdogs_.latched() != ServoStatus::Ok) return finish(watchdogs_.latched(), now, out);
+  // Watchdogs: a latched one holds (a sensor fault may first retreat, on_fault).
+  if (watchdogs_.latched() != ServoStatus::Ok) {
+    if (pose_ok && time_ok && std::isfinite(dt) && dt > 0.0 && (in.robot_ready || in.dry_run)) {
+      const KDL::Frame base = params_.pose_update == PoseUpdate::Measured ? meas : cmd_;
+      meas_ = meas;
+      return onSensorFault(base, dt, now, out);
+    }
+    return finish(watchdogs_.latched(), now, out);
+  }
   // ROBOT STATE: hold at the measured pose, everything frozen.
   if (!in.robot_ready && !in.dry_run) {
     if (pose_ok && time_ok) {
@@ -269,20 +286,28 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   double f_law = f_hat;  // the force the law holds at its set point
   double excess = 0.0;   // the wrench along z_s less f_hat or f (N): load the taxels do not carry
   const double extent = std::sqrt(12.0 * std::max(0.0, f.lambda1));  // the image's length along the edge (a uniform line's)
-  // The force the law uses (the tactile force, or f_hat: the correction is
-  // bounded, so a wrench beyond it still shows) against the arm's estimated
-  // wrench (less its zero) along z_s.
-  Wrench w_tared = in.wrench;
-  for (int i = 0; i < 3; ++i) w_tared.w[static_cast<std::size_t>(i)] -= force_est_.tare()(i);
-  if (watchdogs_.forceMismatch(f_hat, contact, in.have_wrench, w_tared, z_s, now, dt, params_.safety.stale_timeout))
-    return finish(ServoStatus::ForceMismatch, now, out);
+  // The taxels (Eq. 2's f, never f_hat) against the arm's estimated wrench
+  // (less its zero) along z_s, and the estimate's correction against its limit.
+  const double f_w_tared = std::fabs(dot(F - force_est_.tare(), z_s));
+  {
+    ServoWatchdogs::SensorSample ss;
+    ss.f = f.force;
+    ss.contact = contact;
+    ss.fresh = wrench_fresh;
+    ss.f_w = f_w_tared;
+    const bool fused = params_.force_estimate.fused;
+    ss.hidden_n = ss.c_max = fused ? params_.force_estimate.max_correction_n : 0.0;
+    ss.c = force_est_.correction();
+    const ServoStatus disagree = watchdogs_.sensorsAgree(ss, dt);
+    if (disagree != ServoStatus::Ok) return onSensorFault(base, dt, now, out);
+  }
   {
     // The surface curves more tightly than the pad (watchdog.hpp): the
     // wrench well above the set point the law holds, the image shrunk.
     const int phc = program_.current();
     const double f_d = params_.phases[static_cast<std::size_t>(phc)].s_d(kZ) / law_.c_z();
     const bool regulated = program_.requiresContact(phc) && f_d > 0.0;
-    const double f_w = std::fabs(dot(F - force_est_.tare(), z_s));
+    const double f_w = f_w_tared;
     if (wrench_fresh && contact) excess = f_w - (params_.speed_law.excess_against_tactile ? f.force : f_hat);
     if (watchdogs_.surfaceTooCurved(f_w, f_d, regulated, contact, f.force, extent, wrench_fresh, dt))
       return finish(ServoStatus::SurfaceTooCurved, now, out);

@@ -26,8 +26,20 @@ ConfigResult ServoWatchdogs::configure(const ServoParams& p) {
     return err(p, "", "watchdogs.force_mismatch.tolerance_n", w.mismatch_tolerance_n, "must be in (0, 1e4] N");
   if (!in(w.mismatch_tolerance_rel, 0.0, 1.0))
     return err(p, "", "watchdogs.force_mismatch.tolerance_rel", w.mismatch_tolerance_rel, "must be in [0, 1]");
-  if (!(in(w.mismatch_no_contact_n, 0.0, 1e4) && w.mismatch_no_contact_n > 0))
-    return err(p, "", "watchdogs.force_mismatch.no_contact_n", w.mismatch_no_contact_n, "must be in (0, 1e4] N");
+  if (!in(w.phantom_window_s, 0.0, 60.0))
+    return err(p, "", "watchdogs.phantom_contact.window_s", w.phantom_window_s, "must be in [0, 60] s (0 = off)");
+  if (!(in(w.phantom_tolerance_n, 0.0, 1e4) && w.phantom_tolerance_n > 0))
+    return err(p, "", "watchdogs.phantom_contact.tolerance_n", w.phantom_tolerance_n, "must be in (0, 1e4] N");
+  if (!in(w.phantom_tolerance_rel, 0.0, 1.0))
+    return err(p, "", "watchdogs.phantom_contact.tolerance_rel", w.phantom_tolerance_rel, "must be in [0, 1]");
+  if (!in(w.unseen_window_s, 0.0, 60.0))
+    return err(p, "", "watchdogs.unseen_load.window_s", w.unseen_window_s, "must be in [0, 60] s (0 = off)");
+  if (!(in(w.unseen_max_n, 0.0, 1e4) && w.unseen_max_n > 0))
+    return err(p, "", "watchdogs.unseen_load.max_n", w.unseen_max_n, "must be in (0, 1e4] N");
+  if (!in(w.correction_window_s, 0.0, 60.0))
+    return err(p, "", "watchdogs.correction_saturated.window_s", w.correction_window_s, "must be in [0, 60] s (0 = off)");
+  if (!in(w.fault_retreat_m, 0.0, 0.1))
+    return err(p, "", "watchdogs.retreat_m", w.fault_retreat_m, "must be in [0, 0.1] m");
   if (!in(w.curved_tau_s, 0.0, 10.0))
     return err(p, "", "watchdogs.surface_too_curved.tau_s", w.curved_tau_s, "must be in [0, 10] s (0 = off)");
   if (!(in(w.curved_excess_n, 0.0, 1e4) && w.curved_excess_n > 0))
@@ -46,7 +58,8 @@ ConfigResult ServoWatchdogs::configure(const ServoParams& p) {
 void ServoWatchdogs::reset() {
   latched_ = ServoStatus::Ok;
   stall_active_ = false;
-  mismatch_s_ = 0.0;
+  mismatch_s_ = phantom_s_ = unseen_s_ = saturated_s_ = 0.0;
+  retreat_moved_ = 0.0;
   curved_lp_ = 0.0;
   curved_have_ = false;
   curved_short_ = false;
@@ -80,24 +93,43 @@ bool ServoWatchdogs::armStalled(const KDL::Frame& T_gs, const Vec6& u_s, bool in
   return (stalled_t || stalled_r) ? latch(ServoStatus::ArmStalled) : false;
 }
 
-bool ServoWatchdogs::forceMismatch(double force, bool contact, bool have_wrench, const Wrench& w,
-                                   const KDL::Vector& z_s, double now, double dt, double stale_s) {
-  if (!(p_.mismatch_window_s > 0.0)) return false;
-  const bool fresh = have_wrench && std::fabs(now - w.time_s) <= stale_s;
-  const double f_w = std::fabs(w.w[0] * z_s.x() + w.w[1] * z_s.y() + w.w[2] * z_s.z());
-  if (!fresh || !std::isfinite(force) || !std::isfinite(f_w)) {
-    mismatch_s_ = 0.0;
-    return false;
-  }
-  bool bad = false;
-  if (contact) {  // Eq. 2's force from the taxels against the wrench along z_s
-    const double tol = std::max(p_.mismatch_tolerance_n, p_.mismatch_tolerance_rel * std::max(std::fabs(force), f_w));
-    bad = std::fabs(force - f_w) > tol;
-  } else {  // no tactile contact: the wrench must not carry a load either
-    bad = f_w > p_.mismatch_no_contact_n;
-  }
-  mismatch_s_ = bad ? mismatch_s_ + dt : 0.0;
-  return mismatch_s_ >= p_.mismatch_window_s - 1e-6 ? latch(ServoStatus::ForceMismatch) : false;
+namespace {
+/// A window of `window_s` (0 = off) over which `bad` must hold: `held` the
+/// time it has, advanced by dt or restarted; true once it covers the window.
+bool held(bool bad, double window_s, double dt, double& held_s) {
+  if (!(window_s > 0.0)) return false;
+  held_s = bad ? held_s + dt : 0.0;
+  return held_s >= window_s - 1e-6;
+}
+}  // namespace
+
+ServoStatus ServoWatchdogs::sensorsAgree(const SensorSample& s, double dt) {
+  if (!s.fresh || !std::isfinite(s.f) || !std::isfinite(s.f_w) || !(dt > 0.0)) return ServoStatus::Ok;  // held
+  // Phantom contact: the taxels carry more than the arm does.
+  const bool phantom = s.contact && s.f - s.f_w > std::max(p_.phantom_tolerance_n, p_.phantom_tolerance_rel * s.f);
+  if (held(phantom, p_.phantom_window_s, dt, phantom_s_)) return latchedAs(ServoStatus::PhantomContact);
+  // Force mismatch: the arm carries more than the taxels and the estimate's bound.
+  const double tol = std::max(p_.mismatch_tolerance_n, p_.mismatch_tolerance_rel * s.f_w) + s.hidden_n;
+  if (held(s.contact && s.f_w - s.f > tol, p_.mismatch_window_s, dt, mismatch_s_))
+    return latchedAs(ServoStatus::ForceMismatch);
+  // Unseen load: no taxel fires, the arm carries a load.
+  if (held(!s.contact && s.f_w > p_.unseen_max_n, p_.unseen_window_s, dt, unseen_s_))
+    return latchedAs(ServoStatus::UnseenLoad);
+  // Correction saturated: counted on the cycles that update it (contact).
+  if (s.c_max > 0.0 && s.contact &&
+      held(std::fabs(s.c) >= s.c_max * (1.0 - 1e-9), p_.correction_window_s, dt, saturated_s_))
+    return latchedAs(ServoStatus::CorrectionSaturated);
+  return ServoStatus::Ok;
+}
+
+double ServoWatchdogs::faultRetreat(double max_step) {
+  const bool sensor_fault = latched_ == ServoStatus::PhantomContact || latched_ == ServoStatus::ForceMismatch ||
+                            latched_ == ServoStatus::UnseenLoad || latched_ == ServoStatus::CorrectionSaturated;
+  if (!sensor_fault || !p_.fault_retreat) return 0.0;
+  const double d = std::min(std::max(max_step, 0.0), p_.fault_retreat_m - retreat_moved_);
+  if (!(d > 0.0)) return 0.0;
+  retreat_moved_ += d;
+  return d;
 }
 
 bool ServoWatchdogs::surfaceTooCurved(double f_w, double f_d, bool regulated, bool contact, double f,

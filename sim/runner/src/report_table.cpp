@@ -84,7 +84,7 @@ ConfigResult readReportTable(const std::string& path, const Scene& scene, RunRes
                                    " values for " + std::to_string(col.index.size()) + " columns");
     auto d = [&](std::size_t c) { return std::strtod(v[c].c_str(), nullptr); };
     ServoStatus st = ServoStatus::NotConfigured;
-    if (!enumByName(v[c_status], static_cast<int>(ServoStatus::SurfaceTooCurved), st))  // the last status
+    if (!enumByName(v[c_status], static_cast<int>(kLastServoStatus), st))
       return ConfigResult::failure(path + ":" + std::to_string(lineno) + ": unknown servo status '" + v[c_status] + "'");
     ContactFeatures f;
     f.time_s = d(c_ft);

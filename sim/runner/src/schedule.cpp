@@ -56,6 +56,9 @@ EndReason EndRule::afterServo(ServoStatus st) {
   if (st == ServoStatus::ArmStalled) return EndReason::ServoArmStalled;
   if (st == ServoStatus::ForceMismatch) return EndReason::ServoForceMismatch;
   if (st == ServoStatus::SurfaceTooCurved) return EndReason::ServoSurfaceTooCurved;
+  if (st == ServoStatus::PhantomContact) return EndReason::ServoPhantomContact;
+  if (st == ServoStatus::UnseenLoad) return EndReason::ServoUnseenLoad;
+  if (st == ServoStatus::CorrectionSaturated) return EndReason::ServoCorrectionSaturated;
   // A terminal phase ends the run after one more second of holding.
   if (st == ServoStatus::Done && ++done_cycles_ > done_limit_) return EndReason::DoneHeld;
   return EndReason::None;
@@ -88,7 +91,10 @@ void applyEnd(EndReason reason, SimStatus sim_status, Summary& s) {
                                             {EndReason::ServoPhaseTimeout, "servo_phase_timeout", 5},
                                             {EndReason::ServoArmStalled, "servo_arm_stalled", 6},
                                             {EndReason::ServoForceMismatch, "servo_force_mismatch", 7},
-                                            {EndReason::ServoSurfaceTooCurved, "servo_surface_too_curved", 8}};
+                                            {EndReason::ServoSurfaceTooCurved, "servo_surface_too_curved", 8},
+                                            {EndReason::ServoPhantomContact, "servo_phantom_contact", 9},
+                                            {EndReason::ServoUnseenLoad, "servo_unseen_load", 10},
+                                            {EndReason::ServoCorrectionSaturated, "servo_correction_saturated", 11}};
   for (const ServoEnd& e : kServoEnds) {
     if (e.reason == reason) {
       s.status = e.status;

@@ -26,8 +26,9 @@
 //    ceiling_retreat, hold; latched until reset() or requestPhase();
 //  * features older than stale_timeout or unusable -> Holding (last command);
 //    NaN/Inf inputs or dt <= 0 -> InvalidInput, hold; no output is ever NaN;
-//  * watchdogs (watchdog.hpp) PhaseTimeout, ArmStalled, ForceMismatch: fatal,
-//    latched, command held;
+//  * watchdogs (watchdog.hpp) PhaseTimeout, ArmStalled, ForceMismatch,
+//    SurfaceTooCurved, PhantomContact, UnseenLoad, CorrectionSaturated: fatal,
+//    latched, command held (the sensor checks may first retreat, on_fault);
 //  * contact lost in a phase that requires contact -> contact_loss: hold,
 //    backoff (along -z_s) or search (along +z_s, at most search_max_distance);
 //  * in.robot_ready false (no dry run) -> WaitingForRobot: the command is the
@@ -153,6 +154,9 @@ class TactileServo {
   void enterPhase(int idx, double now);
   ServoStatus finish(ServoStatus st, double now, ServoOutput& out);
   ServoStatus applyIncrement(const KDL::Frame& base, Vec6 u_s, double dt, ServoStatus st, double now, ServoOutput& out);
+  /// A latched sensor fault (watchdog.hpp): this cycle's retreat along -z_s
+  /// (on_fault: retreat), else the held command.
+  ServoStatus onSensorFault(const KDL::Frame& base, double dt, double now, ServoOutput& out);
 
   bool configured_ = false;
   ServoParams params_;

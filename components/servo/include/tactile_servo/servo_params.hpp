@@ -162,14 +162,35 @@ struct WatchdogParams {
   double stall_min_distance = 0.005;             ///< m, > 0
   double stall_min_angle = 5.0 * kPi / 180.0;    ///< rad, > 0
   double stall_min_fraction = 0.2;               ///< (0, 1]
-  /// Force mismatch, held for window_s: with tactile contact, |tactile force -
-  /// estimated wrench force along z_s| above max(tolerance_n, tolerance_rel *
-  /// the larger of the two); without tactile contact, a wrench force along
-  /// z_s above no_contact_n (load the taxels do not see, e.g. on the housing).
+  /// The two sensors checked against each other (ServoWatchdogs::sensorsAgree),
+  /// always with Eq. 2's tactile force f (never the fused estimate f_hat) and
+  /// the arm's wrench along z_s less its zero, f_w:
+  /// Force mismatch, held for window_s: with tactile contact, the wrench above
+  /// the taxels, f_w - f > max(tolerance_n, tolerance_rel * f_w) + the load
+  /// the fused estimate may carry below the firing threshold (its
+  /// max_correction_n; 0 with source tactile).
   double mismatch_window_s = 0.5;                ///< s, 0 = off
   double mismatch_tolerance_n = 4.0;             ///< N, > 0
   double mismatch_tolerance_rel = 0.3;           ///< [0, 1]
-  double mismatch_no_contact_n = 10.0;           ///< N, > 0
+  /// Phantom contact, held for window_s: with tactile contact, the taxels
+  /// above the wrench, f - f_w > max(tolerance_n, tolerance_rel * f): a load
+  /// the arm does not carry. Short: the arm must not chase it.
+  double phantom_window_s = 0.05;                ///< s, [0, 60], 0 = off
+  double phantom_tolerance_n = 2.0;              ///< N, (0, 1e4]
+  double phantom_tolerance_rel = 0.4;            ///< [0, 1]
+  /// Unseen load, held for window_s: no tactile contact, f_w > max_n (load on
+  /// the housing or the cable, a wrong load model).
+  double unseen_window_s = 0.1;                  ///< s, [0, 60], 0 = off
+  double unseen_max_n = 10.0;                    ///< N, (0, 1e4]
+  /// Correction saturated, held for window_s: the fused estimate's |c| at
+  /// force_estimate.max_correction_n (source fused only): the sensors
+  /// disagree by more than the estimate may bridge.
+  double correction_window_s = 1.0;              ///< s, [0, 60], 0 = off
+  /// What the servo does once one of the four checks above stops it: hold the
+  /// last command, or retreat along -z_s by retreat_m at the step limit, then
+  /// hold.
+  bool fault_retreat = false;                    ///< on_fault: hold (false) | retreat (true)
+  double fault_retreat_m = 0.01;                 ///< m, [0, 0.1]
   /// Surface too curved (ServoWatchdogs::surfaceTooCurved): the arm's wrench
   /// along z_s, low-passed with tau_s, above the phase's force set point by
   /// more than excess_n while the image spans at most max_extent_m, or its

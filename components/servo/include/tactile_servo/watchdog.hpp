@@ -9,15 +9,40 @@
 //    less than min_fraction of the commanded translation, or turned less than
 //    min_fraction of the commanded rotation, while that command was at least
 //    min_distance / min_angle (an arm or simulator that does not follow);
-//  * force mismatch, held for window_s: while the features report contact,
-//    the tactile force (Eq. 2, f = d_z / C_z) and the arm's estimated
-//    external wrench projected on z_s differ by more than max(tolerance_n,
-//    tolerance_rel * the larger); without tactile contact, the wrench along
-//    z_s exceeds no_contact_n (a pad much softer than calibrated: the rigid
-//    housing carries the load, the taxels see little or nothing).
-//    The wrench force is |F . z_s|, independent of the sign convention of the
-//    estimate (the KRC's estExtTcpFT or the simulated arm's contact wrench);
-//    a wrench older than `stale_s` is not used.
+//  * the two sensors against each other (sensorsAgree), with Eq. 2's
+//    tactile force f = d_z / C_z (never the fused estimate f_hat = f + c,
+//    whose correction moves toward the wrench and would hide the
+//    contradiction) and f_w = |F . z_s|, the arm's estimated wrench (less
+//    its zero, force_estimator.hpp) along z_s, independent of the sign
+//    convention of the estimate (the KRC's estExtTcpFT or the simulated
+//    arm's contact wrench); a wrench older than `stale_s` is not used (the
+//    windows hold). Each contradiction has its own status and window:
+//      phantom contact     with tactile contact, f - f_w > max(tolerance_n,
+//                          tolerance_rel f) for phantom.window_s: the taxels
+//                          read a load the arm does not carry (a stuck or
+//                          pressed region, the cable or the cover, a
+//                          calibration too high). Its window is short (0.05 s
+//                          by default): the arm must not chase such a contact
+//                          by more than a few millimetres;
+//      force mismatch      with tactile contact, f_w - f > max(tolerance_n,
+//                          tolerance_rel f_w) + hidden_n for window_s, hidden_n
+//                          the load the fused estimate may place below the
+//                          firing threshold (its max_correction_n; 0 with
+//                          source tactile): a pad much softer than calibrated,
+//                          the housing carrying part of the load;
+//      unseen load         without tactile contact, f_w > unseen.max_n for
+//                          unseen.window_s: a load no taxel sees;
+//      correction saturated  source fused: |c| at max_correction_n for
+//                          correction.window_s on cycles that update it
+//                          (tactile contact, a fresh wrench): a correction
+//                          held at its limit is a disagreement the estimate
+//                          cannot bridge, not a steady state.
+//    On one of these, the servo holds, or retreats along -z_s by
+//    retreat_m at the step limit and then holds (on_fault).
+//    With the paper's tactile-only source and no wrench at all (the port
+//    unconnected), none of these can run: what bounds the arm then is the
+//    tactile force ceiling, the step limits, the workspace box, the phase
+//    timeouts and the arm-stall watchdog (docs/design.md).
 //  * surface too curved (off unless surface_too_curved.tau_s > 0): in a phase
 //    that holds a force set point f_d, the arm's wrench along z_s (less its
 //    zero), low-passed with tau_s (against its noise; the filter starts from
@@ -70,12 +95,23 @@ class ServoWatchdogs {
   /// A cycle without commanded motion: the stall window starts over.
   void restartStall() { stall_active_ = false; }
 
-  /// Force mismatch on a cycle of `dt` s: tactile force `force` (N) with
-  /// `contact`; `wrench` the estimated external wrench ({g} axes), used when
-  /// `have_wrench` and not older than `stale_s` at `now`; `z_s` the sensor's
-  /// z axis in {g}.
-  bool forceMismatch(double force, bool contact, bool have_wrench, const Wrench& wrench, const KDL::Vector& z_s,
-                     double now, double dt, double stale_s);
+  /// What sensorsAgree() compares on one cycle.
+  struct SensorSample {
+    double f = 0.0;         ///< N, Eq. 2's tactile force (raw: not the fused estimate)
+    bool contact = false;   ///< tactile contact
+    bool fresh = false;     ///< a wrench sample no older than the stale timeout
+    double f_w = 0.0;       ///< N, |(F - T) . z_s|: the wrench less its zero along z_s
+    double hidden_n = 0.0;  ///< N, the load the estimate may carry below the threshold (0: source tactile)
+    double c = 0.0;         ///< N, the fused estimate's correction
+    double c_max = 0.0;     ///< N, its limit; 0: source tactile (not checked)
+  };
+  /// The two sensors against each other on a cycle of `dt` s (header):
+  /// latches and returns PhantomContact, ForceMismatch, UnseenLoad or
+  /// CorrectionSaturated; ServoStatus::Ok while they agree.
+  ServoStatus sensorsAgree(const SensorSample& s, double dt);
+  /// Once sensorsAgree() latched and on_fault is retreat: this cycle's move
+  /// along -z_s (m, at most `max_step`), 0 once retreat_m was made (hold).
+  double faultRetreat(double max_step);
 
   /// Surface too curved on a cycle of `dt` s: `f_w` the wrench's force along
   /// z_s less its zero (N), `f_d` the phase's force set point (N), `regulated`
@@ -96,6 +132,10 @@ class ServoWatchdogs {
     latched_ = s;
     return true;
   }
+  ServoStatus latchedAs(ServoStatus s) {
+    latched_ = s;
+    return s;
+  }
   WatchdogParams p_;
   ServoStatus latched_ = ServoStatus::Ok;
   bool stall_active_ = false;
@@ -103,6 +143,10 @@ class ServoWatchdogs {
   KDL::Frame stall_pose0_;
   KDL::Vector stall_cmd_t_, stall_cmd_r_;
   double mismatch_s_ = 0.0;
+  double phantom_s_ = 0.0;
+  double unseen_s_ = 0.0;
+  double saturated_s_ = 0.0;
+  double retreat_moved_ = 0.0;
   double curved_lp_ = 0.0;  // low-passed f_w - f_d
   bool curved_have_ = false;
   bool curved_short_ = false;  // the image short (or gone) on the last cycle

@@ -86,7 +86,10 @@ enum class EndReason : uint8_t {
   ServoPhaseTimeout,   ///< the servo's watchdogs (tactile::watchdogStatus): never `ok`
   ServoArmStalled,
   ServoForceMismatch,
-  ServoSurfaceTooCurved  ///< the surface curves more tightly than the pad can follow (exit code 8)
+  ServoSurfaceTooCurved,    ///< the surface curves more tightly than the pad can follow (exit code 8)
+  ServoPhantomContact,      ///< the taxels read a load the wrench does not carry (exit code 9)
+  ServoUnseenLoad,          ///< the wrench carries a load no taxel sees (exit code 10)
+  ServoCorrectionSaturated  ///< the force estimate's correction held at its limit (exit code 11)
 };
 
 class EndRule {
@@ -98,7 +101,7 @@ class EndRule {
   }
   void reset() { done_cycles_ = invalid_cycles_ = unconverged_cycles_ = unconverged_total_ = 0; }
   /// After a servo cycle: ForceCeiling and the watchdog statuses
-  /// (PhaseTimeout, ArmStalled, ForceMismatch, SurfaceTooCurved) end the run at once; Done
+  /// (tactile::watchdogStatus) end the run at once; Done
   /// ends it after one more second (rates.servo cycles) of holding.
   EndReason afterServo(ServoStatus st);
   /// After a physics step: a fatal simulator status ends the run (SimFatal);

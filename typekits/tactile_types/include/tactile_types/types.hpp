@@ -148,15 +148,27 @@ enum class ServoStatus : uint8_t {
   PhaseTimeout = 13,   ///< longer in a phase than its max_duration_s: a phase that never ends
   ArmStalled = 14,     ///< motion commanded for a window but the measured pose did not follow
   ForceMismatch = 15,  ///< tactile force contradicted by the arm's estimated wrench along z_s
-  SurfaceTooCurved = 16 ///< the surface curves more tightly than the rigid pad can follow: the image
-                        ///< shrank to part of the pad (or vanished) while the arm's wrench carries
-                        ///< more than the force set point (the load on the pad's ends or housing)
+  SurfaceTooCurved = 16, ///< the surface curves more tightly than the rigid pad can follow: the image
+                         ///< shrank to part of the pad (or vanished) while the arm's wrench carries
+                         ///< more than the force set point (the load on the pad's ends or housing)
+  // The two sensors checked against each other (watchdog.hpp): each
+  // contradiction has its own status.
+  PhantomContact = 17,      ///< the taxels read a load the arm's wrench does not carry (a stuck or
+                            ///< pressed region, a cable or the cover, a calibration too high)
+  UnseenLoad = 18,          ///< the arm's wrench carries a load no taxel sees (the housing, the cable,
+                            ///< a wrong load model)
+  CorrectionSaturated = 19  ///< the fused force estimate's correction held at its limit: the taxels and
+                            ///< the wrench disagree by more than the estimate may bridge
 };
+/// The highest ServoStatus value (tables and parsers that walk every status).
+constexpr ServoStatus kLastServoStatus = ServoStatus::CorrectionSaturated;
 
-/// A watchdog status (PhaseTimeout, ArmStalled, ForceMismatch, SurfaceTooCurved): the run failed.
+/// A watchdog status (PhaseTimeout, ArmStalled, ForceMismatch, SurfaceTooCurved,
+/// PhantomContact, UnseenLoad, CorrectionSaturated): the run failed.
 inline bool watchdogStatus(ServoStatus s) noexcept {
   return s == ServoStatus::PhaseTimeout || s == ServoStatus::ArmStalled || s == ServoStatus::ForceMismatch ||
-         s == ServoStatus::SurfaceTooCurved;
+         s == ServoStatus::SurfaceTooCurved || s == ServoStatus::PhantomContact || s == ServoStatus::UnseenLoad ||
+         s == ServoStatus::CorrectionSaturated;
 }
 
 /// Desired pose for the robot's Cartesian impedance controller, in {g}.
