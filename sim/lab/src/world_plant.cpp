@@ -23,7 +23,8 @@ ConfigResult WorldPlant::configure(const sim::Scene& scene) {
   if (!(r = response_.configure(sim::responseParams(scene))))
     return ConfigResult::failure(scene.file + ": sensor: " + r.message());
   if (!(r = schedule_.configure(scene.rates, kScheduleSpanS))) return ConfigResult::failure(scene.file + ": " + r.message());
-  est_wrench_.configure(scene.wrench_error, scene.seed);
+  if (!(r = est_wrench_.configure(scene.wrench_error, scene.seed, scene.faults)))
+    return ConfigResult::failure(scene.file + ": " + r.message());
   configured_ = true;
   reset(KDL::Frame::Identity());
   return ConfigResult::success();
