@@ -54,6 +54,10 @@ void WorldPlant::acquireIfDue() {
   // tick i images the state after the step that led to it; with a transfer
   // delay the frame reaches the reader when its transfer has ended.
   const double t = schedule_.time();
+  if (response_.faults().streams()) {  // the link's faults by time, for the device thread
+    link_down_.store(response_.faults().linkDown(t));
+    stalled_.store(response_.faults().stalled(t));
+  }
   bool got = false;
   if (schedule_.fires().wts) {
     world_.acquireForces(forces_, acq_);
