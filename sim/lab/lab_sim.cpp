@@ -117,6 +117,29 @@ struct Stat {
   double sd() const { return n > 1 ? std::sqrt(m2 / double(n - 1)) : 0.0; }
 };
 
+/// The scene's link faults on the WTS device: unplugged for a disconnect's
+/// window (the reader sees the hangup and reconnects to the new PTY behind
+/// the same link), held (no frame sent) for a stale window.
+void linkFaults(const lab::WorldPlant& plant, wts::SimulatedWts& wts, double t, uint64_t& unplugs) {
+  const bool down = plant.sensorLinkDown();
+  if (down == wts.plugged()) {
+    if (down) {
+      wts.unplug();
+      ++unplugs;
+    } else if (!wts.replug()) {
+      std::printf("t %8.3f s  WTS: plugging back failed\n", t);
+    }
+    std::printf("t %8.3f s  WTS %s (faults: disconnect)\n", t, down ? "unplugged" : "plugged back");
+    std::fflush(stdout);
+  }
+  const bool stall = plant.sensorStalled();
+  if (stall != wts.held()) {
+    wts.hold(stall);
+    std::printf("t %8.3f s  WTS stream %s (faults: stale)\n", t, stall ? "stalled" : "resumed");
+    std::fflush(stdout);
+  }
+}
+
 void printForce(const char* label, const Stat& s, double cycle_s) {
   if (s.n == 0) {
     std::printf("lab_sim: true contact force %s: no contact\n", label);
@@ -294,10 +317,12 @@ int main(int argc, char** argv) {
   uint64_t first_reply_cycle = 0, missed_at_first = 0, closed_at_first = 0;
   uint64_t last_reply_cycle = 0, missed_at_last = 0, closed_at_last = 0, replies_seen = 0;
   bool answered = false;
+  uint64_t unplugs = 0;
   while (!g_stop.load() && (max_cycles == 0 || krc.stats().cycles < max_cycles)) {
     const uint64_t c = krc.stats().cycles;  // this cycle's index: its scheduled events apply now
     krc.runCycle();
     const double t = double(c) * T_krc;
+    linkFaults(plant, wts, t, unplugs);
     if (krc.stats().replies != replies_seen) {
       replies_seen = krc.stats().replies;
       if (!answered) {
@@ -383,12 +408,13 @@ int main(int argc, char** argv) {
               (unsigned long long)k.nonfinite_commands, (unsigned long long)k.remote_seq_errors,
               k.replies ? 1e6 * k.sum_latency_s / double(k.replies) : 0.0, 1e6 * k.max_latency_s);
   std::printf("lab_sim: world steps %llu not_converged %llu invalid_commands %llu fatal %llu%s%s; WTS acquisitions "
-              "%llu frames %llu, device frames sent %llu commands %llu bad_commands %llu\n",
+              "%llu frames %llu, device frames sent %llu held %llu unplugged %llu commands %llu bad_commands %llu\n",
               (unsigned long long)w.physics_steps, (unsigned long long)w.not_converged,
               (unsigned long long)w.invalid_commands, (unsigned long long)w.fatal_steps,
               w.fatal_steps ? " first " : "", w.fatal_steps ? sim::toString(w.first_fatal) : "",
               (unsigned long long)w.acquisitions, (unsigned long long)w.frames, (unsigned long long)ws.frames,
-              (unsigned long long)ws.commands, (unsigned long long)ws.bad_commands);
+              (unsigned long long)ws.held_frames, (unsigned long long)unplugs, (unsigned long long)ws.commands,
+              (unsigned long long)ws.bad_commands);
   printForce("(all)", force_all, T_krc);
   printForce("(in CMD)", force_cmd, T_krc);
   const bool clean = k.mon_echo_errors == 0 && k.flag_errors == 0 && k.nonfinite_commands == 0;

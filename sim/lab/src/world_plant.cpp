@@ -23,7 +23,8 @@ ConfigResult WorldPlant::configure(const sim::Scene& scene) {
   if (!(r = response_.configure(sim::responseParams(scene))))
     return ConfigResult::failure(scene.file + ": sensor: " + r.message());
   if (!(r = schedule_.configure(scene.rates, kScheduleSpanS))) return ConfigResult::failure(scene.file + ": " + r.message());
-  est_wrench_.configure(scene.wrench_error, scene.seed);
+  if (!(r = est_wrench_.configure(scene.wrench_error, scene.seed, scene.faults)))
+    return ConfigResult::failure(scene.file + ": " + r.message());
   configured_ = true;
   reset(KDL::Frame::Identity());
   return ConfigResult::success();
@@ -53,6 +54,10 @@ void WorldPlant::acquireIfDue() {
   // tick i images the state after the step that led to it; with a transfer
   // delay the frame reaches the reader when its transfer has ended.
   const double t = schedule_.time();
+  if (response_.faults().streams()) {  // the link's faults by time, for the device thread
+    link_down_.store(response_.faults().linkDown(t));
+    stalled_.store(response_.faults().stalled(t));
+  }
   bool got = false;
   if (schedule_.fires().wts) {
     world_.acquireForces(forces_, acq_);

@@ -58,6 +58,8 @@ ConfigResult TaxelResponse::configure(const TaxelResponseParams& p) {
   if (!(e.max_frame_rate_hz > 0.0) || e.max_frame_rate_hz > 1e5)
     return rangeError("effects.max_frame_rate_hz", e.max_frame_rate_hz, "must be in (0, 1e5] Hz");
 
+  if (!(r = faults_.configure(p.faults, c.rows, c.cols, c.full_scale))) return r;
+
   params_ = p;
   n_ = n;
   rows_ = c.rows;
@@ -115,6 +117,9 @@ ConfigResult TaxelResponse::configure(const TaxelResponseParams& p) {
     if (dead_[k]) silent_force_[k] = 1e300;  // never reads
   }
 
+  // The stuck faults given in N: the counts the reader's calibration maps to that force.
+  faults_.resolveForces([this](int i, double f) { return countsFor(i, f); });
+
   delay_ = e.wts_transfer_delay_s;
   ring_.clear();
   if (delay_ > 0.0) {
@@ -137,6 +142,7 @@ void TaxelResponse::reseed(uint64_t seed) {
   head_ = 0;
   count_ = 0;
   overruns_ = 0;
+  faults_.reset();
 }
 
 double TaxelResponse::forceFor(int i, double n) const {
@@ -220,15 +226,24 @@ int TaxelResponse::respond(const TactileFrame& forces, double t, RawTactileFrame
     load = load_.data();
   }
   const double sigma = noise_;
+  // Faults of the electronics (none: scale 1, offset 0): the calibration's
+  // scale on the load, the zero's drift on the counts.
+  double scale = 1.0, offset = 0.0;
+  if (faults_.electronics()) {
+    scale = faults_.loadScale(t);
+    offset = faults_.zeroOffsetCounts(t);
+  }
+  const bool shifted = offset != 0.0;  // an unloaded taxel may fire: no silent shortcut
   int maxc = 0;
   for (int i = 0; i < n_; ++i) {
     const std::size_t k = static_cast<std::size_t>(i);
-    const double f = load[k];
-    if (!(f >= silent_force_[k])) {  // reads 0 whatever the noise (no draw); dead taxels too
+    const double f = scale * load[k];
+    if (shifted ? dead_[k] != 0 : !(f >= silent_force_[k])) {  // reads 0 whatever the noise (no draw); dead taxels too
       raw.counts[k] = 0;
       continue;
     }
     double n = taxel_on_ ? gain_[k] * countsFor(i, f / (1.0 + calib_err_[k])) : countsFor(i, f);
+    n += offset;
     if (sigma > 0.0 && n + 10.0 * sigma >= threshold_counts_[k]) n += sigma * normal_(rng_);
     n = std::round(n);
     if (n < 0.0) n = 0.0;
@@ -237,14 +252,27 @@ int TaxelResponse::respond(const TactileFrame& forces, double t, RawTactileFrame
     raw.counts[k] = static_cast<uint16_t>(n);
     if (static_cast<int>(n) > maxc) maxc = static_cast<int>(n);
   }
+  if (faults_.counts()) {  // stuck, dead, saturated: after the electronics
+    faults_.applyCounts(t, threshold_counts_.data(), raw);
+    maxc = 0;
+    for (int i = 0; i < n_; ++i) maxc = std::max(maxc, static_cast<int>(raw.counts[static_cast<std::size_t>(i)]));
+  }
   return maxc;
 }
 
-bool TaxelResponse::acquire(const TactileFrame& forces, double t, RawTactileFrame& raw) {
-  if (!(delay_ > 0.0)) {
+bool TaxelResponse::respondAndEmit(const TactileFrame& forces, double t, RawTactileFrame& raw) {
+  if (!faults_.streams()) {
     respond(forces, t, raw);
     return true;
   }
+  respond(forces, t, scratch_);
+  if (!emit(scratch_)) return false;
+  raw = scratch_;
+  return true;
+}
+
+bool TaxelResponse::acquire(const TactileFrame& forces, double t, RawTactileFrame& raw) {
+  if (!(delay_ > 0.0)) return respondAndEmit(forces, t, raw);
   const std::size_t cap = ring_.size();
   if (count_ == cap) {  // full: the oldest frame is lost
     head_ = (head_ + 1) % cap;
@@ -261,10 +289,13 @@ bool TaxelResponse::deliver(double now, RawTactileFrame& raw) {
   bool any = false;
   const std::size_t cap = ring_.size();
   while (count_ > 0 && ring_[head_].time_s + delay_ <= now + 1e-9) {
-    raw = ring_[head_];
+    RawTactileFrame& arrived = ring_[head_];
+    if (!faults_.streams() || emit(arrived)) {  // the stream's faults as it reaches the reader
+      raw = arrived;
+      any = true;
+    }
     head_ = (head_ + 1) % cap;
     --count_;
-    any = true;
   }
   return any;
 }

@@ -1,5 +1,5 @@
 // The arm's estimated wrench the force estimate reads: the true wrench at the flange (fillEstimatedWrench)
-// plus the scene's wrench-error model (EstimatedWrench: scale, bias, drift, seeded noise).
+// plus the scene's wrench-error model (EstimatedWrench: scale, bias, drift, seeded noise) and its wrench faults.
 #include "tactile_sim/loop.hpp"
 
 #include <cmath>
@@ -34,23 +34,51 @@ double normalAt(uint64_t seed, uint64_t key, uint64_t axis) {
 }
 }  // namespace
 
-void EstimatedWrench::configure(const WrenchErrorParams& p, uint64_t seed) {
+ConfigResult EstimatedWrench::configure(const WrenchErrorParams& p, uint64_t seed, const std::vector<FaultSpec>& faults) {
   p_ = p;
   seed_ = seed;
+  std::vector<FaultSpec> wrench;
+  for (const FaultSpec& f : faults)
+    if (wrenchFault(f.kind)) wrench.push_back(f);
+  return faults_.configure(wrench);
 }
 
 void EstimatedWrench::start(const SimState& initial) { p0_ = initial.T_ge.p; }
 
 void EstimatedWrench::fill(const SimState& st, Wrench& out) const {
   fillEstimatedWrench(st, out);
-  if (!p_.any()) return;
-  const double dist = (st.T_ge.p - p0_).Norm();
-  const uint64_t key = static_cast<uint64_t>(std::llround(st.time_s * 1e9));
-  for (int i = 0; i < 3; ++i) {
-    double e = p_.scale * out.w[i] + p_.bias_n[i] + p_.drift_n_per_m[i] * dist;
-    if (p_.noise_n > 0.0) e += p_.noise_n * normalAt(seed_, key, static_cast<uint64_t>(i));
-    out.w[i] += e;
+  if (p_.any()) {
+    const double dist = (st.T_ge.p - p0_).Norm();
+    const uint64_t key = static_cast<uint64_t>(std::llround(st.time_s * 1e9));
+    for (int i = 0; i < 3; ++i) {
+      double e = p_.scale * out.w[i] + p_.bias_n[i] + p_.drift_n_per_m[i] * dist;
+      if (p_.noise_n > 0.0) e += p_.noise_n * normalAt(seed_, key, static_cast<uint64_t>(i));
+      out.w[i] += e;
+    }
   }
+  if (faults_.wrench()) applyFaults(st, out);
+}
+
+void EstimatedWrench::applyFaults(const SimState& st, Wrench& out) const {
+  WrenchFaultTerms ft;
+  faults_.wrenchAt(st.time_s, ft);
+  if (!ft.any) return;
+  KDL::Vector f(out.w[0] + ft.offset_n[0], out.w[1] + ft.offset_n[1], out.w[2] + ft.offset_n[2]);
+  KDL::Vector m(out.w[3], out.w[4], out.w[5]);
+  if (ft.mass_kg != 0.0) {
+    // The load model's missing mass: its gravity, fixed in {g}, at the pad's
+    // centre of mass (half-way from the flange to the sensing surface).
+    const KDL::Vector g(0.0, 0.0, -ft.mass_kg * kGravity);
+    f += g;
+    m += (0.5 * (st.T_gs.p - st.T_ge.p)) * g;
+  }
+  if (ft.axes != WrenchAxes::Base) {  // the other axes' components, reported as {g}'s
+    const KDL::Rotation& R = ft.axes == WrenchAxes::Flange ? st.T_ge.M : st.T_gs.M;
+    f = R.Inverse(f);
+    m = R.Inverse(m);
+  }
+  const double sign = ft.negate ? -1.0 : 1.0;
+  out.w = {sign * f.x(), sign * f.y(), sign * f.z(), sign * m.x(), sign * m.y(), sign * m.z()};
 }
 
 }  // namespace sim

@@ -122,7 +122,7 @@ void Runner::startRun(RunResult& out, RunState& rs) {
   rs.line_params.fire_n = sc.features.contact_threshold;  // the features' own firing threshold
   rs.state = world_.state();
   rs.ss = rs.state.status;
-  rs.est_wrench.configure(sc.wrench_error, sc.seed);
+  rs.est_wrench.configure(sc.wrench_error, sc.seed, sc.faults);  // validated by loadScene
   rs.est_wrench.start(rs.state);
   rs.cmd = rs.state.command_g;  // the initial command (dynamics may start at its equilibrium, off it)
   // The arm at start: its image for the first acquisition, its ground truth.

@@ -261,6 +261,11 @@ void SimulatedWts::reply(uint8_t id, StatusCode st, const uint8_t* data, std::si
 }
 
 void SimulatedWts::sendFrame(uint8_t id, bool with_status) {
+  if (held_.load()) {  // a stalled stream: nothing goes out
+    std::lock_guard<std::mutex> lk(mu_);
+    ++stats_.held_frames;
+    return;
+  }
   RawTactileFrame f;
   f.rows = static_cast<uint16_t>(p_.cells.rows);
   f.cols = static_cast<uint16_t>(p_.cells.cols);

@@ -22,6 +22,10 @@
 //     wrench at the flange origin, {g} axes, with the scene's
 //     effects.wrench_error), so that the FRI bridge's estimated_wrench port
 //     carries what the simulated arm's does;
+//   the scene's pad faults (`faults:`) act in the sensor's electronics and
+//     on its frames (TaxelResponse); the link's (disconnect, stale) are also
+//     reported by time (sensorLinkDown(), sensorStalled()) for the device
+//     thread: lab_sim unplugs or holds the PTY device for their windows;
 //   holdPose(): the world's last command. While the KRC applies no command
 //     (MON, drives off, closed, CMD before the first command) the robot holds
 //     the set point it had: a pad pressed on an object at the start stays
@@ -84,6 +88,13 @@ class WorldPlant : public fri::Plant {
   /// first frame. Thread-safe.
   bool latestFrame(RawTactileFrame& out) const;
 
+  /// The sensor's link faults at the world's time (the scene's `faults:`,
+  /// tactile_sim/sensor_faults.hpp): inside a disconnect's window (lab_sim
+  /// unplugs the WTS device for it) or a stale window (the device sends no
+  /// frame). Thread-safe.
+  bool sensorLinkDown() const { return link_down_.load(); }
+  bool sensorStalled() const { return stalled_.load(); }
+
   /// The world's measured start pose {g}T{e} (SimKrcParams::initial_pose).
   KDL::Frame initialPose() const { return initial_pose_; }
   double physicsStep() const { return h_; }
@@ -115,6 +126,7 @@ class WorldPlant : public fri::Plant {
   WorldPlantStats stats_;
   bool configured_ = false;
 
+  std::atomic<bool> link_down_{false}, stalled_{false};
   mutable std::mutex frame_mu_;  // guards latest_, have_latest_ (the WTS device's thread reads them)
   RawTactileFrame latest_;
   bool have_latest_ = false;

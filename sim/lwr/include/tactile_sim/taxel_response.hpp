@@ -36,6 +36,14 @@
 //  8. transfer delay d: the frame sampled at t reaches the reader at t + d
 //     (serial transfer): acquire() queues it in a ring allocated by
 //     configure(), deliver(now) hands over the frames whose transfer ended.
+// FAULTS (TaxelResponseParams::faults, the scene's `faults:` list; the
+// schedule of tactile_sim/sensor_faults.hpp, none by default, nothing done
+// without one): `calibration` scales the load after 3 (the reader's force =
+// scale x the true force), `tare_creep` adds its zero's drift to the counts
+// before 7's noise and threshold, `stuck`, `dead` and `saturated` overwrite
+// the counts after 7, and the stream's faults (`stale`, `disconnect`,
+// `repeat`, `nan`) act on each frame as it reaches the reader, at its
+// acquisition time.
 // The seeded per-taxel draws (gains, calibration errors, dead positions) use
 // their own generator (seed-derived), so turning them on does not change the
 // noise sequence.
@@ -49,6 +57,7 @@
 #include <vector>
 
 #include "tactile_features/calibration.hpp"
+#include "tactile_sim/sensor_faults.hpp"
 #include "tactile_types/config_result.hpp"
 #include "tactile_types/types.hpp"
 
@@ -82,6 +91,7 @@ struct TaxelResponseParams {
   double threshold = 0.2;         ///< N: firing threshold, >= 0
   uint64_t seed = 1;              ///< noise seed
   SensorEffects effects;          ///< all off by default
+  std::vector<FaultSpec> faults;  ///< scheduled faults (sensor_faults.hpp); the wrench's are ignored here
 };
 
 /// The WTS's noise level used by `device_noise`: App. A gives no noise figure,
@@ -134,11 +144,21 @@ class TaxelResponse {
   bool dead(int i) const { return dead_[static_cast<std::size_t>(i)] != 0; }
 
   /// Back to the state after configure(): noise reseeded, creep, hysteresis
-  /// and the transfer ring cleared (the per-taxel draws stay).
+  /// and the transfer ring cleared, the fault schedule armed again (the
+  /// per-taxel draws stay).
   void reseed(uint64_t seed);
+
+  /// The fault schedule (its link(), lastAction(), shots() after each frame).
+  const SensorFaultSchedule& faults() const { return faults_; }
+  /// Each taxel's firing threshold in counts (the stuck fault's floor).
+  double thresholdCounts(int i) const { return threshold_counts_[static_cast<std::size_t>(i)]; }
 
  private:
   void layer(const TactileFrame& forces, double t);  // effects 1-3 into load_
+  /// The frame stream's faults on a frame reaching the reader: false when withheld.
+  bool emit(RawTactileFrame& raw) { return faults_.stream(raw) != FaultAction::Withhold; }
+  /// respond() and emit() into raw; raw is left untouched when the frame is withheld.
+  bool respondAndEmit(const TactileFrame& forces, double t, RawTactileFrame& raw);
 
   TaxelResponseParams params_;
   int n_ = 0;
@@ -164,6 +184,8 @@ class TaxelResponse {
   std::vector<RawTactileFrame> ring_;  ///< capacity fixed by configure()
   std::size_t head_ = 0, count_ = 0;
   long overruns_ = 0;
+  SensorFaultSchedule faults_;
+  RawTactileFrame scratch_;  ///< a frame the stream's faults may withhold
 };
 
 }  // namespace sim

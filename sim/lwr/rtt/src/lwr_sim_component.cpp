@@ -51,7 +51,7 @@ bool LwrSimComponent::configureHook() {
   if (r) {
     world_params_ = sim::worldParams(scene);  // seed and physics step (the KRC cycle's and FRI delay's unit)
     record(sim_period_, 1.0 / scene.rates.sim);
-    est_wrench_.configure(scene.wrench_error, scene.seed);
+    est_wrench_.configure(scene.wrench_error, scene.seed, scene.faults);  // validated by loadScene
     r = krc_script_.parse(scene.krc, scene_file_ + ": krc");
     if (r) r = world_.configure(world_params_);
     if (r) r = schedule_.configure(scene.rates, scene.duration);

@@ -19,8 +19,8 @@ WtsSimComponent::WtsSimComponent(const std::string& name)
   addProperty("scene_file", scene_file_)
       .doc("Scene YAML (sim/scenes/*.yaml): its features_file's `calibration:` block (the real reader's "
            "calibration, inverted), sensor.noise_counts, sensor.threshold, seed and the sensor's `effects:` "
-           "(transfer delay, gains, dead taxels, calibration error, crosstalk, creep, hysteresis, device noise). "
-           "Read by configure().");
+           "(transfer delay, gains, dead taxels, calibration error, crosstalk, creep, hysteresis, device noise) "
+           "and the pad's scheduled `faults:` (tactile_sim/sensor_faults.hpp). Read by configure().");
   addAtomicAttribute(*provides(), "frames", frames_);
   addProperty("fault", fault_)
       .doc("TESTS ONLY, fault injection (tactile_sim/sensor_faults.hpp): '' = none (default), stale (no frame in "
@@ -47,13 +47,17 @@ bool WtsSimComponent::configureHook() {
   sim::Scene scene;
   ConfigResult r = scene_file_.empty() ? ConfigResult::failure("scene_file is empty: set it to a scene YAML (sim/scenes/*.yaml)")
                                        : sim::loadScene(scene_file_, scene);
-  if (r) {
-    r = response_.configure(sim::responseParams(scene));
-    if (!r) r = ConfigResult::failure(scene_file_ + ": sensor: " + r.message());
+  sim::TaxelResponseParams rp;
+  if (r) {  // the scene's faults, and the property's one after them
+    rp = sim::responseParams(scene);
+    sim::SensorFaultSchedule property;
+    r = property.configure(fault_, fault_start_, fault_duration_);
+    if (!r) r = ConfigResult::failure(getName() + ": " + r.message());
+    else if (property.any()) rp.faults.push_back(property.spec(0));
   }
   if (r) {
-    r = faults_.configure(fault_, fault_start_, fault_duration_);
-    if (!r) r = ConfigResult::failure(getName() + ": " + r.message());
+    r = response_.configure(rp);
+    if (!r) r = ConfigResult::failure(scene_file_ + ": sensor: " + r.message());
   }
   if (!r) {
     last_error_ = r.message();
@@ -65,7 +69,6 @@ bool WtsSimComponent::configureHook() {
   raw_.rows = static_cast<uint16_t>(scene.calibration.rows);
   raw_.cols = static_cast<uint16_t>(scene.calibration.cols);
   raw_out_.setDataSample(raw_);
-  full_scale_ = scene.calibration.full_scale;
   nan_frame_ = TactileFrame();
   nan_frame_.rows = raw_.rows;
   nan_frame_.cols = raw_.cols;
@@ -77,27 +80,26 @@ bool WtsSimComponent::startHook() {
   response_.reseed(response_.params().seed);
   seq_ = 0;
   record(frames_, 0);
-  faults_.reset();
   record(fault_seq_, -1);
   withheld_ = false;
-  record(link_status_, static_cast<int>(faults_.link()));
+  shots_ = 0;
+  record(link_status_, static_cast<int>(response_.faults().link()));
   return true;
 }
 
-bool WtsSimComponent::applyFault() {
-  const sim::FaultAction a = faults_.action(raw_.time_s);
-  record(link_status_, static_cast<int>(faults_.link()));
-  if (a == sim::FaultAction::Withhold) {
-    withheld_ = true;
-    return false;
+void WtsSimComponent::noteFault(bool delivered) {
+  const sim::SensorFaultSchedule& f = response_.faults();
+  record(link_status_, static_cast<int>(f.link()));
+  if (!delivered) {
+    if (f.lastAction() == sim::FaultAction::Withhold) withheld_ = true;
+    return;
   }
-  if (withheld_) {  // the first frame after the window
+  // The first frame after a withheld window, or the frame a one-shot fault hit (nan, saturated).
+  if (withheld_ || f.shots() != shots_) {
     withheld_ = false;
+    shots_ = f.shots();
     record(fault_seq_, static_cast<int>(seq_));
   }
-  if (a == sim::FaultAction::Saturate) sim::saturateFrame(raw_, full_scale_);
-  if (a == sim::FaultAction::Saturate || a == sim::FaultAction::NanFrame) record(fault_seq_, static_cast<int>(seq_));
-  return true;
 }
 
 void WtsSimComponent::updateHook() {
@@ -105,14 +107,16 @@ void WtsSimComponent::updateHook() {
   const double now = RTT::os::TimeService::Instance()->secondsSince(0);  // the servo's clock
   // Acquisition on new forces; with a transfer delay the frame is written
   // when it has arrived (TaxelResponse::deliver), the clock updates us every tick.
-  bool out = forces_in_.read(forces_, false) == RTT::NewData && response_.acquire(forces_, now, raw_);
+  // The schedule's stream faults withhold or repeat frames inside acquire() and deliver().
+  const bool acquired = forces_in_.read(forces_, false) == RTT::NewData;
+  bool out = acquired && response_.acquire(forces_, now, raw_);
   if (response_.delayed() && response_.deliver(now, raw_)) out = true;
+  if (response_.faults().any() && (acquired || out)) noteFault(out);
   if (!out) return;
-  if (faults_.kind() != sim::SensorFault::None && !applyFault()) return;  // tests only (fault)
   raw_.seq = seq_++;
   raw_.device_time_ms = static_cast<uint32_t>(std::llround(raw_.time_s * 1000.0));
   bump(frames_);
-  if (faults_.kind() == sim::SensorFault::Nan && fault_seq_.load() == static_cast<int>(raw_.seq)) {
+  if (response_.faults().lastAction() == sim::FaultAction::NanFrame) {
     sim::nanFrame(forces_, raw_.time_s, raw_.seq, nan_frame_);  // instead of the counts
     fault_frame_out_.write(nan_frame_);
     return;

@@ -34,6 +34,7 @@
 
 #include "tactile_sim/run_log.hpp"
 #include "tactile_sim/scene.hpp"
+#include "tactile_sim/sensor_faults.hpp"
 #include "tactile_sim/world.hpp"
 #include "tactile_types/types.hpp"
 
@@ -135,21 +136,30 @@ void fillEstimatedWrench(const SimState& state, Wrench& out);
 
 /// The arm's estimated external wrench with the scene's estimation error
 /// (effects.wrench_error, scene.hpp): force (1 + scale) F + bias + drift
-/// |p_flange - p_flange(0)| + noise, moments exact. The noise is a function of
-/// (seed, the state's time) only, so the runner (servo rate) and the RTT arm
-/// (every physics step) publish the same value at the same time. Without an
-/// error it is fillEstimatedWrench().
+/// |p_flange - p_flange(0)| + noise, moments exact; then the scene's wrench
+/// faults active at the state's time (`faults:`, tactile_sim/sensor_faults.hpp:
+/// wrench_bias, wrench_drift and pad_mass added in {g}, then wrench_frame's
+/// axes and wrench_sign's sign on the whole wrench). The noise is a function
+/// of (seed, the state's time) only and the faults of the time, so the
+/// runner (servo rate) and the RTT arm (every physics step) publish the same
+/// value at the same time. Without an error or a fault it is
+/// fillEstimatedWrench(). fill() does not allocate.
 class EstimatedWrench {
  public:
-  void configure(const WrenchErrorParams& p, uint64_t seed);
+  /// `faults`: the scene's list (the pad's are ignored); errors as SensorFaultSchedule::configure's.
+  ConfigResult configure(const WrenchErrorParams& p, uint64_t seed, const std::vector<FaultSpec>& faults = {});
   /// The flange's start position p_flange(0) (the drift's origin).
   void start(const SimState& initial);
   void fill(const SimState& state, Wrench& out) const;
 
  private:
+  /// The wrench faults active at the state's time on out (its force and moment at the flange, {g}).
+  void applyFaults(const SimState& st, Wrench& out) const;
+
   WrenchErrorParams p_;
   uint64_t seed_ = 0;
   KDL::Vector p0_ = KDL::Vector::Zero();
+  SensorFaultSchedule faults_;
 };
 
 /// The simulator's ground truth port value: the state after a physics step

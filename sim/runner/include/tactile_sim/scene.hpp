@@ -67,6 +67,26 @@
 //                                     # from its start position (a model error that depends on the posture)
 //       scale: 0                      # [-0.5, 0.5]: relative gain error of the force
 //       noise_n: 0                    # N, [0, 10]: 1-sigma noise per axis, a function of (seed, time) only
+//   faults:                           # scheduled faults of the pad and of the arm's estimated wrench
+//                                     # (tactile_sim/sensor_faults.hpp; at most 8; none by default).
+//                                     # Each: kind (required), start_s (s, >= 0, default 0), duration_s
+//                                     # (s, default 0 = to the end; stale, repeat, disconnect: (0, 60]);
+//                                     # rows / cols: [first, last] taxels from 0, inclusive (default all)
+//     - {kind: stuck, start_s: 8, rows: [1, 4], cols: [5, 8], force_n: 8}   # or counts: [0, 4095] per taxel;
+//                                     # force_n: [0, 1000] N over the region, no noise
+//     - {kind: dead, start_s: 8, cols: [0, 4]}          # the region reads 0
+//     - {kind: tare_creep, start_s: 8, counts_per_min: 300}   # [-4095, 4095]: every taxel's zero drifts
+//     - {kind: calibration, scale: 0.5}  # [0.1, 10]: the reader's force = scale x the true force
+//     - {kind: saturated, start_s: 8}    # one frame at full scale
+//     - {kind: stale, start_s: 8, duration_s: 0.5}        # no frame in the window
+//     - {kind: repeat, start_s: 8, duration_s: 2}         # the last frame's counts re-sent, new seq and time
+//     - {kind: disconnect, start_s: 8, duration_s: 1}     # stale with the link down (lab_sim unplugs the PTY)
+//     - {kind: wrench_bias, start_s: 8, bias_n: [0, 0, 5]}             # N, {g}, each [-100, 100]
+//     - {kind: wrench_drift, start_s: 8, drift_n_per_min: [0, 0, 10]}  # N/min, {g}, each [-100, 100]
+//     - {kind: wrench_frame, start_s: 8, axes: flange}  # flange | sensor: those axes' components given as {g}'s
+//     - {kind: wrench_sign, start_s: 8}  # the wrench negated
+//     - {kind: pad_mass, mass_kg: 0.5}   # [-5, 5] kg: the load model's pad mass off (true - modelled)
+//   `tactile_sim run --set 'faults=[{kind: stuck, start_s: 8, force_n: 8}]'` sets the list.
 //   metrics:
 //     transient_s: 2.0                # ignored at the start of each force-servoing phase
 //     force_phases: [explore]         # phases whose force error is scored (default: all contact phases)
@@ -146,6 +166,7 @@ struct Scene {
   std::string krc;           ///< the KRC's script (fri::KrcScript; empty: command mode from the start)
   SensorEffects sensor_effects;  ///< `effects:` keys of the sensor (TaxelResponse)
   WrenchErrorParams wrench_error;  ///< effects.wrench_error (the arm's estimated wrench)
+  std::vector<FaultSpec> faults;   ///< `faults:` (the pad's and the estimated wrench's, sensor_faults.hpp)
 };
 
 /// The simulated sensor's parameters (TaxelResponse) of a scene: its

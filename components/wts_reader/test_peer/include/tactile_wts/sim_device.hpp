@@ -9,7 +9,8 @@
 // Fault injection (per outgoing packet, deterministic seed): bit flips, dropped
 // bytes, truncated packets, wrong CRC, garbage between packets, stalls; plus
 // unplug()/replug() which closes the master (the driver sees a hangup) and
-// creates a new PTY behind the same symlink path; and taxel faults of the pad
+// creates a new PTY behind the same symlink path; hold(), a stalled stream
+// (no frame sent, commands still answered); and taxel faults of the pad
 // itself (TaxelFault: dead, stuck, noisy), applied to every frame's content.
 //
 // Not real-time and not allocation-free (test equipment).
@@ -59,6 +60,7 @@ struct SimStats {
   uint64_t frames = 0;
   uint64_t faults = 0;     ///< packets altered by fault injection
   uint64_t bad_commands = 0;
+  uint64_t held_frames = 0;  ///< frames not sent while the stream was held (hold())
 };
 
 /// Fills `frame.counts` ({s} layout, row-major) for device time t_ms.
@@ -95,6 +97,11 @@ class SimulatedWts {
   /// Simulate pulling the USB cable / plugging it back in.
   void unplug();
   bool replug();
+  /// The frame stream stalls while `on`: no frame is sent (periodic or
+  /// requested; counted as held_frames), commands are still answered.
+  void hold(bool on) { held_.store(on); }
+  bool held() const { return held_.load(); }
+  bool plugged() const { return plugged_.load(); }
   /// Device reset behind the driver's back: periodic acquisition stops silently.
   void resetDevice() { streaming_ = false; }
   /// Device status returned to every command except loop (to test error paths).
@@ -134,6 +141,7 @@ class SimulatedWts {
   std::atomic<bool> plugged_{false};
   std::atomic<bool> streaming_{false};
   std::atomic<bool> rle_{false};
+  std::atomic<bool> held_{false};
   std::atomic<uint16_t> forced_status_{0};
   uint16_t delay_ms_ = 10;
   std::array<uint16_t, kMaxTaxels> tare_{};

@@ -13,8 +13,11 @@
 //   out  raw_frame (/tactile/RawTactileFrame)  counts, stamped with RTT's TimeService (s)
 //   attr frames (int)   frames written since start
 //   op   string lastError()
-// Fault injection (tests only; off by default, nothing done when off:
-// tactile::sim::SensorFaultSchedule, tactile_sim/sensor_faults.hpp):
+// Fault injection (off by default, nothing done when off: the schedule of
+// tactile::sim::TaxelResponse, tactile_sim/sensor_faults.hpp): the scene's
+// `faults:` list (the pad's: stuck, dead, tare_creep, calibration,
+// saturated, stale, repeat, disconnect), and one more fault by property
+// (tests only):
 //   property fault (string)          '' | stale | disconnect | nan | saturated
 //   property fault_start (double)    s, simulated time of the fault
 //   property fault_duration (double) s, the window of stale and disconnect
@@ -60,8 +63,8 @@ class WtsSimComponent : public Component {
   std::string statusName() const { return sim::toString(static_cast<sim::SensorLink>(link_status_.load())); }
 
  private:
-  /// Applies the fault schedule to the frame in raw_; false: withheld.
-  bool applyFault();
+  /// The fault schedule's record after an acquisition or a delivery (`delivered`: a frame goes out).
+  void noteFault(bool delivered);
 
   std::string scene_file_;
   std::string fault_;
@@ -78,8 +81,7 @@ class WtsSimComponent : public Component {
   RTT::OutputPort<TactileFrame> fault_frame_out_;
 
   sim::TaxelResponse response_;
-  sim::SensorFaultSchedule faults_;
-  uint16_t full_scale_ = 4095;
+  int shots_ = 0;  // the schedule's one-shot hits recorded in fault_seq
   TactileFrame nan_frame_;
   TactileFrame forces_;
   RawTactileFrame raw_;
