@@ -472,6 +472,26 @@ TEST(ServoSensorChecks, CorrectionHeldAtItsLimitIsAFault) {
     ASSERT_GT(t_sat, 0.0) << dt;
     EXPECT_NEAR(l.t - dt - t_sat, 1.0, 2 * dt + 1e-9) << dt;  // correction_saturated.window_s
   }
+  // The image's bound holds c below max_correction_n (image_margin_n: a thin
+  // image keeps its load; c settles at the demand less the margin, 2.4 N):
+  // the demand (2.7 N) still passes the limit, and the stop comes all the same.
+  {
+    ServoParams p = chaseCop(true, 2.5);
+    p.force_estimate.image_margin_n = 0.3;
+    SensorLoop l(p, 1.0, 0.0);
+    l.in.features.area = 4;  // 4 taxels at the 0.2 N threshold: c_img = c + 1 - 0.8 - 0.3
+    l.arm_follows = false;
+    l.wrench(3.7);
+    l.step(0.01);
+    double c_max = 0.0;
+    ServoStatus st = ServoStatus::Ok;
+    while (l.t < 5.0 && !watchdogStatus(st)) {
+      st = l.step(0.01);
+      c_max = std::max(c_max, l.s.forceEstimator().correction());
+    }
+    EXPECT_EQ(st, ServoStatus::CorrectionSaturated);
+    EXPECT_LT(c_max, 2.5 - 0.05);  // never at max_correction_n itself
+  }
   // Within its bound (1 N hidden of 5 N), the correction is a steady state: no stop.
   SensorLoop ok(chaseCop(true, 2.5), 4.0, 0.0);
   ok.arm_follows = false;

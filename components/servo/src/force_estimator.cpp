@@ -37,6 +37,7 @@ void ForceEstimator::reset() {
   tared_ = false;
   since_snap_ = 0.0;
   c_ = 0.0;
+  demand_ = 0.0;
 }
 
 double ForceEstimator::step(double f, bool contact, bool fresh, const KDL::Vector& F, const KDL::Vector& z_s,
@@ -78,6 +79,7 @@ double ForceEstimator::step(double f, bool contact, bool fresh, const KDL::Vecto
     const double f_w = std::fabs(dot(F - tare_, z_s));
     const double a = 1.0 - std::exp(-dt / p_.tau_s);  // exact for held samples
     double target = f_w - f;
+    demand_ += a * (target - demand_);
     // The image's bound (header): the correction that leaves the peak taxel
     // at min_peak_taxel_n once the law has moved f by the change of c.
     if (p_.image_margin_n > 0.0)

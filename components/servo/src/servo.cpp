@@ -297,7 +297,7 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
     ss.f_w = f_w_tared;
     const bool fused = params_.force_estimate.fused;
     ss.hidden_n = ss.c_max = fused ? params_.force_estimate.max_correction_n : 0.0;
-    ss.c = force_est_.correction();
+    ss.c = force_est_.demand();
     const ServoStatus disagree = watchdogs_.sensorsAgree(ss, dt);
     if (disagree != ServoStatus::Ok) return onSensorFault(base, dt, now, out);
   }

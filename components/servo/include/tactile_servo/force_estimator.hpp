@@ -95,6 +95,11 @@ class ForceEstimator {
               int area = 0);
 
   double correction() const { return c_; }  ///< c (N)
+  /// The correction's demand (N): f_w - f low-passed as c is, without its
+  /// bounds (max_correction_n, the image's): the load the taxels miss. Beyond
+  /// max_correction_n, the estimate no longer bridges the two sensors
+  /// (watchdog.hpp, correction_saturated).
+  double demand() const { return demand_; }
   bool tared() const { return tared_; }
   const KDL::Vector& tare() const { return tare_; }  ///< T ({g}, N; zero before the first sample)
   const ForceEstimateParams& params() const { return p_; }
@@ -112,6 +117,7 @@ class ForceEstimator {
   bool tared_ = false;
   double since_snap_ = 0.0;
   double c_ = 0.0;
+  double demand_ = 0.0;
 };
 
 }  // namespace tactile

@@ -182,7 +182,8 @@ struct WatchdogParams {
   /// the housing or the cable, a wrong load model).
   double unseen_window_s = 0.1;                  ///< s, [0, 60], 0 = off
   double unseen_max_n = 10.0;                    ///< N, (0, 1e4]
-  /// Correction saturated, held for window_s: the fused estimate's |c| at
+  /// Correction saturated, held for window_s: the fused estimate's demand
+  /// (ForceEstimator::demand(): c without its bounds) at or beyond
   /// force_estimate.max_correction_n (source fused only): the sensors
   /// disagree by more than the estimate may bridge.
   double correction_window_s = 1.0;              ///< s, [0, 60], 0 = off

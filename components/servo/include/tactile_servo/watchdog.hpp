@@ -32,11 +32,13 @@
 //                          the housing carrying part of the load;
 //      unseen load         without tactile contact, f_w > unseen.max_n for
 //                          unseen.window_s: a load no taxel sees;
-//      correction saturated  source fused: |c| at max_correction_n for
-//                          correction.window_s on cycles that update it
-//                          (tactile contact, a fresh wrench): a correction
-//                          held at its limit is a disagreement the estimate
-//                          cannot bridge, not a steady state.
+//      correction saturated  source fused: the correction's demand (f_w - f
+//                          low-passed as c is, without c's bounds) at or
+//                          beyond max_correction_n for correction.window_s
+//                          on cycles that update it (tactile contact, a
+//                          fresh wrench): a correction held at its limit, or
+//                          at the image's bound below it, is a disagreement
+//                          the estimate cannot bridge, not a steady state.
 //    On one of these, the servo holds, or retreats along -z_s by
 //    retreat_m at the step limit and then holds (on_fault).
 //    With the paper's tactile-only source and no wrench at all (the port
@@ -102,7 +104,7 @@ class ServoWatchdogs {
     bool fresh = false;     ///< a wrench sample no older than the stale timeout
     double f_w = 0.0;       ///< N, |(F - T) . z_s|: the wrench less its zero along z_s
     double hidden_n = 0.0;  ///< N, the load the estimate may carry below the threshold (0: source tactile)
-    double c = 0.0;         ///< N, the fused estimate's correction
+    double c = 0.0;         ///< N, the fused estimate's demand (ForceEstimator::demand(): c unbounded)
     double c_max = 0.0;     ///< N, its limit; 0: source tactile (not checked)
   };
   /// The two sensors against each other on a cycle of `dt` s (header):
