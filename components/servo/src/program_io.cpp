@@ -381,8 +381,9 @@ ConfigResult readSensorChecks(const YAML::Node& wd, const Where& w, WatchdogPara
   }
   if (const YAML::Node cs = wd["correction_saturated"]) {
     const Where wc = w.child("correction_saturated");
-    if (!(r = checkKeys(cs, wc, {"window_s"}))) return r;
-    if (!(r = read(cs, "window_s", wp.correction_window_s, wc))) return r;
+    if (!(r = checkKeys(cs, wc, {"window_s", "margin_n"}))) return r;
+    for (auto rr : {read(cs, "window_s", wp.correction_window_s, wc), read(cs, "margin_n", wp.correction_margin_n, wc)})
+      if (!rr) return rr;
   }
   int retreat = wp.fault_retreat ? 1 : 0;
   if (!(r = readChoice(wd, "on_fault", w, {"hold", "retreat"}, "hold or retreat (along -z_s by retreat_m)", retreat)))

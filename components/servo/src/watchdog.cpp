@@ -38,6 +38,8 @@ ConfigResult ServoWatchdogs::configure(const ServoParams& p) {
     return err(p, "", "watchdogs.unseen_load.max_n", w.unseen_max_n, "must be in (0, 1e4] N");
   if (!in(w.correction_window_s, 0.0, 60.0))
     return err(p, "", "watchdogs.correction_saturated.window_s", w.correction_window_s, "must be in [0, 60] s (0 = off)");
+  if (!in(w.correction_margin_n, 0.0, 50.0))
+    return err(p, "", "watchdogs.correction_saturated.margin_n", w.correction_margin_n, "must be in [0, 50] N");
   if (!in(w.fault_retreat_m, 0.0, 0.1))
     return err(p, "", "watchdogs.retreat_m", w.fault_retreat_m, "must be in [0, 0.1] m");
   if (!in(w.curved_tau_s, 0.0, 10.0))
@@ -117,7 +119,7 @@ ServoStatus ServoWatchdogs::sensorsAgree(const SensorSample& s, double dt) {
     return latchedAs(ServoStatus::UnseenLoad);
   // Correction saturated: counted on the cycles that update it (contact).
   if (s.c_max > 0.0 && s.contact &&
-      held(std::fabs(s.c) >= s.c_max * (1.0 - 1e-9), p_.correction_window_s, dt, saturated_s_))
+      held(std::fabs(s.c) >= s.c_max + p_.correction_margin_n, p_.correction_window_s, dt, saturated_s_))
     return latchedAs(ServoStatus::CorrectionSaturated);
   return ServoStatus::Ok;
 }

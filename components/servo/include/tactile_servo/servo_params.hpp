@@ -184,9 +184,13 @@ struct WatchdogParams {
   double unseen_max_n = 10.0;                    ///< N, (0, 1e4]
   /// Correction saturated, held for window_s: the fused estimate's demand
   /// (ForceEstimator::demand(): c without its bounds) at or beyond
-  /// force_estimate.max_correction_n (source fused only): the sensors
-  /// disagree by more than the estimate may bridge.
-  double correction_window_s = 1.0;              ///< s, [0, 60], 0 = off
+  /// force_estimate.max_correction_n + margin_n (source fused only): the
+  /// sensors disagree by more than the estimate may bridge. While it holds,
+  /// the clamp costs the true force up to margin_n above the set point; a
+  /// trough the pad bridges holds it for at most about 1 s (the family of
+  /// bars, docs/design.md), a calibration or a wrench off holds it for good.
+  double correction_window_s = 2.0;              ///< s, [0, 60], 0 = off
+  double correction_margin_n = 0.5;              ///< N, [0, 50]
   /// What the servo does once one of the four checks above stops it: hold the
   /// last command, or retreat along -z_s by retreat_m at the step limit, then
   /// hold.

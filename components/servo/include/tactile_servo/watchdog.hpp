@@ -34,7 +34,7 @@
 //                          unseen.window_s: a load no taxel sees;
 //      correction saturated  source fused: the correction's demand (f_w - f
 //                          low-passed as c is, without c's bounds) at or
-//                          beyond max_correction_n for correction.window_s
+//                          beyond max_correction_n + margin_n for window_s
 //                          on cycles that update it (tactile contact, a
 //                          fresh wrench): a correction held at its limit, or
 //                          at the image's bound below it, is a disagreement
