@@ -389,7 +389,10 @@ TEST(FriBridge, SlightlyNonUnitDesiredQuaternionStillGivesARotation) {
 
 TEST(FriBridge, NonCartesianStrategyInCmdRepliesAJointHold) {
   Harness h;
-  h.send(State::Mon, Quality::Perfect);
+  std::vector<uint8_t> m = makeMsr(++h.seq, State::Mon, Quality::Perfect, h.measured);
+  putU16(m, kOffControl, static_cast<uint16_t>(ControlStrategy::Position));
+  EXPECT_EQ(h.bridge.stepDatagram(m.data(), m.size(), h.desired, h.now, h.out), BridgeStatus::WrongStrategy);
+  EXPECT_EQ(h.out.cmd.cmd.cmd_flags, flags::kJointPosition);  // chosen in MON
   h.setDesired(KDL::Frame(h.measured.M, h.measured.p + KDL::Vector(0.05, 0.0, 0.0)));
   std::vector<uint8_t> b = makeMsr(++h.seq, State::Cmd, Quality::Perfect, h.measured);
   putU16(b, kOffControl, static_cast<uint16_t>(ControlStrategy::Position));
@@ -569,4 +572,60 @@ TEST(FriBridge, NoHeapAllocationPerCycle) {
   }
   EXPECT_EQ(scope.count(), 0u);
   EXPECT_GT(replies, 2900u * kCmdPacketSize);
+}
+
+// FRI allows the remote to change cmdFlags in monitor mode only. The bridge
+// chooses them there from the strategy the KRC reports and keeps them while
+// the KRC stays in CMD, whatever the packets in CMD report.
+TEST(FriBridge, CommandFlagsAreChosenInMonitorAndNeverChangeInCommand) {
+  const auto packet = [](Harness& h, State st, ControlStrategy c) {
+    std::vector<uint8_t> b = makeMsr(++h.seq, st, Quality::Perfect, h.measured);
+    putU16(b, kOffControl, static_cast<uint16_t>(c));
+    h.now += kT;
+    h.desired.time_s = h.now;
+    return h.bridge.stepDatagram(b.data(), b.size(), h.desired, h.now, h.out);
+  };
+  {  // a KRC in joint impedance: FRI_CMD_JNTPOS in MON and in CMD
+    Harness h;
+    for (int i = 0; i < 5; ++i) {
+      EXPECT_EQ(packet(h, State::Mon, ControlStrategy::JointImpedance), BridgeStatus::WrongStrategy);
+      EXPECT_EQ(h.out.cmd.cmd.cmd_flags, flags::kJointPosition);
+    }
+    for (int i = 0; i < 5; ++i) {
+      EXPECT_EQ(packet(h, State::Cmd, ControlStrategy::JointImpedance), BridgeStatus::WrongStrategy);
+      EXPECT_EQ(h.out.cmd.cmd.cmd_flags, flags::kJointPosition);
+      EXPECT_FALSE(h.out.robot.commandable);
+    }
+  }
+  {  // Cartesian impedance in MON, another strategy reported in CMD: the flags stay
+    BridgeParams p;
+    p.command_impedance = true;
+    Harness h(p);
+    const uint32_t cart = flags::kCartPose | flags::kCartStiffness | flags::kCartDamping;
+    EXPECT_EQ(packet(h, State::Mon, ControlStrategy::CartImpedance), BridgeStatus::Monitor);
+    EXPECT_EQ(h.out.cmd.cmd.cmd_flags, cart);
+    h.setDesired(h.measured);
+    EXPECT_EQ(packet(h, State::Cmd, ControlStrategy::CartImpedance), BridgeStatus::Commanding);
+    const KDL::Frame last = h.commanded();
+    h.setDesired(KDL::Frame(h.measured.M, h.measured.p + KDL::Vector(0.0003, 0.0, 0.0)));
+    for (ControlStrategy c : {ControlStrategy::JointImpedance, ControlStrategy::Position, ControlStrategy::Other}) {
+      EXPECT_EQ(packet(h, State::Cmd, c), BridgeStatus::WrongStrategy);
+      EXPECT_EQ(h.out.cmd.cmd.cmd_flags, cart) << "flags changed in CMD";
+      EXPECT_TRUE(KDL::Equal(h.commanded(), last, 1e-9)) << "held, nothing followed";
+      EXPECT_FALSE(h.out.robot.commandable);
+    }
+    // Back in MON under joint impedance: the flags change there, and stay in CMD.
+    EXPECT_EQ(packet(h, State::Mon, ControlStrategy::JointImpedance), BridgeStatus::WrongStrategy);
+    EXPECT_EQ(h.out.cmd.cmd.cmd_flags, flags::kJointPosition);
+    EXPECT_EQ(packet(h, State::Cmd, ControlStrategy::CartImpedance), BridgeStatus::WrongStrategy);
+    EXPECT_EQ(h.out.cmd.cmd.cmd_flags, flags::kJointPosition);
+    EXPECT_FALSE(h.out.robot.commandable) << "Cartesian poses cannot be applied with joint flags";
+  }
+  {  // a session whose first packet is in CMD chooses its flags there, once
+    Harness h;
+    EXPECT_EQ(packet(h, State::Cmd, ControlStrategy::Position), BridgeStatus::WrongStrategy);
+    EXPECT_EQ(h.out.cmd.cmd.cmd_flags, flags::kJointPosition);
+    EXPECT_EQ(packet(h, State::Cmd, ControlStrategy::CartImpedance), BridgeStatus::WrongStrategy);
+    EXPECT_EQ(h.out.cmd.cmd.cmd_flags, flags::kJointPosition);
+  }
 }

@@ -23,8 +23,9 @@ struct Loop {
   MsrPacket msr{};
   BridgeOutput out;
 
-  Loop() {
+  explicit Loop(ControlStrategy control = ControlStrategy::CartImpedance) {
     KrcModelParams kp;
+    kp.control = control;
     EXPECT_TRUE(krc.configure(kp).ok());
     BridgeParams bp;
     // The bridge's start gate (engage_max_*) is tested in test_bridge.cpp; here
@@ -122,4 +123,53 @@ TEST(KrcModel, StaleAndMalformedRepliesAreNotApplied) {
   const ConfigResult r = l.krc.configure(bad);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.message().find("krc.period_s"), std::string::npos) << r.message();
+}
+
+// A KRC under joint impedance: the remote's flags are chosen in MON and kept
+// in CMD; the model refuses any change in CMD, as the KRC does (and leaves
+// command mode).
+TEST(KrcModel, JointImpedanceKrcGetsTheSameFlagsInMonitorAndCommand) {
+  Loop l(ControlStrategy::JointImpedance);
+  PoseCommand desired;
+  desired.pose = toPose(l.plant.pose);
+  desired.status = ServoStatus::Ok;
+  for (int k = 0; k < 200; ++k) {
+    desired.time_s = 0.001 * k;
+    ASSERT_EQ(l.cycle(0.001 * k, k < 100 ? State::Mon : State::Cmd, desired), ReplyResult::Matched) << k;
+    EXPECT_EQ(l.out.cmd.cmd.cmd_flags, flags::kJointPosition) << k;
+  }
+  EXPECT_EQ(l.krc.stats().flag_changes, 0u);
+  EXPECT_EQ(l.krc.stats().flag_errors, 0u);
+  EXPECT_FALSE(l.krc.refused());
+  EXPECT_EQ(l.krc.state(), State::Cmd);
+}
+
+TEST(KrcModel, AFlagChangeInCommandModeIsRefusedAndTheKrcLeavesCommandMode) {
+  Loop l;
+  PoseCommand desired;
+  desired.pose = toPose(l.plant.pose);
+  desired.status = ServoStatus::Ok;
+  for (int k = 0; k < 20; ++k) ASSERT_EQ(l.cycle(0.001 * k, k < 10 ? State::Mon : State::Cmd, desired), ReplyResult::Matched);
+  ASSERT_EQ(l.krc.stats().applied, 10u);
+  // A reply to the next measurement with other flags (the joint position flag).
+  l.krc.setState(State::Cmd, Quality::Perfect, 0x7F);
+  l.krc.buildMeasurement(l.plant, 0.02, l.msr);
+  CmdPacket c = l.out.cmd;
+  c.head.send_seq = static_cast<uint16_t>(c.head.send_seq + 1);
+  c.head.refl_seq = l.msr.head.send_seq;
+  c.cmd.cmd_flags = flags::kJointPosition;
+  std::size_t n = 0;
+  ASSERT_EQ(encodeCommand(c, l.wire.data(), l.wire.size(), n), PacketStatus::Ok);
+  EXPECT_EQ(l.krc.handleReply(l.wire.data(), n), ReplyResult::Matched);
+  EXPECT_EQ(l.krc.stats().flag_changes, 1u);
+  EXPECT_EQ(l.krc.stats().flag_errors, 1u);
+  EXPECT_EQ(l.krc.stats().applied, 10u) << "refused, not applied";
+  EXPECT_TRUE(l.krc.refused());
+  // The KRC stays in monitor mode, whatever its script says, until reset().
+  l.krc.setState(State::Cmd, Quality::Perfect, 0x7F);
+  EXPECT_EQ(l.krc.state(), State::Mon);
+  l.krc.buildMeasurement(l.plant, 0.021, l.msr);
+  EXPECT_EQ(l.msr.intf.state, static_cast<uint16_t>(State::Mon));
+  l.krc.reset(l.plant.pose);
+  EXPECT_FALSE(l.krc.refused());
 }

@@ -107,10 +107,19 @@ void FriBridge::reset() noexcept {
   have_command_ = false;
   engaged_ = false;
   was_in_cmd_ = false;
+  have_flags_ = false;
+  cmd_flags_ = flags::kCartPose;
   sent_valid_.fill(false);
 }
 
-void FriBridge::fillReply(const MsrPacket& msr, const KDL::Frame& pose, BridgeOutput& out, bool joint_hold) noexcept {
+uint32_t FriBridge::flagsFor(uint16_t control) const noexcept {
+  if (control != static_cast<uint16_t>(ControlStrategy::CartImpedance)) return flags::kJointPosition;
+  uint32_t f = flags::kCartPose;
+  if (params_.command_impedance) f |= flags::kCartStiffness | flags::kCartDamping;
+  return f;
+}
+
+void FriBridge::fillReply(const MsrPacket& msr, const KDL::Frame& pose, BridgeOutput& out) noexcept {
   CmdPacket& c = out.cmd;
   c.head.send_seq = ++send_seq_;
   c.head.refl_seq = msr.head.send_seq;
@@ -118,9 +127,7 @@ void FriBridge::fillReply(const MsrPacket& msr, const KDL::Frame& pose, BridgeOu
   c.head.datagram_id = kDatagramIdCmd;
   c.krl = krl_out_;
   RobotCommand& r = c.cmd;
-  r.cmd_flags = flags::kCartPose;
-  if (params_.command_impedance) r.cmd_flags |= flags::kCartStiffness | flags::kCartDamping;
-  if (joint_hold) r.cmd_flags = flags::kJointPosition;
+  r.cmd_flags = cmd_flags_;
   fromFrame(pose, r.cart_pos);
   for (int j = 0; j < kNumJoints; ++j) {
     r.jnt_pos[j] = msr.data.cmd_jnt_pos[j] + msr.data.cmd_jnt_pos_fri_offset[j];
@@ -197,7 +204,8 @@ void FriBridge::fillRobotState(const MsrPacket& msr, double now_s, bool msr_vali
   r.config_ok = out.mismatch == 0;
   r.dry_run = dry_run_;
   r.commandable = r.mode == RobotMode::Command && r.power_on && qualityOf(msr) >= Quality::Ok &&
-                  r.cartesian_impedance && r.config_ok && !dry_run_ && msr_valid;
+                  r.cartesian_impedance && (cmd_flags_ & flags::kCartPose) != 0 && r.config_ok && !dry_run_ &&
+                  msr_valid;
   r.link_status = static_cast<int>(out.status);
   for (int j = 0; j < kNumJoints && j < kArmJoints; ++j)
     r.q[static_cast<std::size_t>(j)] = static_cast<double>(msr.data.msr_jnt_pos[j]);
@@ -243,13 +251,19 @@ BridgeStatus FriBridge::stepPacket(const MsrPacket& msr, const PoseCommand& desi
   const double krc_T = static_cast<double>(msr.intf.desired_cmd_sample_time);
   const double T = (std::isfinite(krc_T) && krc_T > 0.0 && krc_T <= 0.1) ? krc_T : params_.cycle_time_s;
   out.mismatch = checkConfig(msr);
+  // Command flags: chosen outside CMD (or on a session's first packet), never changed in CMD.
+  if (out.state != State::Cmd || !have_flags_) {
+    cmd_flags_ = flagsFor(msr.robot.control);
+    have_flags_ = true;
+  }
 
   if (out.state != State::Cmd || !powerOn(msr)) return echoOutsideCmd(msr, held, msr_valid, out);
 
   // ---- CMD, powered ----
   was_in_cmd_ = true;
-  if (msr.robot.control != static_cast<uint16_t>(ControlStrategy::CartImpedance))
-    return jointHold(msr, held, msr_valid, out);
+  if (msr.robot.control != static_cast<uint16_t>(ControlStrategy::CartImpedance) ||
+      !(cmd_flags_ & flags::kCartPose))
+    return strategyHold(msr, held, msr_valid, out);
   if (!startFromHeldCommand(msr, held, msr_valid)) return out.status = BridgeStatus::MeasurementInvalid;
   if (!holdStatus(desired, now_s, msr_valid, out)) return followDesired(msr, desired, T, out);
   ++stats_.holds;  // hold: repeat the last command unchanged
@@ -325,17 +339,23 @@ BridgeStatus FriBridge::echoOutsideCmd(const MsrPacket& msr, const KDL::Frame& h
   return out.status;
 }
 
-BridgeStatus FriBridge::jointHold(const MsrPacket& msr, const KDL::Frame& held, bool msr_valid,
-                                  BridgeOutput& out) noexcept {
+BridgeStatus FriBridge::strategyHold(const MsrPacket& msr, const KDL::Frame& held, bool msr_valid,
+                                     BridgeOutput& out) noexcept {
   out.status = BridgeStatus::WrongStrategy;
   engaged_ = false;
   if (!msr_valid) {
     have_command_ = false;
     return out.status = BridgeStatus::MeasurementInvalid;
   }
-  limiter_.reset(held);  // should the strategy change to Cartesian, start from here
-  have_command_ = true;
-  fillReply(msr, held, out, true);
+  if (!(cmd_flags_ & flags::kCartPose) || !have_command_) {
+    // joint flags: the KRC's joint set point (jntPos); the Cartesian field
+    // carries the held pose, from where a later Cartesian session starts
+    limiter_.reset(held);
+    have_command_ = true;
+  } else {
+    ++stats_.holds;  // Cartesian flags kept in CMD: repeat the last command
+  }
+  fillReply(msr, limiter_.current(), out);
   return out.status;
 }
 

@@ -25,6 +25,9 @@ void KrcModel::reset(const KDL::Frame& pose) {
   have_remote_seq_ = false;
   have_applied_ = false;
   ever_applied_ = false;
+  flags_ = 0;
+  have_flags_ = false;
+  refused_ = false;
   set_point_ = pose;
   last_applied_ = pose;
   msr_ = MsrPacket{};
@@ -32,6 +35,7 @@ void KrcModel::reset(const KDL::Frame& pose) {
 }
 
 void KrcModel::setState(State state, Quality quality, uint16_t power) {
+  if (refused_ && state == State::Cmd) state = State::Mon;  // the KRC left CMD on the refused flags
   if (state != State::Cmd || power == 0) have_applied_ = false;  // re-entry is checked as an entry
   state_ = state;
   quality_ = quality;
@@ -92,6 +96,19 @@ ReplyResult KrcModel::handleReply(const uint8_t* buf, std::size_t n) {
   }
   KDL::Frame c;
   toFrame(cmd_.cmd.cart_pos, c);
+  // Command flags: free outside CMD, fixed in CMD (a session starting in CMD
+  // fixes them with its first reply).
+  if (state_ != State::Cmd || !have_flags_) {
+    flags_ = cmd_.cmd.cmd_flags;
+    have_flags_ = true;
+  } else if (cmd_.cmd.cmd_flags != flags_) {
+    ++stats_.flag_changes;
+    ++stats_.flag_errors;
+    refused_ = true;
+    state_ = State::Mon;
+    have_applied_ = false;
+    return ReplyResult::Matched;
+  }
   if (state_ == State::Cmd && power_ != 0) {
     if (params_.control != ControlStrategy::CartImpedance) {
       // joint strategies: this model only checks that the remote holds the joints

@@ -29,9 +29,18 @@
 //  * CMD at quality < OK, invalid/stale desired pose, invalid measured pose:
 //    HOLD: the last commanded pose is repeated unchanged; the start gate is
 //    passed again before the desired pose is followed.
+//  * Command flags (cmdFlags) are chosen outside CMD only, from the control
+//    strategy the KRC reports there, and kept unchanged for as long as the KRC
+//    stays in CMD (KUKA's friremote.cpp allows a change of flags in monitor
+//    mode only; a KRC refuses a change in command mode): Cartesian impedance
+//    -> FRI_CMD_CARTPOS (0x100, with 0x1000|0x2000 under command_impedance),
+//    any other strategy -> FRI_CMD_JNTPOS (0x1, the KRC's joint set point).
+//    A session whose first packet is already in CMD chooses them there, once.
 //  * CMD with a control strategy other than Cartesian impedance (position 1,
-//    joint impedance 3): the bridge cannot apply Cartesian poses; it replies a
-//    joint hold (status WrongStrategy) and follows nothing.
+//    joint impedance 3), or with flags chosen for another strategy: the
+//    bridge cannot apply Cartesian poses; it holds with the flags it has
+//    (joint flags: jntPos = cmdJntPos + cmdJntPosFriOffset; Cartesian flags:
+//    the last command) (status WrongStrategy) and follows nothing.
 //  * Configuration checks, every accepted packet: the KRC's sample times
 //    (desiredMsrSampleTime, desiredCmdSampleTime: friOpen's cycle) against
 //    cycle_time_s, the KRC's UDP source port against krc_port (when set), the
@@ -133,8 +142,9 @@ enum class BridgeStatus : uint8_t {
   DesiredInvalid = 6,  ///< CMD: desired pose NaN/Inf/non-unit quaternion or never set: holding
   DesiredStale = 7,    ///< CMD: desired pose older than max_desired_age_s: holding
   MeasurementInvalid = 8,  ///< measured pose NaN/non-rotation; CMD: holding (reply), else no reply
-  WrongStrategy = 9,   ///< CMD, but the KRC's control strategy is not Cartesian impedance:
-                       ///< joint hold (flag 0x1, jntPos = cmdJntPos + cmdJntPosFriOffset), nothing else applied
+  WrongStrategy = 9,   ///< the KRC's control strategy is not Cartesian impedance (MON: echo with
+                       ///< FRI_CMD_JNTPOS, jntPos = cmdJntPos + cmdJntPosFriOffset; CMD: hold with the
+                       ///< flags chosen in MON), nothing followed
   DesiredFar = 10,     ///< CMD, start gate: the desired pose is more than one program step from the
                        ///< pose the bridge starts from (engage_max_trans/rot): holding that pose
   CycleMismatch = 11,  ///< the KRC's sample time is not cycle_time_s: MON echo / CMD hold, nothing followed
@@ -213,7 +223,7 @@ class FriBridge {
   const MsrPacket& lastMeasurement() const noexcept { return msr_; }
 
  private:
-  void fillReply(const MsrPacket& msr, const KDL::Frame& pose, BridgeOutput& out, bool joint_hold = false) noexcept;
+  void fillReply(const MsrPacket& msr, const KDL::Frame& pose, BridgeOutput& out) noexcept;
   BridgeStatus stepPacket(const MsrPacket& msr, const PoseCommand& desired, double now_s, BridgeOutput& out) noexcept;
 
   BridgeParams params_{};
@@ -238,6 +248,10 @@ class FriBridge {
   bool was_in_cmd_ = false;    // sticky LeftCmd
   uint16_t peer_port_ = 0;     // source port of the current datagram (0: unknown)
   bool dry_run_ = false;
+  uint32_t cmd_flags_ = flags::kCartPose;  // chosen outside CMD, kept in CMD
+  bool have_flags_ = false;                // cmd_flags_ chosen since reset()
+  /// The command flags for the KRC's reported control strategy.
+  uint32_t flagsFor(uint16_t control) const noexcept;
   /// mismatch:: bits of `msr` against the configuration.
   uint8_t checkConfig(const MsrPacket& msr) const noexcept;
   /// The KRC's set point (cmdCartPos composed with a valid cmdCartPosFriOffset),
@@ -254,8 +268,9 @@ class FriBridge {
   void trackState(const MsrPacket& msr, BridgeOutput& out) noexcept;
   /// MON / OFF / drives off: names the reason, echoes `held` (no reply on an invalid measurement).
   BridgeStatus echoOutsideCmd(const MsrPacket& msr, const KDL::Frame& held, bool msr_valid, BridgeOutput& out) noexcept;
-  /// CMD with a non-Cartesian strategy: WrongStrategy, joint hold.
-  BridgeStatus jointHold(const MsrPacket& msr, const KDL::Frame& held, bool msr_valid, BridgeOutput& out) noexcept;
+  /// CMD with a non-Cartesian strategy or non-Cartesian flags: WrongStrategy,
+  /// a hold with the flags chosen outside CMD.
+  BridgeStatus strategyHold(const MsrPacket& msr, const KDL::Frame& held, bool msr_valid, BridgeOutput& out) noexcept;
   /// CMD: the limiter starts from `held` on the first command, or rewinds to the
   /// command the KRC reflects; false when there is no command and no valid measurement.
   bool startFromHeldCommand(const MsrPacket& msr, const KDL::Frame& held, bool msr_valid) noexcept;
