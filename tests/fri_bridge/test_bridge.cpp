@@ -629,3 +629,41 @@ TEST(FriBridge, CommandFlagsAreChosenInMonitorAndNeverChangeInCommand) {
     EXPECT_EQ(h.out.cmd.cmd.cmd_flags, flags::kJointPosition);
   }
 }
+
+// A clipped command is never silent: the status says limited, the output
+// names the limit (the fri.yaml key), and each limit has its counter.
+TEST(FriBridge, EveryClippedCommandNamesItsLimit) {
+  BridgeParams p;
+  p.max_lin_speed = 0.1;
+  p.max_rot_speed = 0.5;
+  Harness h(p);
+  h.engage();
+  EXPECT_EQ(h.out.limits, 0);
+  EXPECT_STREQ(limitNames(h.out.limits), "");
+  struct Case { KDL::Vector dp; double rz; uint8_t bits; const char* name; };
+  const Case cases[] = {
+      {KDL::Vector(0.0004, 0.0, 0.0), 0.0, limit::kMaxLinSpeed, "max_lin_speed"},        // 0.4 mm > 0.1 mm
+      {KDL::Vector(0.0, 0.0, 0.0), 0.004, limit::kMaxRotSpeed, "max_rot_speed"},         // 4 mrad > 0.5 mrad
+      {KDL::Vector(0.0, 0.0003, 0.0), 0.003, limit::kMaxLinSpeed | limit::kMaxRotSpeed,
+       "max_lin_speed+max_rot_speed"},
+      {KDL::Vector(0.00005, 0.0, 0.0), 0.0002, 0, ""}};  // within one step: not clipped
+  uint64_t lin = 0, rot = 0;
+  for (const Case& c : cases) {
+    const KDL::Frame from = h.commanded();
+    h.setDesired(KDL::Frame(from.M * KDL::Rotation::RotZ(c.rz), from.p + c.dp));
+    const BridgeStatus st = h.send(State::Cmd, Quality::Perfect);
+    EXPECT_EQ(st, c.bits ? BridgeStatus::Limited : BridgeStatus::Commanding) << c.name;
+    EXPECT_EQ(h.out.limits, c.bits) << c.name;
+    EXPECT_STREQ(limitNames(h.out.limits), c.name);
+    lin += (c.bits & limit::kMaxLinSpeed) ? 1 : 0;
+    rot += (c.bits & limit::kMaxRotSpeed) ? 1 : 0;
+    EXPECT_EQ(h.bridge.stats().limited_lin_speed, lin) << c.name;
+    EXPECT_EQ(h.bridge.stats().limited_rot_speed, rot) << c.name;
+    h.setDesired(h.commanded());  // settle: the next case starts where this one was commanded
+    EXPECT_EQ(h.send(State::Cmd, Quality::Perfect), BridgeStatus::Commanding);
+    EXPECT_EQ(h.out.limits, 0);
+  }
+  // Outside CMD nothing is limited (echo), and the bits are cleared.
+  EXPECT_EQ(h.send(State::Mon, Quality::Perfect), BridgeStatus::LeftCmd);
+  EXPECT_EQ(h.out.limits, 0);
+}

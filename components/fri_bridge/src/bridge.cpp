@@ -6,15 +6,24 @@
 namespace tactile {
 namespace fri {
 
-bool PoseRateLimiter::step(const KDL::Frame& target, double dt) noexcept {
-  bool limited = false;
+const char* limitNames(uint8_t bits) noexcept {
+  switch (bits & (limit::kMaxLinSpeed | limit::kMaxRotSpeed)) {
+    case limit::kMaxLinSpeed: return "max_lin_speed";
+    case limit::kMaxRotSpeed: return "max_rot_speed";
+    case limit::kMaxLinSpeed | limit::kMaxRotSpeed: return "max_lin_speed+max_rot_speed";
+    default: return "";
+  }
+}
+
+uint8_t PoseRateLimiter::step(const KDL::Frame& target, double dt) noexcept {
+  uint8_t limited = 0;
   // Translation: |dp| <= v_max * dt.
   KDL::Vector dp = target.p - current_.p;
   const double dist = dp.Norm();
   const double max_dist = max_lin_ * dt;
   if (dist > max_dist) {
     dp = dp * (max_dist / dist);
-    limited = true;
+    limited |= limit::kMaxLinSpeed;
   }
   current_.p = current_.p + dp;
   // Rotation: the relative rotation current^-1 * target as axis-angle; the
@@ -25,7 +34,7 @@ bool PoseRateLimiter::step(const KDL::Frame& target, double dt) noexcept {
   const double max_angle = max_rot_ * dt;
   if (angle > max_angle) {
     current_.M = current_.M * KDL::Rotation::Rot2(axis, max_angle);
-    limited = true;
+    limited |= limit::kMaxRotSpeed;
   } else {
     current_.M = target.M;
   }
@@ -217,6 +226,7 @@ void FriBridge::fillRobotState(const MsrPacket& msr, double now_s, bool msr_vali
 BridgeStatus FriBridge::step(const MsrPacket& msr, const PoseCommand& desired, double now_s,
                              BridgeOutput& out) noexcept {
   out.mismatch = 0;
+  out.limits = 0;
   out.krc_cycle_s = static_cast<double>(msr.intf.desired_msr_sample_time);
   const BridgeStatus st = stepPacket(msr, desired, now_s, out);
   if (st != BridgeStatus::DroppedDuplicate && st != BridgeStatus::DroppedOutOfOrder && st != BridgeStatus::Malformed &&
@@ -422,8 +432,11 @@ BridgeStatus FriBridge::followDesired(const MsrPacket& msr, const PoseCommand& d
     fillReply(msr, limiter_.current(), out);
     return out.status;
   }
-  const bool limited = limiter_.step(target, T);
+  const uint8_t limited = limiter_.step(target, T);
+  out.limits = limited;
   if (limited) ++stats_.limited;
+  if (limited & limit::kMaxLinSpeed) ++stats_.limited_lin_speed;
+  if (limited & limit::kMaxRotSpeed) ++stats_.limited_rot_speed;
   out.status = limited ? BridgeStatus::Limited : BridgeStatus::Commanding;
   fillReply(msr, limiter_.current(), out);
   return out.status;

@@ -94,6 +94,16 @@
 namespace tactile {
 namespace fri {
 
+/// The bridge's limits on a command, one bit each (BridgeOutput::limits):
+/// a clipped command is never silent, it names the limit that clipped it.
+namespace limit {
+constexpr uint8_t kMaxLinSpeed = 0x1;  ///< fri.max_lin_speed clipped the step's translation
+constexpr uint8_t kMaxRotSpeed = 0x2;  ///< fri.max_rot_speed clipped the step's rotation
+}  // namespace limit
+/// "max_lin_speed", "max_rot_speed", "max_lin_speed+max_rot_speed" or "" (none):
+/// the fri.yaml keys of the limits in `bits` (a static string).
+const char* limitNames(uint8_t bits) noexcept;
+
 /// Limits a commanded pose's speed: |dp| <= v_max * dt, rotation angle <= w_max * dt.
 class PoseRateLimiter {
  public:
@@ -103,8 +113,9 @@ class PoseRateLimiter {
   }
   void reset(const KDL::Frame& f) noexcept { current_ = f; }
   const KDL::Frame& current() const noexcept { return current_; }
-  /// Moves current() towards `target`; returns true when the step was clipped.
-  bool step(const KDL::Frame& target, double dt) noexcept;
+  /// Moves current() towards `target`; returns the limit:: bits that clipped
+  /// the step (0: reached).
+  uint8_t step(const KDL::Frame& target, double dt) noexcept;
 
  private:
   double max_lin_ = 0.0;
@@ -134,7 +145,8 @@ struct BridgeParams {
 /// Outcome of one step(). Values < kBridgeFirstNoReply (16) produce a reply; the others do not.
 enum class BridgeStatus : uint8_t {
   Commanding = 0,      ///< CMD, quality >= OK, following the desired pose
-  Limited = 1,         ///< as Commanding, but the rate limiter clipped the step
+  Limited = 1,         ///< as Commanding, but the rate limiter clipped the step: BridgeOutput::limits
+                       ///< names the limit(s) (limitNames(): max_lin_speed, max_rot_speed)
   Monitor = 2,         ///< MON/OFF: echoing the measured pose
   PowerOff = 3,        ///< drives off: echoing the measured pose
   LeftCmd = 4,         ///< the KRC left CMD (now MON/OFF): echoing the measured pose
@@ -177,6 +189,7 @@ struct BridgeOutput {
   uint16_t lost_before = 0;      ///< packets missing between the previous accepted one and this
   KDL::Frame commanded = KDL::Frame::Identity();  ///< {g}T{e} sent (valid when reply)
   uint8_t mismatch = 0;          ///< mismatch:: bits of this packet (0: the KRC agrees with the configuration)
+  uint8_t limits = 0;            ///< limit:: bits that clipped this packet's command (status Limited), else 0
   double krc_cycle_s = 0.0;      ///< the KRC's desiredMsrSampleTime of this packet (s)
   tactile::RobotState robot{};   ///< the robot state of this packet (valid for accepted packets)
 };
@@ -190,7 +203,9 @@ struct BridgeStats {
   uint64_t out_of_order = 0;
   uint64_t malformed = 0;
   uint64_t resyncs = 0;
-  uint64_t limited = 0;
+  uint64_t limited = 0;             ///< commands clipped by any limit (status Limited)
+  uint64_t limited_lin_speed = 0;   ///< ... by fri.max_lin_speed
+  uint64_t limited_rot_speed = 0;   ///< ... by fri.max_rot_speed
   uint64_t holds = 0;         ///< replies that repeated the last command
   uint64_t rewinds = 0;       ///< limiter rewound to the command the KRC reflected
 };

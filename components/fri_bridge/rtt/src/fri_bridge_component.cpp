@@ -41,6 +41,9 @@ FriBridgeComponent::FriBridgeComponent(const std::string& name)
   addAtomicAttribute(*provides(), "lost", lost_);
   addAtomicAttribute(*provides(), "timeouts", timeouts_);
   addAtomicAttribute(*provides(), "socket_errors", socket_errors_);
+  addAtomicAttribute(*provides(), "limits", limits_);
+  addAtomicAttribute(*provides(), "limited_max_lin_speed", limited_lin_);
+  addAtomicAttribute(*provides(), "limited_max_rot_speed", limited_rot_);
   addPort(command_in_).doc("Desired flange pose {g}T{e} (from the servo); rate-limited by the bridge.");
   addPort(pose_out_).doc("Measured flange pose {g}T{e} (msrCartPos of the KRC), per accepted packet.");
   addPort(wrench_out_).doc("Estimated external TCP wrench w = [Fx Fy Fz Tx Ty Tz] (N, N m) from estExtTcpFT, "
@@ -56,6 +59,8 @@ FriBridgeComponent::FriBridgeComponent(const std::string& name)
       .doc("Message of the last failed configure().");
   addOperation("statusName", &FriBridgeComponent::statusName, this, RTT::ClientThread)
       .doc("BridgeStatus of the last packet as text, or krc_silent after receive_timeout s without one.");
+  addOperation("limitNames", &FriBridgeComponent::limitNames, this, RTT::ClientThread)
+      .doc("The limits (fri.yaml keys: max_lin_speed, max_rot_speed) that clipped the last command; \"\" if none.");
 }
 
 FriBridgeComponent::~FriBridgeComponent() {
@@ -226,6 +231,9 @@ void FriBridgeComponent::handleDatagram(fri::UdpStatus us, std::size_t n) {
   record(bridge_status_, static_cast<int>(st));
   bump(received_);
   record(lost_, static_cast<int>(bridge_.stats().lost));
+  record(limits_, static_cast<int>(out_.limits));
+  record(limited_lin_, static_cast<int>(bridge_.stats().limited_lin_speed));
+  record(limited_rot_, static_cast<int>(bridge_.stats().limited_rot_speed));
   if (st == fri::BridgeStatus::Malformed || st == fri::BridgeStatus::DroppedDuplicate ||
       st == fri::BridgeStatus::DroppedOutOfOrder || st == fri::BridgeStatus::NotConfigured)
     return;
