@@ -29,6 +29,9 @@ Checks, each a line "ok ..." or "MISMATCH ..." naming both files and keys:
      (|angle| >= 5 deg: not the stretched-elbow / wrist singularity)
  10. after the command loop: PTP $AXIS_ACT_MES (the commanded pose brought to the
      measured one) before friStop and before the strategy goes back to 10
+ 11. the KRL exchange codes of the .dat (TS_REQ_STOP, TS_ST_*) == bridge.hpp's
+     krl::kRequestStop, krl::kProgram* (the request the bridge sends, the steps
+     it reads)
 and reports fri.udp.krc_port (the KRC's source port; 0 = any: set it only to a
 port fri_check --monitor has shown).
 Exit 0 when everything agrees, 1 on any mismatch or unreadable value (each
@@ -312,6 +315,21 @@ def check_more(a, src, dat, krl, compare, oks, failures):
         compare(abs(v.get("A3", 0.0)) >= 5.0 and abs(v.get("A5", 0.0)) >= 5.0,
                 f"start pose: {dat}:{ln} TS_START A3 = {v.get('A3')} deg, A5 = {v.get('A5')} deg "
                 "(|A3|, |A5| >= 5 deg: not the stretched elbow or wrist)")
+    # 11. the KRL exchange codes
+    text = "\n".join(strip_krl_comments(open(dat, encoding="latin-1").read()))
+    hpp = open(a.bridge).read()
+    for krl_name, cpp_name in (("TS_REQ_STOP", "kRequestStop"), ("TS_ST_INIT", "kProgramInit"),
+                               ("TS_ST_MONITOR", "kProgramMonitor"), ("TS_ST_CONFIRM", "kProgramConfirm"),
+                               ("TS_ST_COMMAND", "kProgramCommand"), ("TS_ST_STOPPING", "kProgramStopping"),
+                               ("TS_ST_CLOSED", "kProgramClosed")):
+        mk = re.search(r"\bDECL\s+INT\s+%s\s*=\s*(-?\d+)" % krl_name, text, re.I)
+        mc = re.search(r"\b%s\s*=\s*(-?\d+)\s*;" % cpp_name, hpp)
+        if not mk or not mc:
+            failures.append(f"KRL exchange: {krl_name} in {dat} {'found' if mk else 'missing'}, "
+                            f"krl::{cpp_name} in {a.bridge} {'found' if mc else 'missing'}")
+            continue
+        compare(int(mk.group(1)) == int(mc.group(1)),
+                f"KRL exchange: {dat} {krl_name} = {mk.group(1)}, {a.bridge} krl::{cpp_name} = {mc.group(1)}")
     # 10. the end: PTP $AXIS_ACT_MES after the command loop, before friStop and strategy 10
     stops = [ln for ln in more["fristop"] if ln > start]
     back = [ln for ln, v in more["stiff"]["STRATEGY"] if ln > start]
@@ -328,6 +346,7 @@ def main():
     ap.add_argument("--krc", default=os.path.join(ROOT, "krc"), help="folder with TactileServo.src and dlrrc.ini")
     ap.add_argument("--fri-yaml", default=os.path.join(ROOT, "components/fri_bridge/params/fri.yaml"))
     ap.add_argument("--protocol", default=os.path.join(ROOT, "components/fri_bridge/include/tactile_fri/protocol.hpp"))
+    ap.add_argument("--bridge", default=os.path.join(ROOT, "components/fri_bridge/include/tactile_fri/bridge.hpp"))
     ap.add_argument("--sensor-params", default=os.path.join(ROOT, "components/features/params/wts0614.yaml"),
                     help="the sensor's parameter file with pad: pad_mass_kg, pad_com_m")
     ap.add_argument("--program", default=os.path.join(ROOT, "components/servo/programs/first_touch.yaml"),
@@ -336,7 +355,7 @@ def main():
     # paths as given, relative to the working directory when inside it (messages)
     rel = lambda p: os.path.relpath(p) if not os.path.relpath(p).startswith("..") else p
     a.fri_yaml, a.protocol = rel(a.fri_yaml), rel(a.protocol)
-    a.sensor_params, a.program = rel(a.sensor_params), rel(a.program)
+    a.sensor_params, a.program, a.bridge = rel(a.sensor_params), rel(a.program), rel(a.bridge)
     src, ini = rel(os.path.join(a.krc, "TactileServo.src")), rel(os.path.join(a.krc, "dlrrc.ini"))
     dat = rel(os.path.join(a.krc, "TactileServo.dat"))
     failures, oks = [], []

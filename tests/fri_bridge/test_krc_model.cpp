@@ -173,3 +173,43 @@ TEST(KrcModel, AFlagChangeInCommandModeIsRefusedAndTheKrcLeavesCommandMode) {
   l.krc.reset(l.plant.pose);
   EXPECT_FALSE(l.krc.refused());
 }
+
+// The PC -> KRC request channel end to end: the bridge asks the KRL program
+// to stop ($FRI_FRM_INT[1] = 99); the simulated program honours it (friStop:
+// monitor mode) and reports its step ($FRI_TO_INT[1]), which the bridge reads.
+TEST(KrcModel, TheBridgesStopRequestEndsTheKrlProgram) {
+  Loop l;
+  PoseCommand desired;
+  desired.pose = toPose(l.plant.pose);
+  desired.status = ServoStatus::Ok;
+  for (int k = 0; k < 20; ++k) {
+    desired.time_s = 0.001 * k;
+    ASSERT_EQ(l.cycle(0.001 * k, k < 10 ? State::Mon : State::Cmd, desired), ReplyResult::Matched);
+    EXPECT_EQ(l.out.krl_program, k < 10 ? krl::kProgramMonitor : krl::kProgramCommand) << k;
+    EXPECT_EQ(l.out.cmd.krl.int_data[0], 0) << "no request before requestStop()";
+  }
+  EXPECT_STREQ(krl::programStepName(l.out.krl_program), "commanding");
+  l.bridge.requestStop();
+  EXPECT_TRUE(l.bridge.stopRequested());
+  l.bridge.reset();  // a reopened transport keeps the request
+  int left_at = -1;
+  for (int k = 20; k < 40; ++k) {
+    desired.time_s = 0.001 * k;
+    ASSERT_EQ(l.cycle(0.001 * k, State::Cmd, desired), ReplyResult::Matched);  // the script still says CMD
+    EXPECT_EQ(l.out.cmd.krl.int_data[0], krl::kRequestStop) << k;
+    EXPECT_TRUE(l.out.stop_requested);
+    if (left_at < 0 && l.out.state == State::Mon) left_at = k;
+  }
+  EXPECT_TRUE(l.krc.stopRequested());
+  EXPECT_EQ(left_at, 21) << "the KRC leaves command mode one cycle after the request";
+  EXPECT_EQ(l.out.krl_program, krl::kProgramClosed);
+  EXPECT_STREQ(krl::programStepName(l.out.krl_program), "closed");
+  EXPECT_EQ(l.out.status, BridgeStatus::LeftCmd);
+  EXPECT_FALSE(l.out.robot.commandable);
+  EXPECT_EQ(l.krc.stats().mon_echo_errors, 0u);
+  EXPECT_EQ(l.krc.stats().flag_errors, 0u);
+  // configure() clears the request.
+  BridgeParams bp;
+  ASSERT_TRUE(l.bridge.configure(bp).ok());
+  EXPECT_FALSE(l.bridge.stopRequested());
+}

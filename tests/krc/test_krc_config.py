@@ -26,6 +26,8 @@ fails, naming the disagreement, on copies with one value changed on one side:
   TS_START in the order A1, A2, E1, A3 -> "start pose order"
   TS_START all zeros                  -> "start pose:"
   no PTP $AXIS_ACT_MES at the end     -> "end of run"
+  TS_REQ_STOP = 98                    -> "KRL exchange"
+  TS_ST_STOPPING missing              -> "KRL exchange"
 
 usage: test_krc_config.py SOURCE_DIR WORK_DIR
 """
@@ -108,6 +110,8 @@ cases = [
      "TS_START = {A1 0.0, A2 0.0, A3 0.0, A4 0.0, A5 0.0, A6 0.0, E1 0.0}", "start pose:"),
     ("no_end_ptp", "TactileServo.src", r"(?m)^BAS \(#VEL_PTP, TS_START_VEL \)\nPTP \$AXIS_ACT_MES\nIF \$FriState",
      "IF $FriState", "end of run"),
+    ("req_stop_98", "TactileServo.dat", r"TS_REQ_STOP = 99", "TS_REQ_STOP = 98", "KRL exchange"),
+    ("no_stopping_code", "TactileServo.dat", r"(?m)^DECL INT TS_ST_STOPPING = 25\n", "", "KRL exchange"),
 ]
 for name, f, old, new, expect in cases:
     d = copy_case(name)

@@ -111,11 +111,13 @@ TEST(FriBridgeComponent, InterfaceIsDeclaredAndDocumented) {
     ASSERT_NE(c.properties()->getProperty(prop), nullptr) << prop;
   for (const char* a : {"local_port", "bridge_status", "fri_state", "fri_quality", "krc_silent", "fd_activity",
                         "received", "replies", "lost", "timeouts", "socket_errors", "limits",
-                        "limited_max_lin_speed", "limited_max_rot_speed"})
+                        "limited_max_lin_speed", "limited_max_rot_speed", "krc_program", "krc_stop_requested"})
     EXPECT_NE(c.provides()->getAttribute(a), nullptr) << a;
   EXPECT_TRUE(c.provides()->hasOperation("lastError"));
   EXPECT_TRUE(c.provides()->hasOperation("statusName"));
   EXPECT_TRUE(c.provides()->hasOperation("limitNames"));
+  EXPECT_TRUE(c.provides()->hasOperation("requestKrcStop"));
+  EXPECT_TRUE(c.provides()->hasOperation("krcProgramName"));
 }
 
 TEST(FriBridgeComponent, ConfigureErrorsNameTheParameter) {
@@ -215,6 +217,8 @@ void followSimKrc(Rig& rig) {
   // The 11 mm were covered at the translation limit: each clipped command counted by its limit's name.
   EXPECT_GT(rig.attr("limited_max_lin_speed"), 150);
   EXPECT_EQ(rig.attr("limited_max_rot_speed"), 0);
+  EXPECT_EQ(rig.attr("krc_program"), 20) << "the simulated KRL program reports commanding";
+  EXPECT_EQ(rig.comp.krcProgramName(), "commanding");
 }
 
 // As deployed: a FileDescriptorActivity watching the socket, one cycle per packet.

@@ -6,6 +6,18 @@
 namespace tactile {
 namespace fri {
 
+const char* krl::programStepName(int32_t step) noexcept {
+  switch (step) {
+    case kProgramInit: return "init";
+    case kProgramMonitor: return "waiting_for_quality";
+    case kProgramConfirm: return "halted_before_start";
+    case kProgramCommand: return "commanding";
+    case kProgramStopping: return "stopping";
+    case kProgramClosed: return "closed";
+    default: return "unknown";
+  }
+}
+
 const char* limitNames(uint8_t bits) noexcept {
   switch (bits & (limit::kMaxLinSpeed | limit::kMaxRotSpeed)) {
     case limit::kMaxLinSpeed: return "max_lin_speed";
@@ -98,6 +110,7 @@ ConfigResult FriBridge::configure(const BridgeParams& p) {
       return rangeError("fri.cart_damping[" + std::to_string(i) + "]", d, "must be in [0.1, 1.0] (normalised)");
   }
   params_ = p;
+  clearStopRequest();
   limiter_.setLimits(p.max_lin_speed, p.max_rot_speed);
   configured_ = true;
   reset();
@@ -227,6 +240,8 @@ BridgeStatus FriBridge::step(const MsrPacket& msr, const PoseCommand& desired, d
                              BridgeOutput& out) noexcept {
   out.mismatch = 0;
   out.limits = 0;
+  out.krl_program = msr.krl.int_data[0];
+  out.stop_requested = stop_requested_;
   out.krc_cycle_s = static_cast<double>(msr.intf.desired_msr_sample_time);
   const BridgeStatus st = stepPacket(msr, desired, now_s, out);
   if (st != BridgeStatus::DroppedDuplicate && st != BridgeStatus::DroppedOutOfOrder && st != BridgeStatus::Malformed &&

@@ -171,6 +171,24 @@ constexpr uint8_t kBridgeFirstNoReply = 16;
 inline bool producesReply(BridgeStatus s) { return static_cast<uint8_t>(s) < kBridgeFirstNoReply; }
 const char* toString(BridgeStatus s);
 
+/// The KRL exchange with krc/TactileServo.src (its .dat's TS_* codes;
+/// krc/check_krc_config.py compares them).
+namespace krl {
+/// $FRI_FRM_INT[1] (the command packets' krl.int_data[0]): the RT PC asks the
+/// KRL program to end (TS_REQ_STOP): friStop, friClose, position control.
+constexpr int32_t kRequestStop = 99;
+/// $FRI_TO_INT[1] (the measurement packets' krl.int_data[0]): the program's step.
+constexpr int32_t kProgramInit = 1;       ///< TS_ST_INIT
+constexpr int32_t kProgramMonitor = 10;   ///< TS_ST_MONITOR: monitor mode, waiting for the link quality
+constexpr int32_t kProgramConfirm = 15;   ///< TS_ST_CONFIRM: halted before friStart
+constexpr int32_t kProgramCommand = 20;   ///< TS_ST_COMMAND: commanding
+constexpr int32_t kProgramStopping = 25;  ///< TS_ST_STOPPING: PTP to the measured axes, friStop, friClose
+constexpr int32_t kProgramClosed = 30;    ///< TS_ST_CLOSED
+/// "init", "waiting_for_quality", "halted_before_start", "commanding",
+/// "stopping", "closed", or "unknown" (another value: not this program).
+const char* programStepName(int32_t step) noexcept;
+}  // namespace krl
+
 /// BridgeOutput::mismatch bits: the KRC disagrees with the configuration.
 namespace mismatch {
 constexpr uint8_t kCycle = 0x1;    ///< sample time != cycle_time_s
@@ -190,6 +208,8 @@ struct BridgeOutput {
   KDL::Frame commanded = KDL::Frame::Identity();  ///< {g}T{e} sent (valid when reply)
   uint8_t mismatch = 0;          ///< mismatch:: bits of this packet (0: the KRC agrees with the configuration)
   uint8_t limits = 0;            ///< limit:: bits that clipped this packet's command (status Limited), else 0
+  int32_t krl_program = 0;       ///< the KRL program's step ($FRI_TO_INT[1], krl:: kProgram*) of this packet
+  bool stop_requested = false;   ///< this reply asks the KRL program to end (requestStop())
   double krc_cycle_s = 0.0;      ///< the KRC's desiredMsrSampleTime of this packet (s)
   tactile::RobotState robot{};   ///< the robot state of this packet (valid for accepted packets)
 };
@@ -229,8 +249,24 @@ class FriBridge {
   void setDryRun(bool on) noexcept { dry_run_ = on; }
   bool dryRun() const noexcept { return dry_run_; }
 
-  /// KRL exchange data sent with every command (zero by default).
-  void setKrlOut(const KrlData& krl) noexcept { krl_out_ = krl; }
+  /// KRL exchange data sent with every command (zero by default; while a
+  /// stop is requested its int_data[0] is krl::kRequestStop).
+  void setKrlOut(const KrlData& krl) noexcept {
+    krl_out_ = krl;
+    if (stop_requested_) krl_out_.int_data[0] = krl::kRequestStop;
+  }
+  /// Asks the KRL program to end (a latched servo fault, the experiment's
+  /// end): every reply from now on carries $FRI_FRM_INT[1] = krl::kRequestStop,
+  /// until clearStopRequest() or configure(). reset() keeps it.
+  void requestStop() noexcept {
+    stop_requested_ = true;
+    krl_out_.int_data[0] = krl::kRequestStop;
+  }
+  void clearStopRequest() noexcept {
+    stop_requested_ = false;
+    krl_out_.int_data[0] = 0;
+  }
+  bool stopRequested() const noexcept { return stop_requested_; }
   const BridgeStats& stats() const noexcept { return stats_; }
   const BridgeParams& params() const noexcept { return params_; }
   bool configured() const noexcept { return configured_; }
@@ -263,6 +299,7 @@ class FriBridge {
   bool was_in_cmd_ = false;    // sticky LeftCmd
   uint16_t peer_port_ = 0;     // source port of the current datagram (0: unknown)
   bool dry_run_ = false;
+  bool stop_requested_ = false;  // requestStop(): latched
   uint32_t cmd_flags_ = flags::kCartPose;  // chosen outside CMD, kept in CMD
   bool have_flags_ = false;                // cmd_flags_ chosen since reset()
   /// The command flags for the KRC's reported control strategy.

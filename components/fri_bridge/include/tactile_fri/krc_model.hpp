@@ -30,6 +30,13 @@
 // and flag_errors), and the KRC drops to monitor mode and stays there
 // (refused(): the operator acknowledges the error and restarts the
 // program: reset()).
+//
+// The KRL program's exchange (krc/TactileServo.src): each measurement
+// carries the program's step in krl.int_data[0] ($FRI_TO_INT[1]: 10 in
+// monitor mode, 20 in command mode, 30 once ended); a reply whose
+// krl.int_data[0] is 99 ($FRI_FRM_INT[1] = TS_REQ_STOP) ends the program:
+// friStop (monitor mode, whatever the script says afterwards) and the step
+// 30 (stopRequested(); until reset()).
 #pragma once
 
 #include <array>
@@ -154,6 +161,9 @@ class KrcModel {
   /// The KRC refused a change of command flags in CMD and left command mode
   /// (monitor mode until reset()).
   bool refused() const { return refused_; }
+  /// The RT PC asked the KRL program to end (krl.int_data[0] = 99): it left
+  /// command mode and reports the step 30 (closed) until reset().
+  bool stopRequested() const { return stop_requested_; }
 
  private:
   KrcModelParams params_{};
@@ -170,6 +180,7 @@ class KrcModel {
   uint32_t flags_ = 0;         // the flags of the last reply outside CMD (kept on entering CMD)
   bool have_flags_ = false;
   bool refused_ = false;       // a flag change in CMD: monitor mode until reset()
+  bool stop_requested_ = false;  // the RT PC's stop request: the program ended
   KDL::Frame set_point_ = KDL::Frame::Identity();
   KDL::Frame last_applied_ = KDL::Frame::Identity();
   MsrPacket msr_{};
