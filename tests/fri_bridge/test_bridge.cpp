@@ -389,7 +389,10 @@ TEST(FriBridge, SlightlyNonUnitDesiredQuaternionStillGivesARotation) {
 
 TEST(FriBridge, NonCartesianStrategyInCmdRepliesAJointHold) {
   Harness h;
-  h.send(State::Mon, Quality::Perfect);
+  std::vector<uint8_t> m = makeMsr(++h.seq, State::Mon, Quality::Perfect, h.measured);
+  putU16(m, kOffControl, static_cast<uint16_t>(ControlStrategy::Position));
+  EXPECT_EQ(h.bridge.stepDatagram(m.data(), m.size(), h.desired, h.now, h.out), BridgeStatus::WrongStrategy);
+  EXPECT_EQ(h.out.cmd.cmd.cmd_flags, flags::kJointPosition);  // chosen in MON
   h.setDesired(KDL::Frame(h.measured.M, h.measured.p + KDL::Vector(0.05, 0.0, 0.0)));
   std::vector<uint8_t> b = makeMsr(++h.seq, State::Cmd, Quality::Perfect, h.measured);
   putU16(b, kOffControl, static_cast<uint16_t>(ControlStrategy::Position));
@@ -569,4 +572,98 @@ TEST(FriBridge, NoHeapAllocationPerCycle) {
   }
   EXPECT_EQ(scope.count(), 0u);
   EXPECT_GT(replies, 2900u * kCmdPacketSize);
+}
+
+// FRI allows the remote to change cmdFlags in monitor mode only. The bridge
+// chooses them there from the strategy the KRC reports and keeps them while
+// the KRC stays in CMD, whatever the packets in CMD report.
+TEST(FriBridge, CommandFlagsAreChosenInMonitorAndNeverChangeInCommand) {
+  const auto packet = [](Harness& h, State st, ControlStrategy c) {
+    std::vector<uint8_t> b = makeMsr(++h.seq, st, Quality::Perfect, h.measured);
+    putU16(b, kOffControl, static_cast<uint16_t>(c));
+    h.now += kT;
+    h.desired.time_s = h.now;
+    return h.bridge.stepDatagram(b.data(), b.size(), h.desired, h.now, h.out);
+  };
+  {  // a KRC in joint impedance: FRI_CMD_JNTPOS in MON and in CMD
+    Harness h;
+    for (int i = 0; i < 5; ++i) {
+      EXPECT_EQ(packet(h, State::Mon, ControlStrategy::JointImpedance), BridgeStatus::WrongStrategy);
+      EXPECT_EQ(h.out.cmd.cmd.cmd_flags, flags::kJointPosition);
+    }
+    for (int i = 0; i < 5; ++i) {
+      EXPECT_EQ(packet(h, State::Cmd, ControlStrategy::JointImpedance), BridgeStatus::WrongStrategy);
+      EXPECT_EQ(h.out.cmd.cmd.cmd_flags, flags::kJointPosition);
+      EXPECT_FALSE(h.out.robot.commandable);
+    }
+  }
+  {  // Cartesian impedance in MON, another strategy reported in CMD: the flags stay
+    BridgeParams p;
+    p.command_impedance = true;
+    Harness h(p);
+    const uint32_t cart = flags::kCartPose | flags::kCartStiffness | flags::kCartDamping;
+    EXPECT_EQ(packet(h, State::Mon, ControlStrategy::CartImpedance), BridgeStatus::Monitor);
+    EXPECT_EQ(h.out.cmd.cmd.cmd_flags, cart);
+    h.setDesired(h.measured);
+    EXPECT_EQ(packet(h, State::Cmd, ControlStrategy::CartImpedance), BridgeStatus::Commanding);
+    const KDL::Frame last = h.commanded();
+    h.setDesired(KDL::Frame(h.measured.M, h.measured.p + KDL::Vector(0.0003, 0.0, 0.0)));
+    for (ControlStrategy c : {ControlStrategy::JointImpedance, ControlStrategy::Position, ControlStrategy::Other}) {
+      EXPECT_EQ(packet(h, State::Cmd, c), BridgeStatus::WrongStrategy);
+      EXPECT_EQ(h.out.cmd.cmd.cmd_flags, cart) << "flags changed in CMD";
+      EXPECT_TRUE(KDL::Equal(h.commanded(), last, 1e-9)) << "held, nothing followed";
+      EXPECT_FALSE(h.out.robot.commandable);
+    }
+    // Back in MON under joint impedance: the flags change there, and stay in CMD.
+    EXPECT_EQ(packet(h, State::Mon, ControlStrategy::JointImpedance), BridgeStatus::WrongStrategy);
+    EXPECT_EQ(h.out.cmd.cmd.cmd_flags, flags::kJointPosition);
+    EXPECT_EQ(packet(h, State::Cmd, ControlStrategy::CartImpedance), BridgeStatus::WrongStrategy);
+    EXPECT_EQ(h.out.cmd.cmd.cmd_flags, flags::kJointPosition);
+    EXPECT_FALSE(h.out.robot.commandable) << "Cartesian poses cannot be applied with joint flags";
+  }
+  {  // a session whose first packet is in CMD chooses its flags there, once
+    Harness h;
+    EXPECT_EQ(packet(h, State::Cmd, ControlStrategy::Position), BridgeStatus::WrongStrategy);
+    EXPECT_EQ(h.out.cmd.cmd.cmd_flags, flags::kJointPosition);
+    EXPECT_EQ(packet(h, State::Cmd, ControlStrategy::CartImpedance), BridgeStatus::WrongStrategy);
+    EXPECT_EQ(h.out.cmd.cmd.cmd_flags, flags::kJointPosition);
+  }
+}
+
+// A clipped command is never silent: the status says limited, the output
+// names the limit (the fri.yaml key), and each limit has its counter.
+TEST(FriBridge, EveryClippedCommandNamesItsLimit) {
+  BridgeParams p;
+  p.max_lin_speed = 0.1;
+  p.max_rot_speed = 0.5;
+  Harness h(p);
+  h.engage();
+  EXPECT_EQ(h.out.limits, 0);
+  EXPECT_STREQ(limitNames(h.out.limits), "");
+  struct Case { KDL::Vector dp; double rz; uint8_t bits; const char* name; };
+  const Case cases[] = {
+      {KDL::Vector(0.0004, 0.0, 0.0), 0.0, limit::kMaxLinSpeed, "max_lin_speed"},        // 0.4 mm > 0.1 mm
+      {KDL::Vector(0.0, 0.0, 0.0), 0.004, limit::kMaxRotSpeed, "max_rot_speed"},         // 4 mrad > 0.5 mrad
+      {KDL::Vector(0.0, 0.0003, 0.0), 0.003, limit::kMaxLinSpeed | limit::kMaxRotSpeed,
+       "max_lin_speed+max_rot_speed"},
+      {KDL::Vector(0.00005, 0.0, 0.0), 0.0002, 0, ""}};  // within one step: not clipped
+  uint64_t lin = 0, rot = 0;
+  for (const Case& c : cases) {
+    const KDL::Frame from = h.commanded();
+    h.setDesired(KDL::Frame(from.M * KDL::Rotation::RotZ(c.rz), from.p + c.dp));
+    const BridgeStatus st = h.send(State::Cmd, Quality::Perfect);
+    EXPECT_EQ(st, c.bits ? BridgeStatus::Limited : BridgeStatus::Commanding) << c.name;
+    EXPECT_EQ(h.out.limits, c.bits) << c.name;
+    EXPECT_STREQ(limitNames(h.out.limits), c.name);
+    lin += (c.bits & limit::kMaxLinSpeed) ? 1 : 0;
+    rot += (c.bits & limit::kMaxRotSpeed) ? 1 : 0;
+    EXPECT_EQ(h.bridge.stats().limited_lin_speed, lin) << c.name;
+    EXPECT_EQ(h.bridge.stats().limited_rot_speed, rot) << c.name;
+    h.setDesired(h.commanded());  // settle: the next case starts where this one was commanded
+    EXPECT_EQ(h.send(State::Cmd, Quality::Perfect), BridgeStatus::Commanding);
+    EXPECT_EQ(h.out.limits, 0);
+  }
+  // Outside CMD nothing is limited (echo), and the bits are cleared.
+  EXPECT_EQ(h.send(State::Mon, Quality::Perfect), BridgeStatus::LeftCmd);
+  EXPECT_EQ(h.out.limits, 0);
 }

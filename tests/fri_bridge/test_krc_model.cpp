@@ -23,8 +23,9 @@ struct Loop {
   MsrPacket msr{};
   BridgeOutput out;
 
-  Loop() {
+  explicit Loop(ControlStrategy control = ControlStrategy::CartImpedance) {
     KrcModelParams kp;
+    kp.control = control;
     EXPECT_TRUE(krc.configure(kp).ok());
     BridgeParams bp;
     // The bridge's start gate (engage_max_*) is tested in test_bridge.cpp; here
@@ -122,4 +123,93 @@ TEST(KrcModel, StaleAndMalformedRepliesAreNotApplied) {
   const ConfigResult r = l.krc.configure(bad);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.message().find("krc.period_s"), std::string::npos) << r.message();
+}
+
+// A KRC under joint impedance: the remote's flags are chosen in MON and kept
+// in CMD; the model refuses any change in CMD, as the KRC does (and leaves
+// command mode).
+TEST(KrcModel, JointImpedanceKrcGetsTheSameFlagsInMonitorAndCommand) {
+  Loop l(ControlStrategy::JointImpedance);
+  PoseCommand desired;
+  desired.pose = toPose(l.plant.pose);
+  desired.status = ServoStatus::Ok;
+  for (int k = 0; k < 200; ++k) {
+    desired.time_s = 0.001 * k;
+    ASSERT_EQ(l.cycle(0.001 * k, k < 100 ? State::Mon : State::Cmd, desired), ReplyResult::Matched) << k;
+    EXPECT_EQ(l.out.cmd.cmd.cmd_flags, flags::kJointPosition) << k;
+  }
+  EXPECT_EQ(l.krc.stats().flag_changes, 0u);
+  EXPECT_EQ(l.krc.stats().flag_errors, 0u);
+  EXPECT_FALSE(l.krc.refused());
+  EXPECT_EQ(l.krc.state(), State::Cmd);
+}
+
+TEST(KrcModel, AFlagChangeInCommandModeIsRefusedAndTheKrcLeavesCommandMode) {
+  Loop l;
+  PoseCommand desired;
+  desired.pose = toPose(l.plant.pose);
+  desired.status = ServoStatus::Ok;
+  for (int k = 0; k < 20; ++k) ASSERT_EQ(l.cycle(0.001 * k, k < 10 ? State::Mon : State::Cmd, desired), ReplyResult::Matched);
+  ASSERT_EQ(l.krc.stats().applied, 10u);
+  // A reply to the next measurement with other flags (the joint position flag).
+  l.krc.setState(State::Cmd, Quality::Perfect, 0x7F);
+  l.krc.buildMeasurement(l.plant, 0.02, l.msr);
+  CmdPacket c = l.out.cmd;
+  c.head.send_seq = static_cast<uint16_t>(c.head.send_seq + 1);
+  c.head.refl_seq = l.msr.head.send_seq;
+  c.cmd.cmd_flags = flags::kJointPosition;
+  std::size_t n = 0;
+  ASSERT_EQ(encodeCommand(c, l.wire.data(), l.wire.size(), n), PacketStatus::Ok);
+  EXPECT_EQ(l.krc.handleReply(l.wire.data(), n), ReplyResult::Matched);
+  EXPECT_EQ(l.krc.stats().flag_changes, 1u);
+  EXPECT_EQ(l.krc.stats().flag_errors, 1u);
+  EXPECT_EQ(l.krc.stats().applied, 10u) << "refused, not applied";
+  EXPECT_TRUE(l.krc.refused());
+  // The KRC stays in monitor mode, whatever its script says, until reset().
+  l.krc.setState(State::Cmd, Quality::Perfect, 0x7F);
+  EXPECT_EQ(l.krc.state(), State::Mon);
+  l.krc.buildMeasurement(l.plant, 0.021, l.msr);
+  EXPECT_EQ(l.msr.intf.state, static_cast<uint16_t>(State::Mon));
+  l.krc.reset(l.plant.pose);
+  EXPECT_FALSE(l.krc.refused());
+}
+
+// The PC -> KRC request channel end to end: the bridge asks the KRL program
+// to stop ($FRI_FRM_INT[1] = 99); the simulated program honours it (friStop:
+// monitor mode) and reports its step ($FRI_TO_INT[1]), which the bridge reads.
+TEST(KrcModel, TheBridgesStopRequestEndsTheKrlProgram) {
+  Loop l;
+  PoseCommand desired;
+  desired.pose = toPose(l.plant.pose);
+  desired.status = ServoStatus::Ok;
+  for (int k = 0; k < 20; ++k) {
+    desired.time_s = 0.001 * k;
+    ASSERT_EQ(l.cycle(0.001 * k, k < 10 ? State::Mon : State::Cmd, desired), ReplyResult::Matched);
+    EXPECT_EQ(l.out.krl_program, k < 10 ? krl::kProgramMonitor : krl::kProgramCommand) << k;
+    EXPECT_EQ(l.out.cmd.krl.int_data[0], 0) << "no request before requestStop()";
+  }
+  EXPECT_STREQ(krl::programStepName(l.out.krl_program), "commanding");
+  l.bridge.requestStop();
+  EXPECT_TRUE(l.bridge.stopRequested());
+  l.bridge.reset();  // a reopened transport keeps the request
+  int left_at = -1;
+  for (int k = 20; k < 40; ++k) {
+    desired.time_s = 0.001 * k;
+    ASSERT_EQ(l.cycle(0.001 * k, State::Cmd, desired), ReplyResult::Matched);  // the script still says CMD
+    EXPECT_EQ(l.out.cmd.krl.int_data[0], krl::kRequestStop) << k;
+    EXPECT_TRUE(l.out.stop_requested);
+    if (left_at < 0 && l.out.state == State::Mon) left_at = k;
+  }
+  EXPECT_TRUE(l.krc.stopRequested());
+  EXPECT_EQ(left_at, 21) << "the KRC leaves command mode one cycle after the request";
+  EXPECT_EQ(l.out.krl_program, krl::kProgramClosed);
+  EXPECT_STREQ(krl::programStepName(l.out.krl_program), "closed");
+  EXPECT_EQ(l.out.status, BridgeStatus::LeftCmd);
+  EXPECT_FALSE(l.out.robot.commandable);
+  EXPECT_EQ(l.krc.stats().mon_echo_errors, 0u);
+  EXPECT_EQ(l.krc.stats().flag_errors, 0u);
+  // configure() clears the request.
+  BridgeParams bp;
+  ASSERT_TRUE(l.bridge.configure(bp).ok());
+  EXPECT_FALSE(l.bridge.stopRequested());
 }

@@ -15,6 +15,19 @@ fails, naming the disagreement, on copies with one value changed on one side:
   friOpen(2), strategy 30 in a comment -> still agrees (exit 0)
   FRIHOST=rt-pc (not an address)      -> "FRIHOST"
   fri.yaml without cycle_time_s       -> "no fri.cycle_time_s"
+  TS_PAD_LOAD M 0.3 (.dat)            -> "pad mass"
+  pad.pad_com_m z 0.03 (sensor file)  -> "pad centre of mass"
+  no $LOAD = TS_PAD_LOAD              -> "no $LOAD"
+  no $STIFFNESS.MAXFORCE line         -> "MAXFORCE is not written"
+  $STIFFNESS.FRAMETYPE = #TOOL        -> "task frame"
+  $TOOL = TOOL_DATA[1]                -> "frames"
+  MAXFORCE Z 4.0 (below the 5 N ceiling) -> "force cap"
+  CPMAXDELTA X 5.0 (inside 10 mm of spring) -> "deviation stop"
+  TS_START in the order A1, A2, E1, A3 -> "start pose order"
+  TS_START all zeros                  -> "start pose:"
+  no PTP $AXIS_ACT_MES at the end     -> "end of run"
+  TS_REQ_STOP = 98                    -> "KRL exchange"
+  TS_ST_STOPPING missing              -> "KRL exchange"
 
 usage: test_krc_config.py SOURCE_DIR WORK_DIR
 """
@@ -25,6 +38,7 @@ import subprocess
 import sys
 
 src_dir, work = sys.argv[1], sys.argv[2]
+sensor = os.path.join(src_dir, "components", "features", "params", "wts0614.yaml")
 checker = os.path.join(src_dir, "krc", "check_krc_config.py")
 krc_dir = os.path.join(src_dir, "krc")
 fri_yaml = os.path.join(src_dir, "components", "fri_bridge", "params", "fri.yaml")
@@ -32,8 +46,9 @@ protocol = os.path.join(src_dir, "components", "fri_bridge", "include", "tactile
 failures = []
 
 
-def run(krc, fri):
-    p = subprocess.run(["/usr/bin/python3", checker, "--krc", krc, "--fri-yaml", fri, "--protocol", protocol],
+def run(krc, fri, sensor_file=sensor):
+    p = subprocess.run(["/usr/bin/python3", checker, "--krc", krc, "--fri-yaml", fri, "--protocol", protocol,
+                        "--sensor-params", sensor_file],
                        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     return p.returncode, p.stdout
 
@@ -45,6 +60,7 @@ def copy_case(name):
     for f in ("TactileServo.src", "TactileServo.dat", "dlrrc.ini"):
         shutil.copy(os.path.join(krc_dir, f), d)
     shutil.copy(fri_yaml, os.path.join(d, "fri.yaml"))
+    shutil.copy(sensor, os.path.join(d, "sensor.yaml"))
     return d
 
 
@@ -77,6 +93,25 @@ cases = [
     ("comment_only", "TactileServo.src", r"(?m)^; (.*)friOpen\(1\)", r"; \1friOpen(2) $STIFFNESS.STRATEGY = 30", None),
     ("frihost_name", "dlrrc.ini", r"FRIHOST=[0-9.]+", "FRIHOST=rt-pc", "FRIHOST"),
     ("yaml_no_cycle", "fri.yaml", r"\n *cycle_time_s:[^\n]*", "", "no fri.cycle_time_s"),
+    ("pad_mass", "TactileServo.dat", r"\{M 0\.2,", "{M 0.3,", "pad mass"),
+    ("sensor_com", "sensor.yaml", r"pad_com_m: \[0\.0, 0\.0, 0\.02\]", "pad_com_m: [0.0, 0.0, 0.03]",
+     "pad centre of mass"),
+    ("no_load", "TactileServo.src", r"(?m)^\$LOAD = TS_PAD_LOAD\n", "", "no $LOAD"),
+    ("no_maxforce", "TactileServo.src", r"(?m)^\$STIFFNESS\.MAXFORCE = [^\n]*\n", "", "MAXFORCE is not written"),
+    ("frametype_tool", "TactileServo.src", r"(?m)^\$STIFFNESS\.FRAMETYPE = #BASE", "$STIFFNESS.FRAMETYPE = #TOOL",
+     "task frame"),
+    ("tool_data", "TactileServo.src", r"(?m)^\$TOOL = \$NULLFRAME", "$TOOL = TOOL_DATA[1]", "frames"),
+    ("maxforce_below_ceiling", "TactileServo.src", r"MAXFORCE = \{X 20\.0, Y 20\.0, Z 20\.0",
+     "MAXFORCE = {X 20.0, Y 20.0, Z 4.0", "force cap"),
+    ("cpmaxdelta_tight", "TactileServo.src", r"CPMAXDELTA = \{X 15\.0", "CPMAXDELTA = {X 5.0", "deviation stop"),
+    ("start_order", "TactileServo.dat", r"TS_START = \{[^}]*\}",
+     "TS_START = {A1 0.0, A2 56.6, E1 0.0, A3 41.3, A4 0.0, A5 82.1, A6 0.0}", "start pose order"),
+    ("start_zeros", "TactileServo.dat", r"TS_START = \{[^}]*\}",
+     "TS_START = {A1 0.0, A2 0.0, A3 0.0, A4 0.0, A5 0.0, A6 0.0, E1 0.0}", "start pose:"),
+    ("no_end_ptp", "TactileServo.src", r"(?m)^BAS \(#VEL_PTP, TS_START_VEL \)\nPTP \$AXIS_ACT_MES\nIF \$FriState",
+     "IF $FriState", "end of run"),
+    ("req_stop_98", "TactileServo.dat", r"TS_REQ_STOP = 99", "TS_REQ_STOP = 98", "KRL exchange"),
+    ("no_stopping_code", "TactileServo.dat", r"(?m)^DECL INT TS_ST_STOPPING = 25\n", "", "KRL exchange"),
 ]
 for name, f, old, new, expect in cases:
     d = copy_case(name)
@@ -93,7 +128,7 @@ for name, f, old, new, expect in cases:
         open(path, "w", encoding="latin-1").write(text)
     else:
         edit(path, old, new)
-    rc, out = run(d, os.path.join(d, "fri.yaml"))
+    rc, out = run(d, os.path.join(d, "fri.yaml"), os.path.join(d, "sensor.yaml"))
     bad = [l for l in out.splitlines() if l.startswith("MISMATCH")]
     ok = (rc == 0 and not bad) if expect is None else (rc == 1 and any(expect in l for l in bad))
     print(f"{'ok  ' if ok else 'FAIL'} {name}: exit {rc}, {bad[:2]}")

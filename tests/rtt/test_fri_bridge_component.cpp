@@ -110,10 +110,14 @@ TEST(FriBridgeComponent, InterfaceIsDeclaredAndDocumented) {
   for (const char* prop : {"param_file", "port", "receive_timeout"})
     ASSERT_NE(c.properties()->getProperty(prop), nullptr) << prop;
   for (const char* a : {"local_port", "bridge_status", "fri_state", "fri_quality", "krc_silent", "fd_activity",
-                        "received", "replies", "lost", "timeouts", "socket_errors"})
+                        "received", "replies", "lost", "timeouts", "socket_errors", "limits",
+                        "limited_max_lin_speed", "limited_max_rot_speed", "krc_program", "krc_stop_requested"})
     EXPECT_NE(c.provides()->getAttribute(a), nullptr) << a;
   EXPECT_TRUE(c.provides()->hasOperation("lastError"));
   EXPECT_TRUE(c.provides()->hasOperation("statusName"));
+  EXPECT_TRUE(c.provides()->hasOperation("limitNames"));
+  EXPECT_TRUE(c.provides()->hasOperation("requestKrcStop"));
+  EXPECT_TRUE(c.provides()->hasOperation("krcProgramName"));
 }
 
 TEST(FriBridgeComponent, ConfigureErrorsNameTheParameter) {
@@ -210,6 +214,11 @@ void followSimKrc(Rig& rig) {
   EXPECT_GE(rig.attr("replies"), 1495);
   EXPECT_EQ(rig.attr("fri_state"), static_cast<int>(fri::State::Cmd));
   EXPECT_EQ(rig.attr("socket_errors"), 0);
+  // The 11 mm were covered at the translation limit: each clipped command counted by its limit's name.
+  EXPECT_GT(rig.attr("limited_max_lin_speed"), 150);
+  EXPECT_EQ(rig.attr("limited_max_rot_speed"), 0);
+  EXPECT_EQ(rig.attr("krc_program"), 20) << "the simulated KRL program reports commanding";
+  EXPECT_EQ(rig.comp.krcProgramName(), "commanding");
 }
 
 // As deployed: a FileDescriptorActivity watching the socket, one cycle per packet.

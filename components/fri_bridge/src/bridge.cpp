@@ -6,15 +6,36 @@
 namespace tactile {
 namespace fri {
 
-bool PoseRateLimiter::step(const KDL::Frame& target, double dt) noexcept {
-  bool limited = false;
+const char* krl::programStepName(int32_t step) noexcept {
+  switch (step) {
+    case kProgramInit: return "init";
+    case kProgramMonitor: return "waiting_for_quality";
+    case kProgramConfirm: return "halted_before_start";
+    case kProgramCommand: return "commanding";
+    case kProgramStopping: return "stopping";
+    case kProgramClosed: return "closed";
+    default: return "unknown";
+  }
+}
+
+const char* limitNames(uint8_t bits) noexcept {
+  switch (bits & (limit::kMaxLinSpeed | limit::kMaxRotSpeed)) {
+    case limit::kMaxLinSpeed: return "max_lin_speed";
+    case limit::kMaxRotSpeed: return "max_rot_speed";
+    case limit::kMaxLinSpeed | limit::kMaxRotSpeed: return "max_lin_speed+max_rot_speed";
+    default: return "";
+  }
+}
+
+uint8_t PoseRateLimiter::step(const KDL::Frame& target, double dt) noexcept {
+  uint8_t limited = 0;
   // Translation: |dp| <= v_max * dt.
   KDL::Vector dp = target.p - current_.p;
   const double dist = dp.Norm();
   const double max_dist = max_lin_ * dt;
   if (dist > max_dist) {
     dp = dp * (max_dist / dist);
-    limited = true;
+    limited |= limit::kMaxLinSpeed;
   }
   current_.p = current_.p + dp;
   // Rotation: the relative rotation current^-1 * target as axis-angle; the
@@ -25,7 +46,7 @@ bool PoseRateLimiter::step(const KDL::Frame& target, double dt) noexcept {
   const double max_angle = max_rot_ * dt;
   if (angle > max_angle) {
     current_.M = current_.M * KDL::Rotation::Rot2(axis, max_angle);
-    limited = true;
+    limited |= limit::kMaxRotSpeed;
   } else {
     current_.M = target.M;
   }
@@ -89,6 +110,7 @@ ConfigResult FriBridge::configure(const BridgeParams& p) {
       return rangeError("fri.cart_damping[" + std::to_string(i) + "]", d, "must be in [0.1, 1.0] (normalised)");
   }
   params_ = p;
+  clearStopRequest();
   limiter_.setLimits(p.max_lin_speed, p.max_rot_speed);
   configured_ = true;
   reset();
@@ -107,10 +129,19 @@ void FriBridge::reset() noexcept {
   have_command_ = false;
   engaged_ = false;
   was_in_cmd_ = false;
+  have_flags_ = false;
+  cmd_flags_ = flags::kCartPose;
   sent_valid_.fill(false);
 }
 
-void FriBridge::fillReply(const MsrPacket& msr, const KDL::Frame& pose, BridgeOutput& out, bool joint_hold) noexcept {
+uint32_t FriBridge::flagsFor(uint16_t control) const noexcept {
+  if (control != static_cast<uint16_t>(ControlStrategy::CartImpedance)) return flags::kJointPosition;
+  uint32_t f = flags::kCartPose;
+  if (params_.command_impedance) f |= flags::kCartStiffness | flags::kCartDamping;
+  return f;
+}
+
+void FriBridge::fillReply(const MsrPacket& msr, const KDL::Frame& pose, BridgeOutput& out) noexcept {
   CmdPacket& c = out.cmd;
   c.head.send_seq = ++send_seq_;
   c.head.refl_seq = msr.head.send_seq;
@@ -118,9 +149,7 @@ void FriBridge::fillReply(const MsrPacket& msr, const KDL::Frame& pose, BridgeOu
   c.head.datagram_id = kDatagramIdCmd;
   c.krl = krl_out_;
   RobotCommand& r = c.cmd;
-  r.cmd_flags = flags::kCartPose;
-  if (params_.command_impedance) r.cmd_flags |= flags::kCartStiffness | flags::kCartDamping;
-  if (joint_hold) r.cmd_flags = flags::kJointPosition;
+  r.cmd_flags = cmd_flags_;
   fromFrame(pose, r.cart_pos);
   for (int j = 0; j < kNumJoints; ++j) {
     r.jnt_pos[j] = msr.data.cmd_jnt_pos[j] + msr.data.cmd_jnt_pos_fri_offset[j];
@@ -197,7 +226,8 @@ void FriBridge::fillRobotState(const MsrPacket& msr, double now_s, bool msr_vali
   r.config_ok = out.mismatch == 0;
   r.dry_run = dry_run_;
   r.commandable = r.mode == RobotMode::Command && r.power_on && qualityOf(msr) >= Quality::Ok &&
-                  r.cartesian_impedance && r.config_ok && !dry_run_ && msr_valid;
+                  r.cartesian_impedance && (cmd_flags_ & flags::kCartPose) != 0 && r.config_ok && !dry_run_ &&
+                  msr_valid;
   r.link_status = static_cast<int>(out.status);
   for (int j = 0; j < kNumJoints && j < kArmJoints; ++j)
     r.q[static_cast<std::size_t>(j)] = static_cast<double>(msr.data.msr_jnt_pos[j]);
@@ -209,6 +239,9 @@ void FriBridge::fillRobotState(const MsrPacket& msr, double now_s, bool msr_vali
 BridgeStatus FriBridge::step(const MsrPacket& msr, const PoseCommand& desired, double now_s,
                              BridgeOutput& out) noexcept {
   out.mismatch = 0;
+  out.limits = 0;
+  out.krl_program = msr.krl.int_data[0];
+  out.stop_requested = stop_requested_;
   out.krc_cycle_s = static_cast<double>(msr.intf.desired_msr_sample_time);
   const BridgeStatus st = stepPacket(msr, desired, now_s, out);
   if (st != BridgeStatus::DroppedDuplicate && st != BridgeStatus::DroppedOutOfOrder && st != BridgeStatus::Malformed &&
@@ -243,13 +276,19 @@ BridgeStatus FriBridge::stepPacket(const MsrPacket& msr, const PoseCommand& desi
   const double krc_T = static_cast<double>(msr.intf.desired_cmd_sample_time);
   const double T = (std::isfinite(krc_T) && krc_T > 0.0 && krc_T <= 0.1) ? krc_T : params_.cycle_time_s;
   out.mismatch = checkConfig(msr);
+  // Command flags: chosen outside CMD (or on a session's first packet), never changed in CMD.
+  if (out.state != State::Cmd || !have_flags_) {
+    cmd_flags_ = flagsFor(msr.robot.control);
+    have_flags_ = true;
+  }
 
   if (out.state != State::Cmd || !powerOn(msr)) return echoOutsideCmd(msr, held, msr_valid, out);
 
   // ---- CMD, powered ----
   was_in_cmd_ = true;
-  if (msr.robot.control != static_cast<uint16_t>(ControlStrategy::CartImpedance))
-    return jointHold(msr, held, msr_valid, out);
+  if (msr.robot.control != static_cast<uint16_t>(ControlStrategy::CartImpedance) ||
+      !(cmd_flags_ & flags::kCartPose))
+    return strategyHold(msr, held, msr_valid, out);
   if (!startFromHeldCommand(msr, held, msr_valid)) return out.status = BridgeStatus::MeasurementInvalid;
   if (!holdStatus(desired, now_s, msr_valid, out)) return followDesired(msr, desired, T, out);
   ++stats_.holds;  // hold: repeat the last command unchanged
@@ -325,17 +364,23 @@ BridgeStatus FriBridge::echoOutsideCmd(const MsrPacket& msr, const KDL::Frame& h
   return out.status;
 }
 
-BridgeStatus FriBridge::jointHold(const MsrPacket& msr, const KDL::Frame& held, bool msr_valid,
-                                  BridgeOutput& out) noexcept {
+BridgeStatus FriBridge::strategyHold(const MsrPacket& msr, const KDL::Frame& held, bool msr_valid,
+                                     BridgeOutput& out) noexcept {
   out.status = BridgeStatus::WrongStrategy;
   engaged_ = false;
   if (!msr_valid) {
     have_command_ = false;
     return out.status = BridgeStatus::MeasurementInvalid;
   }
-  limiter_.reset(held);  // should the strategy change to Cartesian, start from here
-  have_command_ = true;
-  fillReply(msr, held, out, true);
+  if (!(cmd_flags_ & flags::kCartPose) || !have_command_) {
+    // joint flags: the KRC's joint set point (jntPos); the Cartesian field
+    // carries the held pose, from where a later Cartesian session starts
+    limiter_.reset(held);
+    have_command_ = true;
+  } else {
+    ++stats_.holds;  // Cartesian flags kept in CMD: repeat the last command
+  }
+  fillReply(msr, limiter_.current(), out);
   return out.status;
 }
 
@@ -402,8 +447,11 @@ BridgeStatus FriBridge::followDesired(const MsrPacket& msr, const PoseCommand& d
     fillReply(msr, limiter_.current(), out);
     return out.status;
   }
-  const bool limited = limiter_.step(target, T);
+  const uint8_t limited = limiter_.step(target, T);
+  out.limits = limited;
   if (limited) ++stats_.limited;
+  if (limited & limit::kMaxLinSpeed) ++stats_.limited_lin_speed;
+  if (limited & limit::kMaxRotSpeed) ++stats_.limited_rot_speed;
   out.status = limited ? BridgeStatus::Limited : BridgeStatus::Commanding;
   fillReply(msr, limiter_.current(), out);
   return out.status;

@@ -25,6 +25,10 @@ void KrcModel::reset(const KDL::Frame& pose) {
   have_remote_seq_ = false;
   have_applied_ = false;
   ever_applied_ = false;
+  flags_ = 0;
+  have_flags_ = false;
+  refused_ = false;
+  stop_requested_ = false;
   set_point_ = pose;
   last_applied_ = pose;
   msr_ = MsrPacket{};
@@ -32,6 +36,7 @@ void KrcModel::reset(const KDL::Frame& pose) {
 }
 
 void KrcModel::setState(State state, Quality quality, uint16_t power) {
+  if ((refused_ || stop_requested_) && state == State::Cmd) state = State::Mon;  // left CMD: refused flags, or friStop
   if (state != State::Cmd || power == 0) have_applied_ = false;  // re-entry is checked as an entry
   state_ = state;
   quality_ = quality;
@@ -52,6 +57,9 @@ void KrcModel::buildMeasurement(const PlantState& plant, double t_s, MsrPacket& 
   m.head.packet_size = static_cast<uint16_t>(kMsrPacketSize);
   m.head.datagram_id = kDatagramIdMsr;
   m.intf.timestamp = static_cast<uint32_t>(t_s * 1000.0);
+  // $FRI_TO_INT[1]: the KRL program's step (krc/TactileServo.dat TS_ST_*)
+  m.krl.int_data[0] = stop_requested_ ? krl::kProgramClosed
+                                      : (state_ == State::Cmd ? krl::kProgramCommand : krl::kProgramMonitor);
   m.intf.state = static_cast<uint16_t>(state_);
   m.intf.quality = static_cast<uint16_t>(quality_);
   m.intf.desired_msr_sample_time = static_cast<float>(params_.period_s);
@@ -84,6 +92,11 @@ ReplyResult KrcModel::handleReply(const uint8_t* buf, std::size_t n) {
   }
   last_remote_seq_ = cmd_.head.send_seq;  // reflected in the next measurement: the last command taken
   ++stats_.replies;
+  if (cmd_.krl.int_data[0] == krl::kRequestStop && !stop_requested_) {
+    // the KRL program honours the RT PC's request: friStop from the next
+    // cycle on (setState), this reply is taken as any other
+    stop_requested_ = true;
+  }
   bool finite = true;
   for (float v : cmd_.cmd.cart_pos) finite = finite && std::isfinite(v);
   if (!finite || !validFriPose(cmd_.cmd.cart_pos)) {
@@ -92,6 +105,19 @@ ReplyResult KrcModel::handleReply(const uint8_t* buf, std::size_t n) {
   }
   KDL::Frame c;
   toFrame(cmd_.cmd.cart_pos, c);
+  // Command flags: free outside CMD, fixed in CMD (a session starting in CMD
+  // fixes them with its first reply).
+  if (state_ != State::Cmd || !have_flags_) {
+    flags_ = cmd_.cmd.cmd_flags;
+    have_flags_ = true;
+  } else if (cmd_.cmd.cmd_flags != flags_) {
+    ++stats_.flag_changes;
+    ++stats_.flag_errors;
+    refused_ = true;
+    state_ = State::Mon;
+    have_applied_ = false;
+    return ReplyResult::Matched;
+  }
   if (state_ == State::Cmd && power_ != 0) {
     if (params_.control != ControlStrategy::CartImpedance) {
       // joint strategies: this model only checks that the remote holds the joints

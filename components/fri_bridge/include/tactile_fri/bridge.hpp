@@ -29,9 +29,18 @@
 //  * CMD at quality < OK, invalid/stale desired pose, invalid measured pose:
 //    HOLD: the last commanded pose is repeated unchanged; the start gate is
 //    passed again before the desired pose is followed.
+//  * Command flags (cmdFlags) are chosen outside CMD only, from the control
+//    strategy the KRC reports there, and kept unchanged for as long as the KRC
+//    stays in CMD (KUKA's friremote.cpp allows a change of flags in monitor
+//    mode only; a KRC refuses a change in command mode): Cartesian impedance
+//    -> FRI_CMD_CARTPOS (0x100, with 0x1000|0x2000 under command_impedance),
+//    any other strategy -> FRI_CMD_JNTPOS (0x1, the KRC's joint set point).
+//    A session whose first packet is already in CMD chooses them there, once.
 //  * CMD with a control strategy other than Cartesian impedance (position 1,
-//    joint impedance 3): the bridge cannot apply Cartesian poses; it replies a
-//    joint hold (status WrongStrategy) and follows nothing.
+//    joint impedance 3), or with flags chosen for another strategy: the
+//    bridge cannot apply Cartesian poses; it holds with the flags it has
+//    (joint flags: jntPos = cmdJntPos + cmdJntPosFriOffset; Cartesian flags:
+//    the last command) (status WrongStrategy) and follows nothing.
 //  * Configuration checks, every accepted packet: the KRC's sample times
 //    (desiredMsrSampleTime, desiredCmdSampleTime: friOpen's cycle) against
 //    cycle_time_s, the KRC's UDP source port against krc_port (when set), the
@@ -85,6 +94,16 @@
 namespace tactile {
 namespace fri {
 
+/// The bridge's limits on a command, one bit each (BridgeOutput::limits):
+/// a clipped command is never silent, it names the limit that clipped it.
+namespace limit {
+constexpr uint8_t kMaxLinSpeed = 0x1;  ///< fri.max_lin_speed clipped the step's translation
+constexpr uint8_t kMaxRotSpeed = 0x2;  ///< fri.max_rot_speed clipped the step's rotation
+}  // namespace limit
+/// "max_lin_speed", "max_rot_speed", "max_lin_speed+max_rot_speed" or "" (none):
+/// the fri.yaml keys of the limits in `bits` (a static string).
+const char* limitNames(uint8_t bits) noexcept;
+
 /// Limits a commanded pose's speed: |dp| <= v_max * dt, rotation angle <= w_max * dt.
 class PoseRateLimiter {
  public:
@@ -94,8 +113,9 @@ class PoseRateLimiter {
   }
   void reset(const KDL::Frame& f) noexcept { current_ = f; }
   const KDL::Frame& current() const noexcept { return current_; }
-  /// Moves current() towards `target`; returns true when the step was clipped.
-  bool step(const KDL::Frame& target, double dt) noexcept;
+  /// Moves current() towards `target`; returns the limit:: bits that clipped
+  /// the step (0: reached).
+  uint8_t step(const KDL::Frame& target, double dt) noexcept;
 
  private:
   double max_lin_ = 0.0;
@@ -125,7 +145,8 @@ struct BridgeParams {
 /// Outcome of one step(). Values < kBridgeFirstNoReply (16) produce a reply; the others do not.
 enum class BridgeStatus : uint8_t {
   Commanding = 0,      ///< CMD, quality >= OK, following the desired pose
-  Limited = 1,         ///< as Commanding, but the rate limiter clipped the step
+  Limited = 1,         ///< as Commanding, but the rate limiter clipped the step: BridgeOutput::limits
+                       ///< names the limit(s) (limitNames(): max_lin_speed, max_rot_speed)
   Monitor = 2,         ///< MON/OFF: echoing the measured pose
   PowerOff = 3,        ///< drives off: echoing the measured pose
   LeftCmd = 4,         ///< the KRC left CMD (now MON/OFF): echoing the measured pose
@@ -133,8 +154,9 @@ enum class BridgeStatus : uint8_t {
   DesiredInvalid = 6,  ///< CMD: desired pose NaN/Inf/non-unit quaternion or never set: holding
   DesiredStale = 7,    ///< CMD: desired pose older than max_desired_age_s: holding
   MeasurementInvalid = 8,  ///< measured pose NaN/non-rotation; CMD: holding (reply), else no reply
-  WrongStrategy = 9,   ///< CMD, but the KRC's control strategy is not Cartesian impedance:
-                       ///< joint hold (flag 0x1, jntPos = cmdJntPos + cmdJntPosFriOffset), nothing else applied
+  WrongStrategy = 9,   ///< the KRC's control strategy is not Cartesian impedance (MON: echo with
+                       ///< FRI_CMD_JNTPOS, jntPos = cmdJntPos + cmdJntPosFriOffset; CMD: hold with the
+                       ///< flags chosen in MON), nothing followed
   DesiredFar = 10,     ///< CMD, start gate: the desired pose is more than one program step from the
                        ///< pose the bridge starts from (engage_max_trans/rot): holding that pose
   CycleMismatch = 11,  ///< the KRC's sample time is not cycle_time_s: MON echo / CMD hold, nothing followed
@@ -148,6 +170,24 @@ enum class BridgeStatus : uint8_t {
 constexpr uint8_t kBridgeFirstNoReply = 16;
 inline bool producesReply(BridgeStatus s) { return static_cast<uint8_t>(s) < kBridgeFirstNoReply; }
 const char* toString(BridgeStatus s);
+
+/// The KRL exchange with krc/TactileServo.src (its .dat's TS_* codes;
+/// krc/check_krc_config.py compares them).
+namespace krl {
+/// $FRI_FRM_INT[1] (the command packets' krl.int_data[0]): the RT PC asks the
+/// KRL program to end (TS_REQ_STOP): friStop, friClose, position control.
+constexpr int32_t kRequestStop = 99;
+/// $FRI_TO_INT[1] (the measurement packets' krl.int_data[0]): the program's step.
+constexpr int32_t kProgramInit = 1;       ///< TS_ST_INIT
+constexpr int32_t kProgramMonitor = 10;   ///< TS_ST_MONITOR: monitor mode, waiting for the link quality
+constexpr int32_t kProgramConfirm = 15;   ///< TS_ST_CONFIRM: halted before friStart
+constexpr int32_t kProgramCommand = 20;   ///< TS_ST_COMMAND: commanding
+constexpr int32_t kProgramStopping = 25;  ///< TS_ST_STOPPING: PTP to the measured axes, friStop, friClose
+constexpr int32_t kProgramClosed = 30;    ///< TS_ST_CLOSED
+/// "init", "waiting_for_quality", "halted_before_start", "commanding",
+/// "stopping", "closed", or "unknown" (another value: not this program).
+const char* programStepName(int32_t step) noexcept;
+}  // namespace krl
 
 /// BridgeOutput::mismatch bits: the KRC disagrees with the configuration.
 namespace mismatch {
@@ -167,6 +207,9 @@ struct BridgeOutput {
   uint16_t lost_before = 0;      ///< packets missing between the previous accepted one and this
   KDL::Frame commanded = KDL::Frame::Identity();  ///< {g}T{e} sent (valid when reply)
   uint8_t mismatch = 0;          ///< mismatch:: bits of this packet (0: the KRC agrees with the configuration)
+  uint8_t limits = 0;            ///< limit:: bits that clipped this packet's command (status Limited), else 0
+  int32_t krl_program = 0;       ///< the KRL program's step ($FRI_TO_INT[1], krl:: kProgram*) of this packet
+  bool stop_requested = false;   ///< this reply asks the KRL program to end (requestStop())
   double krc_cycle_s = 0.0;      ///< the KRC's desiredMsrSampleTime of this packet (s)
   tactile::RobotState robot{};   ///< the robot state of this packet (valid for accepted packets)
 };
@@ -180,7 +223,9 @@ struct BridgeStats {
   uint64_t out_of_order = 0;
   uint64_t malformed = 0;
   uint64_t resyncs = 0;
-  uint64_t limited = 0;
+  uint64_t limited = 0;             ///< commands clipped by any limit (status Limited)
+  uint64_t limited_lin_speed = 0;   ///< ... by fri.max_lin_speed
+  uint64_t limited_rot_speed = 0;   ///< ... by fri.max_rot_speed
   uint64_t holds = 0;         ///< replies that repeated the last command
   uint64_t rewinds = 0;       ///< limiter rewound to the command the KRC reflected
 };
@@ -204,8 +249,24 @@ class FriBridge {
   void setDryRun(bool on) noexcept { dry_run_ = on; }
   bool dryRun() const noexcept { return dry_run_; }
 
-  /// KRL exchange data sent with every command (zero by default).
-  void setKrlOut(const KrlData& krl) noexcept { krl_out_ = krl; }
+  /// KRL exchange data sent with every command (zero by default; while a
+  /// stop is requested its int_data[0] is krl::kRequestStop).
+  void setKrlOut(const KrlData& krl) noexcept {
+    krl_out_ = krl;
+    if (stop_requested_) krl_out_.int_data[0] = krl::kRequestStop;
+  }
+  /// Asks the KRL program to end (a latched servo fault, the experiment's
+  /// end): every reply from now on carries $FRI_FRM_INT[1] = krl::kRequestStop,
+  /// until clearStopRequest() or configure(). reset() keeps it.
+  void requestStop() noexcept {
+    stop_requested_ = true;
+    krl_out_.int_data[0] = krl::kRequestStop;
+  }
+  void clearStopRequest() noexcept {
+    stop_requested_ = false;
+    krl_out_.int_data[0] = 0;
+  }
+  bool stopRequested() const noexcept { return stop_requested_; }
   const BridgeStats& stats() const noexcept { return stats_; }
   const BridgeParams& params() const noexcept { return params_; }
   bool configured() const noexcept { return configured_; }
@@ -213,7 +274,7 @@ class FriBridge {
   const MsrPacket& lastMeasurement() const noexcept { return msr_; }
 
  private:
-  void fillReply(const MsrPacket& msr, const KDL::Frame& pose, BridgeOutput& out, bool joint_hold = false) noexcept;
+  void fillReply(const MsrPacket& msr, const KDL::Frame& pose, BridgeOutput& out) noexcept;
   BridgeStatus stepPacket(const MsrPacket& msr, const PoseCommand& desired, double now_s, BridgeOutput& out) noexcept;
 
   BridgeParams params_{};
@@ -238,6 +299,11 @@ class FriBridge {
   bool was_in_cmd_ = false;    // sticky LeftCmd
   uint16_t peer_port_ = 0;     // source port of the current datagram (0: unknown)
   bool dry_run_ = false;
+  bool stop_requested_ = false;  // requestStop(): latched
+  uint32_t cmd_flags_ = flags::kCartPose;  // chosen outside CMD, kept in CMD
+  bool have_flags_ = false;                // cmd_flags_ chosen since reset()
+  /// The command flags for the KRC's reported control strategy.
+  uint32_t flagsFor(uint16_t control) const noexcept;
   /// mismatch:: bits of `msr` against the configuration.
   uint8_t checkConfig(const MsrPacket& msr) const noexcept;
   /// The KRC's set point (cmdCartPos composed with a valid cmdCartPosFriOffset),
@@ -254,8 +320,9 @@ class FriBridge {
   void trackState(const MsrPacket& msr, BridgeOutput& out) noexcept;
   /// MON / OFF / drives off: names the reason, echoes `held` (no reply on an invalid measurement).
   BridgeStatus echoOutsideCmd(const MsrPacket& msr, const KDL::Frame& held, bool msr_valid, BridgeOutput& out) noexcept;
-  /// CMD with a non-Cartesian strategy: WrongStrategy, joint hold.
-  BridgeStatus jointHold(const MsrPacket& msr, const KDL::Frame& held, bool msr_valid, BridgeOutput& out) noexcept;
+  /// CMD with a non-Cartesian strategy or non-Cartesian flags: WrongStrategy,
+  /// a hold with the flags chosen outside CMD.
+  BridgeStatus strategyHold(const MsrPacket& msr, const KDL::Frame& held, bool msr_valid, BridgeOutput& out) noexcept;
   /// CMD: the limiter starts from `held` on the first command, or rewinds to the
   /// command the KRC reflects; false when there is no command and no valid measurement.
   bool startFromHeldCommand(const MsrPacket& msr, const KDL::Frame& held, bool msr_valid) noexcept;

@@ -19,9 +19,24 @@
 //   5. handleReply(): decode; the remote's sendSeqCount must grow by one; a
 //      reply whose reflSeqCount is not this cycle's measurement is stale
 //      (ignored, as the KRC does); in CMD with the drives on and quality >= OK
-//      a finite Cartesian command (flag 0x10 under Cartesian impedance) becomes
+//      a finite Cartesian command (flag 0x100 under Cartesian impedance) becomes
 //      the set point (step statistics, "no pose jump"); in MON the reply must
 //      echo the set point (cmdCartPos).
+//
+// Command flags: the remote chooses them in monitor mode; in command mode
+// they must stay what they were when command mode was entered (KUKA's
+// friremote.cpp changes them in monitor mode only). A reply in CMD with other
+// flags is refused as a real KRC does: not applied, counted (flag_changes,
+// and flag_errors), and the KRC drops to monitor mode and stays there
+// (refused(): the operator acknowledges the error and restarts the
+// program: reset()).
+//
+// The KRL program's exchange (krc/TactileServo.src): each measurement
+// carries the program's step in krl.int_data[0] ($FRI_TO_INT[1]: 10 in
+// monitor mode, 20 in command mode, 30 once ended); a reply whose
+// krl.int_data[0] is 99 ($FRI_FRM_INT[1] = TS_REQ_STOP) ends the program:
+// friStop (monitor mode, whatever the script says afterwards) and the step
+// 30 (stopRequested(); until reset()).
 #pragma once
 
 #include <array>
@@ -56,7 +71,8 @@ struct KrcModelStats {
   uint64_t stale_replies = 0;     ///< well-formed replies reflecting an older measurement
   uint64_t malformed_replies = 0; ///< wrong size / id
   uint64_t remote_seq_errors = 0; ///< the remote's sendSeqCount did not increase by exactly 1
-  uint64_t flag_errors = 0;       ///< CMD reply without the Cartesian pose flag
+  uint64_t flag_errors = 0;       ///< CMD reply without the flag the strategy needs, or with changed flags
+  uint64_t flag_changes = 0;      ///< CMD replies whose flags differ from those at CMD entry (refused)
   uint64_t nonfinite_commands = 0;
   uint64_t applied = 0;           ///< commands applied (CMD, quality >= OK)
   uint64_t mon_echo_errors = 0;   ///< MON/power-off replies whose pose differs from the KRC's set point (cmdCartPos) by > 1e-5
@@ -142,6 +158,12 @@ class KrcModel {
   const KrcModelStats& stats() const { return stats_; }
   const MsrPacket& lastMeasurement() const { return msr_; }
   const CmdPacket& lastCommand() const { return cmd_; }
+  /// The KRC refused a change of command flags in CMD and left command mode
+  /// (monitor mode until reset()).
+  bool refused() const { return refused_; }
+  /// The RT PC asked the KRL program to end (krl.int_data[0] = 99): it left
+  /// command mode and reports the step 30 (closed) until reset().
+  bool stopRequested() const { return stop_requested_; }
 
  private:
   KrcModelParams params_{};
@@ -155,6 +177,10 @@ class KrcModel {
   bool have_remote_seq_ = false;
   bool have_applied_ = false;
   bool ever_applied_ = false;  // a command was applied since reset(): the set point is the KRC's own
+  uint32_t flags_ = 0;         // the flags of the last reply outside CMD (kept on entering CMD)
+  bool have_flags_ = false;
+  bool refused_ = false;       // a flag change in CMD: monitor mode until reset()
+  bool stop_requested_ = false;  // the RT PC's stop request: the program ended
   KDL::Frame set_point_ = KDL::Frame::Identity();
   KDL::Frame last_applied_ = KDL::Frame::Identity();
   MsrPacket msr_{};

@@ -41,6 +41,11 @@ FriBridgeComponent::FriBridgeComponent(const std::string& name)
   addAtomicAttribute(*provides(), "lost", lost_);
   addAtomicAttribute(*provides(), "timeouts", timeouts_);
   addAtomicAttribute(*provides(), "socket_errors", socket_errors_);
+  addAtomicAttribute(*provides(), "limits", limits_);
+  addAtomicAttribute(*provides(), "krc_program", krc_program_);
+  addAtomicAttribute(*provides(), "krc_stop_requested", krc_stop_requested_);
+  addAtomicAttribute(*provides(), "limited_max_lin_speed", limited_lin_);
+  addAtomicAttribute(*provides(), "limited_max_rot_speed", limited_rot_);
   addPort(command_in_).doc("Desired flange pose {g}T{e} (from the servo); rate-limited by the bridge.");
   addPort(pose_out_).doc("Measured flange pose {g}T{e} (msrCartPos of the KRC), per accepted packet.");
   addPort(wrench_out_).doc("Estimated external TCP wrench w = [Fx Fy Fz Tx Ty Tz] (N, N m) from estExtTcpFT, "
@@ -56,6 +61,15 @@ FriBridgeComponent::FriBridgeComponent(const std::string& name)
       .doc("Message of the last failed configure().");
   addOperation("statusName", &FriBridgeComponent::statusName, this, RTT::ClientThread)
       .doc("BridgeStatus of the last packet as text, or krc_silent after receive_timeout s without one.");
+  addOperation("requestKrcStop", &FriBridgeComponent::requestKrcStop, this, RTT::ClientThread)
+      .doc("Asks the KRL program (krc/TactileServo.src) to end: from the next packet on every reply carries "
+           "$FRI_FRM_INT[1] = 99 (TS_REQ_STOP), latched until configure(). For a latched servo fault or the "
+           "experiment's end.");
+  addOperation("krcProgramName", &FriBridgeComponent::krcProgramName, this, RTT::ClientThread)
+      .doc("The KRL program's step ($FRI_TO_INT[1]) of the last packet: waiting_for_quality, halted_before_start, "
+           "commanding, stopping, closed, init or unknown.");
+  addOperation("limitNames", &FriBridgeComponent::limitNames, this, RTT::ClientThread)
+      .doc("The limits (fri.yaml keys: max_lin_speed, max_rot_speed) that clipped the last command; \"\" if none.");
 }
 
 FriBridgeComponent::~FriBridgeComponent() {
@@ -89,6 +103,7 @@ bool FriBridgeComponent::configureHook() {
   if (r && !(receive_timeout_ > 0.0 && receive_timeout_ <= 1.0))
     r = rangeError("receive_timeout", receive_timeout_, "(0, 1] s");
   if (r) r = bridge_.configure(bp);
+  record(krc_stop_requested_, false);  // a new session: no stop request
   if (r) {
     if (port_ >= 0) up.port = static_cast<uint16_t>(port_);
     socket_.close();  // never watched here: start() watches it, stop() unwatches it
@@ -215,6 +230,7 @@ void FriBridgeComponent::handleDatagram(fri::UdpStatus us, std::size_t n) {
   // A truncated datagram is passed as longer than the buffer: the decoder rejects it (TooLong).
   const std::size_t size = us == fri::UdpStatus::Truncated ? rx_.size() + 1 : n;
   bridge_.setDryRun(dry_run_.load(std::memory_order_acquire));
+  if (krc_stop_requested_.load(std::memory_order_acquire) && !bridge_.stopRequested()) bridge_.requestStop();
   bridge_.notePeerPort(socket_.hasPeer() ? ntohs(socket_.lastPeer().sin_port) : 0);
   const fri::BridgeStatus st = bridge_.stepDatagram(rx_.data(), size, desired_, now, out_);
   if (out_.reply) {
@@ -226,6 +242,10 @@ void FriBridgeComponent::handleDatagram(fri::UdpStatus us, std::size_t n) {
   record(bridge_status_, static_cast<int>(st));
   bump(received_);
   record(lost_, static_cast<int>(bridge_.stats().lost));
+  record(limits_, static_cast<int>(out_.limits));
+  record(krc_program_, static_cast<int>(out_.krl_program));
+  record(limited_lin_, static_cast<int>(bridge_.stats().limited_lin_speed));
+  record(limited_rot_, static_cast<int>(bridge_.stats().limited_rot_speed));
   if (st == fri::BridgeStatus::Malformed || st == fri::BridgeStatus::DroppedDuplicate ||
       st == fri::BridgeStatus::DroppedOutOfOrder || st == fri::BridgeStatus::NotConfigured)
     return;

@@ -27,6 +27,14 @@
 //   attr received, replies, lost, timeouts, socket_errors (int)  counters since configure
 //        (timeouts: receive_timeout periods without a datagram)
 //   op   string lastError(), string statusName() ("krc_silent" while silent)
+//   attr limits (int)           fri::limit:: bits that clipped the last packet's command (status limited)
+//   attr limited_max_lin_speed, limited_max_rot_speed (int)  commands clipped by each limit since configure
+//   op   string limitNames()    the fri.yaml keys of `limits` ("" when the last command was not clipped)
+//   op   requestKrcStop()       asks the KRL program (krc/TactileServo.src) to end: every reply from the
+//                               next packet on carries $FRI_FRM_INT[1] = 99 (latched until configure)
+//   attr krc_stop_requested (bool)  requestKrcStop() was called
+//   attr krc_program (int)      the KRL program's step ($FRI_TO_INT[1]: 10 waiting for quality,
+//                               20 commanding, 25 stopping, 30 closed); op string krcProgramName()
 //
 // Execution, paced by the KRC (one measurement datagram per cycle, 1 kHz):
 //  * RTT::extras::FileDescriptorActivity (the deployments): configure() sets
@@ -79,6 +87,9 @@ class FriBridgeComponent : public Component {
   std::string lastError() const { return last_error_; }
   void setDryRun(bool on) { record(dry_run_, on); }
   std::string statusName() const;
+  std::string limitNames() const { return fri::limitNames(static_cast<uint8_t>(limits_.load())); }
+  void requestKrcStop() { record(krc_stop_requested_, true); }
+  std::string krcProgramName() const { return fri::krl::programStepName(krc_program_.load()); }
 
  private:
   /// The activity as a FileDescriptorActivity, or nullptr (any other activity).
@@ -107,6 +118,9 @@ class FriBridgeComponent : public Component {
   double silence_since_s_ = 0.0;  // polled mode: last datagram or timeout (TimeService s)
   int max_per_cycle_ = 1;         // polled mode: datagrams per cycle (SlaveActivity 1, periodic 8)
   std::atomic<int> received_{0}, replies_{0}, lost_{0}, timeouts_{0}, socket_errors_{0};
+  std::atomic<int> limits_{0}, limited_lin_{0}, limited_rot_{0};
+  std::atomic<int> krc_program_{0};
+  std::atomic<bool> krc_stop_requested_{false};
 
   // ports
   RTT::InputPort<PoseCommand> command_in_;
