@@ -6,7 +6,7 @@
 //
 //   lab_sim SCENE.yaml [--fri-port P] [--wts-link PATH] [--krc SCRIPT]
 //           [--period-ms T] [--krc-cycle-ms C] [--msr-sample-ms M] [--cmd-sample-ms M]
-//           [--control cart|joint|position] [--duration S]
+//           [--control cart|joint|position] [--cart-offset F] [--duration S]
 //           [--truth-out FILE.csv] [--truth-period-ms T] [--set KEY.PATH=VALUE ...]
 //
 //   --fri-port P        the FRI bridge's UDP port on 127.0.0.1 (default 49938, fri.yaml's);
@@ -32,6 +32,10 @@
 //   --control S         the KRC's control strategy: cart (Cartesian impedance, the
 //                       default), joint (joint impedance), position; commands are
 //                       applied under cart only
+//   --cart-offset F     the form in which the KRC sends its set point: none (cmdCartPos,
+//                       the offset zero; default), composed (cmdCartPos * offset as
+//                       frames), elementwise (cmdCartPos + offset over the 12 entries);
+//                       fri.yaml's cart_offset must match (fri_check finds it)
 //   --duration S        stop after S s (default 0: until SIGINT/SIGTERM)
 //   --truth-out FILE    the world's ground truth over time, CSV (columns in
 //                       docs/lab_sim.md): time, KRC state, flange pose, the set
@@ -76,7 +80,7 @@ void onSignal(int) { g_stop.store(true); }
 int usage(const std::string& msg) {
   std::fprintf(stderr,
                "lab_sim: %s\nusage: lab_sim SCENE.yaml [--fri-port P] [--wts-link PATH] [--krc SCRIPT] [--period-ms T]\n"
-               "               [--krc-cycle-ms C] [--msr-sample-ms M] [--cmd-sample-ms M] [--control cart|joint|position]\n"
+               "               [--krc-cycle-ms C] [--msr-sample-ms M] [--cmd-sample-ms M] [--control cart|joint|position] [--cart-offset F]\n"
                "               [--duration S] [--truth-out FILE.csv] [--truth-period-ms T] [--set KEY.PATH=VALUE ...]\n"
                "(see the header of sim/lab/lab_sim.cpp or docs/lab_sim.md)\n",
                msg.c_str());
@@ -153,6 +157,7 @@ void printForce(const char* label, const Stat& s, double cycle_s) {
 
 int main(int argc, char** argv) {
   std::string scene_file, wts_link, truth_out, krc_spec, control = "cart";
+  fri::CartOffset cart_offset = fri::CartOffset::None;
   bool krc_given = false;
   long fri_port = fri::kDefaultPort;
   double period_ms = 0.0, krc_cycle_ms = 0.0, msr_sample_ms = 0.0, cmd_sample_ms = 0.0, duration_s = 0.0,
@@ -188,6 +193,9 @@ int main(int argc, char** argv) {
       control = argv[++i];
       if (control != "cart" && control != "joint" && control != "position")
         return usage("--control must be cart, joint or position");
+    } else if (a == "--cart-offset" && has) {
+      if (!fri::parseCartOffset(argv[++i], cart_offset))
+        return usage("--cart-offset must be none, composed or elementwise");
     } else if (a == "--duration" && has) {
       if (!num(0, 1e7, duration_s)) return usage("--duration must be in [0, 1e7] (s; 0 = until killed)");
     } else if (a == "--truth-out" && has) {
@@ -251,6 +259,7 @@ int main(int argc, char** argv) {
   kp.msr_sample_time_s = msr_sample_ms * 1e-3;
   kp.cmd_sample_time_s = cmd_sample_ms * 1e-3;
   kp.initial_pose = plant.initialPose();
+  kp.cart_offset = cart_offset;
   kp.control = control == "cart"    ? fri::ControlStrategy::CartImpedance
                : control == "joint" ? fri::ControlStrategy::JointImpedance
                                     : fri::ControlStrategy::Position;
@@ -293,10 +302,10 @@ int main(int argc, char** argv) {
   std::signal(SIGTERM, onSignal);
   const KDL::Frame p0 = plant.initialPose();
   std::printf("lab_sim: scene %s (%s), world step %.3f ms, KRC cycle %.3f ms (advertised msr %.3f ms cmd %.3f ms), "
-              "control %s, FRI -> 127.0.0.1:%ld, WTS %dx%d at %.0f Hz\n",
+              "control %s, cart_offset %s, FRI -> 127.0.0.1:%ld, WTS %dx%d at %.0f Hz\n",
               scene.name.c_str(), scene.file.c_str(), T_world * 1e3, T_krc * 1e3,
               (kp.msr_sample_time_s > 0 ? kp.msr_sample_time_s : T_krc) * 1e3,
-              (kp.cmd_sample_time_s > 0 ? kp.cmd_sample_time_s : T_krc) * 1e3, control.c_str(), fri_port,
+              (kp.cmd_sample_time_s > 0 ? kp.cmd_sample_time_s : T_krc) * 1e3, control.c_str(), fri::toString(cart_offset), fri_port,
               scene.features.rows, scene.features.cols, scene.rates.wts);
   std::printf("lab_sim: flange at (%.4f, %.4f, %.4f) m, true contact force %.3f N\n", p0.p.x(), p0.p.y(), p0.p.z(),
               -plant.state().wrench_s[2]);

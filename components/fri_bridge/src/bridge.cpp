@@ -69,6 +69,7 @@ const char* toString(BridgeStatus s) {
     case BridgeStatus::CycleMismatch: return "cycle_mismatch";
     case BridgeStatus::PortMismatch: return "port_mismatch";
     case BridgeStatus::DryRun: return "dry_run";
+    case BridgeStatus::OffsetMismatch: return "offset_mismatch";
     case BridgeStatus::DroppedDuplicate: return "dropped_duplicate";
     case BridgeStatus::DroppedOutOfOrder: return "dropped_out_of_order";
     case BridgeStatus::Malformed: return "malformed";
@@ -97,6 +98,13 @@ ConfigResult FriBridge::configure(const BridgeParams& p) {
     return rangeError("fri.engage_max_trans", p.engage_max_trans, "must be in (0, 0.1] (m)");
   if (!inRange(p.engage_max_rot, 0.0, 0.5))
     return rangeError("fri.engage_max_rot", p.engage_max_rot, "must be in (0, 0.5] (rad)");
+  if (p.cart_offset != CartOffset::None && p.cart_offset != CartOffset::Composed &&
+      p.cart_offset != CartOffset::Elementwise)
+    return rangeError("fri.cart_offset", static_cast<int>(p.cart_offset), "must be none, composed or elementwise");
+  if (!inRange(p.setpoint_max_dev, 0.0, 1.0))
+    return rangeError("fri.setpoint_max_dev", p.setpoint_max_dev, "must be in (0, 1] (m)");
+  if (!inRange(p.setpoint_max_dev_rot, 0.0, 3.2))
+    return rangeError("fri.setpoint_max_dev_rot", p.setpoint_max_dev_rot, "must be in (0, 3.2] (rad)");
   if (p.resync_after < 1 || p.resync_after > 1000)
     return rangeError("fri.resync_after", p.resync_after, "must be in [1, 1000] (packets)");
   for (int i = 0; i < 6; ++i) {
@@ -186,18 +194,18 @@ BridgeStatus FriBridge::stepDatagram(const uint8_t* data, std::size_t size, cons
   return step(msr_, desired, now_s, out);
 }
 
-bool FriBridge::heldPose(const MsrPacket& msr, KDL::Frame& held) noexcept {
-  if (!validFriPose(msr.data.cmd_cart_pos)) {
-    if (!validFriPose(msr.data.msr_cart_pos)) return false;
-    toFrame(msr.data.msr_cart_pos, held);
-    return true;
-  }
-  toFrame(msr.data.cmd_cart_pos, held);
-  if (validFriPose(msr.data.cmd_cart_pos_fri_offset)) {
-    KDL::Frame offset;
-    toFrame(msr.data.cmd_cart_pos_fri_offset, offset);
-    held = held * offset;
-  }
+bool FriBridge::heldPose(const MsrPacket& msr, KDL::Frame& held) const noexcept {
+  KDL::Frame measured;
+  toFrame(msr.data.msr_cart_pos, measured);
+  held = measured;
+  if (!validFriPose(msr.data.cmd_cart_pos)) return true;  // no set point sent: the measured pose
+  KDL::Frame sp;
+  if (!readSetPoint(msr.data.cmd_cart_pos, msr.data.cmd_cart_pos_fri_offset, params_.cart_offset, sp)) return false;
+  KDL::Vector axis;
+  if (!((sp.p - measured.p).Norm() <= params_.setpoint_max_dev) ||
+      !(rotationAngle(measured.M.Inverse() * sp.M, axis) <= params_.setpoint_max_dev_rot))
+    return false;
+  held = sp;
   return true;
 }
 
@@ -232,7 +240,7 @@ void FriBridge::fillRobotState(const MsrPacket& msr, double now_s, bool msr_vali
   for (int j = 0; j < kNumJoints && j < kArmJoints; ++j)
     r.q[static_cast<std::size_t>(j)] = static_cast<double>(msr.data.msr_jnt_pos[j]);
   KDL::Frame held;
-  if (heldPose(msr, held)) toPose(held, r.setpoint);
+  if (msr_valid && !(out.mismatch & mismatch::kOffset) && heldPose(msr, held)) toPose(held, r.setpoint);
   else r.setpoint = kNoPose;
 }
 
@@ -272,10 +280,11 @@ BridgeStatus FriBridge::stepPacket(const MsrPacket& msr, const PoseCommand& desi
   // where a (re)entry into CMD starts: neither the set point nor a pressing
   // contact's force jumps.
   KDL::Frame held = KDL::Frame::Identity();
-  if (msr_valid) heldPose(msr, held);
+  const bool held_read = !msr_valid || heldPose(msr, held);
   const double krc_T = static_cast<double>(msr.intf.desired_cmd_sample_time);
   const double T = (std::isfinite(krc_T) && krc_T > 0.0 && krc_T <= 0.1) ? krc_T : params_.cycle_time_s;
   out.mismatch = checkConfig(msr);
+  if (!held_read) out.mismatch |= mismatch::kOffset;
   // Command flags: chosen outside CMD (or on a session's first packet), never changed in CMD.
   if (out.state != State::Cmd || !have_flags_) {
     cmd_flags_ = flagsFor(msr.robot.control);
@@ -345,6 +354,8 @@ BridgeStatus FriBridge::echoOutsideCmd(const MsrPacket& msr, const KDL::Frame& h
     out.status = BridgeStatus::CycleMismatch;
   } else if (out.mismatch & mismatch::kPort) {
     out.status = BridgeStatus::PortMismatch;
+  } else if (out.mismatch & mismatch::kOffset) {
+    out.status = BridgeStatus::OffsetMismatch;
   } else if (out.mismatch & mismatch::kControl) {
     out.status = BridgeStatus::WrongStrategy;
   } else if (out.state != State::Cmd && was_in_cmd_) {
@@ -406,8 +417,10 @@ bool FriBridge::holdStatus(const PoseCommand& desired, double now_s, bool msr_va
   const double age = now_s - desired.time_s;
   if (!msr_valid) {
     out.status = BridgeStatus::MeasurementInvalid;
-  } else if (out.mismatch & (mismatch::kCycle | mismatch::kPort)) {
-    out.status = (out.mismatch & mismatch::kCycle) ? BridgeStatus::CycleMismatch : BridgeStatus::PortMismatch;
+  } else if (out.mismatch & (mismatch::kCycle | mismatch::kPort | mismatch::kOffset)) {
+    out.status = (out.mismatch & mismatch::kCycle)  ? BridgeStatus::CycleMismatch
+                 : (out.mismatch & mismatch::kPort) ? BridgeStatus::PortMismatch
+                                                    : BridgeStatus::OffsetMismatch;
     engaged_ = false;
   } else if (out.quality < Quality::Ok) {
     out.status = BridgeStatus::QualityLow;

@@ -30,6 +30,7 @@ void KrcModel::reset(const KDL::Frame& pose) {
   refused_ = false;
   stop_requested_ = false;
   set_point_ = pose;
+  krl_pose_ = pose;
   last_applied_ = pose;
   msr_ = MsrPacket{};
   cmd_ = CmdPacket{};
@@ -47,7 +48,7 @@ void KrcModel::holdUnlessCommanding(const KDL::Frame& measured) {
   // Before any command: the arm rests where it is. Afterwards the KRC keeps
   // the set point it has (friStop, a low quality, the drives braked): a
   // pressing contact keeps its force.
-  if ((state_ != State::Cmd || power_ == 0) && !ever_applied_) set_point_ = measured;
+  if ((state_ != State::Cmd || power_ == 0) && !ever_applied_) set_point_ = krl_pose_ = measured;
 }
 
 void KrcModel::buildMeasurement(const PlantState& plant, double t_s, MsrPacket& out) {
@@ -73,7 +74,7 @@ void KrcModel::buildMeasurement(const PlantState& plant, double t_s, MsrPacket& 
     m.robot.temperature[j] = 30.0f;
   }
   fromFrame(plant.pose, m.data.msr_cart_pos);
-  fromFrame(set_point_, m.data.cmd_cart_pos);
+  writeSetPoint(krl_pose_, set_point_, params_.cart_offset, m.data.cmd_cart_pos, m.data.cmd_cart_pos_fri_offset);
   fromWrench(plant.wrench, m.data.est_ext_tcp_ft);
   out = m;
 }
@@ -144,9 +145,8 @@ ReplyResult KrcModel::handleReply(const uint8_t* buf, std::size_t n) {
       ++stats_.applied;
     }
   } else {
-    // MON / power off: the remote must echo the KRC's set point (cmdCartPos, sent this cycle).
-    KDL::Frame held;
-    toFrame(msr_.data.cmd_cart_pos, held);
+    // MON / power off: the remote must echo the KRC's set point (sent this cycle).
+    const KDL::Frame& held = set_point_;
     KDL::Vector axis;
     if ((c.p - held.p).Norm() > 1e-5 || rotationAngle(held.M.Inverse() * c.M, axis) > 1e-5)
       ++stats_.mon_echo_errors;

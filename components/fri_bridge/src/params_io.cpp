@@ -1,5 +1,6 @@
 #include "tactile_fri/params_io.hpp"
 
+#include <string>
 #include <vector>
 
 namespace tactile {
@@ -26,7 +27,7 @@ ConfigResult loadBridgeParams(const YAML::Node& node, const Where& where, Bridge
     ConfigResult r = checkKeys(node, where,
                                {"max_lin_speed", "max_rot_speed", "cycle_time_s", "max_desired_age_s",
                                 "engage_max_trans", "engage_max_rot", "resync_after", "rewind_on_refl", "command_impedance", "cart_stiffness",
-                                "cart_damping", "udp"});
+                                "cart_damping", "cart_offset", "setpoint_max_dev", "setpoint_max_dev_rot", "udp"});
     if (!r) return r;
     for (auto rr : {read(node, "max_lin_speed", bp.max_lin_speed, where),
                     read(node, "max_rot_speed", bp.max_rot_speed, where),
@@ -38,8 +39,17 @@ ConfigResult loadBridgeParams(const YAML::Node& node, const Where& where, Bridge
                     read(node, "rewind_on_refl", bp.rewind_on_refl, where),
                     read(node, "command_impedance", bp.command_impedance, where),
                     readSix(node, "cart_stiffness", bp.cart_stiffness, where),
-                    readSix(node, "cart_damping", bp.cart_damping, where)})
+                    readSix(node, "cart_damping", bp.cart_damping, where),
+                    read(node, "setpoint_max_dev", bp.setpoint_max_dev, where),
+                    read(node, "setpoint_max_dev_rot", bp.setpoint_max_dev_rot, where)})
       if (!rr) return rr;
+    if (node["cart_offset"]) {
+      std::string form;
+      if (!(r = read(node, "cart_offset", form, where))) return r;
+      if (!parseCartOffset(form.c_str(), bp.cart_offset))
+        return ConfigResult::failure(where.child("cart_offset").str() + ": '" + form +
+                                     "' is not none, composed or elementwise (fri_check tells the KRC's form)");
+    }
     if (const YAML::Node u = node["udp"]) {
       const Where uw = where.child("udp");
       if (!(r = checkKeys(u, uw, {"bind_address", "port", "krc_port"}))) return r;

@@ -147,6 +147,66 @@ bool validFriPose(const float (&m)[kCartFrameDim], double tol) noexcept {
   return det > 0.0;
 }
 
+const char* toString(CartOffset f) {
+  switch (f) {
+    case CartOffset::None: return "none";
+    case CartOffset::Composed: return "composed";
+    case CartOffset::Elementwise: return "elementwise";
+  }
+  return "invalid";
+}
+
+bool parseCartOffset(const char* word, CartOffset& out) {
+  for (CartOffset f : {CartOffset::None, CartOffset::Composed, CartOffset::Elementwise})
+    if (std::strcmp(word, toString(f)) == 0) return out = f, true;
+  return false;
+}
+
+bool readSetPoint(const float (&cmd)[kCartFrameDim], const float (&offset)[kCartFrameDim], CartOffset form,
+                  KDL::Frame& sp) noexcept {
+  if (!validFriPose(cmd)) return false;
+  bool zero = true;
+  for (float v : offset) zero = zero && v == 0.0f;
+  if (form == CartOffset::None || zero) {
+    toFrame(cmd, sp);
+    return true;
+  }
+  if (form == CartOffset::Composed) {
+    if (!validFriPose(offset)) return false;
+    KDL::Frame c, o;
+    toFrame(cmd, c);
+    toFrame(offset, o);
+    sp = c * o;
+    return true;
+  }
+  float sum[kCartFrameDim];
+  for (int i = 0; i < kCartFrameDim; ++i) sum[i] = cmd[i] + offset[i];
+  if (!validFriPose(sum)) return false;
+  toFrame(sum, sp);
+  return true;
+}
+
+void writeSetPoint(const KDL::Frame& krl, const KDL::Frame& sp, CartOffset form, float (&cmd)[kCartFrameDim],
+                   float (&offset)[kCartFrameDim]) noexcept {
+  switch (form) {
+    case CartOffset::None:
+      fromFrame(sp, cmd);
+      for (float& v : offset) v = 0.0f;
+      return;
+    case CartOffset::Composed:
+      fromFrame(krl, cmd);
+      fromFrame(krl.Inverse() * sp, offset);
+      return;
+    case CartOffset::Elementwise: {
+      fromFrame(krl, cmd);
+      float s[kCartFrameDim];
+      fromFrame(sp, s);
+      for (int i = 0; i < kCartFrameDim; ++i) offset[i] = s[i] - cmd[i];
+      return;
+    }
+  }
+}
+
 double rotationAngle(const KDL::Rotation& r, KDL::Vector& axis) noexcept {
   double x, y, z, w;
   r.GetQuaternion(x, y, z, w);

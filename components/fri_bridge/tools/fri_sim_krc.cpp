@@ -12,6 +12,9 @@
 //   --local-port P    send from 127.0.0.1:P (the KRC's FRI init file's local port; default ephemeral)
 //   --control S       the control strategy the KRC reports: cart (Cartesian impedance, default),
 //                     joint (joint impedance), position, other
+//   --cart-offset F   the form of cmdCartPos / cmdCartPosFriOffset the KRC sends: none (cmdCartPos
+//                     is the set point, default), composed (cmdCartPos * offset as frames) or
+//                     elementwise (cmdCartPos + offset over the 12 entries)
 //   --msr-sample-ms T --cmd-sample-ms T
 //                     the sample times the KRC advertises (desiredMsr/CmdSampleTime; default
 //                     --period-ms): a KRC whose advertised cycle disagrees with its real one
@@ -38,7 +41,7 @@ int usage(const std::string& msg) {
                "fri_sim_krc: %s\nusage: fri_sim_krc --port P [--cycles N] [--period-ms T] [--fast] "
                "[--reply-timeout-ms T] [--latency-out FILE] [--schedule C:STATE:QUALITY[:POWER],...] [--loss p] [--dup p] [--reorder p] "
                "[--late p] [--wrong-size p] [--wrong-id p] [--cmd-loss p] [--seed S] [--burst CYCLE:N] [--local-port P] "
-               "[--control cart|joint|position|other] [--msr-sample-ms T] [--cmd-sample-ms T]\n",
+               "[--control cart|joint|position|other] [--cart-offset none|composed|elementwise] [--msr-sample-ms T] [--cmd-sample-ms T]\n",
                msg.c_str());
   return 1;
 }
@@ -102,6 +105,8 @@ int main(int argc, char** argv) {
       else if (c == "position") p.control = ControlStrategy::Position;
       else if (c == "other") p.control = ControlStrategy::Other;
       else return usage("--control must be cart, joint, position or other");
+    } else if (a == "--cart-offset" && has) {
+      if (!parseCartOffset(argv[++i], p.cart_offset)) return usage("--cart-offset must be none, composed or elementwise");
     } else if ((a == "--msr-sample-ms" || a == "--cmd-sample-ms") && has) {
       if (!num(0.01, 100, v)) return usage(a + " must be in [0.01, 100]");
       (a == "--msr-sample-ms" ? p.msr_sample_time_s : p.cmd_sample_time_s) = v * 1e-3;

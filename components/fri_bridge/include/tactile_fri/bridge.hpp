@@ -11,8 +11,10 @@
 //    `resync_after` consecutive "older" packets are taken as a restarted KRC
 //    sequence and accepted.
 //  * MON or OFF state, or drives powered off: the command echoes the pose the
-//    KRC holds the arm at: its set point cmdCartPos (composed with a valid
-//    cmdCartPosFriOffset), or msrCartPos where the KRC sends no valid one. So
+//    KRC holds the arm at: its set point, read from cmdCartPos and
+//    cmdCartPosFriOffset as fri.cart_offset says (none | composed |
+//    elementwise, protocol.hpp CartOffset), or msrCartPos where the KRC sends
+//    no valid cmdCartPos. So
 //    nothing moves and the KRC may switch to CMD without a jump; in a pressing
 //    contact the set point lies inside the object (force / stiffness) and the
 //    force is kept. The rate limiter is re-seeded from that pose.
@@ -49,6 +51,14 @@
 //    in MON too (where the reply still echoes the measured pose), and in CMD
 //    the bridge follows nothing (hold; WrongStrategy: joint hold).
 //    BridgeOutput::mismatch has one bit per disagreement.
+//  * The set point check, every accepted packet: the set point read under
+//    cart_offset must be a valid pose within setpoint_max_dev /
+//    setpoint_max_dev_rot of the measured pose (the deflection a contact's
+//    force gives against the Cartesian stiffness). Otherwise the KRC sends its
+//    set point in another form than cart_offset says (fri_check tells which):
+//    status OffsetMismatch (mismatch bit kOffset), in MON the measured pose is
+//    echoed instead, in CMD the bridge holds its last command (the measured
+//    pose when it has none) and follows nothing.
 //  * Dry run (setDryRun(true), bring-up): in CMD the bridge holds the pose
 //    where CMD was entered, whatever the desired pose (status DryRun); the
 //    robot state says dry_run, so the servo computes and records its commands
@@ -140,6 +150,11 @@ struct BridgeParams {
   bool command_impedance = false;   ///< also send Cartesian stiffness/damping (flags 0x1000|0x2000)
   std::array<double, 6> cart_stiffness{{2000.0, 2000.0, 2000.0, 200.0, 200.0, 200.0}};  ///< N/m x3 [0.01,5000], N m/rad x3 [0.01,300]
   std::array<double, 6> cart_damping{{0.7, 0.7, 0.7, 0.7, 0.7, 0.7}};  ///< normalised, [0.1, 1.0]
+  /// How the KRC's set point is read from cmdCartPos and cmdCartPosFriOffset
+  /// (protocol.hpp CartOffset; fri_check finds the lab KRC's form).
+  CartOffset cart_offset = CartOffset::Composed;
+  double setpoint_max_dev = 0.01;      ///< m, (0, 1]: set point vs measured pose, else OffsetMismatch
+  double setpoint_max_dev_rot = 0.05;  ///< rad, (0, 3.2]: the same for the orientation
 };
 
 /// Outcome of one step(). Values < kBridgeFirstNoReply (16) produce a reply; the others do not.
@@ -162,6 +177,9 @@ enum class BridgeStatus : uint8_t {
   CycleMismatch = 11,  ///< the KRC's sample time is not cycle_time_s: MON echo / CMD hold, nothing followed
   PortMismatch = 12,   ///< the KRC sends from another port than krc_port: MON echo / CMD hold
   DryRun = 13,         ///< CMD in a dry run: holding the pose where CMD was entered
+  OffsetMismatch = 14, ///< the set point read under cart_offset is not a pose or lies farther than
+                       ///< setpoint_max_dev(_rot) from the measured pose: MON echo of the measured
+                       ///< pose / CMD hold, nothing followed
   DroppedDuplicate = 16,   ///< same sendSeqCount as the last accepted packet: no reply
   DroppedOutOfOrder = 17,  ///< older sendSeqCount: no reply
   Malformed = 18,          ///< decode failed (see packet_status): no reply
@@ -194,6 +212,7 @@ namespace mismatch {
 constexpr uint8_t kCycle = 0x1;    ///< sample time != cycle_time_s
 constexpr uint8_t kPort = 0x2;     ///< source port != krc_port
 constexpr uint8_t kControl = 0x4;  ///< control strategy != Cartesian impedance
+constexpr uint8_t kOffset = 0x8;   ///< the set point read under cart_offset does not fit the measured pose
 }  // namespace mismatch
 
 struct BridgeOutput {
@@ -306,9 +325,10 @@ class FriBridge {
   uint32_t flagsFor(uint16_t control) const noexcept;
   /// mismatch:: bits of `msr` against the configuration.
   uint8_t checkConfig(const MsrPacket& msr) const noexcept;
-  /// The KRC's set point (cmdCartPos composed with a valid cmdCartPosFriOffset),
-  /// else the measured pose; false when neither is valid.
-  static bool heldPose(const MsrPacket& msr, KDL::Frame& held) noexcept;
+  /// The KRC's set point read under cart_offset (the measured pose where the
+  /// KRC sends no valid cmdCartPos); false (held: the measured pose) when it
+  /// cannot be read or fails the set point check. Needs a valid measured pose.
+  bool heldPose(const MsrPacket& msr, KDL::Frame& held) const noexcept;
   /// out.robot from the packet and this step's status.
   void fillRobotState(const MsrPacket& msr, double now_s, bool msr_valid, BridgeOutput& out) const noexcept;
 

@@ -15,13 +15,16 @@
 //   3. the plant moves toward setPoint();
 //   4. buildMeasurement(): header (sendSeqCount + 1, reflSeqCount = the last
 //      command taken), timestamp (ms of `t`), state, quality, sample times,
-//      control strategy, measured joints / pose / wrench, the current set point;
+//      control strategy, measured joints / pose / wrench, the current set point
+//      in the form KrcModelParams::cart_offset says (cmdCartPos and
+//      cmdCartPosFriOffset, protocol.hpp writeSetPoint: the KRL program's own
+//      pose is the set point it held before the first applied command);
 //   5. handleReply(): decode; the remote's sendSeqCount must grow by one; a
 //      reply whose reflSeqCount is not this cycle's measurement is stale
 //      (ignored, as the KRC does); in CMD with the drives on and quality >= OK
 //      a finite Cartesian command (flag 0x100 under Cartesian impedance) becomes
 //      the set point (step statistics, "no pose jump"); in MON the reply must
-//      echo the set point (cmdCartPos).
+//      echo the set point.
 //
 // Command flags: the remote chooses them in monitor mode; in command mode
 // they must stay what they were when command mode was entered (KUKA's
@@ -64,6 +67,10 @@ struct PlantState {
 struct KrcModelParams {
   double period_s = 0.001;  ///< the KRC's measurement / command sample time (s), (0, 0.1]
   ControlStrategy control = ControlStrategy::CartImpedance;
+  /// The form in which the set point is sent: None (cmdCartPos is the set
+  /// point, the offset zero), Composed or Elementwise (cmdCartPos the KRL
+  /// program's pose, the offset the FRI's part).
+  CartOffset cart_offset = CartOffset::None;
 };
 
 struct KrcModelStats {
@@ -75,7 +82,7 @@ struct KrcModelStats {
   uint64_t flag_changes = 0;      ///< CMD replies whose flags differ from those at CMD entry (refused)
   uint64_t nonfinite_commands = 0;
   uint64_t applied = 0;           ///< commands applied (CMD, quality >= OK)
-  uint64_t mon_echo_errors = 0;   ///< MON/power-off replies whose pose differs from the KRC's set point (cmdCartPos) by > 1e-5
+  uint64_t mon_echo_errors = 0;   ///< MON/power-off replies whose pose differs from the KRC's set point by > 1e-5
   double max_cmd_step_m = 0.0;    ///< largest translation between consecutive applied commands
   double max_cmd_step_rad = 0.0;  ///< largest rotation between consecutive applied commands
   double max_entry_offset_m = 0.0;   ///< first applied command after entering CMD vs the set point the KRC held
@@ -182,6 +189,7 @@ class KrcModel {
   bool refused_ = false;       // a flag change in CMD: monitor mode until reset()
   bool stop_requested_ = false;  // the RT PC's stop request: the program ended
   KDL::Frame set_point_ = KDL::Frame::Identity();
+  KDL::Frame krl_pose_ = KDL::Frame::Identity();  // the KRL program's own pose (cmdCartPos unless form None)
   KDL::Frame last_applied_ = KDL::Frame::Identity();
   MsrPacket msr_{};
   CmdPacket cmd_{};

@@ -12,6 +12,9 @@
 //     command_impedance: false
 //     cart_stiffness: [2000, 2000, 2000, 200, 200, 200]  # N/m x3, N m/rad x3
 //     cart_damping: [0.7, 0.7, 0.7, 0.7, 0.7, 0.7]
+//     cart_offset: composed      # none | composed | elementwise (protocol.hpp CartOffset)
+//     setpoint_max_dev: 0.01     # m, (0, 1]: the set point read vs the measured pose
+//     setpoint_max_dev_rot: 0.05 # rad, (0, 3.2]
 //     udp:
 //       bind_address: 0.0.0.0
 //       port: 49938              # [0, 65535], 0 = ephemeral

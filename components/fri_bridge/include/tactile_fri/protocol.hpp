@@ -253,6 +253,37 @@ bool validFriPose(const float (&m)[kCartFrameDim], double tol = 1e-3) noexcept;
 /// Finite position and unit quaternion: the project's one rule (tactile_types/types.hpp).
 using tactile::validPose;
 
+/// How the KRC's Cartesian set point is read from a measurement's cmdCartPos
+/// (C) and cmdCartPosFriOffset (O), both 3x4 row-major (fri.cart_offset):
+///  * None: C alone (the offset is ignored);
+///  * Composed: C * O as homogeneous transforms (O a rotation and translation;
+///    all twelve entries 0 read as the identity);
+///  * Elementwise: C + O entry by entry over the 12 entries. Stanford's FRI
+///    library (Fast Research Interface Library 1.2,
+///    FastResearchInterface/SetControlScheme.cpp)
+///    notes this as what the KUKA documentation asks for before a Cartesian
+///    impedance start (its twelve-entry loop, left commented out there, so
+///    that library itself reads C alone); KUKA's friremote.cpp mirrors the joint set point in the same way
+///    (cmdJntPos[i] + cmdJntPosFriOffset[i]).
+/// Which one a given KRC uses is not documented beyond that: fri_check finds
+/// it (docs/bringup.md).
+enum class CartOffset : uint8_t { None = 0, Composed = 1, Elementwise = 2 };
+/// "none" | "composed" | "elementwise" (the fri.yaml words).
+const char* toString(CartOffset f);
+/// The inverse of toString(CartOffset); false (out unchanged) for another word.
+bool parseCartOffset(const char* word, CartOffset& out);
+/// The set point C (form) O; false when C, O or the result is not a valid pose
+/// (validFriPose), e.g. an elementwise offset read as composed. `sp` is
+/// written only on true.
+bool readSetPoint(const float (&cmd)[kCartFrameDim], const float (&offset)[kCartFrameDim], CartOffset form,
+                  KDL::Frame& sp) noexcept;
+/// The KRC's side: cmdCartPos and cmdCartPosFriOffset for the set point `sp`
+/// when the KRL program's own commanded pose is `krl` (None: C = sp, O = 0;
+/// Composed: C = krl, O = krl^-1 * sp; Elementwise: C = krl, O = sp - krl
+/// entry by entry).
+void writeSetPoint(const KDL::Frame& krl, const KDL::Frame& sp, CartOffset form, float (&cmd)[kCartFrameDim],
+                   float (&offset)[kCartFrameDim]) noexcept;
+
 /// Angle (in [0, pi]) and unit axis of a rotation, accurate for small angles
 /// (computed from the quaternion with atan2; KDL's GetRotAngle returns 0 below
 /// about 1.4e-3 rad). axis = (0,0,1) when the angle is 0.

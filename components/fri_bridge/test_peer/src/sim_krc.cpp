@@ -61,6 +61,7 @@ ConfigResult SimKrc::configure(const SimKrcParams& p, Plant& plant) {
   KrcModelParams mp;
   mp.period_s = p.period_s;
   mp.control = p.control;
+  mp.cart_offset = p.cart_offset;
   ConfigResult r = model_.configure(mp);
   if (!r) return r;
   UdpParams up;

@@ -110,6 +110,8 @@ struct SimKrcParams {
   double reply_timeout_s = 0.01;         ///< fast mode: how long to wait for a reply (s)
   KDL::Frame initial_pose = KDL::Frame(KDL::Rotation::RPY(3.14159265358979, 0.0, 0.0), KDL::Vector(0.5, 0.0, 0.4));
   ControlStrategy control = ControlStrategy::CartImpedance;
+  /// The form of cmdCartPos / cmdCartPosFriOffset (KrcModelParams::cart_offset).
+  CartOffset cart_offset = CartOffset::None;
   /// The sample times the KRC advertises in every measurement
   /// (desiredMsrSampleTime, desiredCmdSampleTime), s; 0 = period_s. A value
   /// other than period_s rehearses a KRC whose advertised cycle disagrees with
