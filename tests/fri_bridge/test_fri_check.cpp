@@ -24,7 +24,7 @@ struct CheckRun {
 };
 
 CheckRun runFriCheck(const std::string& args, const std::vector<StateEvent>& schedule, uint64_t krc_cycles,
-                     const FaultParams& faults = FaultParams{}) {
+                     const FaultParams& faults = FaultParams{}, CartOffset krc_form = CartOffset::None) {
   CheckRun r;
   const std::string cmd = std::string(FRI_CHECK_PATH) + " --port 0 --bind 127.0.0.1 --idle-timeout 3 " + args + " 2>&1";
   FILE* pipe = ::popen(cmd.c_str(), "r");
@@ -47,6 +47,7 @@ CheckRun runFriCheck(const std::string& args, const std::vector<StateEvent>& sch
   kp.initial_pose = startPose();
   kp.schedule = schedule;
   kp.faults = faults;
+  kp.cart_offset = krc_form;
   FirstOrderPlant plant(0.02);
   SimKrc krc;
   EXPECT_TRUE(krc.configure(kp, plant).ok());
@@ -164,4 +165,64 @@ TEST(FriCheckTool, AgainstTheSimKrcExecutable) {
   const std::string bad = runCapture(std::string(FRI_SIM_KRC_PATH) + " --port 1 --schedule 5:FOO:OK", bad_exit);
   EXPECT_EQ(bad_exit, 1) << bad;
   EXPECT_TRUE(contains(bad, "bad --schedule event '5:FOO:OK'")) << bad;
+}
+
+// fri_check finds the form in which the KRC sends its set point (fri.cart_offset)
+// from a short circle in CMD: against the simulated KRC sending each form, with
+// this run's bridge reading none (the default). A run whose bridge reads
+// another form than the KRC sends holds at offset_mismatch after one step and
+// says to run again with none.
+TEST(FriCheckTool, FindsTheFormOfTheKrcsSetPoint) {
+  const std::vector<StateEvent> cmd = {{0, State::Mon, Quality::Perfect, 0x7F}, {100, State::Cmd, Quality::Perfect, 0x7F}};
+  struct Case {
+    CartOffset krc;
+    const char* args;
+    const char* verdict;
+  };
+  for (const Case& c : {Case{CartOffset::None, "", "cart_offset: use none ("},
+                        Case{CartOffset::Composed, "", "cart_offset: use composed ("},
+                        Case{CartOffset::Elementwise, "", "cart_offset: use elementwise ("},
+                        Case{CartOffset::Elementwise, " --cart-offset elementwise", "cart_offset: use elementwise ("},
+                        Case{CartOffset::Elementwise, " --cart-offset composed",
+                             "cart_offset: undetermined (this run's bridge read composed, the KRC sends another form: it "
+                             "held at offset_mismatch after "}}) {
+    const CheckRun r = runFriCheck(std::string("--cycles 1200 --motion circle --radius 0.02 --circle-period 1") + c.args,
+                                   cmd, 1200, FaultParams{}, c.krc);
+    const std::string what = std::string("KRC ") + toString(c.krc) + c.args;
+    EXPECT_EQ(r.exit_code, 0) << what << "\n" << r.output;
+    EXPECT_TRUE(contains(r.output, c.verdict)) << what << "\n" << r.output;
+    EXPECT_LE(r.krc.max_cmd_step_m, 0.05 * 0.001 + 2e-7) << what;
+    EXPECT_LE(r.krc.max_entry_offset_m, 0.05 * 0.001 + 2e-7) << what;
+    if (std::string(c.args) != " --cart-offset composed") EXPECT_GT(r.max_displacement, 0.002) << what;
+    else EXPECT_TRUE(contains(r.output, "bridge offset_mismatch")) << r.output;
+  }
+  // Without motion there is nothing to tell the forms apart.
+  const CheckRun hold = runFriCheck("--cycles 400 --motion hold", cmd, 400, FaultParams{}, CartOffset::Elementwise);
+  EXPECT_TRUE(contains(hold.output, "cart_offset: undetermined (the command moved")) << hold.output;
+}
+
+TEST(FriCheckTool, FindsTheFormAgainstTheSimKrcExecutable) {
+  FILE* check = ::popen((std::string(FRI_CHECK_PATH) +
+                         " --port 0 --bind 127.0.0.1 --idle-timeout 3 --cycles 1000 --motion circle --radius 0.02 "
+                         "--circle-period 1 2>&1").c_str(),
+                        "r");
+  ASSERT_NE(check, nullptr);
+  char line[512];
+  ASSERT_NE(std::fgets(line, sizeof line, check), nullptr);
+  const std::string first = line;
+  const std::size_t colon = first.find("127.0.0.1:");
+  ASSERT_NE(colon, std::string::npos) << first;
+  const std::string port = std::to_string(std::stoul(first.substr(colon + 10)));
+  int sim_exit = -1;
+  const std::string sim = runCapture(std::string(FRI_SIM_KRC_PATH) + " --port " + port +
+                                         " --cycles 1000 --fast --cart-offset composed --schedule 0:MON:PERFECT,100:CMD:PERFECT",
+                                     sim_exit);
+  std::string out = first;
+  while (std::fgets(line, sizeof line, check) != nullptr) out += line;
+  ::pclose(check);
+  EXPECT_EQ(sim_exit, 0) << sim;
+  EXPECT_TRUE(contains(out, "cart_offset: use composed (")) << out;
+  int bad_exit = -1;
+  const std::string bad = runCapture(std::string(FRI_SIM_KRC_PATH) + " --port 1 --cart-offset additive", bad_exit);
+  EXPECT_EQ(bad_exit, 1) << bad;
 }

@@ -16,7 +16,27 @@
 //   --max-lin-speed V    bridge rate limit (default 0.05 m/s)
 //   --max-rot-speed W    bridge rate limit (default 0.25 rad/s)
 //   --idle-timeout S     give up when nothing arrives for S seconds (default 10)
+//   --cart-offset F      how this run's bridge reads the KRC's set point (none |
+//                        composed | elementwise; default none: cmdCartPos alone, the
+//                        set point at a fresh friStart in every form, the bridge's
+//                        set point check guarding the rest)
 // Exit status: 0 after N cycles, 2 on idle timeout, 1 on usage/configuration errors.
+//
+// The KRC's set point form (fri.cart_offset): in CMD at quality >= OK, each
+// measurement's cmdCartPos and cmdCartPosFriOffset describe the set point the
+// KRC holds, which is the command it took last (reflSeqCount = our last
+// command). fri_check reads them in each form (none, composed, elementwise;
+// protocol.hpp CartOffset) and compares with that command. Samples count once
+// the command moved >= 2 mm from where CMD was entered (there the forms
+// differ by the motion); a form agrees when its reading is a pose within
+// 1 mm / 0.01 rad of the command on every such sample. At the end one line
+// per form and the verdict:
+//   cart_offset: use elementwise (...)   the one form that agrees: set it in fri.yaml
+//   cart_offset: use none (...)          the offset stayed zero: cmdCartPos is the set point
+//   cart_offset: undetermined (...)      too little motion (run --motion circle), this
+//                                        run's bridge read another form (--cart-offset
+//                                        composed | elementwise) and held, or no form or
+//                                        more than one agrees
 //
 // MONITOR MODE (bring-up: is the link what fri.yaml says?):
 //
@@ -52,6 +72,7 @@
 // measured with its clock. Exit (monitor mode): 0 every item PASS or WARN, 3 an
 // item FAILed, 2 no packet within --idle-timeout, 1 usage/configuration errors.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdarg>
@@ -81,7 +102,7 @@ double now() {
 int usage(const char* msg) {
   std::fprintf(stderr,
                "fri_check: %s\nusage: fri_check --port P [--cycles N] [--motion hold|circle] [--bind ADDR] "
-               "[--radius M] [--circle-period S] [--max-lin-speed V] [--max-rot-speed W] [--idle-timeout S]\n"
+               "[--radius M] [--circle-period S] [--max-lin-speed V] [--max-rot-speed W] [--idle-timeout S] [--cart-offset none|composed|elementwise]\n"
                "       fri_check --monitor --params FILE [--seconds S] [--cycles N] [--port P] [--bind ADDR] "
                "[--period-tolerance F] [--max-jitter-ms J] [--max-loss-rate R] [--json FILE] [--idle-timeout S]\n",
                msg);
@@ -105,6 +126,82 @@ struct RunningStat {
   }
   double mean() const { return n ? sum / double(n) : 0.0; }
   double stddev() const { return n > 1 ? std::sqrt(std::max(0.0, sum2 / double(n) - mean() * mean())) : 0.0; }
+};
+
+// ---- the KRC's set point form -------------------------------------------------
+
+struct OffsetProbe {
+  static constexpr double kDecisiveM = 0.002;  // command motion from the CMD entry (m)
+  static constexpr double kTolM = 0.001;       // reading vs the command (m)
+  static constexpr double kTolRad = 0.01;      // (rad)
+  struct PerForm {
+    uint64_t unreadable = 0;  // not a pose in this form
+    double max_m = 0.0, max_rad = 0.0;
+  };
+  std::array<PerForm, 3> form{};
+  uint64_t samples = 0, nonzero = 0;
+  double max_motion = 0.0;
+
+  /// `taken`: the command the KRC reflects (its set point now); `entry`: where CMD was entered.
+  void add(const MsrPacket& m, const KDL::Frame& taken, const KDL::Frame& entry) {
+    const double motion = (taken.p - entry.p).Norm();
+    max_motion = std::max(max_motion, motion);
+    if (motion < kDecisiveM) return;
+    ++samples;
+    bool zero = true;
+    for (float v : m.data.cmd_cart_pos_fri_offset) zero = zero && v == 0.0f;
+    if (!zero) ++nonzero;
+    for (int i = 0; i < 3; ++i) {
+      PerForm& f = form[static_cast<std::size_t>(i)];
+      KDL::Frame sp;
+      if (!readSetPoint(m.data.cmd_cart_pos, m.data.cmd_cart_pos_fri_offset, static_cast<CartOffset>(i), sp)) {
+        ++f.unreadable;
+        continue;
+      }
+      KDL::Vector axis;
+      f.max_m = std::max(f.max_m, (sp.p - taken.p).Norm());
+      f.max_rad = std::max(f.max_rad, rotationAngle(taken.M.Inverse() * sp.M, axis));
+    }
+  }
+  bool agrees(int i) const {
+    const PerForm& f = form[static_cast<std::size_t>(i)];
+    return samples > 0 && f.unreadable == 0 && f.max_m <= kTolM && f.max_rad <= kTolRad;
+  }
+  void report(CartOffset ran_with, bool held_at_mismatch) const {
+    for (int i = 0; i < 3; ++i) {
+      const PerForm& f = form[static_cast<std::size_t>(i)];
+      if (samples == 0) break;
+      if (f.unreadable > 0)
+        std::printf("cart_offset %-11s no pose in %llu of %llu samples\n", toString(static_cast<CartOffset>(i)),
+                    static_cast<unsigned long long>(f.unreadable), static_cast<unsigned long long>(samples));
+      else
+        std::printf("cart_offset %-11s max error %.3f mm %.4f rad over %llu samples: %s\n",
+                    toString(static_cast<CartOffset>(i)), f.max_m * 1e3, f.max_rad,
+                    static_cast<unsigned long long>(samples), agrees(i) ? "agrees" : "disagrees");
+    }
+    int n_agree = 0, which = -1;
+    for (int i = 0; i < 3; ++i)
+      if (agrees(i)) ++n_agree, which = which < 0 ? i : which;
+    if (samples == 0 && held_at_mismatch) {
+      std::printf("cart_offset: undetermined (this run's bridge read %s, the KRC sends another form: it held at "
+                  "offset_mismatch after %.2f mm; run again with --cart-offset none)\n",
+                  toString(ran_with), max_motion * 1e3);
+    } else if (samples == 0) {
+      std::printf("cart_offset: undetermined (the command moved %.2f mm from the CMD entry, < %.0f mm: run "
+                  "--motion circle with the KRC in CMD)\n",
+                  max_motion * 1e3, kDecisiveM * 1e3);
+    } else if (nonzero == 0 && n_agree > 0) {
+      std::printf("cart_offset: use none (the KRC's cmdCartPosFriOffset stayed zero: cmdCartPos is the set point, "
+                  "every form reads it alike)\n");
+    } else if (n_agree == 1) {
+      const CartOffset f = static_cast<CartOffset>(which);
+      std::printf("cart_offset: use %s (set fri.cart_offset: %s in fri.yaml%s)\n", toString(f), toString(f),
+                  f == ran_with ? "" : "; this run's bridge read it otherwise and held at offset_mismatch once it noticed");
+    } else {
+      std::printf("cart_offset: undetermined (%d forms agree with the commands taken: see the lines above and "
+                  "docs/bringup.md)\n", n_agree);
+    }
+  }
 };
 
 // ---- monitor mode -------------------------------------------------------------
@@ -557,7 +654,8 @@ int main(int argc, char** argv) {
   UdpParams up;
   BridgeParams bp;
   double radius = 0.01, circle_period = 10.0, idle_timeout = 10.0;
-  bool monitor = false, motion_given = false, cycles_given = false;
+  bool monitor = false, motion_given = false, cycles_given = false, offset_given = false;
+  CartOffset check_offset = CartOffset::None;
   MonitorOptions mo;
   for (int i = 1; i + 1 < argc; ++i) {  // the parameter file first, so that options override it
     if (std::string(argv[i]) == "--params") {
@@ -613,6 +711,9 @@ int main(int argc, char** argv) {
     } else if (a == "--max-rot-speed" && has) {
       if (!parseDouble(argv[++i], v)) return usage("--max-rot-speed needs a number");
       bp.max_rot_speed = v;
+    } else if (a == "--cart-offset" && has) {
+      if (!parseCartOffset(argv[++i], check_offset)) return usage("--cart-offset must be none, composed or elementwise");
+      offset_given = true;
     } else if (a == "--idle-timeout" && has) {
       if (!parseDouble(argv[++i], idle_timeout) || idle_timeout <= 0.0) return usage("--idle-timeout must be > 0 s");
     } else {
@@ -623,6 +724,7 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) have_params = have_params || std::string(argv[i]) == "--params";
   if (port < 0 && !have_params) return usage("--port (or --params FILE with fri.udp.port) is required");
   if (port >= 0) up.port = static_cast<uint16_t>(port);
+  if (offset_given && monitor) return usage("--cart-offset is for the motion check (monitor mode reads fri.yaml's)");
   if (monitor) {
     if (motion_given) return usage("--monitor never commands motion: no --motion");
     mo.cycles = cycles_given ? cycles : 0;
@@ -630,6 +732,7 @@ int main(int argc, char** argv) {
     return runMonitor(mo, bp, up);
   }
 
+  bp.cart_offset = check_offset;
   FriBridge bridge;
   if (ConfigResult r = bridge.configure(bp); !r) {
     std::fprintf(stderr, "fri_check: %s\n", r.message().c_str());
@@ -640,8 +743,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "fri_check: %s\n", r.message().c_str());
     return 1;
   }
-  std::printf("fri_check: listening on %s:%u, motion %s, %ld cycles\n", up.bind_address.c_str(),
-              unsigned(sock.localPort()), motion.c_str(), cycles);
+  std::printf("fri_check: listening on %s:%u, motion %s, %ld cycles, cart_offset %s\n", up.bind_address.c_str(),
+              unsigned(sock.localPort()), motion.c_str(), cycles, toString(bp.cart_offset));
   std::fflush(stdout);
 
   static uint8_t buf[2048];
@@ -650,7 +753,12 @@ int main(int argc, char** argv) {
   PoseCommand desired;
   desired.status = ServoStatus::Ok;
   KDL::Frame anchor = KDL::Frame::Identity();
-  bool have_anchor = false;  // the desired pose starts where the robot is (the bridge's start gate)
+  bool have_anchor = false;
+  OffsetProbe probe;
+  bool saw_offset_mismatch = false;
+  KDL::Frame last_sent = KDL::Frame::Identity();
+  uint16_t last_sent_seq = 0;
+  bool last_sent_taken = false;  // the last reply went out in CMD at quality >= OK (the KRC applies it)  // the desired pose starts where the robot is (the bridge's start gate)
   bool in_cmd = false;
   uint64_t cmd_cycles = 0;
   RunningStat processing_us, period_ms;
@@ -721,6 +829,14 @@ int main(int argc, char** argv) {
     krc_miss = msr.intf.stat.miss_counter;
 
     const bool cmd_now = out.state == State::Cmd && powerOn(msr);
+    // The KRC's set point is the command it took last (when it was applied).
+    if (cmd_now && out.quality >= Quality::Ok && last_sent_taken && msr.head.refl_seq == last_sent_seq && have_anchor)
+      probe.add(msr, last_sent, anchor);
+    last_sent_taken = out.reply && cmd_now && out.quality >= Quality::Ok;
+    if (out.reply) {
+      last_sent = out.commanded;
+      last_sent_seq = out.cmd.head.send_seq;
+    }
     if ((!cmd_now || !have_anchor) && out.reply) {
       // outside CMD (or the KRC came up in CMD): the echoed/held measured pose; CMD starts from it
       anchor = out.commanded;
@@ -735,6 +851,7 @@ int main(int argc, char** argv) {
                   static_cast<unsigned long long>(bridge.stats().accepted), toString(out.state),
                   toString(out.quality), unsigned(msr.robot.power), unsigned(msr.robot.control));
     }
+    if (out.status == BridgeStatus::OffsetMismatch) saw_offset_mismatch = true;
     if (out.status != last_status) {
       ++status_changes;
       std::printf("cycle %llu: bridge %s\n", static_cast<unsigned long long>(bridge.stats().accepted),
@@ -759,6 +876,7 @@ int main(int argc, char** argv) {
               static_cast<unsigned long long>(s.resyncs), static_cast<unsigned long long>(s.limited),
               static_cast<unsigned long long>(s.holds), static_cast<unsigned long long>(send_errors),
               static_cast<unsigned long long>(timeouts), peer);
+  probe.report(bp.cart_offset, saw_offset_mismatch);
   std::printf("latency: processing mean %.1f us max %.1f us; inter-arrival mean %.3f ms sd %.3f ms max %.3f ms; "
               "KRC-reported latency %.6f s answer_rate %.3f miss_counter %u\n",
               processing_us.mean(), processing_us.max, period_ms.mean(), period_ms.stddev(), period_ms.max,
