@@ -667,3 +667,45 @@ TEST(FriBridge, EveryClippedCommandNamesItsLimit) {
   EXPECT_EQ(h.send(State::Mon, Quality::Perfect), BridgeStatus::LeftCmd);
   EXPECT_EQ(h.out.limits, 0);
 }
+
+// A latched servo fault (a watchdog status on the desired pose) asks the KRL
+// program to end (stop_krc_on_servo_fault): the same reply and every later
+// one carry $FRI_FRM_INT[1] = 99; other servo statuses do not; off, nothing.
+TEST(FriBridge, AServoWatchdogStatusRequestsTheKrcStop) {
+  for (ServoStatus fault : {ServoStatus::PhaseTimeout, ServoStatus::ArmStalled, ServoStatus::ForceMismatch,
+                            ServoStatus::SurfaceTooCurved, ServoStatus::PhantomContact, ServoStatus::UnseenLoad,
+                            ServoStatus::CorrectionSaturated}) {
+    Harness h;
+    h.engage();
+    for (ServoStatus s : {ServoStatus::Holding, ServoStatus::ContactLost, ServoStatus::ForceCeiling,
+                          ServoStatus::WaitingForRobot, ServoStatus::Done, ServoStatus::InvalidInput}) {
+      h.desired.status = s;
+      h.send(State::Cmd, Quality::Perfect);
+      EXPECT_FALSE(h.out.stop_requested) << toString(s);
+      EXPECT_EQ(h.out.cmd.krl.int_data[0], 0) << toString(s);
+    }
+    EXPECT_EQ(h.bridge.stopCause(), ServoStatus::Ok);
+    h.desired.status = fault;
+    h.send(State::Cmd, Quality::Perfect);
+    EXPECT_TRUE(h.out.stop_requested) << toString(fault);
+    EXPECT_EQ(h.out.cmd.krl.int_data[0], krl::kRequestStop) << "the reply to the fault's packet";
+    EXPECT_EQ(h.bridge.stopCause(), fault);
+    h.desired.status = ServoStatus::Ok;  // latched: a later status does not withdraw it
+    h.send(State::Mon, Quality::Perfect);
+    EXPECT_EQ(h.out.cmd.krl.int_data[0], krl::kRequestStop);
+    EXPECT_TRUE(h.bridge.stopRequested());
+  }
+  BridgeParams off;
+  off.stop_krc_on_servo_fault = false;
+  Harness h(off);
+  h.engage();
+  h.desired.status = ServoStatus::PhantomContact;
+  h.send(State::Cmd, Quality::Perfect);
+  EXPECT_FALSE(h.out.stop_requested);
+  EXPECT_EQ(h.out.cmd.krl.int_data[0], 0);
+  // requestStop() alone names no cause; configure() clears both.
+  h.bridge.requestStop();
+  EXPECT_EQ(h.bridge.stopCause(), ServoStatus::Ok);
+  ASSERT_TRUE(h.bridge.configure(BridgeParams{}).ok());
+  EXPECT_FALSE(h.bridge.stopRequested());
+}

@@ -111,7 +111,7 @@ TEST(FriBridgeComponent, InterfaceIsDeclaredAndDocumented) {
     ASSERT_NE(c.properties()->getProperty(prop), nullptr) << prop;
   for (const char* a : {"local_port", "bridge_status", "fri_state", "fri_quality", "krc_silent", "fd_activity",
                         "received", "replies", "lost", "timeouts", "socket_errors", "limits",
-                        "limited_max_lin_speed", "limited_max_rot_speed", "krc_program", "krc_stop_requested"})
+                        "limited_max_lin_speed", "limited_max_rot_speed", "krc_program", "krc_stop_requested", "krc_stop_cause"})
     EXPECT_NE(c.provides()->getAttribute(a), nullptr) << a;
   EXPECT_TRUE(c.provides()->hasOperation("lastError"));
   EXPECT_TRUE(c.provides()->hasOperation("statusName"));
@@ -232,6 +232,44 @@ TEST(FriBridgeComponent, FileDescriptorActivityFollowsTheSimulatedKrc) {
   EXPECT_GE(extra, 0);
   EXPECT_LE(extra, 1 + rig.attr("timeouts"));
   EXPECT_EQ(rig.attr("received"), 1500);
+}
+
+// The servo latches a watchdog: its pose command carries the status on the
+// port the bridge already reads; the bridge asks the KRL program to end
+// (fri.yaml stop_krc_on_servo_fault), and the simulated KRC leaves command mode.
+TEST(FriBridgeComponent, AServoWatchdogOnThePoseCommandStopsTheKrc) {
+  Rig rig(new RTT::extras::FileDescriptorActivity(ORO_SCHED_OTHER, 0), writeTemp("fri_ok.yaml", kParams));
+  ASSERT_TRUE(rig.comp.configure()) << rig.comp.lastError();
+  fri::FirstOrderPlant plant(0.02);
+  fri::SimKrc krc;
+  fri::SimKrcParams kp;
+  kp.remote_port = static_cast<uint16_t>(rig.attr("local_port"));
+  kp.real_time = false;
+  kp.reply_timeout_s = 0.2;
+  kp.initial.state = fri::State::Mon;
+  kp.schedule.push_back({50, fri::State::Cmd, fri::Quality::Perfect, 0x7F});
+  ASSERT_TRUE(krc.configure(kp, plant).ok());
+  ASSERT_TRUE(rig.comp.start());
+  PoseCommand desired;
+  desired.pose = tactile::toPose(kp.initial_pose);
+  desired.time_s = now();
+  desired.status = tactile::ServoStatus::Ok;
+  rig.command_out.write(desired);
+  krc.run(200);
+  EXPECT_EQ(krc.state(), fri::State::Cmd);
+  EXPECT_FALSE(rig.flag("krc_stop_requested"));
+  EXPECT_EQ(rig.attr("krc_program"), 20);
+  desired.time_s = now();
+  desired.status = tactile::ServoStatus::PhantomContact;  // latched by the servo, the command held
+  rig.command_out.write(desired);
+  krc.run(50);
+  ASSERT_TRUE(rig.comp.stop());
+  EXPECT_TRUE(rig.flag("krc_stop_requested"));
+  EXPECT_EQ(rig.attr("krc_stop_cause"), static_cast<int>(tactile::ServoStatus::PhantomContact));
+  EXPECT_EQ(krc.state(), fri::State::Mon) << "friStop: the KRL program ended";
+  EXPECT_EQ(rig.attr("krc_program"), 30) << "closed";
+  EXPECT_EQ(krc.stats().mon_echo_errors, 0u);
+  EXPECT_LE(krc.stats().max_cmd_step_m, 0.05 * 0.001 + 1e-6);
 }
 
 // A periodic Activity (1 kHz): each cycle reads what is queued, never waits.

@@ -249,6 +249,10 @@ BridgeStatus FriBridge::step(const MsrPacket& msr, const PoseCommand& desired, d
   out.mismatch = 0;
   out.limits = 0;
   out.krl_program = msr.krl.int_data[0];
+  if (configured_ && params_.stop_krc_on_servo_fault && !stop_requested_ && watchdogStatus(desired.status)) {
+    requestStop();  // a latched servo fault: the KRL program ends (friStop), this reply on
+    stop_cause_ = desired.status;
+  }
   out.stop_requested = stop_requested_;
   out.krc_cycle_s = static_cast<double>(msr.intf.desired_msr_sample_time);
   const BridgeStatus st = stepPacket(msr, desired, now_s, out);

@@ -27,7 +27,7 @@ ConfigResult loadBridgeParams(const YAML::Node& node, const Where& where, Bridge
     ConfigResult r = checkKeys(node, where,
                                {"max_lin_speed", "max_rot_speed", "cycle_time_s", "max_desired_age_s",
                                 "engage_max_trans", "engage_max_rot", "resync_after", "rewind_on_refl", "command_impedance", "cart_stiffness",
-                                "cart_damping", "cart_offset", "setpoint_max_dev", "setpoint_max_dev_rot", "udp"});
+                                "cart_damping", "cart_offset", "setpoint_max_dev", "setpoint_max_dev_rot", "stop_krc_on_servo_fault", "udp"});
     if (!r) return r;
     for (auto rr : {read(node, "max_lin_speed", bp.max_lin_speed, where),
                     read(node, "max_rot_speed", bp.max_rot_speed, where),
@@ -41,7 +41,8 @@ ConfigResult loadBridgeParams(const YAML::Node& node, const Where& where, Bridge
                     readSix(node, "cart_stiffness", bp.cart_stiffness, where),
                     readSix(node, "cart_damping", bp.cart_damping, where),
                     read(node, "setpoint_max_dev", bp.setpoint_max_dev, where),
-                    read(node, "setpoint_max_dev_rot", bp.setpoint_max_dev_rot, where)})
+                    read(node, "setpoint_max_dev_rot", bp.setpoint_max_dev_rot, where),
+                    read(node, "stop_krc_on_servo_fault", bp.stop_krc_on_servo_fault, where)})
       if (!rr) return rr;
     if (node["cart_offset"]) {
       std::string form;

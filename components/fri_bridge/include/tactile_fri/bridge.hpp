@@ -72,6 +72,12 @@
 //    pose, which passes the start gate.
 //  * Every reply carries jntPos = cmdJntPos + cmdJntPosFriOffset (the KRC's
 //    current joint set point), used by the KRC only when flag 0x1 is set.
+//  * Servo fault -> KRC stop: a desired pose whose status is a servo watchdog
+//    (tactile::watchdogStatus: PhaseTimeout, ArmStalled, ForceMismatch,
+//    PhantomContact, ...; the servo latches it and holds) asks the KRL
+//    program to end, as requestStop() does, when stop_krc_on_servo_fault
+//    (fri.yaml) is set: that reply and every later one carry
+//    $FRI_FRM_INT[1] = krl::kRequestStop. stopCause() names the status.
 //  * Leaving CMD: status LeftCmd (sticky while the KRC stays out of CMD) and
 //    the measured pose is echoed again.
 //
@@ -153,6 +159,8 @@ struct BridgeParams {
   /// How the KRC's set point is read from cmdCartPos and cmdCartPosFriOffset
   /// (protocol.hpp CartOffset; fri_check finds the lab KRC's form).
   CartOffset cart_offset = CartOffset::Composed;
+  /// A servo watchdog status on the desired pose asks the KRL program to end (requestStop()).
+  bool stop_krc_on_servo_fault = true;
   double setpoint_max_dev = 0.01;      ///< m, (0, 1]: set point vs measured pose, else OffsetMismatch
   double setpoint_max_dev_rot = 0.05;  ///< rad, (0, 3.2]: the same for the orientation
 };
@@ -283,9 +291,13 @@ class FriBridge {
   }
   void clearStopRequest() noexcept {
     stop_requested_ = false;
+    stop_cause_ = ServoStatus::Ok;
     krl_out_.int_data[0] = 0;
   }
   bool stopRequested() const noexcept { return stop_requested_; }
+  /// The servo watchdog status that requested the stop (stop_krc_on_servo_fault);
+  /// ServoStatus::Ok when none did (no request, or requestStop() alone).
+  ServoStatus stopCause() const noexcept { return stop_cause_; }
   const BridgeStats& stats() const noexcept { return stats_; }
   const BridgeParams& params() const noexcept { return params_; }
   bool configured() const noexcept { return configured_; }
@@ -319,6 +331,7 @@ class FriBridge {
   uint16_t peer_port_ = 0;     // source port of the current datagram (0: unknown)
   bool dry_run_ = false;
   bool stop_requested_ = false;  // requestStop(): latched
+  ServoStatus stop_cause_ = ServoStatus::Ok;  // the servo fault that requested it
   uint32_t cmd_flags_ = flags::kCartPose;  // chosen outside CMD, kept in CMD
   bool have_flags_ = false;                // cmd_flags_ chosen since reset()
   /// The command flags for the KRC's reported control strategy.

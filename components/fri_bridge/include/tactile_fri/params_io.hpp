@@ -15,6 +15,7 @@
 //     cart_offset: composed      # none | composed | elementwise (protocol.hpp CartOffset)
 //     setpoint_max_dev: 0.01     # m, (0, 1]: the set point read vs the measured pose
 //     setpoint_max_dev_rot: 0.05 # rad, (0, 3.2]
+//     stop_krc_on_servo_fault: true  # a servo watchdog status asks the KRL program to end
 //     udp:
 //       bind_address: 0.0.0.0
 //       port: 49938              # [0, 65535], 0 = ephemeral

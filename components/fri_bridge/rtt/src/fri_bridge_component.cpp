@@ -44,6 +44,7 @@ FriBridgeComponent::FriBridgeComponent(const std::string& name)
   addAtomicAttribute(*provides(), "limits", limits_);
   addAtomicAttribute(*provides(), "krc_program", krc_program_);
   addAtomicAttribute(*provides(), "krc_stop_requested", krc_stop_requested_);
+  addAtomicAttribute(*provides(), "krc_stop_cause", krc_stop_cause_);
   addAtomicAttribute(*provides(), "limited_max_lin_speed", limited_lin_);
   addAtomicAttribute(*provides(), "limited_max_rot_speed", limited_rot_);
   addPort(command_in_).doc("Desired flange pose {g}T{e} (from the servo); rate-limited by the bridge.");
@@ -104,6 +105,7 @@ bool FriBridgeComponent::configureHook() {
     r = rangeError("receive_timeout", receive_timeout_, "(0, 1] s");
   if (r) r = bridge_.configure(bp);
   record(krc_stop_requested_, false);  // a new session: no stop request
+  record(krc_stop_cause_, 0);
   if (r) {
     if (port_ >= 0) up.port = static_cast<uint16_t>(port_);
     socket_.close();  // never watched here: start() watches it, stop() unwatches it
@@ -240,6 +242,10 @@ void FriBridgeComponent::handleDatagram(fri::UdpStatus us, std::size_t n) {
       bump(replies_);
   }
   record(bridge_status_, static_cast<int>(st));
+  if (bridge_.stopRequested() && !krc_stop_requested_.load(std::memory_order_relaxed)) {
+    record(krc_stop_requested_, true);  // the core asked on a servo fault (stop_krc_on_servo_fault)
+    record(krc_stop_cause_, static_cast<int>(bridge_.stopCause()));
+  }
   bump(received_);
   record(lost_, static_cast<int>(bridge_.stats().lost));
   record(limits_, static_cast<int>(out_.limits));

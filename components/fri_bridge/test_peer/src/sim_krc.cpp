@@ -141,6 +141,8 @@ void SimKrc::runCycle() {
     model_.setState(e.state, e.quality, e.power);
     open_ = e.open;
   }
+  // the KRL program ended on the RT PC's request (friStop): monitor mode, whatever the schedule says
+  if (model_.stopRequested() && model_.state() == State::Cmd) model_.setState(State::Cmd, model_.quality(), model_.power());
   // 2. plant: outside CMD (or with the drives off) the robot holds its own set point.
   model_.holdUnlessCommanding(plant_->holdPose(plant_state_));
   plant_->step(model_.setPoint(), T, plant_state_);

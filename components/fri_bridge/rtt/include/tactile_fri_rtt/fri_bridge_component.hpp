@@ -32,7 +32,11 @@
 //   op   string limitNames()    the fri.yaml keys of `limits` ("" when the last command was not clipped)
 //   op   requestKrcStop()       asks the KRL program (krc/TactileServo.src) to end: every reply from the
 //                               next packet on carries $FRI_FRM_INT[1] = 99 (latched until configure)
-//   attr krc_stop_requested (bool)  requestKrcStop() was called
+//                               (a servo watchdog status on pose_command does the same in the bridge
+//                               core when fri.yaml's stop_krc_on_servo_fault is set)
+//   attr krc_stop_requested (bool)  a stop was requested: requestKrcStop(), or a servo fault
+//   attr krc_stop_cause (int)   the tactile::ServoStatus (a watchdog) that requested it; 0 (ok) for none
+//                               or for requestKrcStop()
 //   attr krc_program (int)      the KRL program's step ($FRI_TO_INT[1]: 10 waiting for quality,
 //                               20 commanding, 25 stopping, 30 closed); op string krcProgramName()
 //
@@ -121,6 +125,7 @@ class FriBridgeComponent : public Component {
   std::atomic<int> limits_{0}, limited_lin_{0}, limited_rot_{0};
   std::atomic<int> krc_program_{0};
   std::atomic<bool> krc_stop_requested_{false};
+  std::atomic<int> krc_stop_cause_{0};
 
   // ports
   RTT::InputPort<PoseCommand> command_in_;
