@@ -196,7 +196,9 @@ struct OffsetProbe {
     } else if (n_agree == 1) {
       const CartOffset f = static_cast<CartOffset>(which);
       std::printf("cart_offset: use %s (set fri.cart_offset: %s in fri.yaml%s)\n", toString(f), toString(f),
-                  f == ran_with ? "" : "; this run's bridge read it otherwise and held at offset_mismatch once it noticed");
+                  f == ran_with || !held_at_mismatch
+                      ? ""
+                      : "; this run's bridge read it otherwise and held at offset_mismatch once it noticed");
     } else {
       std::printf("cart_offset: undetermined (%d forms agree with the commands taken: see the lines above and "
                   "docs/bringup.md)\n", n_agree);
