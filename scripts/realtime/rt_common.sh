@@ -31,6 +31,11 @@ rt_stage_deployments() {
 pids=()
 rt_cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; }
 trap rt_cleanup EXIT
+# The force wts_sim's press (--pattern blob) would put on the arm, for
+# fri_sim_krc --wrench: 6.3 N along z_g, the blob's mean total over its circle
+# (5.4-6.9 N). With it the servo's sensor checks see two sensors that agree;
+# without it the press is a phantom contact, and the servo stops the run.
+rt_press_wrench="0,0,6.3"
 rt_start_wts_sim() {
   local out="$1"
   "$build/bin/wts_sim" --link "$out/wts0" --pattern blob >"$out/wts_sim.log" 2>&1 &

@@ -89,7 +89,7 @@ for cfg in fifo_idle fifo_load other_idle other_load; do
   cyclictest -m -q -p 90 -i 1000 -t 1 -D "$((dur - 5))s" -h 20000 --histfile="$out/${cfg}_cyclictest.hist" \
     >"$out/${cfg}_cyclictest.log" 2>&1 &
   ct=$!; pids+=($ct)
-  chrt -f 95 "$build/bin/fri_sim_krc" --port 49938 --cycles "$krc_cycles" --period-ms 1 \
+  chrt -f 95 "$build/bin/fri_sim_krc" --port 49938 --cycles "$krc_cycles" --period-ms 1 --wrench "$rt_press_wrench" \
     --schedule 0:MON:PERFECT,1000:CMD:PERFECT --latency-out "$out/${cfg}_krc.txt" >"$out/${cfg}_krc.log" 2>&1 || true
   wait "$ct" || true
   [ -n "$load" ] && { wait "$load" || true; }

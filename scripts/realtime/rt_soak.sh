@@ -76,7 +76,7 @@ pids+=($dep)
 sleep 3
 krc=(chrt -f 95)
 chrt -f 1 true 2>/dev/null || krc=()
-"${krc[@]}" "$build/bin/fri_sim_krc" --port 49938 --cycles $(( (secs - 5) * 1000 )) --period-ms 1 \
+"${krc[@]}" "$build/bin/fri_sim_krc" --port 49938 --cycles $(( (secs - 5) * 1000 )) --period-ms 1 --wrench "$rt_press_wrench" \
   --schedule 0:MON:PERFECT,1000:CMD:PERFECT >"$out/krc.log" 2>&1 &
 kpid=$!
 pids+=($kpid)

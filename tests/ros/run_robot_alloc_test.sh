@@ -15,7 +15,7 @@ rt_stage_deployments "$out"
 rt_start_wts_sim "$out"
 # The KRC sends from now on (its first packets meet no bridge yet: lost, as at a real start-up);
 # monitor mode for 1 s, then command mode; at most 180 s (killed when the test ends).
-"$build/bin/fri_sim_krc" --port 49938 --cycles 180000 --period-ms 1 --schedule 0:MON:PERFECT,1000:CMD:PERFECT \
+"$build/bin/fri_sim_krc" --port 49938 --cycles 180000 --period-ms 1 --schedule 0:MON:PERFECT,1000:CMD:PERFECT --wrench "$rt_press_wrench" \
   > "$out/krc.log" 2>&1 &
 pids+=($!)
 TACTILE_STAGED_DEPLOYMENTS="$out/deployments" "$binary" --gtest_filter='*RobotLoop*'

@@ -53,7 +53,8 @@ if [ "$up" -ne 1 ]; then
   echo "run_robot_ros_test: the deployment did not offer /tactile/switch_phase"; tail -n 40 "$out/deployer.log"; exit 1
 fi
 # The KRC: monitor mode for 1 s, then command mode; at most 180 s (the checker ends the run first).
-"$build/bin/fri_sim_krc" --port 49938 --cycles 180000 --period-ms 1 --schedule 0:MON:PERFECT,1000:CMD:PERFECT \
+# Its estExtTcpFT carries the force of wts_sim's press (rt_common.sh's rt_press_wrench).
+"$build/bin/fri_sim_krc" --port 49938 --cycles 180000 --period-ms 1 --schedule 0:MON:PERFECT,1000:CMD:PERFECT --wrench "$rt_press_wrench" \
   > "$out/krc.log" 2>&1 &
 krc=$!
 pids+=($krc)

@@ -24,19 +24,19 @@ Summary run(const Scene& sc) { return test::run(sc); }
 }  // namespace
 
 // A pad 10x softer than the calibration assumes (`--set sensor.modulus=5e6`):
-// the rigid housing carries the load the taxels do not see; the arm's
-// estimated wrench contradicts the tactile force: servo_force_mismatch, exit 7.
-TEST(Watchdogs, SoftPadEndsWithForceMismatch) {
+// the rigid housing carries the load and no taxel fires; the arm's estimated
+// wrench carries a load the taxels do not see: servo_unseen_load, exit 10.
+TEST(Watchdogs, SoftPadEndsWithUnseenLoad) {
   for (const char* scene : {"edge_exploration.yaml", "bent_bar.yaml"}) {
     Scene sc = load(scene, {"sensor.modulus=5e6"});
     const Summary s = run(sc);
-    EXPECT_EQ(s.status, "servo_force_mismatch") << scene;
-    EXPECT_EQ(s.exit_code, 7) << scene;
-    // With the watchdog off the same run goes on (the failure it catches).
+    EXPECT_EQ(s.status, "servo_unseen_load") << scene;
+    EXPECT_EQ(s.exit_code, 10) << scene;
+    // With the check off the same run goes on (the failure it catches).
     Scene off = sc;
-    off.servo.watchdogs.mismatch_window_s = 0.0;
+    off.servo.watchdogs.unseen_window_s = 0.0;
     off.duration = 3.0;
-    EXPECT_NE(run(off).status, "servo_force_mismatch") << scene;
+    EXPECT_NE(run(off).status, "servo_unseen_load") << scene;
   }
 }
 

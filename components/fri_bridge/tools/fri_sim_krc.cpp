@@ -18,12 +18,17 @@
 //   --msr-sample-ms T --cmd-sample-ms T
 //                     the sample times the KRC advertises (desiredMsr/CmdSampleTime; default
 //                     --period-ms): a KRC whose advertised cycle disagrees with its real one
+//   --wrench FX,FY,FZ the constant external force the KRC reports in estExtTcpFT (N, {g}; default 0:
+//                     nothing touches the arm). A bench run whose simulated pad is pressed sets the
+//                     force that press would put on the arm, so the servo's sensor checks see
+//                     two sensors that agree (docs/design.md, "The sensors against each other")
 //   --fast            do not sleep; wait for each reply up to --reply-timeout-ms (default 100)
 //   --latency-out F   write one line per cycle to F: "LATENCY_US ON_TIME", the
 //                     reply latency in us (measurement sent -> its reply
 //                     received, also when the reply came after the next tick
 //                     and was ignored as stale: ON_TIME 0), or "nan 0" when
 //                     no reply came (scripts/realtime/rt_latency.sh)
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -45,6 +50,17 @@ int usage(const std::string& msg) {
                msg.c_str());
   return 1;
 }
+/// --wrench FX,FY,FZ: three finite forces of at most 1000 N.
+bool parseWrench(const char* s, std::array<double, 6>& w) {
+  double f[3];
+  char tail = 0;
+  if (std::sscanf(s, "%lf,%lf,%lf%c", &f[0], &f[1], &f[2], &tail) != 3) return false;
+  for (int i = 0; i < 3; ++i) {
+    if (!std::isfinite(f[i]) || std::fabs(f[i]) > 1000.0) return false;
+    w[static_cast<std::size_t>(i)] = f[i];
+  }
+  return true;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -52,6 +68,7 @@ int main(int argc, char** argv) {
   long port = -1;
   unsigned long long cycles = 1000;
   std::string latency_out;
+  std::array<double, 6> wrench{};
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool has = i + 1 < argc;
@@ -105,6 +122,8 @@ int main(int argc, char** argv) {
       else if (c == "position") p.control = ControlStrategy::Position;
       else if (c == "other") p.control = ControlStrategy::Other;
       else return usage("--control must be cart, joint, position or other");
+    } else if (a == "--wrench" && has) {
+      if (!parseWrench(argv[++i], wrench)) return usage("--wrench must be FX,FY,FZ in N, each in [-1000, 1000]");
     } else if (a == "--cart-offset" && has) {
       if (!parseCartOffset(argv[++i], p.cart_offset)) return usage("--cart-offset must be none, composed or elementwise");
     } else if ((a == "--msr-sample-ms" || a == "--cmd-sample-ms") && has) {
@@ -138,6 +157,7 @@ int main(int argc, char** argv) {
   if (!p.schedule.empty() && p.schedule.front().cycle == 0) p.initial = p.schedule.front();
 
   FirstOrderPlant plant;
+  plant.setWrench(wrench);
   SimKrc krc;
   if (tactile::ConfigResult r = krc.configure(p, plant); !r) {
     std::fprintf(stderr, "fri_sim_krc: %s\n", r.message().c_str());

@@ -22,6 +22,7 @@ void FirstOrderPlant::reset(const KDL::Frame& initial_pose) {
   state_ = PlantState{};
   state_.q = kHomeJoints;
   state_.pose = initial_pose;
+  state_.wrench = wrench_;
 }
 
 void FirstOrderPlant::step(const KDL::Frame& commanded, double dt, PlantState& out) {
@@ -30,6 +31,7 @@ void FirstOrderPlant::step(const KDL::Frame& commanded, double dt, PlantState& o
   KDL::Vector axis;
   const double angle = rotationAngle(state_.pose.M.Inverse() * commanded.M, axis);
   if (angle > 1e-12) state_.pose.M = state_.pose.M * KDL::Rotation::Rot2(axis, a * angle);
+  state_.wrench = wrench_;
   out = state_;
 }
 

@@ -61,15 +61,20 @@ class Plant {
 
 /// Built-in plant: first-order tracking of the commanded pose with time constant
 /// tau (translation and rotation), no kinematics (joint positions constant at a
-/// fixed configuration), zero external wrench.
+/// fixed configuration), a constant external wrench (zero by default: nothing
+/// touches the arm; a bench peer pressing the pad sets the wrench that press
+/// would put on the arm, so that the two sensors agree).
 class FirstOrderPlant : public Plant {
  public:
   explicit FirstOrderPlant(double tau_s = 0.02) : tau_(tau_s) {}
   void reset(const KDL::Frame& initial_pose) override;
   void step(const KDL::Frame& commanded, double dt, PlantState& out) override;
+  /// The estimated external wrench reported from now on ([Fx Fy Fz Tx Ty Tz], N, N m, {g}).
+  void setWrench(const std::array<double, 6>& w) { wrench_ = w; }
 
  private:
   double tau_;
+  std::array<double, 6> wrench_{};
   PlantState state_{};
 };
 
