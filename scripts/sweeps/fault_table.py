@@ -61,13 +61,16 @@ SATURATED = ["servo_correction_saturated"]
 
 # name, group, what (parameters), fault list (YAML) or scene, start (s), expected.
 # expected: ("continue",) | ("stop", [statuses], max travel mm) | ("either", [statuses] or None: any named
-# servo stop, max travel mm). The no-fault row is scored from FAULT_START_S, as the faults that start there.
+# servo stop, max travel mm, or None: a fault that grows slowly, stopped with the force targets held up to
+# the stop). The no-fault row is scored from FAULT_START_S, as the faults that start there.
 FAULTS = [
     ("none", "-", "no fault", "[]", T, ("continue",)),
     ("stuck_region", "pad", "16 taxels stuck at 8 N (0.5 N each), rows 1-4 x cols 5-8",
      f"[{{kind: stuck, start_s: {T}, {REGION}, force_n: 8}}]", T, ("stop", CONTRADICTION, 50)),
+    ("tare_creep_small", "pad", "every zero +60 counts/min (below the 0.2 N threshold for the run)",
+     f"[{{kind: tare_creep, start_s: {T}, counts_per_min: 60}}]", T, ("continue",)),
     ("tare_creep", "pad", "every zero +1200 counts/min (0.2 N threshold passed after ~25 s)",
-     f"[{{kind: tare_creep, start_s: {T}, counts_per_min: 1200}}]", T, ("either", None, 50)),
+     f"[{{kind: tare_creep, start_s: {T}, counts_per_min: 1200}}]", T, ("either", None, None)),
     ("dead_band", "pad", "columns 0-6 (half the pad along the edge) read 0",
      f"[{{kind: dead, start_s: {T}, cols: [0, 6]}}]", T, ("either", None, 50)),
     ("stale", "pad", "no frame for 0.5 s", f"[{{kind: stale, start_s: {T}, duration_s: 0.5}}]", T, ("continue",)),
@@ -78,9 +81,11 @@ FAULTS = [
     ("calibration_0.5x", "pad", "the reader reads 0.5 x the true force, from the start",
      "[{kind: calibration, scale: 0.5}]", 0.0, ("either", SATURATED, 100)),
     ("calibration_2x", "pad", "the reader reads 2 x the true force, from the start",
-     "[{kind: calibration, scale: 2.0}]", 0.0, ("either", SATURATED, 100)),
+     "[{kind: calibration, scale: 2.0}]", 0.0, ("either", CONTRADICTION + SATURATED, 100)),
     ("wrench_bias", "wrench", "+5 N along z_g", f"[{{kind: wrench_bias, start_s: {T}, bias_n: [0, 0, 5]}}]", T,
      ("either", None, 50)),
+    ("wrench_drift_small", "wrench", "+1 N/min along z_g",
+     f"[{{kind: wrench_drift, start_s: {T}, drift_n_per_min: [0, 0, 1]}}]", T, ("continue",)),
     ("wrench_drift", "wrench", "+10 N/min along z_g",
      f"[{{kind: wrench_drift, start_s: {T}, drift_n_per_min: [0, 0, 10]}}]", T, ("either", None, 50)),
     ("wrench_frame", "wrench", "flange axes reported as base axes",
@@ -101,6 +106,8 @@ def expected_text(e):
     names = "a named stop" if not e[1] else "named stop " + " or ".join(s[len("servo_"):] for s in e[1])
     if e[0] == "stop":
         return f"{names}, travel < {e[2]} mm"
+    if e[2] is None:
+        return f"continues within force targets (ends ok, criteria met), or {names} with the targets held up to it"
     return f"continues within force targets (ends ok, criteria met), or {names} with travel < {e[2]} mm"
 
 
@@ -156,7 +163,7 @@ def verdict(e, m, s, ceiling):
         outcome = f"{status} at {m['t_end_s']:.2f} s (not a servo stop)"
     safe = m["force_true_max_n"] <= ceiling
     cont = status == "ok" and s["criteria_passed"] and held
-    travel_ok = len(e) < 3 or m["travel_after_m"] * 1e3 < e[2]
+    travel_ok = len(e) < 3 or (held if e[2] is None else m["travel_after_m"] * 1e3 < e[2])
     if e[0] == "continue":
         ok = cont
     elif e[0] == "stop":
