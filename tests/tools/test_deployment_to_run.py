@@ -3,7 +3,8 @@
 runner's summary form, on synthetic tables whose figures are known exactly:
 the whole slide beside the scored window (the runner's windows,
 tests/runner/test_metrics.cpp), and a run that stopped on a fault (its status
-and time). Usage: test_deployment_to_run.py REPO_ROOT"""
+and time). Also results_docs.py's tables from a results.json without the
+slide's figures (an em dash). Usage: test_deployment_to_run.py REPO_ROOT"""
 import json
 import math
 import os
@@ -138,4 +139,21 @@ with tempfile.TemporaryDirectory() as d:
                 "FAILED: deployment step failed: stop Reporter")
     check("a failed step: deployment_failed", s.get("status") == "deployment_failed")
 
+# results_docs.py renders a results.json whose runs lack the slide's figures: an em dash for them.
+sys.dont_write_bytecode = True
+sys.path.insert(0, os.path.join(root, "scripts", "tools"))
+import results_docs  # noqa: E402
+
+res = json.load(open(os.path.join(root, "docs", "results", "results.json")))
+for group in ("runs", "deploy"):
+    for r in res[group].values():
+        for k in list(r):
+            if k.startswith("slide_") and k != "slide_speed_mps":
+                del r[k]
+text = results_docs.render_summary(res)
+line = next((ln for ln in text.splitlines() if "slid along the bar" in ln), "")
+check(f"the README's table without the slide's figures: an em dash ({line.strip()})", "| \u2014 / " in line)
+res["runs"]["edge_exploration"]["slide_path_m"] = 0.1914
+line = next((ln for ln in results_docs.render_summary(res).splitlines() if "slid along the bar" in ln), "")
+check(f"... and the whole slide beside the scored window when it has them ({line.strip()})", "| 0.191 / " in line)
 sys.exit(1 if failures else 0)
