@@ -24,8 +24,12 @@
 # experiment_finish.ops (waits for FINISHED or FAILED, stops every
 # component), under `deployer-gnulinux --check` so that the deployer exits when
 # the script ends: 0 when the state machine ended FINISHED, 255 after a failed
-# step (named in the log: "deployment step failed: ..."). The reporter's table
-# becomes timeseries.csv, summary.json and the PNG plots (deployment_to_run.py,
+# run or step (tactile::DeployGuard's verdict, the log's last "[Guard] verdict:"
+# line: "FAILED: the state machine ... ended in FAILED (servo status ...)" or
+# "FAILED: deployment step failed: ..."). The reporter's table, written up to
+# the run's end or fault, becomes timeseries.csv, summary.json (its status
+# names the fault, fault_time_s when it happened; the scene's metrics give the
+# slide and the scored window) and the PNG plots (deployment_to_run.py,
 # plot_run.py). The KRC may start in monitor mode: the servo holds until the
 # operator's friStart (status waiting_for_robot), and the wait does not count
 # against the state machine's own timeouts.
@@ -80,6 +84,7 @@ out="${out:-$root/out/robot/$name}"
 mkdir -p "$out"
 report="${exp}_$suffix.dat"  # the entry's Guard.report_file
 program="$root/$(registry_get "$exp" program)"
+scene="$root/$(registry_get "$exp" scene)"
 controller_mode="$(registry_get "$exp" controller)"
 rm -f "$dep/$report"
 
@@ -90,7 +95,7 @@ sed -e "/^loadComponent(\"Guard\"/a Guard.registry_file = \"$registry\"" \
     -e "/^Guard.report_file = /a Guard.timeout = $timeout\nGuard.dry_run = $dry" "$entry" > "$gen"
 cat >> "$gen" <<'EOF'
 Guard.step(runScript("experiment_finish.ops"), "experiment_finish.ops")
-var int experiment_finished(Guard.verdict())
+var int experiment_run = Guard.finish()
 EOF
 
 echo "run_robot: $exp ($(basename "$entry"), dry run $dry, timeout $timeout s) -> $out"
@@ -101,7 +106,7 @@ rc=0
 ms=$(( ($(date +%s%N) - t0) / 1000000 ))
 wall="$((ms / 1000)).$(printf %03d $((ms % 1000)))"
 cp "$dep/orocos.log" "$out/orocos.log" 2>/dev/null || true
-grep -E "deployment step failed|DRY RUN|status at the end|ended in FINISHED|\[(BentBar|CoManipulation|Sphere|Edge|Contour|FirstTouch)[A-Za-z]*\]" \
+grep -E "deployment step failed|DRY RUN|status at the end|\[Guard\] (run|verdict)|\[(BentBar|CoManipulation|Sphere|Edge|Contour|FirstTouch|TimedPhase)[A-Za-z]*\]" \
   "$out/deployer.log" | sed 's/^[0-9.]* \[[^]]*\]\[[^]]*\] //' || true
 if [ ! -s "$dep/$report" ]; then
   echo "run_robot: no report file $report (deployer exit $rc); see $out/deployer.log" >&2
@@ -110,13 +115,15 @@ if [ ! -s "$dep/$report" ]; then
 fi
 mv "$dep/$report" "$out/report.dat"
 robot_status=$(sed -n 's/.*robot status at the end: \([a-z_]*\).*/\1/p' "$out/deployer.log" | tail -1)
+verdict=$(sed -n 's/.*\[Guard\] verdict: \(.*\) (deployer exit [0-9]*).*/\1/p' "$out/deployer.log" | tail -1)
 "$py" "$root/scripts/tools/deployment_to_run.py" "$out/report.dat" "$out" --program "$program" --controller-mode "$controller_mode" \
-  --experiment "$name" --source robot --deployer-exit "$rc" --wall-time "$wall" \
-  ${robot_status:+--robot-status "$robot_status"} || { echo "run_robot: the report could not be converted" >&2; exit 1; }
+  --scene "$scene" --experiment "$name" --source robot --deployer-exit "$rc" --wall-time "$wall" \
+  ${robot_status:+--robot-status "$robot_status"} ${verdict:+--verdict "$verdict"} \
+  || { echo "run_robot: the report could not be converted" >&2; exit 1; }
 "$py" "$root/scripts/tools/plot_run.py" "$out" || { echo "run_robot: plotting failed" >&2; exit 1; }
 if [ "$rc" -eq 0 ]; then
   echo "run_robot: PASS: $exp ended FINISHED; $out/{timeseries.csv,summary.json,*.png}"
 else
-  echo "run_robot: FAIL: $exp (deployer exit $rc): the first failed step is above; $out/deployer.log"
+  echo "run_robot: FAIL: $exp (deployer exit $rc): ${verdict:-the first failed step is above}; $out/deployer.log"
 fi
 exit "$rc"

@@ -9,7 +9,8 @@ order) and summary.json.
 usage: deployment_to_run.py REPORT.dat OUT_DIR (--program components/servo/programs/x.yaml
                             [--controller-mode MODE] | --servo-cpf x.cpf)
                             [--scene sim/scenes/x.yaml] [--experiment NAME]
-                            [--source sim|robot] [--deployer-exit N]
+                            [--source sim|robot] [--deployer-exit N] [--robot-status S]
+                            [--verdict TEXT] [--wall-time S]
 
 The reporter's file (ComplexDecompose = true, so that the typekit's arrays
 and enums decompose): one header line with the leaf names of the reported
@@ -31,11 +32,22 @@ controller_mode of a servo .cpf): the sensor mount {e}T{s} (cmd_*/act_* are the 
 columns). Quantities only the simulator knows (force_true, housing_force,
 moment_*_true, tray_angle_deg, true_c*, u_*, beta, feature_age) are "nan":
 a deployment sees what the robot sees. The summary's metrics that need them
-are null; measured counterparts are given under their own names
-(force_measured_*, sensor_path_length_m, sensor_slide_speed_mps); the final
-DZMP_y, the tray's DZMP recovery time and translation along x_s follow the
-runner's definitions on measured data (deployment time starts with the servo,
-a few ms after the simulated arm).
+are null; measured counterparts are given under their own names, over the
+same two windows as the runner's (docs/formats.md, "summary.json"): the
+slide (slide_duration_s, sensor_slide_path_m, sensor_slide_mean_speed_mps,
+slide_force_measured_*) and the scored window (scored_duration_s,
+sensor_scored_path_m, sensor_scored_mean_speed_mps, force_measured_*; and
+sensor_path_length_m, sensor_slide_speed_mps, the same values), the sensor's
+path standing for the true contact's; the scene (--scene) names the scored
+phases and the transient. The final DZMP_y, the tray's DZMP recovery time and
+translation along x_s follow the runner's definitions on measured data
+(deployment time starts with the servo, a few ms after the simulated arm).
+
+A run that stopped on a fault is converted up to its end: `status` names the
+fault (servo_<status> at the first cycle with a fatal servo status, as the
+runner; sim_/robot_<status> for the arm's; experiment_failed or
+deployment_failed after a failed run or step, --verdict) and `fault_time_s`
+when it happened (null for an ok run).
 """
 import argparse
 import json
@@ -57,6 +69,10 @@ COLUMNS = ("time,phase,phase_name,servo_status,contact,feature_status,cmd_x,cmd_
            "u_z,u_wx,u_wy,u_wz,beta,feature_age").split(",")
 CONTACT = {"none": 0, "point": 1, "edge": 2, "multiple": 3}
 SD_KEYS = ("cop_x", "cop_y", "d_z", "dzmp_x", "dzmp_y", "alpha_z")
+# The servo's fatal statuses (a watchdog or the force ceiling: the runner's servo_* end statuses) and the
+# simulated arm's (Robot.statusName() at the end).
+FATAL_SERVO = ("force_ceiling", "phase_timeout", "arm_stalled", "force_mismatch", "surface_too_curved")
+FATAL_ROBOT = ("joint_limit", "singularity", "force_ceiling", "numerical_failure")
 
 
 def fail(msg):
@@ -151,14 +167,15 @@ def read_report(path):
     return head, rows
 
 
-def main():
+def parse_args():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("report")
     ap.add_argument("out_dir")
     ap.add_argument("--program", default="", help="the servo's program (the registry's program)")
     ap.add_argument("--controller-mode", default="", help="the registry's controller ('' = the program's)")
     ap.add_argument("--servo-cpf", default="", help="instead of --program: a servo .cpf (program_file, controller_mode)")
-    ap.add_argument("--scene", default="")
+    ap.add_argument("--scene", default="", help="the registry's scene: its metrics (force_phases, transient_s, "
+                                                "force_band_n) define the slide and the scored window")
     ap.add_argument("--experiment", default="")
     ap.add_argument("--source", default="sim", choices=("sim", "robot"))
     ap.add_argument("--deployer-exit", type=int, default=0)
@@ -167,8 +184,14 @@ def main():
                     help="Robot.statusName() at the end (experiment_finish.ops logs it): a simulator's fatal status "
                          "(joint_limit, singularity, force_ceiling, numerical_failure) becomes the summary's status "
                          "sim_<status>, as in the runner")
-    a = ap.parse_args()
+    ap.add_argument("--verdict", default="",
+                    help="the deployment's verdict as tactile::DeployGuard logged it ('FINISHED: ...', 'FAILED: ...'; "
+                         "experiment_finish.ops): kept in the summary, and a failed run without a named fault is "
+                         "experiment_failed, a failed deployment step deployment_failed")
+    return ap.parse_args()
 
+
+def load_inputs(a):
     if a.program:
         prog = load_program(os.path.normpath(os.path.abspath(a.program)), a.controller_mode)
     elif a.servo_cpf:
@@ -185,13 +208,17 @@ def main():
             scene = yaml.safe_load(open(a.scene)) or {}
         except (OSError, yaml.YAMLError) as e:
             fail(f"{a.scene}: {e}")
+    return prog, scene
 
-    head, rows = read_report(a.report)
+
+def convert_rows(report, prog):
+    """The reporter's table as rows of timeseries.csv (COLUMNS), and the phase entries."""
+    head, rows = read_report(report)
     col = {h: i for i, h in enumerate(head)}
 
     def need(name):
         if name not in col:
-            fail(f"{a.report}: no column {name} (reported ports: Servo.phase, Servo.pose_command, "
+            fail(f"{report}: no column {name} (reported ports: Servo.phase, Servo.pose_command, "
                  f"Robot.flange_pose, Features.features)")
         return col[name]
 
@@ -246,69 +273,162 @@ def main():
         truth = [float("nan")] * 17  # force_true .. feature_age: the simulator's truth, not in a deployment
         out_rows.append([t, idx, name, r[i_st], contact, r[i_fstatus]] + cmd + act + f + list(sd) + [sd_force] + truth)
     if not out_rows:
-        fail(f"{a.report}: no row with the servo running (Servo.phase.time_s > 0)")
+        fail(f"{report}: no row with the servo running (Servo.phase.time_s > 0)")
+    return out_rows, phases
 
-    os.makedirs(a.out_dir, exist_ok=True)
-    with open(os.path.join(a.out_dir, "timeseries.csv"), "w") as f:
+
+def write_timeseries(out_dir, out_rows):
+    os.makedirs(out_dir, exist_ok=True)
+    with open(os.path.join(out_dir, "timeseries.csv"), "w") as f:
         f.write(",".join(COLUMNS) + "\n")
         for r in out_rows:
             cells = [f"{r[0]:.4f}", str(r[1]), r[2], r[3], str(r[4]), r[5]]
             cells += ["nan" if not math.isfinite(v) else f"{v:.9g}" for v in r[6:]]
             f.write(",".join(cells) + "\n")
 
+
+def scored_as(names, t, is_scored, transient):
+    """Per row, the phase it is scored as (the runner's rule, sim/runner/src/metrics.cpp): its own, or for the
+    rows of a detour (the run leaving a scored phase and back in it within `transient` s) the phase it left."""
+    out = list(names)
+    i = 1
+    while i < len(names):
+        if names[i] != names[i - 1] and is_scored(names[i - 1]) and not is_scored(names[i]):
+            j = i
+            while j < len(names) and not is_scored(names[j]):
+                j += 1
+            if j < len(names) and names[j] == names[i - 1] and t[j] - t[i] < transient:
+                out[i:j] = [names[i - 1]] * (j - i)
+            i = j
+        i += 1
+    return out
+
+
+def windows(t, names, scored_names, transient):
+    """The slide and the scored window as the runner defines them (docs/formats.md, "summary.json"): the rows
+    scored as a scored phase, from the phase's first row; and of them those at least `transient` s after it."""
+    as_ = scored_as(names, t, lambda n: n in scored_names, transient)
+    slide = np.array([n in scored_names for n in as_], dtype=bool)
+    scored = np.zeros(len(t), dtype=bool)
+    t0, cur = 0.0, None
+    for k, n in enumerate(as_):
+        if n != cur:
+            cur, t0 = n, t[k]
+        scored[k] = slide[k] and t[k] - t0 >= transient
+    return slide, scored
+
+
+def window_figures(sel, t, force, sd_force, pos, in_contact, band):
+    """Over the rows `sel`: the force's mean, max, RMS error and in-band fraction (per row); the path between
+    consecutive rows of the window both in contact, the window's duration (the time steps between its consecutive
+    rows) and its mean speed (the path over the part of the duration in contact)."""
+    f, e = force[sel], force[sel] - sd_force[sel]
+    path = duration = t_contact = 0.0
+    for k in range(1, len(t)):
+        if sel[k] and sel[k - 1]:
+            duration += t[k] - t[k - 1]
+            if in_contact[k] and in_contact[k - 1]:
+                path += float(np.linalg.norm(pos[k] - pos[k - 1]))
+                t_contact += t[k] - t[k - 1]
+    return {"mean_n": float(np.mean(f)) if f.size else None,
+            "max_n": float(np.max(f)) if f.size else None,
+            "rms_error_n": float(np.sqrt(np.mean(e ** 2))) if f.size else None,
+            "in_band_fraction": float(np.mean(np.abs(e) <= band)) if f.size else None,
+            "path_m": path, "duration_s": duration, "speed_mps": path / t_contact if t_contact > 0 else None}
+
+
+def tray_figures(scene, t_all, dz, in_contact, pos, rpy):
+    """The tray's DZMP_y recovery time and the translation along x_s since its move (the runner's definitions on
+    measured data); None, None without a tray."""
+    trays = [o for o in scene.get("objects", []) or [] if o.get("type") == "tray"]
+    if not trays:
+        return None, None
+    t_move = float(trays[0].get("move_start_s", 0.0))
+    settled = None
+    for k in range(len(t_all) - 1, -1, -1):
+        if t_all[k] < t_move or abs(dz[k]) > 0.0005 or not in_contact[k]:
+            break
+        settled = t_all[k]
+    recovery = None if settled is None else settled - t_move
+    before = [k for k in range(len(t_all)) if t_all[k] <= t_move]
+    translation = None
+    if before:
+        b = before[-1]
+        xs = rot_rpy(*rpy[b])[:, 0]
+        translation = float(np.dot(pos[-1] - pos[b], xs))
+    return recovery, translation
+
+
+def run_status(out_rows, phases, a):
+    """The run's status and the time (s) of the fault that ended it: the first cycle with a fatal servo status
+    (servo_<status>, the runner's names); else the robot's fatal status at the end (sim_/robot_<status>, at the last
+    row); else, after a failed run or deployment step (deployer exit != 0), experiment_failed or deployment_failed
+    (the Guard's verdict says which) at the entry of the phase the run ended in (the program's own failure phase,
+    or the stop phase the state machine switched to); else ok, None."""
+    for r in out_rows:
+        if r[3] in FATAL_SERVO:
+            return "servo_" + r[3], r[0]
+    if a.robot_status in FATAL_ROBOT:
+        return ("sim_" if a.source == "sim" else "robot_") + a.robot_status, out_rows[-1][0]
+    if a.deployer_exit != 0:
+        step = not a.verdict.startswith("FAILED") or "deployment step failed" in a.verdict
+        return ("deployment_failed" if step else "experiment_failed"), phases[-1]["t_enter"]
+    return "ok", None
+
+
+def measured_figures(out_rows, prog, scene):
+    """Measured counterparts of the runner's metrics (sim/runner/src/metrics.cpp) from what a deployment sees:
+    the slide and the scored window (the scene's metrics.force_phases, default the phases that need contact and
+    are not terminal; metrics.transient_s) give the measured force and the sensor's path (the runner uses the true
+    contact point); the final DZMP_y and, with a tray, its recovery time and the translation along x_s follow the
+    runner's definitions on measured data."""
     arr = lambda k: np.array([r[COLUMNS.index(k)] for r in out_rows], dtype=float)  # noqa: E731
-    t_all = arr("time")
-    force = arr("force")
+    t_all, force, sdf = arr("time"), arr("force"), arr("sd_force")
     in_contact = arr("contact") > 0
-    # Measured counterparts of the runner's metrics (sim/runner/src/runner.cpp),
-    # from what a deployment sees: the scored phases (the scene's
-    # metrics.force_phases, after metrics.transient_s in the phase) give the
-    # measured force and the sensor's path (the runner uses the true contact
-    # point); the final DZMP_y and, with a tray, its recovery time and the
-    # translation along x_s follow the runner's definitions on measured data.
+    pos = np.stack([arr("act_x"), arr("act_y"), arr("act_z")], axis=1)
     metrics = scene.get("metrics", {}) or {}
-    # as the runner: without metrics.force_phases, the phases that need contact and are not terminal
     scored_names = metrics.get("force_phases") or [n for n, d in zip(prog["names"], prog["scored_default"]) if d]
     transient = float(metrics.get("transient_s", 0.0))
     band = float(metrics.get("force_band_n", 1.0))
-    phase_col = [r[2] for r in out_rows]
-    scored = np.zeros(len(out_rows), dtype=bool)
-    t_phase0, cur = 0.0, None
-    for k, name_k in enumerate(phase_col):
-        if name_k != cur:
-            cur, t_phase0 = name_k, t_all[k]
-        scored[k] = name_k in scored_names and t_all[k] - t_phase0 >= transient
-    fs, sdf = force[scored], arr("sd_force")[scored]
-    pos = np.stack([arr("act_x"), arr("act_y"), arr("act_z")], axis=1)
-    path, t_sc = 0.0, 0.0
-    for k in range(1, len(out_rows)):
-        if scored[k] and scored[k - 1] and in_contact[k] and in_contact[k - 1]:
-            path += float(np.linalg.norm(pos[k] - pos[k - 1]))
-            t_sc += t_all[k] - t_all[k - 1]
+    slide, scored = windows(t_all, [r[2] for r in out_rows], scored_names, transient)
+    sw = window_figures(slide, t_all, force, sdf, pos, in_contact, band)
+    sc = window_figures(scored, t_all, force, sdf, pos, in_contact, band)
     last = (t_all >= t_all[-1] - 0.5) & in_contact
-    dzmp_final = float(np.mean(arr("dzmp_y")[last])) if last.any() else None
-    recovery, translation = None, None
-    trays = [o for o in scene.get("objects", []) or [] if o.get("type") == "tray"]
-    if trays:
-        t_move = float(trays[0].get("move_start_s", 0.0))
-        dz = arr("dzmp_y")
-        settled = None
-        for k in range(len(out_rows) - 1, -1, -1):
-            if t_all[k] < t_move or abs(dz[k]) > 0.0005 or not in_contact[k]:
-                break
-            settled = t_all[k]
-        recovery = None if settled is None else settled - t_move
-        before = [k for k in range(len(out_rows)) if t_all[k] <= t_move]
-        if before:
-            b = before[-1]
-            xs = rot_rpy(arr("act_roll")[b], arr("act_pitch")[b], arr("act_yaw")[b])[:, 0]
-            translation = float(np.dot(pos[-1] - pos[b], xs))
-    status = "ok" if a.deployer_exit == 0 else "deployment_failed"
-    if any(r[3] == "force_ceiling" for r in out_rows):
-        status = "force_ceiling"
-    if a.robot_status in ("joint_limit", "singularity", "force_ceiling", "numerical_failure"):
-        status = ("sim_" if a.source == "sim" else "robot_") + a.robot_status
     fm = force[in_contact]
+    rpy = np.stack([arr("act_roll"), arr("act_pitch"), arr("act_yaw")], axis=1)
+    recovery, translation = tray_figures(scene, t_all, arr("dzmp_y"), in_contact, pos, rpy)
+    return {
+        "force_measured_mean_n": sc["mean_n"], "force_measured_max_n": sc["max_n"],
+        "force_measured_rms_error_n": sc["rms_error_n"], "force_measured_in_band_fraction": sc["in_band_fraction"],
+        "force_measured_max_any_phase_n": float(np.max(fm)) if fm.size else None,
+        "scored_duration_s": sc["duration_s"],
+        "sensor_scored_path_m": sc["path_m"], "sensor_scored_mean_speed_mps": sc["speed_mps"],
+        "sensor_path_length_m": sc["path_m"], "sensor_slide_speed_mps": sc["speed_mps"],
+        "slide_duration_s": sw["duration_s"],
+        "sensor_slide_path_m": sw["path_m"], "sensor_slide_mean_speed_mps": sw["speed_mps"],
+        "slide_force_measured_mean_n": sw["mean_n"], "slide_force_measured_max_n": sw["max_n"],
+        "slide_force_measured_rms_error_n": sw["rms_error_n"],
+        "slide_force_measured_in_band_fraction": sw["in_band_fraction"],
+        "dzmp_final_m": float(np.mean(arr("dzmp_y")[last])) if last.any() else None,
+        "dzmp_recovery_time_s": recovery,
+        "translation_x_m": translation,
+    }
+
+
+# The simulator's ground truth, which a deployment's table does not carry: null in its summary.
+TRUTH_KEYS = ("contact_lost_count", "force_true_mean_n", "force_true_max_n", "force_true_rms_error_n",
+              "force_true_in_band_fraction", "alignment_time_s", "scored_path_m", "scored_mean_speed_mps",
+              "path_length_m", "slide_speed_mps", "slide_path_m", "slide_mean_speed_mps", "slide_force_true_mean_n",
+              "slide_force_true_max_n", "slide_force_true_rms_error_n", "slide_force_true_in_band_fraction",
+              "tray_angle_max_deg")
+
+
+def main():
+    a = parse_args()
+    prog, scene = load_inputs(a)
+    out_rows, phases = convert_rows(a.report, prog)
+    write_timeseries(a.out_dir, out_rows)
+    status, fault_time = run_status(out_rows, phases, a)
     name = a.experiment or scene.get("name", "")
     summary = {
         "scene": name,
@@ -318,6 +438,8 @@ def main():
         "fidelity": "deployment (" + a.source + ")",
         "source": "deployer (" + a.source + "): " + os.path.basename(a.report),
         "status": status,
+        "fault_time_s": None if fault_time is None else round(fault_time, 4),
+        "verdict": a.verdict or None,
         "exit_code": a.deployer_exit,
         "robot_status": a.robot_status or None,
         "rates_hz": {"servo": 100, "report": 100},
@@ -325,31 +447,15 @@ def main():
         "wall_time_s": a.wall_time if math.isfinite(a.wall_time) else None,
         "real_time_factor": 1.0,
         "phases": phases,
-        "contact_lost_count": None,
-        "force_true_mean_n": None,
-        "force_true_max_n": None,
-        "force_true_rms_error_n": None,
-        "force_true_in_band_fraction": None,
-        "force_measured_mean_n": float(np.mean(fs)) if fs.size else None,
-        "force_measured_max_n": float(np.max(fs)) if fs.size else None,
-        "force_measured_rms_error_n": float(np.sqrt(np.mean((fs - sdf) ** 2))) if fs.size else None,
-        "force_measured_in_band_fraction": float(np.mean(np.abs(fs - sdf) <= band)) if fs.size else None,
-        "force_measured_max_any_phase_n": float(np.max(fm)) if fm.size else None,
-        "alignment_time_s": None,
-        "path_length_m": None,
-        "slide_speed_mps": None,
-        "sensor_path_length_m": path,
-        "sensor_slide_speed_mps": path / t_sc if t_sc > 0 else None,
-        "dzmp_final_m": dzmp_final,
-        "dzmp_recovery_time_s": recovery,
-        "translation_x_m": translation,
-        "tray_angle_max_deg": None,
-        "report_precision": "6 significant digits (OCL FileReporting, C++ stream default)",
     }
+    summary.update({k: None for k in TRUTH_KEYS})
+    summary.update(measured_figures(out_rows, prog, scene))
+    summary["report_precision"] = "6 significant digits (OCL FileReporting, C++ stream default)"
     with open(os.path.join(a.out_dir, "summary.json"), "w") as f:
         json.dump(summary, f, indent=2)
         f.write("\n")
-    print(f"{a.out_dir}: {len(out_rows)} rows, phases {[p['name'] for p in phases]}, status {status}")
+    when = "" if fault_time is None else f" at {fault_time:.2f} s"
+    print(f"{a.out_dir}: {len(out_rows)} rows, phases {[p['name'] for p in phases]}, status {status}{when}")
 
 
 if __name__ == "__main__":

@@ -82,10 +82,14 @@ def overview(run, ts, summary):
     ax[3].set_ylabel("deg")
     ax[3].set_xlabel("time (s)")
     ax[3].legend(fontsize=7)
+    fault = summary.get("fault_time_s")  # the fault that ended the run (summary.json), None when ok
     for a in ax:
         phase_marks(a, summary)
+        if fault is not None:
+            a.axvline(fault, color="r", lw=1.0, ls="--")
         a.grid(alpha=0.3)
-    fig.suptitle(f"{summary['scene']} ({summary['controller']}), status {summary.get('status', '?')}")
+    when = f" at {fault:.2f} s (red dashes)" if fault is not None else ""
+    fig.suptitle(f"{summary['scene']} ({summary['controller']}), status {summary.get('status', '?')}{when}")
     fig.tight_layout()
     fig.savefig(os.path.join(run, "overview.png"), dpi=90)
     plt.close(fig)

@@ -22,7 +22,8 @@ usage: check_lab_sim_robot.py OUT_DIR LAB_SIM_EXIT DEPLOYER_EXIT SCENE_YAML PROG
     (force_true_mean_n) and its RMS error about the program's target below
     1 N (the scene's own 0.4 N criterion is the headless runner's; here the
     loop runs on a shared machine's wall clock: reported, not judged), and the
-    flange slid at least the scene's path_length_m along the bar.
+    flange slid at least the scene's slide_path_m along the bar (the whole
+    slide: explore from its start).
 The two time bases (the reporter's TimeStamp, lab_sim's world time) are
 aligned on the flange's z, which both record (the descent of free_motion).
 """
@@ -135,7 +136,7 @@ if fit is not None:
             sel_all = (tt >= t_enter["explore"] + offset) & (tt < t1)
             pa = np.array([[float(truth[i][f"flange_{c}"]) for c in "xyz"] for i in np.nonzero(sel_all)[0]])
             path = float(np.sum(np.linalg.norm(np.diff(pa, axis=0), axis=1))) if len(pa) > 1 else 0.0
-            need = criterion("path_length_m", "min")
+            need = criterion("slide_path_m", "min")
             check(path >= need, f"slid {path * 1e3:.1f} mm along the bar while exploring (>= {need * 1e3:.0f} mm)")
             tactile = summary.get("force_measured_mean_n")
             print(f"measured: explore from reporter t {t_enter['explore']:.2f} s for {t1 - t_enter['explore'] - offset:.2f} s; "

@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <string>
 #include <vector>
 
 namespace tactile {
@@ -56,19 +58,11 @@ int contactLossCount(const Scene& sc, const std::vector<LogRow>& rows) {
   return lost;
 }
 
-// Force metrics (true force: mean, max, RMS error, in-band fraction and time)
-// and the true contact's path length and slide speed over the scored
-// phases, after each phase's transient. A detour, the run leaving a scored
-// phase and back in it within transient_s (the end rule's check returning to
-// `explore` at a crest), is scored as that phase: its rows count, and the
-// return starts no new transient.
-void forceAndPathMetrics(const Scene& sc, const std::vector<LogRow>& rows, Summary& s) {
-  auto scoredPhase = [&](int phase) {
-    const PhaseParams& pp = sc.servo.phases[static_cast<std::size_t>(phase)];
-    return sc.metrics.force_phases.empty() ? (pp.requires_contact && !pp.terminal)
-                                           : phaseIn(sc.metrics.force_phases, pp.name);
-  };
-  // Per row, the phase it is scored as: its own, or for a detour's rows the phase it left.
+// Per row, the phase it is scored as: its own, or for the rows of a detour
+// (the run leaving a scored phase and back in it within transient_s: the end
+// rule's check returning to `explore` at a crest) the phase it left.
+std::vector<int> scoredAs(const Scene& sc, const std::vector<LogRow>& rows,
+                          const std::function<bool(int)>& scoredPhase) {
   std::vector<int> as(rows.size());
   for (std::size_t i = 0; i < rows.size(); ++i) as[i] = rows[i].phase;
   for (std::size_t i = 1; i < rows.size(); ++i) {
@@ -79,9 +73,55 @@ void forceAndPathMetrics(const Scene& sc, const std::vector<LogRow>& rows, Summa
       for (std::size_t k = i; k < j; ++k) as[k] = rows[i - 1].phase;
     i = j;
   }
-  double sum_f = 0, sum_e2 = 0, max_f = 0, path = 0, t_scored = 0;
-  double n = 0, in_band = 0, t_force = 0, t_band = 0;
-  const LogRow* prev = nullptr;
+  return as;
+}
+
+// The sums of one window of rows (Summary: the slide, the scored window).
+struct Window {
+  double sum_f = 0, sum_e2 = 0, max_f = 0, n = 0, in_band = 0;  // the true force, per row
+  double t_force = 0, t_band = 0;     // each row standing for the time since the log's previous row
+  double path = 0, duration = 0, t_contact = 0;  // between consecutive rows of the window
+  const LogRow* prev = nullptr;       // the window's previous row if it is the log's previous row
+
+  void add(const LogRow& r, double dt_row, double band_n) {
+    sum_f += r.force_true;
+    sum_e2 += (r.force_true - r.sd_force) * (r.force_true - r.sd_force);
+    max_f = std::max(max_f, r.force_true);
+    const bool band = std::fabs(r.force_true - r.sd_force) <= band_n;
+    in_band += band ? 1.0 : 0.0;
+    t_force += dt_row;
+    t_band += band ? dt_row : 0.0;
+    ++n;
+    if (prev) {
+      duration += r.t - prev->t;
+      if (prev->true_in_contact && r.true_in_contact) {
+        double d2 = 0;
+        for (int k = 0; k < 3; ++k)
+          d2 += (r.true_contact[k] - prev->true_contact[k]) * (r.true_contact[k] - prev->true_contact[k]);
+        path += std::sqrt(d2);
+        t_contact += r.t - prev->t;
+      }
+    }
+    prev = &r;
+  }
+  double mean() const { return n ? sum_f / n : kNaN; }
+  double max() const { return n ? max_f : kNaN; }
+  double rms() const { return n ? std::sqrt(sum_e2 / n) : kNaN; }
+  double inBand() const { return n ? in_band / n : kNaN; }
+  double speed() const { return t_contact > 0 ? path / t_contact : kNaN; }
+};
+
+// Force metrics (true force: mean, max, RMS error, in-band fraction and time)
+// and the true contact's path, duration and mean speed over the slide and over
+// the scored window (Summary's header says what each is).
+void forceAndPathMetrics(const Scene& sc, const std::vector<LogRow>& rows, Summary& s) {
+  const std::function<bool(int)> scoredPhase = [&](int phase) {
+    const PhaseParams& pp = sc.servo.phases[static_cast<std::size_t>(phase)];
+    return sc.metrics.force_phases.empty() ? (pp.requires_contact && !pp.terminal)
+                                           : phaseIn(sc.metrics.force_phases, pp.name);
+  };
+  const std::vector<int> as = scoredAs(sc, rows, scoredPhase);
+  Window slide, scored;
   const LogRow* last = nullptr;  // the previous row, scored or not: a scored row stands for the time since it
   double phase_t0 = 0;
   int phase_cur = -1;
@@ -93,35 +133,43 @@ void forceAndPathMetrics(const Scene& sc, const std::vector<LogRow>& rows, Summa
     }
     const double dt_row = last ? r.t - last->t : 0.0;
     last = &r;
-    const bool scored = scoredPhase(as[i]);
-    if (!scored || r.t - phase_t0 < sc.metrics.transient_s) {
-      prev = nullptr;
+    if (!scoredPhase(as[i])) {
+      slide.prev = scored.prev = nullptr;
       continue;
     }
-    sum_f += r.force_true;
-    sum_e2 += (r.force_true - r.sd_force) * (r.force_true - r.sd_force);
-    max_f = std::max(max_f, r.force_true);
-    const bool band = std::fabs(r.force_true - r.sd_force) <= sc.metrics.force_band_n;
-    in_band += band ? 1.0 : 0.0;
-    t_force += dt_row;
-    t_band += band ? dt_row : 0.0;
-    ++n;
-    if (prev && prev->true_in_contact && r.true_in_contact) {
-      double d2 = 0;
-      for (int k = 0; k < 3; ++k) d2 += (r.true_contact[k] - prev->true_contact[k]) * (r.true_contact[k] - prev->true_contact[k]);
-      path += std::sqrt(d2);
-      t_scored += r.t - prev->t;
+    slide.add(r, dt_row, sc.metrics.force_band_n);
+    if (r.t - phase_t0 < sc.metrics.transient_s) {
+      scored.prev = nullptr;
+      continue;
     }
-    prev = &r;
+    scored.add(r, dt_row, sc.metrics.force_band_n);
   }
-  s.force_true_mean_n = n ? sum_f / n : kNaN;
-  s.force_true_max_n = n ? max_f : kNaN;
-  s.force_true_rms_error_n = n ? std::sqrt(sum_e2 / n) : kNaN;
-  s.force_true_in_band_fraction = n ? in_band / n : kNaN;
-  s.force_scored_s = t_force;
-  s.force_true_in_band_s = t_band;
-  s.path_length_m = path;
-  s.slide_speed_mps = t_scored > 0 ? path / t_scored : kNaN;
+  s.force_true_mean_n = scored.mean();
+  s.force_true_max_n = scored.max();
+  s.force_true_rms_error_n = scored.rms();
+  s.force_true_in_band_fraction = scored.inBand();
+  s.force_scored_s = scored.t_force;
+  s.force_true_in_band_s = scored.t_band;
+  s.path_length_m = scored.path;
+  s.slide_speed_mps = scored.speed();
+  s.scored_duration_s = scored.duration;
+  s.slide_path_m = slide.path;
+  s.slide_duration_s = slide.duration;
+  s.slide_mean_speed_mps = slide.speed();
+  s.slide_force_true_mean_n = slide.mean();
+  s.slide_force_true_max_n = slide.max();
+  s.slide_force_true_rms_error_n = slide.rms();
+  s.slide_force_true_in_band_fraction = slide.inBand();
+}
+
+// When the fault that ended the run happened: the first row with the servo's
+// fatal status (status servo_*), or the end of the run (sim_*: the physics
+// step that failed); NaN for an ok run.
+double faultTime(const std::vector<LogRow>& rows, const Summary& s) {
+  if (s.status == "ok") return kNaN;
+  for (const auto& r : rows)
+    if (s.status == std::string("servo_") + toString(r.servo)) return r.t;
+  return s.sim_time_s;
 }
 
 // Final DZMP_y: mean over the last 0.5 s of the rows in contact; NaN if none.
@@ -205,6 +253,7 @@ void computeSummary(const Scene& sc, RunResult& out) {
                            : kNaN;
   s.contact_lost_count = contactLossCount(sc, rows);
   forceAndPathMetrics(sc, rows, s);
+  s.fault_time_s = faultTime(rows, s);
   s.dzmp_final_m = finalDzmp(rows);
   trayMetrics(sc, rows, s);
   checkCriteria(sc, s);

@@ -50,6 +50,7 @@ std::string summaryJson(const Scene& sc, const RunResult& r) {
   o << "  \"seed\": " << s.seed << ",\n";
   o << "  \"status\": \"" << s.status << "\",\n";
   o << "  \"exit_code\": " << s.exit_code << ",\n";
+  o << "  \"fault_time_s\": " << num(s.fault_time_s) << ",\n";
   o << "  \"rates_hz\": {\"sim\": " << num(sc.rates.sim) << ", \"servo\": " << num(sc.rates.servo)
     << ", \"wts\": " << num(sc.rates.wts) << ", \"features\": " << num(sc.rates.features) << "},\n";
   o << "  \"subsamples\": " << sc.world.pad.subsamples << ",\n";
@@ -69,8 +70,21 @@ std::string summaryJson(const Scene& sc, const RunResult& r) {
   o << "  \"force_scored_s\": " << num(s.force_scored_s) << ",\n";
   o << "  \"force_true_in_band_s\": " << num(s.force_true_in_band_s) << ",\n";
   o << "  \"alignment_time_s\": " << num(s.alignment_time_s) << ",\n";
+  // The scored window's path and speed under their own names, and under the
+  // names the sweeps read (path_length_m, slide_speed_mps: the same values).
+  o << "  \"scored_path_m\": " << num(s.path_length_m) << ",\n";
+  o << "  \"scored_duration_s\": " << num(s.scored_duration_s) << ",\n";
+  o << "  \"scored_mean_speed_mps\": " << num(s.slide_speed_mps) << ",\n";
   o << "  \"path_length_m\": " << num(s.path_length_m) << ",\n";
   o << "  \"slide_speed_mps\": " << num(s.slide_speed_mps) << ",\n";
+  // The whole slide, transients included.
+  o << "  \"slide_path_m\": " << num(s.slide_path_m) << ",\n";
+  o << "  \"slide_duration_s\": " << num(s.slide_duration_s) << ",\n";
+  o << "  \"slide_mean_speed_mps\": " << num(s.slide_mean_speed_mps) << ",\n";
+  o << "  \"slide_force_true_mean_n\": " << num(s.slide_force_true_mean_n) << ",\n";
+  o << "  \"slide_force_true_max_n\": " << num(s.slide_force_true_max_n) << ",\n";
+  o << "  \"slide_force_true_rms_error_n\": " << num(s.slide_force_true_rms_error_n) << ",\n";
+  o << "  \"slide_force_true_in_band_fraction\": " << num(s.slide_force_true_in_band_fraction) << ",\n";
   o << "  \"dzmp_final_m\": " << num(s.dzmp_final_m) << ",\n";
   o << "  \"dzmp_recovery_time_s\": " << num(s.dzmp_recovery_time_s) << ",\n";
   o << "  \"translation_x_m\": " << num(s.translation_x_m) << ",\n";

@@ -16,6 +16,23 @@
 // orocos.log closed; at a terminal it first opens its prompt for inspection).
 // The failed step is named in the log: "[Guard] deployment step failed: <what>".
 //
+// The end of a run is not such a checkpoint: a run that ends FAILED (its state
+// machine, a fault) is an outcome, reported as cleanly as a passing one. The
+// finish scripts (deployments/experiment_finish.ops, sim_finish.ops) record it
+//     Guard.outcome(state == "FINISHED", "the state machine ... ended in ...")
+// which logs "[Guard] run FINISHED: <what>" or "[Guard] run FAILED: <what>"
+// and leaves ok alone (the reporter is still stopped and its file closed),
+// and the entry scripts end with the verdict
+//     var int experiment_finished = Guard.finish()
+// an ordinary assignment: finish() logs "[Guard] verdict: FINISHED: <what>"
+// or "[Guard] verdict: FAILED: <what>" (a failed run's outcome, or
+// "deployment step failed: <step>") and returns 0 or 255. After a failure it
+// also makes 255 the deployer's exit status: the deployer (OCL 2.10) returns 0
+// for any script that parsed, so finish() registers an exit handler that ends
+// the process with 255 once main() has returned, i.e. after the deployer's
+// normal shutdown (components stopped, cleaned up and unloaded, orocos.log
+// closed); the libraries of components are never unloaded before that.
+//
 // The experiment's files come from the experiment registry (experiments.yaml
 // at the repository root, `registry_file`): select(name) reads its entry and
 // fills the properties the shared include scripts read (deployments/sim_loop.ops,
@@ -37,6 +54,7 @@
 #include <rtt/os/fosi.h>
 #include <yaml-cpp/yaml.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <map>
@@ -63,6 +81,17 @@ std::string joined(const std::vector<std::string>& v) {
 }
 
 bool fileExists(const std::string& path) { return std::ifstream(path).good(); }
+
+// The deployer's exit status after a failed run or step (finish()).
+constexpr int kFailedExit = 255;
+
+// Registered with std::atexit by finish(): runs when the deployer's main() has
+// returned, after its shutdown, and ends the process with kFailedExit instead
+// of the deployer's own 0 (the remaining exit handlers are static destructors).
+void exitFailed() {
+  std::fflush(nullptr);
+  std::_Exit(kFailedExit);
+}
 
 // A state-machine parameter as declared in an .osd: `param double explore_time`.
 struct OsdParam {
@@ -158,7 +187,19 @@ class DeployGuard : public RTT::TaskContext {
         .arg("what", "What failed.");
     addOperation("verdict", &DeployGuard::verdict, this, RTT::ClientThread)
         .doc("1 while every step succeeded, -1 after a failed one: the size hint of a checkpoint "
-             "`var int name(Guard.verdict())`, which ends the script (parse error) after a failure.");
+             "`var int name(Guard.verdict())`, which ends the script (parse error) after a failure. "
+             "Set-up scripts only: a run's end is outcome() and finish().");
+    addOperation("outcome", &DeployGuard::outcome, this, RTT::ClientThread)
+        .doc("Record the run's outcome (the finish scripts, once the experiment's state machine ended): logs "
+             "'run FINISHED: what' (Info) or 'run FAILED: what' (Error). Not a deployment step: ok stays as it "
+             "is, so the steps after it (stopping the reporter) run and are logged. Returns finished.")
+        .arg("finished", "True when the run ended as the experiment expects (its state machine in FINISHED).")
+        .arg("what", "How it ended, as the operator should read it (the machine's state, the servo's status).");
+    addOperation("finish", &DeployGuard::finish, this, RTT::ClientThread)
+        .doc("The verdict at the end of an entry script, `var int name = Guard.finish()` (no parse error "
+             "either way): logs 'verdict: FINISHED: ...' or 'verdict: FAILED: ...' (the run's outcome or the "
+             "failed step) and returns 0, or 255 after a failed run or step, which then becomes the deployer's "
+             "exit status (after its normal shutdown).");
     addOperation("sleep", &DeployGuard::sleep, this, RTT::ClientThread)
         .doc("Sleep (wall clock): waiting loops of the experiment scripts.")
         .arg("s", "Seconds, [0, 10].");
@@ -245,6 +286,29 @@ class DeployGuard : public RTT::TaskContext {
   }
   bool fail(const std::string& what) { return step(false, what); }
   int verdict() const { return ok_ ? 1 : -1; }
+
+  bool outcome(bool finished, const std::string& what) {
+    run_finished_ = finished;
+    run_what_ = what;
+    RTT::log(finished ? RTT::Info : RTT::Error)
+        << "[" << getName() << "] run " << (finished ? "FINISHED: " : "FAILED: ") << what << RTT::endlog();
+    return finished;
+  }
+
+  int finish() {
+    const bool passed = ok_ && run_finished_;
+    const std::string what = !ok_ ? "deployment step failed: " + failed_step_
+                             : !run_what_.empty() ? run_what_
+                                                  : "every deployment step succeeded (" + std::to_string(steps_) + ")";
+    const std::string line = std::string(passed ? "FINISHED: " : "FAILED: ") + what;
+    if (line != verdict_logged_) {  // an entry script and the finish script it runs may both end with finish()
+      verdict_logged_ = line;
+      RTT::log(passed ? RTT::Info : RTT::Error) << "[" << getName() << "] verdict: " << line << " (deployer exit "
+                                                << (passed ? 0 : kFailedExit) << ")" << RTT::endlog();
+    }
+    if (!passed && !exit_registered_) exit_registered_ = std::atexit(&exitFailed) == 0;
+    return passed ? 0 : kFailedExit;
+  }
   void sleep(double s) const {
     if (!(s > 0.0 && s <= 10.0)) return;
     TIME_SPEC ts = ticks2timespec(nano2ticks(static_cast<long long>(s * 1e9)));  // RTT's OS layer
@@ -449,6 +513,9 @@ class DeployGuard : public RTT::TaskContext {
   bool ok_ = true;
   int steps_ = 0;
   std::string failed_step_, select_error_;
+  bool run_finished_ = true;  // outcome(): the run ended as expected (true until a run reports otherwise)
+  std::string run_what_, verdict_logged_;
+  bool exit_registered_ = false;
   std::vector<Param> params_;
 };
 

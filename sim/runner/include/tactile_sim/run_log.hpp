@@ -79,14 +79,40 @@ struct ContactPoint {
 };
 
 /// summary.json. Metrics a scene does not have are NaN (written as null).
+///
+/// Two windows of the run (computeSummary; docs/formats.md, "summary.json"):
+///  * the slide: every servo cycle scored as a scored phase (the scene's
+///    metrics.force_phases; without it, every phase that requires contact and
+///    is not terminal), from the phase's first cycle: transients included. A
+///    detour, the run leaving such a phase and back in it within
+///    metrics.transient_s, belongs to the phase it left;
+///  * the scored window: the cycles of the slide at least metrics.transient_s
+///    after the start of their phase (a detour's return starts no new transient).
+/// Per window: the true force per cycle (mean, max, RMS error about f_d, the
+/// fraction within force_band_n of it); the path of the true contact point
+/// between consecutive cycles of the window both in true contact; the duration,
+/// the time between consecutive cycles of the window; the mean speed, the path
+/// over the part of the duration in true contact (path / duration while the
+/// contact held throughout).
 struct Summary {
   std::string scene, controller, status = "ok", fidelity;
   uint64_t seed = 1;
   double sim_time_s = 0, wall_time_s = 0, real_time_factor = 0;
+  /// s: when the fault that ended the run happened (the first cycle with the
+  /// fatal servo status; the end for the simulator's); NaN when status is ok.
+  double fault_time_s = std::numeric_limits<double>::quiet_NaN();
   int contact_lost_count = 0;  ///< contact held >= 5 servo cycles, then absent >= 5, in a contact phase
+  double alignment_time_s = 0;
+  // The scored window: the force_true_* keys; path_length_m and slide_speed_mps,
+  // which summary.json also writes as scored_path_m and scored_mean_speed_mps.
   double force_true_mean_n = 0, force_true_max_n = 0, force_true_rms_error_n = 0, force_true_in_band_fraction = 0;
-  double force_scored_s = 0, force_true_in_band_s = 0;  ///< scored time, of which |f_true - f_d| <= band (s)
-  double alignment_time_s = 0, path_length_m = 0, slide_speed_mps = 0;
+  double force_scored_s = 0, force_true_in_band_s = 0;  ///< scored time (each cycle counts the time since the
+                                                        ///< log's previous one), of which |f_true - f_d| <= band (s)
+  double path_length_m = 0, slide_speed_mps = 0, scored_duration_s = 0;
+  // The slide, transients included.
+  double slide_path_m = 0, slide_duration_s = 0, slide_mean_speed_mps = 0;
+  double slide_force_true_mean_n = 0, slide_force_true_max_n = 0, slide_force_true_rms_error_n = 0,
+         slide_force_true_in_band_fraction = 0;
   double dzmp_final_m = 0, tray_angle_max_deg = 0, dzmp_recovery_time_s = 0, translation_x_m = 0;
   // Through FRI (scene through_fri): bridge replies and the largest step
   // between consecutive commands the simulated KRC applied.

@@ -88,13 +88,15 @@
 //     - {kind: pad_mass, mass_kg: 0.5}   # [-5, 5] kg: the load model's pad mass off (true - modelled)
 //   `tactile_sim run --set 'faults=[{kind: stuck, start_s: 8, force_n: 8}]'` sets the list.
 //   metrics:
-//     transient_s: 2.0                # ignored at the start of each force-servoing phase
-//     force_phases: [explore]         # phases whose force error is scored (default: all contact phases)
+//     transient_s: 2.0                # the start of each scored phase left out of the scored window
+//     force_phases: [explore]         # the scored phases, the slide (default: all contact phases
+//                                     # that are not terminal); Summary (run_log.hpp): the two windows
 //     alignment: {from: align, to: explore}   # alignment_time_s = t(to) - t(from)
 //     force_band_n: 1.0               # |f_true - f_desired| band for force_true_in_band_fraction
 //     criteria:                       # the experiment passes when every summary.json metric named
 //       alignment_time_s: {max: 10}   # here is within [min, max] (either bound optional); the result
-//       path_length_m: {min: 0.15}    # is summary.json's criteria_passed / criteria_failed
+//       slide_path_m: {min: 0.15}     # is summary.json's criteria_passed / criteria_failed. The whole
+//                                     # slide (slide_*) or the scored window (force_true_*, scored_*)
 #pragma once
 
 #include <array>
