@@ -36,6 +36,7 @@
 #include "tactile_servo_rtt/servo_component.hpp"
 #include "tactile_sim/loop.hpp"
 #include "tactile_sim/runner.hpp"
+#include "tactile_sim/sensor_faults.hpp"
 #include "tactile_sim_rtt/lwr_sim_component.hpp"
 #include "tactile_sim_rtt/sim_clock.hpp"
 #include "tactile_sim_rtt/wts_sim_component.hpp"
@@ -153,10 +154,18 @@ Recording runDeployment(const std::string& scene_file, const std::string& progra
 /// The runner's rows rebuilt from the deployment's recordings: the schedule
 /// says on which tick each features sample was written (a features tick after
 /// a new raw frame) and which truth sample a servo cycle saw (the state after
-/// the previous physics tick: sample i on tick i).
+/// the previous physics tick: sample i on tick i). The scene's stream faults
+/// (stale, disconnect) withhold the frames acquired in their windows.
 bool rowsFromRecording(const sim::Scene& sc, const Recording& rec, sim::RunResult& out, std::string& why) {
   sim::Schedule sched;
   if (!sched.configure(sc.rates, sc.duration)) return false;
+  sim::SensorFaultSchedule stream;
+  if (!stream.configure(sc.faults, sc.calibration.rows, sc.calibration.cols)) return false;
+  auto delivered = [&stream](double t) {
+    RawTactileFrame probe;
+    probe.time_s = t;
+    return stream.stream(probe) != sim::FaultAction::Withhold;
+  };
   std::size_t fi = 0, ci = 0, pi = 0;
   bool new_raw = false;
   // With a WTS transfer delay a frame reaches the features on the first tick
@@ -169,12 +178,12 @@ bool rowsFromRecording(const sim::Scene& sc, const Recording& rec, sim::RunResul
   for (long i = 0; pi < rec.phases.size(); ++i, sched.advance()) {
     const sim::StageFires f = sched.fires();
     if (delay > 0.0) {
-      if (f.wts) in_flight.push_back(sched.timeOf(i));
+      if (f.wts && delivered(sched.timeOf(i))) in_flight.push_back(sched.timeOf(i));
       while (!in_flight.empty() && in_flight.front() + delay <= sched.timeOf(i) + 1e-9) {
         in_flight.erase(in_flight.begin());
         new_raw = true;
       }
-    } else if (f.wts) {
+    } else if (f.wts && delivered(sched.timeOf(i))) {
       new_raw = true;
     }
     if (f.features && new_raw) {
@@ -209,6 +218,7 @@ struct Case {
   ControllerMode mode;
   const char* effects = nullptr;  ///< an `effects:` map appended to the scene (YAML flow map)
   const char* name = "";          ///< test name suffix
+  const char* faults = nullptr;   ///< a `faults:` list appended to the scene (YAML flow list)
 };
 
 /// The scene with an `effects:` map appended, as a temporary file (its
@@ -216,12 +226,13 @@ struct Case {
 // With effects: a copy of the scene with the `effects:` map (paths made
 // absolute), so that the deployment loads the same file as the runner.
 std::string sceneWithEffects(const Case& c) {
-  if (!c.effects) return kScenes + c.scene;
+  if (!c.effects && !c.faults) return kScenes + c.scene;
   std::ifstream in(kScenes + c.scene);
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   for (std::size_t at = text.find("../../"); at != std::string::npos; at = text.find("../../", at))
     text.replace(at, 6, TACTILE_SOURCE_DIR "/");
-  text += std::string("\neffects: ") + c.effects + "\n";
+  if (c.effects) text += std::string("\neffects: ") + c.effects + "\n";
+  if (c.faults) text += std::string("\nfaults: ") + c.faults + "\n";
   return test::writeTempFile(std::string("effects") + c.name + "_" + c.scene, text);
 }
 
@@ -355,7 +366,16 @@ INSTANTIATE_TEST_SUITE_P(Scenes, SimLoop,
                                                 "{wts_transfer_delay_s: 0.0157, gain_spread: 0.1, dead_taxels: 2, "
                                                 "calibration_error: 0.05, crosstalk: 0.05, "
                                                 "creep: {fraction: 0.1, tau_s: 2.0}, hysteresis: 0.05}",
-                                                "_sensor_effects"}),
+                                                "_sensor_effects"},
+                                           // Scheduled faults of the pad and of the estimated wrench
+                                           // (sensor_faults.hpp): the same frames and wrenches at the same times.
+                                           Case{"edge_exploration.yaml", ControllerMode::Proposed, nullptr, "_faults",
+                                                "[{kind: tare_creep, start_s: 5, counts_per_min: 300}, "
+                                                "{kind: pad_mass, start_s: 6, mass_kg: 0.3}, "
+                                                "{kind: repeat, start_s: 8, duration_s: 1}, "
+                                                "{kind: stale, start_s: 10, duration_s: 0.5}, "
+                                                "{kind: stuck, start_s: 12, rows: [1, 4], cols: [5, 8], force_n: 8}, "
+                                                "{kind: wrench_sign, start_s: 14}]"}),
                          [](const ::testing::TestParamInfo<Case>& i) {
                            std::string n = i.param.scene;
                            n = n.substr(0, n.find('.'));

@@ -43,12 +43,12 @@ struct Rig {
   RTT::TaskContext io{"io"};  // declared last: destroyed before the ports it holds
   TactileFrame forces;
 
-  Rig(const std::string& fault, double start, double duration) {
+  Rig(const std::string& fault, double start, double duration, const std::string& scene = kScene) {
     sensor.setActivity(new RTT::extras::SlaveActivity(0.0));
     io.ports()->addPort(forces_out);
     io.ports()->addPort(raw_in);
     io.ports()->addPort(fault_in);
-    sensor.properties()->getPropertyType<std::string>("scene_file")->set(kScene);
+    sensor.properties()->getPropertyType<std::string>("scene_file")->set(scene);
     sensor.properties()->getPropertyType<std::string>("fault")->set(fault);
     sensor.properties()->getPropertyType<double>("fault_start")->set(start);
     sensor.properties()->getPropertyType<double>("fault_duration")->set(duration);
@@ -172,6 +172,41 @@ TEST(WtsSimFaults, OneNanFrameAndOneSaturatedFrame) {
   EXPECT_EQ(saturated, 1);
   EXPECT_EQ(nan.attr<int>("fault_seq"), 140);
   EXPECT_EQ(sat.attr<int>("fault_seq"), 140);
+}
+
+// The scene's `faults:` list reaches the simulated sensor: the phantom
+// press's 16 taxels read constant counts from the first frame, the other
+// taxels what the same scene without the fault gives (same noise stream);
+// the property's fault comes on top of the scene's.
+TEST(WtsSimFaults, TheScenesFaultsAndThePropertysTogether) {
+  const std::string phantom = TACTILE_SCENE_DIR "/faults/phantom_contact.yaml";
+  const std::string plain = TACTILE_SCENE_DIR "/edge_exploration.yaml";  // the same calibration, noise and seed
+  Rig a("", 0.0, 0.0, plain), b("stale", 1.0, 0.1, phantom);
+  for (Rig* r : {&a, &b}) {
+    ASSERT_TRUE(r->sensor.configure()) << r->sensor.lastError();
+    ASSERT_TRUE(r->sensor.start());
+  }
+  const std::vector<Out> x = run(a, 280), y = run(b, 280);
+  int withheld = 0;
+  uint16_t stuck = 0;
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    if (!y[k].raw) {
+      ++withheld;
+      continue;
+    }
+    for (int i = 0; i < 84; ++i) {
+      const int r = i / 14, c = i % 14;
+      const uint16_t v = y[k].frame.counts[static_cast<std::size_t>(i)];
+      if (r >= 1 && r <= 4 && c >= 5 && c <= 8) {
+        if (stuck == 0) stuck = v;
+        EXPECT_EQ(v, stuck) << "a stuck taxel, t " << y[k].t;
+      } else {
+        EXPECT_EQ(v, x[k].frame.counts[static_cast<std::size_t>(i)]) << "taxel " << i << ", t " << y[k].t;
+      }
+    }
+  }
+  EXPECT_GT(stuck, 0) << "0.5 N per taxel, above the threshold";
+  EXPECT_EQ(withheld, 14) << "the property's stale window on top";
 }
 
 TEST(WtsSimFaults, ConfigureErrorsNameThePropertyAndTheRange) {

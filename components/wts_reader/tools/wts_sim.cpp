@@ -5,7 +5,7 @@
 //           [--bad-crc P] [--garbage P] [--stall P] [--stall-ms N] [--seed N]
 //           [--noise S] [--offset N] [--press-after S] [--press-counts N]
 //           [--dead R,C] [--stuck R,C[=COUNTS]] [--noisy R,C[=SIGMA]]
-//           [--duration S]
+//           [--fault '{kind: .., start_s: .., ...}' ...] [--duration S]
 //
 // Prints "device: PATH" on stdout (the slave PTY, or the symlink given with
 // --link) and serves the WTS protocol there until SIGINT/SIGTERM or --duration.
@@ -24,6 +24,14 @@
 // pattern; row, col from 0 in {s}; repeatable): --dead R,C always 0; --stuck
 // R,C[=COUNTS] always COUNTS (default 2000); --noisy R,C[=SIGMA] extra Gaussian
 // noise of SIGMA counts (default 60).
+// --fault (repeatable, at most 8): a scheduled fault in the device's time (s
+// from its start), one entry of a scene's `faults:` list as YAML
+// (tactile_sim/sensor_faults.hpp, docs/formats.md "Faults"): stuck (counts
+// only), dead, tare_creep, saturated and repeat on the frames' counts; stale
+// holds the stream (no frame sent, commands answered); disconnect unplugs the
+// device for the window and plugs it back behind the same --link. The kinds
+// that need a force model (calibration, stuck's force_n) and the wrench's are
+// refused: `--fault '{kind: stuck, start_s: 5, rows: [1, 4], cols: [5, 8], counts: 1200}'`.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -39,6 +47,7 @@
 #include <thread>
 #include <vector>
 
+#include "tactile_sim/sensor_faults_io.hpp"
 #include "tactile_types/sensor_geometry.hpp"
 #include "tactile_wts/sim_device.hpp"
 
@@ -68,11 +77,68 @@ bool toDouble(const char* s, double& v) {
   v = std::strtod(s, &end);
   return end != s && *end == '\0';
 }
+
+/// One --fault: its YAML map, the kinds a device without a force model can play.
+bool parseFault(const char* text, std::size_t index, std::vector<tactile::sim::FaultSpec>& out) {
+  using tactile::sim::SensorFault;
+  const tactile::config::Where w{"wts_sim --fault", "faults[" + std::to_string(index) + "]"};
+  YAML::Node n;
+  try {
+    n = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    std::fprintf(stderr, "wts_sim: %s: not YAML: %s\n", w.str().c_str(), e.what());
+    return false;
+  }
+  tactile::sim::FaultSpec f;
+  const tactile::ConfigResult r = tactile::sim::readFaultSpec(n, w, f);
+  if (!r) {
+    std::fprintf(stderr, "wts_sim: %s\n", r.message().c_str());
+    return false;
+  }
+  if (f.kind == SensorFault::Calibration || tactile::sim::wrenchFault(f.kind) ||
+      (f.kind == SensorFault::Stuck && f.force_n >= 0.0)) {
+    std::fprintf(stderr, "wts_sim: %s: %s needs a force model (lab_sim, tactile_sim); here: stuck in counts, dead, "
+                         "tare_creep, saturated, stale, repeat, disconnect\n",
+                 w.str().c_str(), f.kind == SensorFault::Stuck ? "stuck's force_n" : tactile::sim::toString(f.kind));
+    return false;
+  }
+  out.push_back(f);
+  return true;
+}
+
+/// The schedule's faults on the counts of a frame at device time t (s):
+/// the zero's drift, stuck, dead, saturated, repeat.
+void applyFaults(tactile::sim::SensorFaultSchedule& s, double t, tactile::RawTactileFrame& f) {
+  const int n = static_cast<int>(f.rows) * static_cast<int>(f.cols);
+  const double off = s.electronics() ? s.zeroOffsetCounts(t) : 0.0;
+  for (int k = 0; off != 0.0 && k < n; ++k) {
+    const double v = std::round(f.counts[static_cast<std::size_t>(k)] + off);
+    f.counts[static_cast<std::size_t>(k)] = static_cast<uint16_t>(v < 0.0 ? 0.0 : (v > 4095.0 ? 4095.0 : v));
+  }
+  if (s.counts()) s.applyCounts(t, nullptr, f);
+  f.time_s = t;
+  if (s.streams()) s.stream(f);  // repeat; stale and disconnect: main() holds or unplugs the device
+}
+
+/// The link's faults at time t (s): the device unplugged in a disconnect's window, held in a stale one.
+void linkFaults(const tactile::sim::SensorFaultSchedule& s, double t, tactile::wts::SimulatedWts& sim) {
+  const bool down = s.linkDown(t);
+  if (down == sim.plugged()) {
+    if (down) sim.unplug();
+    else sim.replug();
+    std::fprintf(stderr, "wts_sim: t %.3f s: %s (--fault disconnect)\n", t, down ? "unplugged" : "plugged back");
+  }
+  if (s.stalled(t) != sim.held()) {
+    sim.hold(s.stalled(t));
+    std::fprintf(stderr, "wts_sim: t %.3f s: stream %s (--fault stale)\n", t, sim.held() ? "held" : "resumed");
+  }
+}
 }  // namespace
 
 int main(int argc, char** argv) {
   tactile::wts::SimulatedWts::Params p;
   std::string pattern = "blob", recording;
+  std::vector<tactile::sim::FaultSpec> faults;
   double duration = 0.0;
   double noise = 6.0, offset = 30.0, press_after = 5.0, press_counts = 1500.0;
   for (int i = 1; i < argc; ++i) {
@@ -110,6 +176,9 @@ int main(int argc, char** argv) {
     else if (a == "--offset") { val(offset); }
     else if (a == "--press-after") { val(press_after); }
     else if (a == "--press-counts") { val(press_counts); }
+    else if (a == "--fault" && i + 1 < argc) {
+      if (!parseFault(argv[++i], faults.size(), faults)) return 2;
+    }
     else if ((a == "--dead" || a == "--stuck" || a == "--noisy") && i + 1 < argc) {
       tactile::wts::TaxelFault f;
       f.kind = a == "--dead" ? tactile::wts::TaxelFaultKind::Dead
@@ -135,7 +204,13 @@ int main(int argc, char** argv) {
     return 2;
   }
   const int rows = p.cells.rows, cols = p.cells.cols;
+  auto schedule = std::make_shared<tactile::sim::SensorFaultSchedule>();
+  if (const tactile::ConfigResult r = schedule->configure(faults, rows, cols, p.full_scale); !r) {
+    std::fprintf(stderr, "wts_sim: --fault: %s\n", r.message().c_str());
+    return 2;
+  }
   tactile::wts::SimulatedWts sim;
+  tactile::wts::FrameSource src;  // the pattern's or the recording's frames (with faults: then theirs)
   if (!recording.empty()) {
     std::ifstream in(recording);
     if (!in) {
@@ -169,10 +244,16 @@ int main(int argc, char** argv) {
       }
       frames.push_back(f);
     }
-    sim.setRecording(std::move(frames));
+    if (faults.empty()) {
+      sim.setRecording(std::move(frames));
+    } else {  // looped as setRecording() does, so that the faults apply to its frames
+      auto rec = std::make_shared<std::vector<tactile::RawTactileFrame>>(std::move(frames));
+      auto next = std::make_shared<std::size_t>(0);
+      src = [rec, next](uint32_t, tactile::RawTactileFrame& f) { f = (*rec)[(*next)++ % rec->size()]; };
+    }
   } else if (pattern == "blob" || pattern == "ramp" || pattern == "zero") {
     const tactile::SensorGeometry geometry{rows, cols, tactile::kDefaultPitch};
-    sim.setSource([=](uint32_t t_ms, tactile::RawTactileFrame& f) {
+    src = [=](uint32_t t_ms, tactile::RawTactileFrame& f) {
       const double t = t_ms * 1e-3;
       const double cx = 0.012 * std::cos(0.5 * t), cy = 0.004 * std::sin(0.5 * t);
       for (int r = 0; r < rows; ++r)
@@ -186,7 +267,7 @@ int main(int argc, char** argv) {
           }
           f.counts[static_cast<std::size_t>(r * cols + c)] = static_cast<uint16_t>(v);
         }
-    });
+    };
   } else if (pattern == "idle" || pattern == "press") {
     // Per-taxel offsets fixed by the seed, noise from the same seed: one
     // generator, called from the device thread only (under its lock).
@@ -200,7 +281,7 @@ int main(int argc, char** argv) {
     std::uniform_real_distribution<double> spread(-10.0, 10.0);
     for (int k = 0; k < rows * cols; ++k) st->offsets.push_back(std::max(0.0, offset + spread(st->gen)));
     const bool press = pattern == "press";
-    sim.setSource([=](uint32_t t_ms, tactile::RawTactileFrame& f) {
+    src = [=](uint32_t t_ms, tactile::RawTactileFrame& f) {
       const int ps = g_press.load();
       const bool pressed = press && (ps == 1 || (ps == -1 && press_after > 0.0 && t_ms * 1e-3 >= press_after));
       for (int k = 0; k < rows * cols; ++k) {
@@ -208,11 +289,17 @@ int main(int argc, char** argv) {
         v = std::round(v);
         f.counts[static_cast<std::size_t>(k)] = static_cast<uint16_t>(v < 0.0 ? 0.0 : (v > 4095.0 ? 4095.0 : v));
       }
-    });
+    };
   } else {
     std::fprintf(stderr, "wts_sim: --pattern = %s: must be blob, ramp, zero, idle or press\n", pattern.c_str());
     return 2;
   }
+  if (src && faults.empty()) sim.setSource(src);
+  if (src && !faults.empty())
+    sim.setSource([src, schedule](uint32_t t_ms, tactile::RawTactileFrame& f) {
+      src(t_ms, f);
+      applyFaults(*schedule, t_ms * 1e-3, f);
+    });
   std::string why;
   if (!sim.start(p, &why)) {
     std::fprintf(stderr, "wts_sim: %s\n", why.c_str());
@@ -227,7 +314,9 @@ int main(int argc, char** argv) {
   const auto t0 = std::chrono::steady_clock::now();
   while (!g_stop) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    if (duration > 0 && std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > duration) break;
+    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (schedule->streams()) linkFaults(*schedule, t, sim);
+    if (duration > 0 && t > duration) break;
   }
   const auto s = sim.stats();
   sim.stop();

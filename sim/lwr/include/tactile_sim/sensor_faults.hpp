@@ -5,9 +5,11 @@
 // headless runner and lab_sim (through tactile::sim::TaxelResponse and
 // tactile::sim::EstimatedWrench), tactile::WtsSimComponent and the simulated
 // arm component (the same two classes), configured from a scene's `faults:`
-// list (tactile_sim/scene.hpp, docs/formats.md) or, for the RTT sensor's
-// `fault` properties, one fault by name. Off by default: no fault, nothing is
-// done and every acquisition is delivered.
+// list (tactile_sim/scene.hpp, docs/formats.md; tactile_sim/sensor_faults_io.hpp
+// reads an entry) or, for the RTT sensor's `fault` properties, one fault by
+// name; the bench tool wts_sim plays the counts' and the stream's faults in
+// its device time (`--fault`). Off by default: no fault, nothing is done and
+// every acquisition is delivered.
 //
 // Pad faults (taxel indices from 0 in {s}; `rows: [r0, r1]`, `cols: [c0, c1]`
 // inclusive, default the whole pad):
