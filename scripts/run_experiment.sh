@@ -46,6 +46,11 @@ while read -r name scene controller; do
 done <<< "$experiments"
 /usr/bin/python3 "$root/scripts/tools/plot_run.py" "$out/bent_bar" --compare "$out/bent_bar_baseline" "$out/bent_bar_no_rotation"
 /usr/bin/python3 "$root/scripts/tools/experiment_report.py" "$out"
+# Each fault of the pad and of the arm's wrench during the edge exploration,
+# against its stated outcome (scripts/sweeps/fault_table.py -> out/faults/,
+# docs/faults.md; a few seconds).
+/usr/bin/python3 "$root/scripts/sweeps/fault_table.py" --sim "$sim" --out "$out/faults" > "$out/faults.log" 2>&1 \
+  || echo "  (fault_table.py: a fault's outcome differs from the stated one: docs/faults.md, $out/faults.log)"
 /usr/bin/python3 "$root/scripts/sweeps/compare_controllers.py" --sim "$sim" --out "$out/compare" || echo "  (compare_controllers.py failed)"
 /usr/bin/python3 "$root/scripts/sweeps/compare_controllers.py" --sim "$sim" --out "$out/compare_paper" --paper || echo "  (compare_controllers.py --paper failed)"
 /usr/bin/python3 "$root/scripts/sweeps/sweep_correction.py" --sim "$sim" --seeds 3 --out "$out/correction" > "$out/correction.log" 2>&1 || echo "  (sweep_correction.py failed: $out/correction.log)"
