@@ -36,6 +36,24 @@ trap rt_cleanup EXIT
 # (5.4-6.9 N). With it the servo's sensor checks see two sensors that agree;
 # without it the press is a phantom contact, and the servo stops the run.
 rt_press_wrench="0,0,6.3"
+# rt_press_wrench_tool EXPERIMENT: the same press along the experiment's z_s
+# in the flange's axes (its program's controller.sensor_mount), for
+# fri_sim_krc --wrench-tool.
+rt_press_wrench_tool() {
+  /usr/bin/python3 - "$root" "$1" <<'PY'
+import math, subprocess, sys, yaml
+root, exp = sys.argv[1], sys.argv[2]
+prog = subprocess.run(["/usr/bin/python3", f"{root}/scripts/tools/registry.py", "get", exp, "program"],
+                      capture_output=True, text=True, check=True).stdout.strip()
+mount = (yaml.safe_load(open(f"{root}/{prog}")).get("controller", {}) or {}).get("sensor_mount", {}) or {}
+r, p, y = (math.radians(a) for a in mount.get("rpy_deg", [0, 0, 0]))
+# z_s in {e}: the third column of Rz(y) Ry(p) Rx(r)
+z = (math.cos(y) * math.sin(p) * math.cos(r) + math.sin(y) * math.sin(r),
+     math.sin(y) * math.sin(p) * math.cos(r) - math.cos(y) * math.sin(r),
+     math.cos(p) * math.cos(r))
+print(",".join(f"{6.3 * c:.4f}" for c in z))
+PY
+}
 rt_start_wts_sim() {
   local out="$1"
   "$build/bin/wts_sim" --link "$out/wts0" --pattern blob >"$out/wts_sim.log" 2>&1 &

@@ -21,29 +21,9 @@ scene="$root/$3"
 exp="$4"
 want_status="$5"
 max_travel="$6"
-for t in "$deployer" "$build/bin/lab_sim"; do
-  [ -x "$t" ] || { echo "$name: $t missing" >&2; exit 1; }
-done
-port=49973
+source "$1/tests/lab_sim/lab_robot_common.sh"  # lab_robot_stage, lab_robot_start, lab_robot_run
 out="$build/lab_sim_test/fault_$(basename "$scene" .yaml)"
-py=/usr/bin/python3
-rm -rf "$out"
-mkdir -p "$out"
-rt_stage_deployments "$out"
-sed -i "/name=\"port\"/,/<\/simple>/ s#<value>-1</value>#<value>$port</value>#" "$out/deployments/fri_bridge.cpf"
-grep -q "<value>$port</value>" "$out/deployments/fri_bridge.cpf" || { echo "$name: could not set the bridge's port"; exit 1; }
-
-"$build/bin/lab_sim" "$scene" --fri-port $port --wts-link "$out/wts0" \
-  --krc "0:friOpen,0:friStart" --truth-out "$out/truth.csv" >"$out/lab_sim.log" 2>&1 &
-lab=$!
-pids+=($lab)
-for _ in $(seq 100); do [ -e "$out/wts0" ] && break; sleep 0.05; done
-[ -e "$out/wts0" ] || { cat "$out/lab_sim.log"; echo "$name: lab_sim's PTY did not appear" >&2; exit 1; }
-
-dep_rc=0
-BUILD="$build" bash "$root/scripts/run_robot.sh" "$exp" --deployments "$out/deployments" --out "$out/run" --timeout 60 \
-  >"$out/run_robot.log" 2>&1 || dep_rc=$?
-kill -TERM "$lab" 2>/dev/null
-wait "$lab"
-cat "$out/run_robot.log"
-"$py" "$root/tests/lab_sim/check_lab_sim_fault.py" "$out" "$dep_rc" "$want_status" "$max_travel"
+lab_robot_stage "$out" 49973
+lab_robot_start "$out" 49973 "$scene" --truth-out "$out/truth.csv"
+lab_robot_run "$exp" "$out" 60
+/usr/bin/python3 "$root/tests/lab_sim/check_lab_sim_fault.py" "$out" "$dep_rc" "$want_status" "$max_travel"

@@ -21,36 +21,15 @@ name=lab_sim_robot_edge_exploration
 export BUILD="$2"
 # root, build, orocos, deployer, rt_stage_deployments, pids + cleanup trap
 source "$1/scripts/realtime/rt_common.sh"
-for t in "$deployer" "$build/bin/lab_sim"; do
-  [ -x "$t" ] || { echo "$name: $t missing" >&2; exit 1; }
-done
+source "$1/tests/lab_sim/lab_robot_common.sh"  # lab_robot_stage, lab_robot_start, lab_robot_run
 port=49971
 exp=edge_exploration
 out="$build/lab_sim_test/robot_$exp"
 py=/usr/bin/python3
-rm -rf "$out"
-mkdir -p "$out"
-rt_stage_deployments "$out"
-sed -i "/name=\"port\"/,/<\/simple>/ s#<value>-1</value>#<value>$port</value>#" "$out/deployments/fri_bridge.cpf"
-grep -q "<value>$port</value>" "$out/deployments/fri_bridge.cpf" || { echo "$name: could not set the bridge's port"; exit 1; }
+lab_robot_stage "$out" $port
 grep -q "<value>$out/wts0</value>" "$out/deployments/wts_reader.cpf" || { echo "$name: could not set the WTS device"; exit 1; }
-
-krc=(chrt -f 95)
-chrt -f 1 true 2>/dev/null || krc=()
-"${krc[@]}" "$build/bin/lab_sim" "$root/sim/scenes/$exp.yaml" --fri-port $port --wts-link "$out/wts0" \
-  --krc "0:friOpen,0:friStart" --truth-out "$out/truth.csv" >"$out/lab_sim.log" 2>&1 &
-lab=$!
-pids+=($lab)
-for _ in $(seq 100); do [ -e "$out/wts0" ] && break; sleep 0.05; done
-[ -e "$out/wts0" ] || { cat "$out/lab_sim.log"; echo "$name: lab_sim's PTY did not appear" >&2; exit 1; }
-
-dep_rc=0
-BUILD="$build" bash "$root/scripts/run_robot.sh" $exp --deployments "$out/deployments" --out "$out/run" --timeout 240 \
-  >"$out/run_robot.log" 2>&1 || dep_rc=$?
-kill -TERM "$lab" 2>/dev/null
-lab_rc=0
-wait "$lab" || lab_rc=$?
-cat "$out/run_robot.log"
+lab_robot_start "$out" $port "$root/sim/scenes/$exp.yaml" --truth-out "$out/truth.csv"
+lab_robot_run $exp "$out" 240
 cat "$out/lab_sim.log"
 [ -s "$out/run/timeseries.csv" ] || { echo "$name: no converted report in $out/run (run_robot.sh exit $dep_rc)" >&2; exit 1; }
 "$py" "$root/tests/lab_sim/check_lab_sim_robot.py" "$out" "$lab_rc" "$dep_rc" "$root/sim/scenes/$exp.yaml" \

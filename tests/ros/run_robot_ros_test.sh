@@ -53,8 +53,10 @@ if [ "$up" -ne 1 ]; then
   echo "run_robot_ros_test: the deployment did not offer /tactile/switch_phase"; tail -n 40 "$out/deployer.log"; exit 1
 fi
 # The KRC: monitor mode for 1 s, then command mode; at most 180 s (the checker ends the run first).
-# Its estExtTcpFT carries the force of wts_sim's press (rt_common.sh's rt_press_wrench).
-"$build/bin/fri_sim_krc" --port 49938 --cycles 180000 --period-ms 1 --schedule 0:MON:PERFECT,1000:CMD:PERFECT --wrench "$rt_press_wrench" \
+# Its estExtTcpFT carries the force of wts_sim's press along the experiment's
+# z_s (rt_common.sh's rt_press_wrench_tool).
+press=$(rt_press_wrench_tool "$exp") || { echo "run_robot_ros_test: no sensor mount for $exp"; exit 1; }
+"$build/bin/fri_sim_krc" --port 49938 --cycles 180000 --period-ms 1 --schedule 0:MON:PERFECT,1000:CMD:PERFECT --wrench-tool "$press" \
   > "$out/krc.log" 2>&1 &
 krc=$!
 pids+=($krc)

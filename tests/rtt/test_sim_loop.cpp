@@ -264,10 +264,10 @@ TEST_P(SimLoop, DeploymentIsTheRunnersLoop) {
   Recording rec = runDeployment(scene_file, program_file, 1.0 / sc.rates.servo);
 
   // A latched stop (a watchdog, the force ceiling; tactile_sim's exit codes
-  // 4-8): the clock runs the servo one cycle more, which the runner does not
+  // 4-11): the clock runs the servo one cycle more, which the runner does not
   // record, so that the experiment's state machine sees the latched status
   // (sim_clock.cpp). After a watchdog that cycle holds the last command.
-  const bool latched_stop = want.summary.exit_code >= 4 && want.summary.exit_code <= 8;
+  const bool latched_stop = want.summary.exit_code >= 4 && want.summary.exit_code <= 11;
   if (latched_stop) {
     ASSERT_EQ(rec.commands.size(), want.rows.size() + 1) << "pose commands: one per servo cycle and the latched one";
     ASSERT_EQ(rec.phases.size(), want.rows.size() + 1) << "servo cycles: the runner's and the latched one";

@@ -427,6 +427,36 @@ TEST(ServoSensorChecks, PhantomContactStopsBeforeTheArmTravels) {
   }
 }
 
+// The paper's tactile-only set-up with no wrench at all (the port
+// unconnected): no sensor check can run, and a phantom press is chased. What
+// bounds the arm then is the workspace box (here 20 mm around the start: the
+// command never leaves it) and the phase timeout (here 2 s: a named stop).
+TEST(ServoSensorChecks, WithoutAWrenchTheBoxAndThePhaseTimeoutBoundAPhantom) {
+  const double dt = 0.01;
+  ServoParams p = chaseCop(false, 4.5);
+  p.phases[0].max_duration_s = 2.0;
+  p.safety.workspace_min = {0.49, -0.01, 0.29};
+  p.safety.workspace_max = {0.51, 0.01, 0.31};
+  SensorLoop l(p, 8.0, 0.01);  // the press 10 mm off centre: the arm chases it
+  l.in.have_wrench = false;
+  ASSERT_EQ(l.step(dt), ServoStatus::Starting);
+  const Pose start = l.in.flange_measured;
+  double travel = 0.0;
+  ServoStatus st = ServoStatus::Ok;
+  while (l.t < 5.0 && !watchdogStatus(st)) {
+    st = l.step(dt);
+    travel = std::max(travel, transDist(start, l.out.command.pose));
+    const KDL::Vector p_cmd = toFrame(l.out.command.pose).p;
+    ASSERT_GE(p_cmd.x(), 0.49 - 1e-9);
+    ASSERT_LE(p_cmd.x(), 0.51 + 1e-9);
+    ASSERT_GE(p_cmd.y(), -0.01 - 1e-9);
+    ASSERT_LE(p_cmd.y(), 0.01 + 1e-9);
+  }
+  EXPECT_EQ(st, ServoStatus::PhaseTimeout);
+  EXPECT_NEAR(l.t - dt, 2.0 + dt, 2 * dt);
+  EXPECT_GT(travel, 0.005);  // it did chase the press: nothing else stopped it
+}
+
 TEST(ServoSensorChecks, AgreeingSensorsAndShortContradictionsPass) {
   const double dt = 0.01;
   // The wrench within the tolerance below the taxels: max(2 N, 40 %).

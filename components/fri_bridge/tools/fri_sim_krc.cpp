@@ -22,6 +22,7 @@
 //                     nothing touches the arm). A bench run whose simulated pad is pressed sets the
 //                     force that press would put on the arm, so the servo's sensor checks see
 //                     two sensors that agree (docs/design.md, "The sensors against each other")
+//   --wrench-tool FX,FY,FZ  the same force in the flange's {e} axes (it turns with the arm)
 //   --fast            do not sleep; wait for each reply up to --reply-timeout-ms (default 100)
 //   --latency-out F   write one line per cycle to F: "LATENCY_US ON_TIME", the
 //                     reply latency in us (measurement sent -> its reply
@@ -69,6 +70,7 @@ int main(int argc, char** argv) {
   unsigned long long cycles = 1000;
   std::string latency_out;
   std::array<double, 6> wrench{};
+  bool wrench_tool = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool has = i + 1 < argc;
@@ -122,8 +124,9 @@ int main(int argc, char** argv) {
       else if (c == "position") p.control = ControlStrategy::Position;
       else if (c == "other") p.control = ControlStrategy::Other;
       else return usage("--control must be cart, joint, position or other");
-    } else if (a == "--wrench" && has) {
-      if (!parseWrench(argv[++i], wrench)) return usage("--wrench must be FX,FY,FZ in N, each in [-1000, 1000]");
+    } else if ((a == "--wrench" || a == "--wrench-tool") && has) {
+      if (!parseWrench(argv[++i], wrench)) return usage(a + " must be FX,FY,FZ in N, each in [-1000, 1000]");
+      wrench_tool = a == "--wrench-tool";
     } else if (a == "--cart-offset" && has) {
       if (!parseCartOffset(argv[++i], p.cart_offset)) return usage("--cart-offset must be none, composed or elementwise");
     } else if ((a == "--msr-sample-ms" || a == "--cmd-sample-ms") && has) {
@@ -157,7 +160,7 @@ int main(int argc, char** argv) {
   if (!p.schedule.empty() && p.schedule.front().cycle == 0) p.initial = p.schedule.front();
 
   FirstOrderPlant plant;
-  plant.setWrench(wrench);
+  plant.setWrench(wrench, wrench_tool);
   SimKrc krc;
   if (tactile::ConfigResult r = krc.configure(p, plant); !r) {
     std::fprintf(stderr, "fri_sim_krc: %s\n", r.message().c_str());

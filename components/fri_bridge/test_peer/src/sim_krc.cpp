@@ -22,7 +22,17 @@ void FirstOrderPlant::reset(const KDL::Frame& initial_pose) {
   state_ = PlantState{};
   state_.q = kHomeJoints;
   state_.pose = initial_pose;
+  fillWrench();
+}
+
+void FirstOrderPlant::fillWrench() {
   state_.wrench = wrench_;
+  if (!tool_axes_) return;
+  for (int part = 0; part < 2; ++part) {  // force, then moment
+    const auto k = static_cast<std::size_t>(3 * part);
+    const KDL::Vector v = state_.pose.M * KDL::Vector(wrench_[k], wrench_[k + 1], wrench_[k + 2]);
+    for (int i = 0; i < 3; ++i) state_.wrench[k + static_cast<std::size_t>(i)] = v(i);
+  }
 }
 
 void FirstOrderPlant::step(const KDL::Frame& commanded, double dt, PlantState& out) {
@@ -31,7 +41,7 @@ void FirstOrderPlant::step(const KDL::Frame& commanded, double dt, PlantState& o
   KDL::Vector axis;
   const double angle = rotationAngle(state_.pose.M.Inverse() * commanded.M, axis);
   if (angle > 1e-12) state_.pose.M = state_.pose.M * KDL::Rotation::Rot2(axis, a * angle);
-  state_.wrench = wrench_;
+  fillWrench();
   out = state_;
 }
 

@@ -69,12 +69,20 @@ class FirstOrderPlant : public Plant {
   explicit FirstOrderPlant(double tau_s = 0.02) : tau_(tau_s) {}
   void reset(const KDL::Frame& initial_pose) override;
   void step(const KDL::Frame& commanded, double dt, PlantState& out) override;
-  /// The estimated external wrench reported from now on ([Fx Fy Fz Tx Ty Tz], N, N m, {g}).
-  void setWrench(const std::array<double, 6>& w) { wrench_ = w; }
+  /// The estimated external wrench reported from now on ([Fx Fy Fz Tx Ty Tz],
+  /// N, N m): in {g} axes, or with `tool_axes` in the flange's {e} axes (turned
+  /// into {g} by the measured pose each step: a press on the pad that turns
+  /// with the arm).
+  void setWrench(const std::array<double, 6>& w, bool tool_axes = false) {
+    wrench_ = w;
+    tool_axes_ = tool_axes;
+  }
 
  private:
+  void fillWrench();
   double tau_;
   std::array<double, 6> wrench_{};
+  bool tool_axes_ = false;
   PlantState state_{};
 };
 
