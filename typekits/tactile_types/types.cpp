@@ -73,8 +73,8 @@ const char* explain(ServoStatus s) {
       return "the arm did not follow the commanded motion (a joint limit, a collision, a controller that does not "
              "move): holding";
     case ServoStatus::ForceMismatch:
-      return "the taxels' force and the arm's estimated wrench along z_s disagree (load on the housing, a pad "
-             "softer than calibrated): holding";
+      return "the arm's estimated wrench along z_s carries more than the taxels' force and the force estimate's "
+             "bound (load on the housing, a pad softer than calibrated): stopped as the program says";
     case ServoStatus::SurfaceTooCurved:
       return "the surface curves more tightly than the rigid pad can follow (or lies where no taxel sees it): the "
              "arm's wrench carries more than the force set point while the image shrank to part of the pad or "
