@@ -1,6 +1,8 @@
 #include "tactile_config/yaml_params.hpp"
 
+#include <cmath>
 #include <cstring>
+#include <vector>
 
 namespace tactile {
 namespace config {
@@ -31,6 +33,19 @@ ConfigResult checkKeys(const YAML::Node& node, const Where& where, std::initiali
       return ConfigResult::failure(where.child(k).str() + ": unknown key (allowed: " + list + ")");
     }
   }
+  return ConfigResult::success();
+}
+
+ConfigResult readVec3(const YAML::Node& node, const char* key, std::array<double, 3>& v, const Where& where) {
+  if (!node[key]) return ConfigResult::success();
+  std::vector<double> x;
+  ConfigResult r = read(node, key, x, where);
+  if (!r) return r;
+  const std::string at = where.child(key).str() + ": ";
+  if (x.size() != 3) return ConfigResult::failure(at + "must have 3 entries, has " + std::to_string(x.size()));
+  for (double e : x)
+    if (!std::isfinite(e)) return ConfigResult::failure(at + "must be finite");
+  v = {x[0], x[1], x[2]};
   return ConfigResult::success();
 }
 

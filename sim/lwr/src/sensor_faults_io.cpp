@@ -10,24 +10,12 @@ namespace sim {
 
 using config::checkKeys;
 using config::read;
+using config::readVec3;
 using config::Where;
 
 namespace {
 
 ConfigResult fail(const Where& w, const std::string& msg) { return ConfigResult::failure(w.str() + ": " + msg); }
-
-// An optional [x, y, z] of finite numbers.
-ConfigResult readVec3(const YAML::Node& node, const char* key, std::array<double, 3>& v, const Where& w) {
-  if (!node[key]) return ConfigResult::success();
-  std::vector<double> x;
-  ConfigResult r = read(node, key, x, w);
-  if (!r) return r;
-  if (x.size() != 3) return fail(w.child(key), "must have 3 entries, has " + std::to_string(x.size()));
-  for (double e : x)
-    if (!std::isfinite(e)) return fail(w.child(key), "must be finite");
-  v = {x[0], x[1], x[2]};
-  return ConfigResult::success();
-}
 
 // rows / cols of a fault: [first, last] or one index.
 ConfigResult readSpan(const YAML::Node& n, const char* key, const Where& w, int& a, int& b) {

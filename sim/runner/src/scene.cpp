@@ -20,6 +20,7 @@ namespace sim {
 
 using config::checkKeys;
 using config::read;
+using config::readVec3;
 using config::Where;
 
 namespace {
@@ -36,18 +37,6 @@ std::string dirOf(const std::string& file) {
 std::string resolve(const std::string& base_dir, const std::string& path) {
   if (path.empty() || path[0] == '/') return path;
   return base_dir + "/" + path;
-}
-
-ConfigResult readVec3(const YAML::Node& node, const char* key, Vec3& v, const Where& w) {
-  if (!node[key]) return ConfigResult::success();
-  std::vector<double> x;
-  ConfigResult r = read(node, key, x, w);
-  if (!r) return r;
-  if (x.size() != 3) return fail(w.child(key), "must have 3 entries, has " + std::to_string(x.size()));
-  for (double e : x)
-    if (!std::isfinite(e)) return fail(w.child(key), "must be finite");
-  v = {x[0], x[1], x[2]};
-  return ConfigResult::success();
 }
 
 ConfigResult readObject(const YAML::Node& n, const Where& w, ObjectParams& o) {

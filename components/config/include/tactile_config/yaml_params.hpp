@@ -6,6 +6,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <array>
 #include <initializer_list>
 #include <string>
 
@@ -40,6 +41,10 @@ ConfigResult read(const YAML::Node& node, const char* key, T& value, const Where
   }
   return ConfigResult::success();
 }
+
+/// Read an optional [x, y, z] of finite numbers: absent keeps `v`; another
+/// length or a non-finite entry fails naming the key.
+ConfigResult readVec3(const YAML::Node& node, const char* key, std::array<double, 3>& v, const Where& where);
 
 /// Prefix a failure with the file/path it came from.
 ConfigResult locate(const ConfigResult& r, const Where& where);
