@@ -132,27 +132,45 @@ std::string runCapture(const std::string& cmd, int& exit_code) {
   exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return out;
 }
+
+/// fri_check (listening on an ephemeral loopback port, `check_args` added)
+/// and fri_sim_krc (sending to that port, `sim_args` added) as users run
+/// them: both outputs and exit statuses.
+struct ToolPair {
+  std::string check_out, sim_out;
+  int check_status = -1, sim_exit = -1;
+};
+ToolPair runToolsOnLoopback(const std::string& check_args, const std::string& sim_args) {
+  ToolPair r;
+  FILE* check = ::popen((std::string(FRI_CHECK_PATH) + " --port 0 --bind 127.0.0.1 --idle-timeout 3 " + check_args +
+                         " 2>&1").c_str(),
+                        "r");
+  if (check == nullptr) return r;
+  char line[512];
+  if (std::fgets(line, sizeof line, check) == nullptr) {
+    r.check_status = ::pclose(check);
+    return r;
+  }
+  r.check_out = line;
+  const std::size_t colon = r.check_out.find("127.0.0.1:");
+  if (colon != std::string::npos) {
+    const std::string port = std::to_string(std::stoul(r.check_out.substr(colon + 10)));
+    r.sim_out = runCapture(std::string(FRI_SIM_KRC_PATH) + " --port " + port + " " + sim_args, r.sim_exit);
+  }
+  while (std::fgets(line, sizeof line, check) != nullptr) r.check_out += line;
+  r.check_status = ::pclose(check);
+  return r;
+}
+
 }  // namespace
 
 TEST(FriCheckTool, AgainstTheSimKrcExecutable) {
   // Both bench tools as users run them, on loopback.
-  FILE* check = ::popen((std::string(FRI_CHECK_PATH) +
-                         " --port 0 --bind 127.0.0.1 --idle-timeout 3 --cycles 400 --motion circle 2>&1").c_str(),
-                        "r");
-  ASSERT_NE(check, nullptr);
-  char line[512];
-  ASSERT_NE(std::fgets(line, sizeof line, check), nullptr);
-  const std::string first = line;
-  const std::size_t colon = first.find("127.0.0.1:");
-  ASSERT_NE(colon, std::string::npos) << first;
-  const std::string port = std::to_string(std::stoul(first.substr(colon + 10)));
-  int sim_exit = -1;
-  const std::string sim = runCapture(std::string(FRI_SIM_KRC_PATH) + " --port " + port +
-                                         " --cycles 400 --fast --schedule 0:MON:PERFECT,100:CMD:PERFECT,300:MON:OK",
-                                     sim_exit);
-  std::string out = first;
-  while (std::fgets(line, sizeof line, check) != nullptr) out += line;
-  const int status = ::pclose(check);
+  const ToolPair t = runToolsOnLoopback("--cycles 400 --motion circle",
+                                        "--cycles 400 --fast --schedule 0:MON:PERFECT,100:CMD:PERFECT,300:MON:OK");
+  const std::string &out = t.check_out, &sim = t.sim_out;
+  const int status = t.check_status, sim_exit = t.sim_exit;
+  ASSERT_NE(out.find("127.0.0.1:"), std::string::npos) << out;
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << out;
   EXPECT_EQ(sim_exit, 0) << sim;
   EXPECT_TRUE(contains(sim, "cycles 400 sent 400 replies 400")) << sim;
@@ -202,24 +220,11 @@ TEST(FriCheckTool, FindsTheFormOfTheKrcsSetPoint) {
 }
 
 TEST(FriCheckTool, FindsTheFormAgainstTheSimKrcExecutable) {
-  FILE* check = ::popen((std::string(FRI_CHECK_PATH) +
-                         " --port 0 --bind 127.0.0.1 --idle-timeout 3 --cycles 1000 --motion circle --radius 0.02 "
-                         "--circle-period 1 2>&1").c_str(),
-                        "r");
-  ASSERT_NE(check, nullptr);
-  char line[512];
-  ASSERT_NE(std::fgets(line, sizeof line, check), nullptr);
-  const std::string first = line;
-  const std::size_t colon = first.find("127.0.0.1:");
-  ASSERT_NE(colon, std::string::npos) << first;
-  const std::string port = std::to_string(std::stoul(first.substr(colon + 10)));
-  int sim_exit = -1;
-  const std::string sim = runCapture(std::string(FRI_SIM_KRC_PATH) + " --port " + port +
-                                         " --cycles 1000 --fast --cart-offset composed --schedule 0:MON:PERFECT,100:CMD:PERFECT",
-                                     sim_exit);
-  std::string out = first;
-  while (std::fgets(line, sizeof line, check) != nullptr) out += line;
-  ::pclose(check);
+  const ToolPair t = runToolsOnLoopback("--cycles 1000 --motion circle --radius 0.02 --circle-period 1",
+                                        "--cycles 1000 --fast --cart-offset composed --schedule 0:MON:PERFECT,100:CMD:PERFECT");
+  const std::string &out = t.check_out, &sim = t.sim_out;
+  const int sim_exit = t.sim_exit;
+  ASSERT_NE(out.find("127.0.0.1:"), std::string::npos) << out;
   EXPECT_EQ(sim_exit, 0) << sim;
   EXPECT_TRUE(contains(out, "cart_offset: use composed (")) << out;
   int bad_exit = -1;
