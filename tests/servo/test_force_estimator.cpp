@@ -208,7 +208,7 @@ TEST(ForceEstimator, StepDoesNotAllocate) {
 
 TEST(ForceEstimator, TheServoRegulatesFHatAndTheWatchdogStillCatchesAWrenchBeyondTheBound) {
   // One contact phase, features constant: tactile 4 N with an edge, the wrench
-  // 5 N along z_s (identity pose: z_s = z_g; |F . z_s|). The d_z row's error is
+  // 5 N pressing along -z_s (identity pose: z_s = z_g; f_w = -F . z_s). The d_z row's error is
   // C_z (5 - f_hat): it goes to 0 as the correction reaches 1 N.
   PhaseParams ph = identityPhase("hold", 0.0, 0.0);
   ph.s_d(kZ) = 5.0 / 1800.0;
@@ -233,7 +233,7 @@ TEST(ForceEstimator, TheServoRegulatesFHatAndTheWatchdogStillCatchesAWrenchBeyon
       in.features = makeFeatures(t, 0, 0, contact ? 4.0 / 1800.0 : 0.0, 0, 0, 0, contact ? ContactType::Edge : ContactType::None);
       in.features.force = contact ? 4.0 : 0.0;
       in.wrench.time_s = t;
-      in.wrench.w = {0, 0, contact ? wrench_n : 0.0, 0, 0, 0};
+      in.wrench.w = {0, 0, contact ? -wrench_n : 0.0, 0, 0, 0};
       st = s.step(in, dt, out);
       in.flange_measured = out.command.pose;
       if (watchdogStatus(st)) break;

@@ -183,6 +183,20 @@ TEST(ServoWatchdogs, ProgramKeysAndRangesNamed) {
   q.watchdogs.correction_margin_n = -1.0;
   EXPECT_NE(s.configure(q).message().find("watchdogs.correction_saturated.margin_n"), std::string::npos);
   q = p;
+  q.watchdogs.drift_max_change_n = 51.0;
+  EXPECT_NE(s.configure(q).message().find("watchdogs.correction_drift.max_change_n"), std::string::npos);
+  q = p;
+  q.watchdogs.drift_tau_s = 0.0;
+  EXPECT_NE(s.configure(q).message().find("watchdogs.correction_drift.tau_s = 0: must be in (0, 10] s"), std::string::npos)
+      << s.configure(q).message();
+  q = p;
+  q.watchdogs.drift_settle_s = -1.0;
+  EXPECT_NE(s.configure(q).message().find("watchdogs.correction_drift.settle_s"), std::string::npos);
+  q = p;
+  q.watchdogs.drift_min_extent_ratio = 0.0;
+  EXPECT_NE(s.configure(q).message().find("watchdogs.correction_drift.min_extent_ratio = 0: must be in (0, 1]"),
+            std::string::npos);
+  q = p;
   q.watchdogs.fault_retreat_m = 0.2;
   const std::string m = s.configure(q).message();
   EXPECT_NE(m.find("watchdogs.retreat_m"), std::string::npos) << m;
@@ -561,12 +575,132 @@ TEST(ServoSensorChecks, OnFaultRetreatMovesAlongMinusZsThenHolds) {
   EXPECT_NEAR(d.z(), -0.01 + 0.05 * dt, 1e-9);
 }
 
+// The wrench with the wrong sign (the KRC's estExtTcpFT against the stated
+// convention, or the fault schedule's wrench_sign): a 5 N press reads
+// f_w = -5 N. Folded into |f_w| it agreed with the taxels and the fused
+// estimate ran on; signed it is 10 N below them, a phantom contact within
+// the 0.05 s window, with the fused source and without.
+TEST(ServoSensorChecks, AWrenchOfTheWrongSignIsAPhantomContactAtTheFirstTouch) {
+  for (bool fused : {false, true}) {
+    SensorLoop l(chaseCop(fused, 4.5), 5.0, 0.0);
+    l.arm_follows = false;
+    l.wrench(-5.0);
+    ASSERT_EQ(l.step(0.01), ServoStatus::Starting);
+    EXPECT_EQ(l.run(1.0, 0.01, ServoStatus::PhantomContact), ServoStatus::PhantomContact) << fused;
+    EXPECT_LE(l.t, 0.05 + 3 * 0.01 + 1e-9) << fused;
+    // The same press with the stated sign: the sensors agree, no stop.
+    SensorLoop right(chaseCop(fused, 4.5), 5.0, 0.0);
+    right.arm_follows = false;
+    right.wrench(5.0);
+    right.step(0.01);
+    EXPECT_FALSE(watchdogStatus(right.run(1.0, 0.01, ServoStatus::PhantomContact))) << fused;
+  }
+}
+
+namespace {
+ServoParams driftChecked() {
+  ServoParams p = chaseCop(true, 4.5);
+  p.watchdogs.drift_max_change_n = 1.0;
+  p.watchdogs.drift_tau_s = 1.0;
+  p.watchdogs.drift_settle_s = 2.0;
+  return p;
+}
+}  // namespace
+
+// The wrench drifts (10 N/min) while the taxels hold a steady 4 N of a 5 N
+// press: the fused correction follows the drift below its bound, so neither
+// correction_saturated (4.5 N + 0.5 N) nor force_mismatch comes for tens of
+// seconds. The drift check anchors the low-passed demand (tau 1 s) 2 s into
+// the contact and stops once it moved by 1 N. The filter starts at the
+// demand's first sample (0: the demand itself rises to the 1 N hidden with
+// tau_s 0.1 s), so with the ramp r = 1/6 N/s it reads
+// lp(t) = 1 - e^-t + r (t - 1 + e^-t): the anchor lp(2) = 1.054 N, and
+// lp(t) = 2.054 N at t = 7.32 s. Tolerance 0.2 s: the demand's own 0.1 s lag
+// behind the ramp, and the cycle.
+TEST(ServoSensorChecks, AWrenchThatDriftsIsStoppedByTheCorrectionDriftCheck) {
+  for (double dt : {0.01, 0.001}) {
+    SensorLoop l(driftChecked(), 4.0, 0.0);
+    l.arm_follows = false;
+    l.wrench(5.0);
+    l.step(dt);
+    ServoStatus st = ServoStatus::Ok;
+    while (l.t < 30.0 && !watchdogStatus(st)) {
+      l.wrench(5.0 + (10.0 / 60.0) * l.t);
+      st = l.step(dt);
+    }
+    EXPECT_EQ(st, ServoStatus::CorrectionDrift) << dt;
+    EXPECT_NEAR(l.t, 7.32, 0.2) << dt;
+    EXPECT_LT(std::fabs(l.s.forceEstimator().correction()), 4.5) << dt;  // below its bound: saturation alone came later
+  }
+}
+
+// What the drift check leaves alone: a steady hidden load with noise (the
+// nominal slide), a phase switch that changes the demand (the anchor starts
+// over), the check off (max_change_n 0), and the tactile source (no
+// correction).
+TEST(ServoSensorChecks, TheCorrectionDriftCheckIgnoresASteadyCorrectionAndRestartsPerPhase) {
+  const double dt = 0.01;
+  SensorLoop steady(driftChecked(), 4.0, 0.0);
+  steady.arm_follows = false;
+  steady.step(dt);
+  ServoStatus st = ServoStatus::Ok;
+  for (int k = 0; k < 3000 && !watchdogStatus(st); ++k) {
+    steady.wrench(5.0 + 0.8 * std::sin(0.5 * k * dt) + (k % 7 - 3) * 0.3);  // +-0.8 N slow, +-0.9 N fast
+    st = steady.step(dt);
+  }
+  EXPECT_FALSE(watchdogStatus(st)) << static_cast<int>(st);
+  // A load that steps by 2 N at a phase switch: a new anchor, no stop.
+  ServoParams two = driftChecked();
+  PhaseParams b = two.phases[0];
+  b.name = "press";
+  b.s_d(kZ) = 7.0 / 1800.0;
+  TransitionParams later;  // reachable from align (the program's check); the test switches by request
+  later.on = TransitionEvent::Timeout;
+  later.timeout_s = 1000.0;
+  later.to = "press";
+  two.phases[0].transitions.push_back(later);
+  two.phases.push_back(b);
+  SensorLoop sw(two, 4.0, 0.0);
+  sw.arm_follows = false;
+  sw.wrench(5.0);
+  sw.step(dt);
+  EXPECT_FALSE(watchdogStatus(sw.run(4.0, dt, ServoStatus::CorrectionDrift)));
+  ASSERT_TRUE(sw.s.requestPhase("press"));
+  sw.wrench(7.0);
+  EXPECT_FALSE(watchdogStatus(sw.run(10.0, dt, ServoStatus::CorrectionDrift)));
+  // The same 2 N step within one phase is a drift.
+  SensorLoop one(driftChecked(), 4.0, 0.0);
+  one.arm_follows = false;
+  one.wrench(5.0);
+  one.step(dt);
+  EXPECT_FALSE(watchdogStatus(one.run(4.0, dt, ServoStatus::CorrectionDrift)));
+  one.wrench(7.0);
+  EXPECT_EQ(one.run(10.0, dt, ServoStatus::CorrectionDrift), ServoStatus::CorrectionDrift);
+  // Off, and without a correction: the ramp runs on.
+  ServoParams off = driftChecked();
+  off.watchdogs.drift_max_change_n = 0.0;
+  ServoParams tactile_src = driftChecked();
+  tactile_src.force_estimate.fused = false;
+  for (const ServoParams& p : {off, tactile_src}) {
+    SensorLoop l(p, 4.0, 0.0);
+    l.arm_follows = false;
+    l.wrench(5.0);
+    l.step(dt);
+    for (int k = 0; k < 1200 && !watchdogStatus(st); ++k) {
+      l.wrench(5.0 + 2.0 * k / 1200.0);
+      st = l.step(dt);
+    }
+    EXPECT_NE(st, ServoStatus::CorrectionDrift);
+  }
+}
+
 TEST(ServoSensorChecks, ProgramKeysRead) {
   const std::string text =
       "watchdogs:\n"
       "  phantom_contact: {window_s: 0.02, tolerance_n: 1.5, tolerance_rel: 0.3}\n"
       "  unseen_load: {window_s: 0.2, max_n: 8}\n"
       "  correction_saturated: {window_s: 3, margin_n: 0.7}\n"
+      "  correction_drift: {max_change_n: 1.2, tau_s: 0.5, settle_s: 3}\n"
       "  on_fault: retreat\n"
       "  retreat_m: 0.005\n"
       "phases:\n"
@@ -582,6 +716,9 @@ TEST(ServoSensorChecks, ProgramKeysRead) {
   EXPECT_DOUBLE_EQ(p.watchdogs.unseen_max_n, 8.0);
   EXPECT_DOUBLE_EQ(p.watchdogs.correction_window_s, 3.0);
   EXPECT_DOUBLE_EQ(p.watchdogs.correction_margin_n, 0.7);
+  EXPECT_DOUBLE_EQ(p.watchdogs.drift_max_change_n, 1.2);
+  EXPECT_DOUBLE_EQ(p.watchdogs.drift_tau_s, 0.5);
+  EXPECT_DOUBLE_EQ(p.watchdogs.drift_settle_s, 3.0);
   EXPECT_TRUE(p.watchdogs.fault_retreat);
   EXPECT_DOUBLE_EQ(p.watchdogs.fault_retreat_m, 0.005);
   ServoParams q;

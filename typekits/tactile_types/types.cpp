@@ -47,6 +47,7 @@ const char* toString(ServoStatus s) {
     case ServoStatus::PhantomContact: return "phantom_contact";
     case ServoStatus::UnseenLoad: return "unseen_load";
     case ServoStatus::CorrectionSaturated: return "correction_saturated";
+    case ServoStatus::CorrectionDrift: return "correction_drift";
   }
   return "unknown";
 }
@@ -88,6 +89,10 @@ const char* explain(ServoStatus s) {
     case ServoStatus::CorrectionSaturated:
       return "the force estimate's correction stayed at its limit (force_estimate.max_correction_n): the taxels "
              "and the wrench disagree by more than the estimate may bridge (a calibration off, a wrench bias); "
+             "stopped as the program says";
+    case ServoStatus::CorrectionDrift:
+      return "the force estimate's correction kept moving where the load the taxels miss should stay the same "
+             "(watchdogs.correction_drift): the arm's wrench drifts and would carry the true force with it; "
              "stopped as the program says";
   }
   return "unknown status";

@@ -76,7 +76,7 @@ double ForceEstimator::step(double f, bool contact, bool fresh, const KDL::Vecto
   // force-mismatch watchdog the wrench less its zero.
   if (!p_.fused) return f;
   if (usable && std::isfinite(f)) {
-    const double f_w = std::fabs(dot(F - tare_, z_s));
+    const double f_w = press(F, tare_, z_s);
     const double a = 1.0 - std::exp(-dt / p_.tau_s);  // exact for held samples
     double target = f_w - f;
     demand_ += a * (target - demand_);

@@ -362,7 +362,7 @@ ConfigResult readSlopeFeedforward(const YAML::Node& sf, const Where& w, SlopeFee
 }
 
 /// watchdogs' sensor checks (WatchdogParams): phantom_contact, unseen_load,
-/// correction_saturated and what the servo does on one (on_fault, retreat_m);
+/// correction_saturated, correction_drift and what the servo does on one (on_fault, retreat_m);
 /// the ranges are checked by ServoWatchdogs::configure.
 ConfigResult readSensorChecks(const YAML::Node& wd, const Where& w, WatchdogParams& wp) {
   ConfigResult r = ConfigResult::success();
@@ -383,6 +383,14 @@ ConfigResult readSensorChecks(const YAML::Node& wd, const Where& w, WatchdogPara
     const Where wc = w.child("correction_saturated");
     if (!(r = checkKeys(cs, wc, {"window_s", "margin_n"}))) return r;
     for (auto rr : {read(cs, "window_s", wp.correction_window_s, wc), read(cs, "margin_n", wp.correction_margin_n, wc)})
+      if (!rr) return rr;
+  }
+  if (const YAML::Node cd = wd["correction_drift"]) {
+    const Where wc = w.child("correction_drift");
+    if (!(r = checkKeys(cd, wc, {"max_change_n", "tau_s", "settle_s", "min_extent_ratio"}))) return r;
+    for (auto rr : {read(cd, "max_change_n", wp.drift_max_change_n, wc), read(cd, "tau_s", wp.drift_tau_s, wc),
+                    read(cd, "settle_s", wp.drift_settle_s, wc),
+                    read(cd, "min_extent_ratio", wp.drift_min_extent_ratio, wc)})
       if (!rr) return rr;
   }
   int retreat = wp.fault_retreat ? 1 : 0;
@@ -463,7 +471,7 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
   if (const YAML::Node wd = root["watchdogs"]) {
     const Where w = top.child("watchdogs");
     WatchdogParams& wp = p.watchdogs;
-    if (!(r = checkKeys(wd, w, {"arm_stall", "force_mismatch", "phantom_contact", "unseen_load", "correction_saturated",
+    if (!(r = checkKeys(wd, w, {"arm_stall", "force_mismatch", "phantom_contact", "unseen_load", "correction_saturated", "correction_drift",
                                 "on_fault", "retreat_m", "surface_too_curved"})))
       return r;
     if (!(r = readSensorChecks(wd, w, wp))) return r;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace tactile {
 
@@ -190,6 +191,51 @@ void TactileServo::observePose(const ServoInput& in, const KDL::Frame& meas, boo
   program_.observe(sig);
 }
 
+ServoStatus TactileServo::forceStage(const ServoInput& in, const KDL::Frame& meas, double dt, double now,
+                                     ForceStage& fs, ServoOutput& out) {
+  // The force the law and the transitions use: Eq. 2's f, or f corrected by
+  // the wrench at low frequency (force_estimator.hpp), which also keeps the
+  // wrench's zero (tare).
+  const ContactFeatures& f = in.features;
+  const KDL::Vector z_s = (meas * law_.sensorMount()).M.UnitZ();
+  const bool contact = PhaseProgram::hasContact(f);
+  const bool wrench_fresh = in.have_wrench && std::fabs(now - in.wrench.time_s) <= params_.safety.stale_timeout;
+  const KDL::Vector F(in.wrench.w[0], in.wrench.w[1], in.wrench.w[2]);
+  fs.f_hat = force_est_.step(f.force, contact, wrench_fresh, F, z_s, dt, f.area);
+  fs.f_law = fs.f_hat;
+  fs.extent = std::sqrt(12.0 * std::max(0.0, f.lambda1));  // the image's length along the edge (a uniform line's)
+  // The taxels (Eq. 2's f, never f_hat) against the arm's estimated wrench
+  // (less its zero) along z_s, and the estimate's correction against its limit.
+  const double f_w = ForceEstimator::press(F, force_est_.tare(), z_s);
+  out.force_wrench = wrench_fresh ? f_w : std::numeric_limits<double>::quiet_NaN();
+  out.force_correction = force_est_.correction();
+  out.force_demand = force_est_.demand();
+  const int phc = program_.current();
+  const double f_d = params_.phases[static_cast<std::size_t>(phc)].s_d(kZ) / law_.c_z();
+  const bool regulated = program_.requiresContact(phc) && f_d > 0.0;  // the phase holds a force set point
+  ServoWatchdogs::SensorSample ss;
+  ss.f = f.force;
+  ss.contact = contact;
+  ss.fresh = wrench_fresh;
+  ss.f_w = f_w;
+  ss.hidden_n = ss.c_max = params_.force_estimate.fused ? params_.force_estimate.max_correction_n : 0.0;
+  ss.c = force_est_.demand();
+  ss.phase = phc;
+  ss.regulated = regulated;
+  ss.extent_m = fs.extent;
+  const ServoStatus disagree = watchdogs_.sensorsAgree(ss, dt);
+  if (disagree != ServoStatus::Ok) return disagree;
+  // The surface curves more tightly than the pad (watchdog.hpp): the
+  // wrench well above the set point the law holds, the image shrunk.
+  if (wrench_fresh && contact) fs.excess = f_w - (params_.speed_law.excess_against_tactile ? f.force : fs.f_hat);
+  if (watchdogs_.surfaceTooCurved(f_w, f_d, regulated, contact, f.force, fs.extent, wrench_fresh, dt))
+    return ServoStatus::SurfaceTooCurved;
+  // The first reaction: lift by the load the taxels miss (0 unless configured).
+  const double lift = watchdogs_.curvedLift();
+  if (lift > 0.0) fs.f_law = std::max(fs.f_hat, f_d + lift);
+  return ServoStatus::Ok;
+}
+
 ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out) {
   out.error.setZero();
   out.error_task.setZero();
@@ -275,46 +321,12 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   if (!f_finite) return finish(ServoStatus::InvalidInput, now, out);
   // Stale-features watchdog.
   if (safety_.stale(f, now)) return finish(ServoStatus::Holding, now, out);
-  // The force the law and the transitions use: Eq. 2's f, or f corrected by
-  // the wrench at low frequency (force_estimator.hpp), which also keeps the
-  // wrench's zero (tare).
-  const KDL::Vector z_s = (meas * law_.sensorMount()).M.UnitZ();
-  const bool contact = PhaseProgram::hasContact(f);
-  const bool wrench_fresh = in.have_wrench && std::fabs(now - in.wrench.time_s) <= params_.safety.stale_timeout;
-  const KDL::Vector F(in.wrench.w[0], in.wrench.w[1], in.wrench.w[2]);
-  const double f_hat = force_est_.step(f.force, contact, wrench_fresh, F, z_s, dt, f.area);
-  double f_law = f_hat;  // the force the law holds at its set point
-  double excess = 0.0;   // the wrench along z_s less f_hat or f (N): load the taxels do not carry
-  const double extent = std::sqrt(12.0 * std::max(0.0, f.lambda1));  // the image's length along the edge (a uniform line's)
-  // The taxels (Eq. 2's f, never f_hat) against the arm's estimated wrench
-  // (less its zero) along z_s, and the estimate's correction against its limit.
-  const double f_w_tared = std::fabs(dot(F - force_est_.tare(), z_s));
-  {
-    ServoWatchdogs::SensorSample ss;
-    ss.f = f.force;
-    ss.contact = contact;
-    ss.fresh = wrench_fresh;
-    ss.f_w = f_w_tared;
-    const bool fused = params_.force_estimate.fused;
-    ss.hidden_n = ss.c_max = fused ? params_.force_estimate.max_correction_n : 0.0;
-    ss.c = force_est_.demand();
-    const ServoStatus disagree = watchdogs_.sensorsAgree(ss, dt);
-    if (disagree != ServoStatus::Ok) return onSensorFault(base, dt, now, out);
-  }
-  {
-    // The surface curves more tightly than the pad (watchdog.hpp): the
-    // wrench well above the set point the law holds, the image shrunk.
-    const int phc = program_.current();
-    const double f_d = params_.phases[static_cast<std::size_t>(phc)].s_d(kZ) / law_.c_z();
-    const bool regulated = program_.requiresContact(phc) && f_d > 0.0;
-    const double f_w = f_w_tared;
-    if (wrench_fresh && contact) excess = f_w - (params_.speed_law.excess_against_tactile ? f.force : f_hat);
-    if (watchdogs_.surfaceTooCurved(f_w, f_d, regulated, contact, f.force, extent, wrench_fresh, dt))
-      return finish(ServoStatus::SurfaceTooCurved, now, out);
-    // The first reaction: lift by the load the taxels miss (0 unless configured).
-    const double lift = watchdogs_.curvedLift();
-    if (lift > 0.0) f_law = std::max(f_hat, f_d + lift);
-  }
+  // The force the law and the transitions use, and the two sensors against each other.
+  ForceStage fs;
+  const ServoStatus fst = forceStage(in, meas, dt, now, fs, out);
+  if (fst == ServoStatus::SurfaceTooCurved) return finish(fst, now, out);
+  if (fst != ServoStatus::Ok) return onSensorFault(base, dt, now, out);  // the sensors disagree
+  const double f_law = fs.f_law, f_hat = fs.f_hat, excess = fs.excess, extent = fs.extent;
   ContactFeatures fc = in.features;
   fc.d_z += law_.c_z() * (f_law - f.force);  // Eq. 2: d_z = C_z f
   fc.force = f_law;

@@ -40,6 +40,14 @@ ConfigResult ServoWatchdogs::configure(const ServoParams& p) {
     return err(p, "", "watchdogs.correction_saturated.window_s", w.correction_window_s, "must be in [0, 60] s (0 = off)");
   if (!in(w.correction_margin_n, 0.0, 50.0))
     return err(p, "", "watchdogs.correction_saturated.margin_n", w.correction_margin_n, "must be in [0, 50] N");
+  if (!in(w.drift_max_change_n, 0.0, 50.0))
+    return err(p, "", "watchdogs.correction_drift.max_change_n", w.drift_max_change_n, "must be in [0, 50] N (0 = off)");
+  if (!(in(w.drift_tau_s, 0.0, 10.0) && w.drift_tau_s > 0))
+    return err(p, "", "watchdogs.correction_drift.tau_s", w.drift_tau_s, "must be in (0, 10] s");
+  if (!in(w.drift_settle_s, 0.0, 60.0))
+    return err(p, "", "watchdogs.correction_drift.settle_s", w.drift_settle_s, "must be in [0, 60] s");
+  if (!(in(w.drift_min_extent_ratio, 0.0, 1.0) && w.drift_min_extent_ratio > 0))
+    return err(p, "", "watchdogs.correction_drift.min_extent_ratio", w.drift_min_extent_ratio, "must be in (0, 1]");
   if (!in(w.fault_retreat_m, 0.0, 0.1))
     return err(p, "", "watchdogs.retreat_m", w.fault_retreat_m, "must be in [0, 0.1] m");
   if (!in(w.curved_tau_s, 0.0, 10.0))
@@ -61,6 +69,10 @@ void ServoWatchdogs::reset() {
   latched_ = ServoStatus::Ok;
   stall_active_ = false;
   mismatch_s_ = phantom_s_ = unseen_s_ = saturated_s_ = 0.0;
+  drift_lp_ = drift_anchor_ = drift_extent_lp_ = drift_extent_anchor_ = 0.0;
+  drift_in_s_ = -1.0;
+  drift_anchored_ = false;
+  drift_phase_ = -1;
   retreat_moved_ = 0.0;
   curved_lp_ = 0.0;
   curved_have_ = false;
@@ -115,18 +127,49 @@ ServoStatus ServoWatchdogs::sensorsAgree(const SensorSample& s, double dt) {
   if (held(s.contact && s.f_w - s.f > tol, p_.mismatch_window_s, dt, mismatch_s_))
     return latchedAs(ServoStatus::ForceMismatch);
   // Unseen load: no taxel fires, the arm carries a load.
-  if (held(!s.contact && s.f_w > p_.unseen_max_n, p_.unseen_window_s, dt, unseen_s_))
+  if (held(!s.contact && std::fabs(s.f_w) > p_.unseen_max_n, p_.unseen_window_s, dt, unseen_s_))
     return latchedAs(ServoStatus::UnseenLoad);
   // Correction saturated: counted on the cycles that update it (contact).
   if (s.c_max > 0.0 && s.contact &&
       held(std::fabs(s.c) >= s.c_max + p_.correction_margin_n, p_.correction_window_s, dt, saturated_s_))
     return latchedAs(ServoStatus::CorrectionSaturated);
+  if (correctionDrifts(s, dt)) return latchedAs(ServoStatus::CorrectionDrift);
   return ServoStatus::Ok;
+}
+
+bool ServoWatchdogs::correctionDrifts(const SensorSample& s, double dt) {
+  if (!(p_.drift_max_change_n > 0.0) || !(s.c_max > 0.0)) return false;
+  if (!s.contact || !s.regulated || s.phase != drift_phase_) {  // the anchor starts over
+    drift_phase_ = s.phase;
+    drift_in_s_ = -1.0;
+    drift_anchored_ = false;
+    return false;
+  }
+  if (drift_in_s_ < 0.0) {  // the contact began in this phase: the filters start at the samples
+    drift_in_s_ = 0.0;
+    drift_lp_ = s.c;
+    drift_extent_lp_ = s.extent_m;
+  }
+  drift_in_s_ += dt;
+  const double a = 1.0 - std::exp(-dt / p_.drift_tau_s);  // exact for held samples
+  drift_lp_ += a * (s.c - drift_lp_);
+  drift_extent_lp_ += a * (s.extent_m - drift_extent_lp_);
+  const double r = p_.drift_min_extent_ratio;
+  const bool same_image = drift_extent_lp_ >= r * drift_extent_anchor_ && r * drift_extent_lp_ <= drift_extent_anchor_;
+  if (!drift_anchored_ || !same_image) {
+    if (drift_in_s_ < p_.drift_settle_s - 1e-9) return false;
+    drift_anchor_ = drift_lp_;
+    drift_extent_anchor_ = drift_extent_lp_;
+    drift_anchored_ = true;
+    return false;
+  }
+  return std::fabs(drift_lp_ - drift_anchor_) > p_.drift_max_change_n;
 }
 
 double ServoWatchdogs::faultRetreat(double max_step) {
   const bool sensor_fault = latched_ == ServoStatus::PhantomContact || latched_ == ServoStatus::ForceMismatch ||
-                            latched_ == ServoStatus::UnseenLoad || latched_ == ServoStatus::CorrectionSaturated;
+                            latched_ == ServoStatus::UnseenLoad || latched_ == ServoStatus::CorrectionSaturated ||
+                            latched_ == ServoStatus::CorrectionDrift;
   if (!sensor_fault || !p_.fault_retreat) return 0.0;
   const double d = std::min(std::max(max_step, 0.0), p_.fault_retreat_m - retreat_moved_);
   if (!(d > 0.0)) return 0.0;

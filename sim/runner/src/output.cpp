@@ -117,7 +117,8 @@ bool writeRun(const std::string& dir, const Scene& sc, const RunResult& r, std::
                "lambda1,lambda2,area,sd_cop_x,sd_cop_y,sd_d_z,sd_dzmp_x,sd_dzmp_y,sd_alpha_z,sd_force,force_true,"
                "force_layer,housing_force,moment_x_true,moment_y_true,tray_angle_deg,true_cx,true_cy,true_cz,u_x,u_y,"
                "u_z,u_wx,u_wy,u_wz,beta,feature_age,curvature,slide_speed,speed_limiter,law_force_error,law_force_rate,"
-               "law_angle_rate,law_curvature,law_extent,law_excess,joint_margin\n");
+               "law_angle_rate,law_curvature,law_extent,law_excess,joint_margin,force_wrench,"
+               "force_correction,force_demand\n");
   std::string line;
   for (const auto& w : r.rows) {
     const auto& ft = w.f;
@@ -135,7 +136,7 @@ bool writeRun(const std::string& dir, const Scene& sc, const RunResult& r, std::
                         ft.curvature, w.slide_speed, static_cast<double>(w.speed_limiter),
                         w.speed_inputs.force_error_n, w.speed_inputs.force_error_rate, w.speed_inputs.angle_rate,
                         w.speed_inputs.curvature, w.speed_inputs.extent_m, w.speed_inputs.wrench_excess_n,
-                        w.joint_margin};
+                        w.joint_margin, w.force_wrench, w.force_correction, w.force_demand};
     line.clear();
     for (double x : v) appendG9(line, x);
     line += '\n';

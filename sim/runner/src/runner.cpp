@@ -182,6 +182,9 @@ void Runner::logServoCycle(double t, RunState& rs, RunResult& out) const {
   out.rows.back().speed_limiter = static_cast<int>(rs.sout.speed_limiter);
   out.rows.back().speed_inputs = rs.sout.speed_inputs;
   out.rows.back().joint_margin = servo_.servo().program().signals().joint_margin;
+  out.rows.back().force_wrench = rs.sout.force_wrench;
+  out.rows.back().force_correction = rs.sout.force_correction;
+  out.rows.back().force_demand = rs.sout.force_demand;
   if (feats.contact == ContactType::Edge && std::fabs(feats.dzmp_y) > rs.worst_dzmp) {
     rs.worst_dzmp = std::fabs(feats.dzmp_y);
     rs.worst.t = t;

@@ -59,6 +59,7 @@ EndReason EndRule::afterServo(ServoStatus st) {
   if (st == ServoStatus::PhantomContact) return EndReason::ServoPhantomContact;
   if (st == ServoStatus::UnseenLoad) return EndReason::ServoUnseenLoad;
   if (st == ServoStatus::CorrectionSaturated) return EndReason::ServoCorrectionSaturated;
+  if (st == ServoStatus::CorrectionDrift) return EndReason::ServoCorrectionDrift;
   // A terminal phase ends the run after one more second of holding.
   if (st == ServoStatus::Done && ++done_cycles_ > done_limit_) return EndReason::DoneHeld;
   return EndReason::None;
@@ -94,7 +95,8 @@ void applyEnd(EndReason reason, SimStatus sim_status, Summary& s) {
                                             {EndReason::ServoSurfaceTooCurved, "servo_surface_too_curved", 8},
                                             {EndReason::ServoPhantomContact, "servo_phantom_contact", 9},
                                             {EndReason::ServoUnseenLoad, "servo_unseen_load", 10},
-                                            {EndReason::ServoCorrectionSaturated, "servo_correction_saturated", 11}};
+                                            {EndReason::ServoCorrectionSaturated, "servo_correction_saturated", 11},
+                                            {EndReason::ServoCorrectionDrift, "servo_correction_drift", 12}};
   for (const ServoEnd& e : kServoEnds) {
     if (e.reason == reason) {
       s.status = e.status;

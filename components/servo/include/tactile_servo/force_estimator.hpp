@@ -29,7 +29,11 @@
 //                        housing with no taxel firing must still reach the
 //                        force-mismatch watchdog). T = 0 until the
 //                        first tare (tared()).
-//   tactile contact:     f_w = |(F - T) . z_s|
+//   tactile contact:     f_w = -(F - T) . z_s (press()): the press on the pad as
+//                        the wrench reads it, signed: the contact pushes the
+//                        pad back toward the flange, along -z_s, so a press is
+//                        f_w > 0 and a wrench of the wrong sign reads f_w < 0
+//                        (never folded into |.|: the watchdog sees it)
 //                        c   <- c + a_c (min(f_w - f, c_img) - c),  a_c = 1 - exp(-dt / tau_s),
 //                        |c| <= max_correction_n
 //                        c_img = c + f - th n - image_margin_n (with
@@ -93,6 +97,11 @@ class ForceEstimator {
   /// (the image's bound; ignored with image_margin_n = 0). Returns f_hat (N).
   double step(double f, bool contact, bool fresh, const KDL::Vector& F, const KDL::Vector& z_s, double dt,
               int area = 0);
+
+  /// The press on the pad along z_s as the wrench F ({g}, N) less the tare T
+  /// reads it (N, signed; > 0 for a press: the contact's force on the flange
+  /// points along -z_s): f_w above.
+  static double press(const KDL::Vector& F, const KDL::Vector& T, const KDL::Vector& z_s) { return -dot(F - T, z_s); }
 
   double correction() const { return c_; }  ///< c (N)
   /// The correction's demand (N): f_w - f low-passed as c is, without its

@@ -100,6 +100,13 @@ struct ServoOutput {
   Vec6 u_s = Vec6::Zero();         ///< increment applied this cycle, in {s}
   uint8_t beta = 0;                ///< 1 when the edge Jacobian was used
   double force = 0.0;              ///< N: the force the law and the transitions used (f_hat, force_estimator.hpp)
+  /// N: the press the arm's wrench less its zero reads along z_s (f_w,
+  /// force_estimator.hpp; signed), NaN without a fresh wrench; and the fused
+  /// estimate's correction c and its demand (0 with source tactile): both
+  /// sensors side by side, whatever the law used.
+  double force_wrench = 0.0;
+  double force_correction = 0.0;
+  double force_demand = 0.0;
   /// m/s: the speed law's cap on the slide axis this cycle (speed_law.hpp);
   /// 0 in a phase without the law.
   double slide_speed = 0.0;
@@ -157,6 +164,15 @@ class TactileServo {
   /// A latched sensor fault (watchdog.hpp): this cycle's retreat along -z_s
   /// (on_fault: retreat), else the held command.
   ServoStatus onSensorFault(const KDL::Frame& base, double dt, double now, ServoOutput& out);
+  /// This cycle's forces: f_hat (force_estimator.hpp), the force the law holds,
+  /// the wrench's excess over it and the image's extent.
+  struct ForceStage {
+    double f_hat = 0.0, f_law = 0.0, excess = 0.0, extent = 0.0;
+  };
+  /// The force estimate, the two sensors against each other and the surface
+  /// check on one cycle: Ok, or the watchdog status that ends it.
+  ServoStatus forceStage(const ServoInput& in, const KDL::Frame& meas, double dt, double now, ForceStage& fs,
+                         ServoOutput& out);
 
   bool configured_ = false;
   ServoParams params_;

@@ -191,7 +191,22 @@ struct WatchdogParams {
   /// bars, docs/design.md), a calibration or a wrench off holds it for good.
   double correction_window_s = 2.0;              ///< s, [0, 60], 0 = off
   double correction_margin_n = 0.5;              ///< N, [0, 50]
-  /// What the servo does once one of the four checks above stops it: hold the
+  /// Correction drift (source fused only; off unless max_change_n > 0): in a
+  /// phase that holds a force set point, the demand low-passed with tau_s
+  /// moves more than max_change_n away from its value settle_s after the
+  /// contact began in that phase (the anchor). Where the pad's hidden load is
+  /// stationary (a straight edge at a constant set point), a correction that
+  /// keeps moving is the wrench drifting, not the contact: the estimate would
+  /// carry the drift into the true force. The anchor restarts on a phase
+  /// change, when the contact or the fresh wrench lapses, and when the
+  /// image's extent (low-passed with tau_s) leaves [min_extent_ratio,
+  /// 1 / min_extent_ratio] times its value at the anchor: another contact
+  /// geometry (the pad running off the edge's end), another hidden load.
+  double drift_max_change_n = 0.0;               ///< N, [0, 50], 0 = off
+  double drift_tau_s = 1.0;                      ///< s, (0, 10]
+  double drift_settle_s = 2.0;                   ///< s, [0, 60]
+  double drift_min_extent_ratio = 0.7;           ///< (0, 1]
+  /// What the servo does once one of the checks above stops it: hold the
   /// last command, or retreat along -z_s by retreat_m at the step limit, then
   /// hold.
   bool fault_retreat = false;                    ///< on_fault: hold (false) | retreat (true)

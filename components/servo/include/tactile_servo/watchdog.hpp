@@ -12,11 +12,13 @@
 //  * the two sensors against each other (sensorsAgree), with Eq. 2's
 //    tactile force f = d_z / C_z (never the fused estimate f_hat = f + c,
 //    whose correction moves toward the wrench and would hide the
-//    contradiction) and f_w = |F . z_s|, the arm's estimated wrench (less
-//    its zero, force_estimator.hpp) along z_s, independent of the sign
-//    convention of the estimate (the KRC's estExtTcpFT or the simulated
-//    arm's contact wrench); a wrench older than `stale_s` is not used (the
-//    windows hold). Each contradiction has its own status and window:
+//    contradiction) and f_w = -(F - T) . z_s, the press the arm's estimated
+//    wrench (less its zero T, force_estimator.hpp) reads along z_s, signed: a
+//    wrench of the wrong sign (the KRC's estExtTcpFT against the convention
+//    fri.yaml states, docs/bringup.md) reads a press as f_w < 0 and is a
+//    phantom contact at the first touch, never folded into |f_w|; a wrench
+//    older than `stale_s` is not used (the windows hold). Each contradiction
+//    has its own status and window:
 //      phantom contact     with tactile contact, f - f_w > max(tolerance_n,
 //                          tolerance_rel f) for phantom.window_s: the taxels
 //                          read a load the arm does not carry (a stuck or
@@ -30,7 +32,7 @@
 //                          firing threshold (its max_correction_n; 0 with
 //                          source tactile): a pad much softer than calibrated,
 //                          the housing carrying part of the load;
-//      unseen load         without tactile contact, f_w > unseen.max_n for
+//      unseen load         without tactile contact, |f_w| > unseen.max_n for
 //                          unseen.window_s: a load no taxel sees;
 //      correction saturated  source fused: the correction's demand (f_w - f
 //                          low-passed as c is, without c's bounds) at or
@@ -38,7 +40,23 @@
 //                          on cycles that update it (tactile contact, a
 //                          fresh wrench): a correction held at its limit, or
 //                          at the image's bound below it, is a disagreement
-//                          the estimate cannot bridge, not a steady state.
+//                          the estimate cannot bridge, not a steady state;
+//      correction drift    source fused, off unless correction_drift.max_change_n
+//                          > 0: in a phase that holds a force set point, the
+//                          demand low-passed with tau_s moves more than
+//                          max_change_n from its value settle_s after the
+//                          contact began in the phase (the anchor; taken
+//                          anew when the image's extent, low-passed as the
+//                          demand, leaves [min_extent_ratio, 1 /
+//                          min_extent_ratio] times its value then: the pad
+//                          running off the edge's end changes the load it
+//                          misses, a drift does not). Where the load the pad
+//                          misses is stationary (a straight edge at a constant
+//                          set point), a moving correction is a wrench that
+//                          drifts, which the estimate would otherwise carry
+//                          into the true force (a slow drift follows the
+//                          correction below its bound: correction_saturated
+//                          alone comes only when the drift reaches it).
 //    On one of these, the servo holds, or retreats along -z_s by
 //    retreat_m at the step limit and then holds (on_fault).
 //    With the paper's tactile-only source and no wrench at all (the port
@@ -102,14 +120,17 @@ class ServoWatchdogs {
     double f = 0.0;         ///< N, Eq. 2's tactile force (raw: not the fused estimate)
     bool contact = false;   ///< tactile contact
     bool fresh = false;     ///< a wrench sample no older than the stale timeout
-    double f_w = 0.0;       ///< N, |(F - T) . z_s|: the wrench less its zero along z_s
+    double f_w = 0.0;       ///< N, -(F - T) . z_s: the press the wrench less its zero reads (signed)
     double hidden_n = 0.0;  ///< N, the load the estimate may carry below the threshold (0: source tactile)
     double c = 0.0;         ///< N, the fused estimate's demand (ForceEstimator::demand(): c unbounded)
     double c_max = 0.0;     ///< N, its limit; 0: source tactile (not checked)
+    int phase = -1;         ///< the phase (a change restarts the drift's anchor)
+    bool regulated = false; ///< the phase holds a force set point (requires contact, f_d > 0)
+    double extent_m = 0.0;  ///< the image's extent along its principal axis (m)
   };
   /// The two sensors against each other on a cycle of `dt` s (header):
-  /// latches and returns PhantomContact, ForceMismatch, UnseenLoad or
-  /// CorrectionSaturated; ServoStatus::Ok while they agree.
+  /// latches and returns PhantomContact, ForceMismatch, UnseenLoad,
+  /// CorrectionSaturated or CorrectionDrift; ServoStatus::Ok while they agree.
   ServoStatus sensorsAgree(const SensorSample& s, double dt);
   /// Once sensorsAgree() latched and on_fault is retreat: this cycle's move
   /// along -z_s (m, at most `max_step`), 0 once retreat_m was made (hold).
@@ -148,6 +169,16 @@ class ServoWatchdogs {
   double phantom_s_ = 0.0;
   double unseen_s_ = 0.0;
   double saturated_s_ = 0.0;
+  // Correction drift: the low-passed demand, its anchor, the time in contact
+  // in the phase, the phase it counts for.
+  double drift_lp_ = 0.0;
+  double drift_anchor_ = 0.0;
+  double drift_extent_lp_ = 0.0;
+  double drift_extent_anchor_ = 0.0;
+  double drift_in_s_ = -1.0;  // < 0: no contact in a regulated phase yet
+  bool drift_anchored_ = false;
+  int drift_phase_ = -1;
+  bool correctionDrifts(const SensorSample& s, double dt);
   double retreat_moved_ = 0.0;
   double curved_lp_ = 0.0;  // low-passed f_w - f_d
   bool curved_have_ = false;

@@ -90,7 +90,8 @@ enum class EndReason : uint8_t {
   ServoSurfaceTooCurved,    ///< the surface curves more tightly than the pad can follow (exit code 8)
   ServoPhantomContact,      ///< the taxels read a load the wrench does not carry (exit code 9)
   ServoUnseenLoad,          ///< the wrench carries a load no taxel sees (exit code 10)
-  ServoCorrectionSaturated  ///< the force estimate's correction held at its limit (exit code 11)
+  ServoCorrectionSaturated, ///< the force estimate's correction held at its limit (exit code 11)
+  ServoCorrectionDrift      ///< the force estimate's correction kept moving: the wrench drifts (exit code 12)
 };
 
 class EndRule {

@@ -45,6 +45,12 @@ struct LogRow {
   /// rad: the measured joint closest to its limit, its distance from it, as
   /// the phase program saw it (ProgramSignals::joint_margin); NaN where not recorded.
   double joint_margin = std::numeric_limits<double>::quiet_NaN();
+  /// N: the wrench's press along z_s, the fused estimate's correction and its
+  /// demand (ServoOutput::force_wrench, force_correction, force_demand); NaN
+  /// where not recorded.
+  double force_wrench = std::numeric_limits<double>::quiet_NaN();
+  double force_correction = std::numeric_limits<double>::quiet_NaN();
+  double force_demand = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct PhaseEntry {

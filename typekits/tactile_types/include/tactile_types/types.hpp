@@ -157,18 +157,20 @@ enum class ServoStatus : uint8_t {
                             ///< pressed region, a cable or the cover, a calibration too high)
   UnseenLoad = 18,          ///< the arm's wrench carries a load no taxel sees (the housing, the cable,
                             ///< a wrong load model)
-  CorrectionSaturated = 19  ///< the fused force estimate's correction held at its limit: the taxels and
+  CorrectionSaturated = 19, ///< the fused force estimate's correction held at its limit: the taxels and
                             ///< the wrench disagree by more than the estimate may bridge
+  CorrectionDrift = 20      ///< the fused force estimate's correction kept moving where the load the pad
+                            ///< misses is stationary: the wrench drifts
 };
 /// The highest ServoStatus value (tables and parsers that walk every status).
-constexpr ServoStatus kLastServoStatus = ServoStatus::CorrectionSaturated;
+constexpr ServoStatus kLastServoStatus = ServoStatus::CorrectionDrift;
 
 /// A watchdog status (PhaseTimeout, ArmStalled, ForceMismatch, SurfaceTooCurved,
-/// PhantomContact, UnseenLoad, CorrectionSaturated): the run failed.
+/// PhantomContact, UnseenLoad, CorrectionSaturated, CorrectionDrift): the run failed.
 inline bool watchdogStatus(ServoStatus s) noexcept {
   return s == ServoStatus::PhaseTimeout || s == ServoStatus::ArmStalled || s == ServoStatus::ForceMismatch ||
          s == ServoStatus::SurfaceTooCurved || s == ServoStatus::PhantomContact || s == ServoStatus::UnseenLoad ||
-         s == ServoStatus::CorrectionSaturated;
+         s == ServoStatus::CorrectionSaturated || s == ServoStatus::CorrectionDrift;
 }
 
 /// Desired pose for the robot's Cartesian impedance controller, in {g}.

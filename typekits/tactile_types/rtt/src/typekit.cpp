@@ -224,10 +224,11 @@ bool TactileTypekit::loadTypes() {
                                              ServoStatus::NotConfigured, ServoStatus::PhaseTimeout,
                                              ServoStatus::ArmStalled,   ServoStatus::ForceMismatch,
                                              ServoStatus::SurfaceTooCurved, ServoStatus::PhantomContact,
-                                             ServoStatus::UnseenLoad,   ServoStatus::CorrectionSaturated};
+                                             ServoStatus::UnseenLoad,   ServoStatus::CorrectionSaturated,
+                                             ServoStatus::CorrectionDrift};
   repo->addType(new NamedEnumTypeInfo<ContactType, 4>(kContactType, contact_types));
   repo->addType(new NamedEnumTypeInfo<FeatureStatus, 8>(kFeatureStatus, feature_status));
-  repo->addType(new NamedEnumTypeInfo<ServoStatus, 19>(kServoStatus, servo_status));
+  repo->addType(new NamedEnumTypeInfo<ServoStatus, 20>(kServoStatus, servo_status));
   static const RobotMode robot_modes[] = {RobotMode::Off, RobotMode::Monitor, RobotMode::Command};
   repo->addType(new NamedEnumTypeInfo<RobotMode, 3>(kRobotMode, robot_modes));
 
