@@ -15,7 +15,8 @@ summary.json), truth.csv (lab_sim --truth-out) and lab_sim.log. Writes
 RUN_DIR/summary.json and RUN_DIR/truth.png.
 
 The two clocks (the reporter's TimeStamp, lab_sim's world time) are aligned
-on the flange's z (plot_lab_truth.align_offset); each truth row takes the
+on the flange's z (plot_lab_truth.align_offset: its first 2 mm of descent,
+or of rise); each truth row takes the
 servo's phase and force set point of the reporter's row at that time. The
 true force and the flange's path then go through the headless runner's two
 windows (the slide and the scored window: deployment_to_run.windows, the
@@ -23,7 +24,9 @@ rule of sim/runner/src/metrics.cpp), so force_true_*, slide_* and
 path_length_m mean what they mean in a headless summary.json; the path is the
 flange's while the world says the pad touches (the runner's is the true
 contact point's). force_true_run_max_n is the true force's maximum over the
-whole run, from the bridge's first reply to its last, any phase.
+whole run, from the bridge's first reply to its last, any phase. A tray's
+recovery time and translation (measured data) count from its move on the
+world's clock, which lab_sim started before the deployment.
 
 The verdict: "pass" when the experiment's state machine ended FINISHED
 (deployer exit 0) and the true force never exceeded FORCE_BOUND_N in the whole
@@ -104,6 +107,30 @@ def truth_figures(tr, prog, scene):
     }
 
 
+def tray_on_world_clock(scene, ts, offset):
+    """The tray's DZMP_y recovery time and translation along x_s (deployment_to_run.tray_figures, measured
+    data) with the tray's move placed on the reporter's clock: lab_sim's world moves it at move_start_s of
+    its own time, which started before the deployment's (by the offset). (None, None) without a tray."""
+    trays = [o for o in scene.get("objects", []) or [] if o.get("type") == "tray"]
+    if not trays:
+        return None, None
+    shifted = dict(scene, objects=[dict(trays[0], move_start_s=float(trays[0].get("move_start_s", 0.0)) - offset)])
+    col = lambda k: np.array([float(r[k]) for r in ts])  # noqa: E731
+    pos = np.stack([col("act_x"), col("act_y"), col("act_z")], axis=1)
+    rpy = np.stack([col("act_roll"), col("act_pitch"), col("act_yaw")], axis=1)
+    return d2r.tray_figures(shifted, col("time"), col("dzmp_y"), col("contact") > 0, pos, rpy)
+
+
+def align(truth, report_z):
+    """plot_lab_truth.align_offset on the flange's first 2 mm of descent, or, for a program that starts by
+    lifting (the tray's take), of rise: (offset, rms) or None."""
+    fit = plot_lab_truth.align_offset(truth, report_z)
+    if fit is None and len(report_z):
+        flipped = [dict(r, flange_z=str(-float(r["flange_z"]))) for r in truth]
+        fit = plot_lab_truth.align_offset(flipped, report_z * np.array([1.0, -1.0]))
+    return fit
+
+
 def judge(scene, summary):
     """(passed, failed, not_judged): the scene's criteria on the summary's figures."""
     failed, not_judged = [], []
@@ -142,7 +169,7 @@ def main():
     ts = list(csv.DictReader(open(os.path.join(run, "timeseries.csv"))))
     log = open(os.path.join(a.run_dir, "lab_sim.log")).read()
     lab = lab_statistics(log)
-    fit = plot_lab_truth.align_offset(truth, plot_lab_truth.read_report_z(os.path.join(run, "report.dat")))
+    fit = align(truth, plot_lab_truth.read_report_z(os.path.join(run, "report.dat")))
     tt = np.array([float(r["t"]) for r in truth])
     ft = np.array([float(r["force_true"]) for r in truth])
     span = (tt >= lab.get("first_reply_s", 0.0)) & (tt <= lab.get("last_reply_s", math.inf))
@@ -154,6 +181,9 @@ def main():
     if fit is not None:
         summary.update(truth_time_offset_s=round(fit[0], 4), truth_align_rms_m=fit[1])
         summary.update(truth_figures(truth_on_reporter(truth, ts, fit[0]), prog, scene))
+        recovery, translation = tray_on_world_clock(scene, ts, fit[0])
+        if translation is not None:
+            summary.update(dzmp_recovery_time_s=recovery, translation_x_m=translation)
     passed, failed, not_judged = judge(scene, summary)
     summary.update(criteria_passed=passed, criteria_failed=failed, criteria_not_judged=not_judged)
     ok = a.deployer_exit == 0 and run_max <= FORCE_BOUND_N
