@@ -11,20 +11,18 @@ import subprocess
 import sys
 import tempfile
 
-root = sys.argv[1]
-tool = [sys.executable, os.path.join(root, "scripts", "tools", "check_robot_limits.py")]
-failures = []
+TOOL = os.path.join(sys.argv[1], "scripts", "tools", "check_robot_limits.py")
+results = []  # (what, ok), printed at the end
 
 
 def run(*args):
-    p = subprocess.run(tool + list(args), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    return p.returncode, p.stdout, p.stderr
+    """(exit code, stdout, stderr) of check_robot_limits.py with ARGS."""
+    done = subprocess.run([sys.executable, TOOL, *args], capture_output=True, text=True)
+    return done.returncode, done.stdout, done.stderr
 
 
 def check(what, ok):
-    print(("ok   " if ok else "FAIL ") + what)
-    if not ok:
-        failures.append(what)
+    results.append((what, bool(ok)))
 
 
 rc, out, _ = run()
@@ -54,5 +52,8 @@ with tempfile.TemporaryDirectory() as d:
           "ok   bare:" in out and "max_trans_speed = 0.05 m/s <=" in out and "max_rot_speed_deg = 50 deg/s" in out)
     rc, _, err = run("nope")
     check(f"an unknown experiment: exit 2, named ({err.strip()})", rc == 2 and "no experiment nope" in err)
-print(f"test_check_robot_limits: {len(failures)} failed" if failures else "test_check_robot_limits: all passed")
-sys.exit(1 if failures else 0)
+for what, ok in results:
+    print(("ok   " if ok else "FAIL ") + what)
+failed = sum(1 for _, ok in results if not ok)
+print(f"test_check_robot_limits: {failed} failed" if failed else "test_check_robot_limits: all passed")
+sys.exit(1 if failed else 0)
