@@ -79,6 +79,7 @@ run_one() {
   lab_robot_stage "$dir" "$port"
   lab_robot_start "$dir" "$port" "$scene" --truth-out "$dir/truth.csv" "${lab_args[@]}"
   lab_robot_run "$exp" "$dir" "$timeout" > "$dir/run_robot.out"
+  pids=()  # lab_sim has been waited for: no pid of this run left to clean up
   if [ ! -s "$dir/run/summary.json" ]; then
     echo "$name: [$2/$3] $exp: FAIL: no report (run_robot.sh exit $dep_rc, lab_sim exit $lab_rc): $dir/run_robot.log"
     failed=1
