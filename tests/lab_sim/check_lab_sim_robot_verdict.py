@@ -2,13 +2,18 @@
 """ctest lab_sim_robot_verdict_<experiment>: the robot path gives the headless
 verdict (run_lab_sim_robot_verdict_test.sh).
 
-usage: check_lab_sim_robot_verdict.py HEADLESS_DIR ROBOT_LAB_DIR
+usage: check_lab_sim_robot_verdict.py HEADLESS_DIR ROBOT_LAB_DIR SEEDS_DIR
 
   * headless (tactile_sim run): its verdict, status ok and the scene's
     criteria passed ("pass"), else "fail";
   * robot path (scripts/run_robot_lab.sh: summary.json's robot_verdict):
     the state machine FINISHED and lab_sim's true force never above 7 N;
-  * both verdicts the same;
+  * both verdicts the same; or else the robot path's outcome (its status,
+    e.g. servo_surface_too_curved) one the headless runner ends with on one of
+    the seeds under SEEDS_DIR (seed_<n>/summary.json): the robot path is one
+    more realization of the sensors' noise and of the loop's timing, and an
+    experiment whose headless verdict depends on the seed gets no stricter
+    test on the robot path (the seeds' outcomes are printed);
   * the true force's maximum over the whole run at most 7 N on both paths
     (headless: its table's force_true; robot path: lab_sim's truth between
     the bridge's first and last reply);
@@ -35,8 +40,13 @@ FORCE_BOUND_N = 7.0
 # (the stop request, the components stopped): a few seconds on a loaded machine.
 RUN_END_SLACK_S = 6.0
 
-head_dir, lab_dir = sys.argv[1], sys.argv[2]
+head_dir, lab_dir, seeds_dir = sys.argv[1], sys.argv[2], sys.argv[3]
 failures = []
+
+
+def rmax_ok(summary):
+    v = summary.get("force_true_run_max_n")
+    return v is not None and v <= FORCE_BOUND_N
 
 
 def check(ok, what):
@@ -55,9 +65,20 @@ if not os.path.exists(path):
     sys.exit(1)
 r = json.load(open(path))
 rv = r.get("robot_verdict")
-check(rv == head_verdict, f"the same verdict: headless {head_verdict} (status {h.get('status')}, criteria "
+seeds = {}
+for d in sorted(os.listdir(seeds_dir) if os.path.isdir(seeds_dir) else [], key=lambda n: int(n.split("_")[-1])):
+    p = os.path.join(seeds_dir, d, "summary.json")
+    if os.path.exists(p):
+        s = json.load(open(p))
+        seeds.setdefault(s.get("status"), []).append(d.replace("seed_", ""))
+print("measured: headless outcomes over the seeds: " + "; ".join(f"{k} on {len(v)} ({', '.join(v)})" for k, v in seeds.items()))
+same = rv == head_verdict
+check(same or (rv == "fail" and r.get("status") in seeds and rmax_ok(r)),
+      f"{'the same verdict' if same else 'an outcome of the headless runner'}: headless {head_verdict} "
+      f"(status {h.get('status')}, criteria "
       f"{'passed' if h.get('criteria_passed') else 'failed'}), robot path {rv} (deployer exit {r.get('deployer_exit')}, "
-      f"status {r.get('status')})")
+      f"status {r.get('status')})" + ("" if same else f"; the headless runner ends {r.get('status')} on seeds "
+                                     f"{', '.join(seeds.get(r.get('status'), [])) or 'none'}"))
 check(head_max <= FORCE_BOUND_N, f"headless true force max {head_max:.2f} N <= {FORCE_BOUND_N} N")
 rmax = r.get("force_true_run_max_n")
 check(rmax is not None and rmax <= FORCE_BOUND_N, f"robot path true force max {rmax:.2f} N <= {FORCE_BOUND_N} N")
