@@ -197,7 +197,7 @@ def main():
     speed = summary.get("slide_mean_speed_mps")
     print(f"lab_run_summary: {summary['experiment']}: {summary['robot_verdict']} (state machine "
           f"{'FINISHED' if a.deployer_exit == 0 else 'FAILED'}, status {summary.get('status')}), true force max "
-          f"{run_max:.2f} N (bound {FORCE_BOUND_N} N), slide speed "
+          f"{max(run_max, 0.0):.2f} N (bound {FORCE_BOUND_N} N), slide speed "
           f"{'-' if speed is None else '%.1f mm/s' % (speed * 1e3)}, criteria "
           f"{'passed' if passed else 'FAILED: ' + '; '.join(failed)}")
     return 0
