@@ -150,11 +150,13 @@ def run_max_force(run_dir):
 
 
 def robot_lab_figures(out):
-    """Per robot experiment: the headless run and the robot path's, side by side."""
+    """Per robot experiment: the headless run and the robot path's, side by side (a robot-path run that
+    wrote no summary: verdict "not run", its figures absent)."""
     res = {}
     for name in ROBOT_LAB:
         h = load_json(os.path.join(out, name, "summary.json"))
-        r = load_json(os.path.join(out, "robot_lab", name, "summary.json"))
+        rp = os.path.join(out, "robot_lab", name, "summary.json")
+        r = load_json(rp) if os.path.exists(rp) else {"robot_verdict": "not run", "status": "-"}
         res[name] = {
             "headless": {"verdict": headless_verdict(h), "status": h.get("status"),
                          "force_true_run_max_n": rnd(run_max_force(os.path.join(out, name))),
@@ -292,7 +294,8 @@ def render_robot_lab(res):
     rows = []
     for name, x in res.get("robot_lab", {}).items():
         for path, r in (("headless", x["headless"]), ("robot path", x["robot"])):
-            crit = "" if path == "headless" else (" (criteria " + ("passed" if r.get("criteria_passed") else "missed") + ")")
+            crit = "" if path == "headless" or r.get("criteria_passed") is None else \
+                (" (criteria " + ("passed" if r["criteria_passed"] else "missed") + ")")
             rows.append([name if path == "headless" else "", path, f"{r['verdict']}{crit}", r["status"],
                          f"{g(r, 'force_true_run_max_n', '.2f')} / {g(r, 'force_true_max_n', '.2f')}",
                          g(r, "force_true_rms_error_n", ".2f"), g(r, "slide_mean_speed_mps", ".1f", 1000),
