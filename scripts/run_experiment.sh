@@ -17,7 +17,9 @@
 # registry experiment again as Orocos components under the OCL deployer
 # (scripts/run_deployment.sh -> out/deploy/<experiment>/, out/deploy/report.md),
 # the first day on the real arm rehearsed against the simulated lab
-# (scripts/rehearse_first_day.sh -> out/rehearsal/), and last the results
+# (scripts/rehearse_first_day.sh -> out/rehearsal/), every robot experiment
+# through the unchanged robot deployment against the simulated lab
+# (scripts/run_robot_lab.sh -> out/robot_lab/), and last the results
 # pages (scripts/tools/results_docs.py -> docs/results.md, the README's table).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -82,6 +84,16 @@ while read -r name _; do deploy "$name"; done <<< "$experiments"
 bash "$root/scripts/rehearse_first_day.sh" --out "$out/rehearsal" > "$out/rehearsal.log" 2>&1 \
   || echo "  (rehearse_first_day.sh: a step failed: $out/rehearsal.log)"
 tail -n 1 "$out/rehearsal.log"
+
+# Every robot experiment (experiments.yaml, robot: true) on the robot path:
+# the unchanged robot deployment against lab_sim on its scene, in real time,
+# one after the other, its verdict beside the headless one
+# (scripts/run_robot_lab.sh -> out/robot_lab/<experiment>/summary.json;
+# each costs its experiment's duration plus the deployer's start-up, ~6 min
+# in all). One line per experiment on the console.
+echo "robot path against lab_sim (scripts/run_robot_lab.sh -> $out/robot_lab/, log $out/robot_lab.log):"
+{ bash "$root/scripts/run_robot_lab.sh" --out "$out/robot_lab" 2>&1 || echo "run_robot_lab: exit $? (a run failed or did not run)"; } \
+  | tee "$out/robot_lab.log" | grep --line-buffered "^run_robot_lab: " || true
 
 # The results pages from this run's outputs: docs/results.md,
 # docs/results/results.json (with the commit and the machine), docs/img/ and

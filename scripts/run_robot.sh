@@ -87,6 +87,11 @@ program="$root/$(registry_get "$exp" program)"
 scene="$root/$(registry_get "$exp" scene)"
 controller_mode="$(registry_get "$exp" controller)"
 rm -f "$dep/$report"
+# The program within the bridge's rate limits (the fri.yaml its fri_bridge.cpf reads), else no run.
+fri_yaml="$(sed -n '/name="param_file"/,/<\/simple>/ s#.*<value>\(.*\)</value>.*#\1#p' "$dep/fri_bridge.cpf")"
+case "$fri_yaml" in /*) ;; *) fri_yaml="$dep/$fri_yaml" ;; esac
+"$py" "$root/scripts/tools/check_robot_limits.py" --fri-yaml "$fri_yaml" "$exp" > "$out/check_robot_limits.log" 2>&1 \
+  || { cat "$out/check_robot_limits.log" >&2; echo "run_robot: $exp's program asks for more than the bridge lets through" >&2; exit 1; }
 
 # The entry, with this run's settings after its own Guard lines, then the finish.
 gen="$dep/.run_robot_${exp}_$$.ops"
@@ -106,7 +111,7 @@ rc=0
 ms=$(( ($(date +%s%N) - t0) / 1000000 ))
 wall="$((ms / 1000)).$(printf %03d $((ms % 1000)))"
 cp "$dep/orocos.log" "$out/orocos.log" 2>/dev/null || true
-grep -E "deployment step failed|DRY RUN|status at the end|\[Guard\] (run|verdict)|\[(BentBar|CoManipulation|Sphere|Edge|Contour|FirstTouch|TimedPhase)[A-Za-z]*\]" \
+grep -E "deployment step failed|DRY RUN|status at the end|KRL program at the end|\[Guard\] (run|verdict)|\[(BentBar|CoManipulation|Sphere|Edge|Contour|FirstTouch|TimedPhase)[A-Za-z]*\]" \
   "$out/deployer.log" | sed 's/^[0-9.]* \[[^]]*\]\[[^]]*\] //' || true
 if [ ! -s "$dep/$report" ]; then
   echo "run_robot: no report file $report (deployer exit $rc); see $out/deployer.log" >&2

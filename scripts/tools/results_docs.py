@@ -3,7 +3,7 @@
 
 Reads an out/ directory of scripts/run_experiment.sh (the runs' summary.json,
 out/deploy/*/summary.json, out/compare*/compare.csv, the sweeps' csv,
-out/contours*/, out/rehearsal/steps.txt) and writes
+out/contours*/, out/rehearsal/steps.txt, out/robot_lab/*/summary.json) and writes
 
   docs/results/results.json  the figures, with the commit and the machine
   docs/results.md            the tables rendered from results.json
@@ -59,6 +59,12 @@ IMAGES = [("edge_exploration/fig10.png", "fig10_edge_exploration.png"),
           ("contours/contours.png", "contours.png"),
           ("speed/speed.png", "speed.png"), ("family/family.png", "family.png")]
 SIG = 4  # significant digits kept in results.json (the tables show fewer)
+# The robot experiments (experiments.yaml, robot: true), each run headless
+# (out/<name>/) and on the robot path against lab_sim (scripts/run_robot_lab.sh,
+# out/robot_lab/<name>/summary.json); the bound on the true force of both.
+ROBOT_LAB = ["edge_exploration", "bent_bar", "bent_bar_baseline", "bent_bar_fused", "bent_bar_speed_law",
+             "wave_speed_law", "co_manipulation", "sphere_table", "first_touch"]
+FORCE_BOUND_N = 7.0
 
 
 def rnd(v):
@@ -130,6 +136,41 @@ def run_figures(summary):
     return fig
 
 
+def headless_verdict(summary):
+    """A headless run's verdict: status ok and the scene's criteria passed."""
+    return "pass" if summary.get("status") == "ok" and summary.get("criteria_passed") else "fail"
+
+
+def run_max_force(run_dir):
+    """The true force's maximum over a headless run's whole table (any phase)."""
+    with open(need(os.path.join(run_dir, "timeseries.csv")), newline="") as fh:
+        vals = [num(r["force_true"]) for r in csv.DictReader(fh)]
+    vals = [v for v in vals if isinstance(v, float)]
+    return max(vals) if vals else None
+
+
+def robot_lab_figures(out):
+    """Per robot experiment: the headless run and the robot path's, side by side (a robot-path run that
+    wrote no summary: verdict "not run", its figures absent)."""
+    res = {}
+    for name in ROBOT_LAB:
+        h = load_json(os.path.join(out, name, "summary.json"))
+        rp = os.path.join(out, "robot_lab", name, "summary.json")
+        r = load_json(rp) if os.path.exists(rp) else {"robot_verdict": "not run", "status": "-"}
+        res[name] = {
+            "headless": {"verdict": headless_verdict(h), "status": h.get("status"),
+                         "force_true_run_max_n": rnd(run_max_force(os.path.join(out, name))),
+                         **{k: rnd(h.get(k)) for k in ("force_true_max_n", "force_true_rms_error_n",
+                                                       "slide_mean_speed_mps", "sim_time_s")}},
+            "robot": {"verdict": r.get("robot_verdict"), "status": r.get("status"),
+                      "criteria_passed": r.get("criteria_passed"),
+                      **{k: rnd(r.get(k)) for k in ("force_true_run_max_n", "force_true_max_n",
+                                                    "force_true_rms_error_n", "slide_mean_speed_mps",
+                                                    "sim_time_s")}},
+        }
+    return res
+
+
 def collect(out):
     """results.json's content (without commit and machine) from out/."""
     res = {"runs": {}, "deploy": {}, "compare": {}, "force_targets": [], "force_sweep": [],
@@ -194,6 +235,7 @@ def collect(out):
             row.update({k: rnd(c.get(k)) for k in CONTOUR_KEYS})
             row["force_true_rms_error_n"] = rnd(s.get("force_true_rms_error_n"))
             res["contours"].append(row)
+    res["robot_lab"] = robot_lab_figures(out)
     with open(need(os.path.join(out, "rehearsal", "steps.txt"))) as f:
         for line in f:
             parts = line.rstrip("\n").split("|")
@@ -237,6 +279,31 @@ def slide_rows(title, r, target_slide, target_scored):
              target_scored]]
 
 
+def robot_lab_summary_row(rl):
+    """The README's row: the robot path's verdicts against the headless ones, and the largest true force."""
+    same = sum(1 for x in rl.values() if x["robot"]["verdict"] == x["headless"]["verdict"])
+    peaks = [x["robot"]["force_true_run_max_n"] for x in rl.values() if x["robot"]["force_true_run_max_n"] is not None]
+    return ["Robot path (deployment against lab_sim)", "experiments with the headless verdict; largest true force",
+            f"{same} of {len(rl)}; {f(max(peaks) if peaks else None, '.2f')} N",
+            f"all {len(ROBOT_LAB)}; <= {FORCE_BOUND_N:g} N"]
+
+
+def render_robot_lab(res):
+    """Each robot experiment headless and on the robot path: verdict, true force max (whole run / scored
+    window), RMS error, mean slide speed, run time."""
+    rows = []
+    for name, x in res.get("robot_lab", {}).items():
+        for path, r in (("headless", x["headless"]), ("robot path", x["robot"])):
+            crit = "" if path == "headless" or r.get("criteria_passed") is None else \
+                (" (criteria " + ("passed" if r["criteria_passed"] else "missed") + ")")
+            rows.append([name if path == "headless" else "", path, f"{r['verdict']}{crit}", r["status"],
+                         f"{g(r, 'force_true_run_max_n', '.2f')} / {g(r, 'force_true_max_n', '.2f')}",
+                         g(r, "force_true_rms_error_n", ".2f"), g(r, "slide_mean_speed_mps", ".1f", 1000),
+                         g(r, "sim_time_s", ".1f")])
+    return table(["experiment", "run", "verdict", "status", "true force max: run / scored (N)",
+                  "RMS error (N)", "slide speed (mm/s)", "run time (s)"], rows)
+
+
 def render_summary(res):
     """The README's table: one row per quantity of the paper's experiments."""
     r, d = res["runs"], res["deploy"]
@@ -266,6 +333,7 @@ def render_summary(res):
         ["Every scene, seeds 1-3", "scenes meeting the true-force targets", f"{met} of {len(ft)}", "all"],
         ["Closed contours", "ring / rounded square: closure, cloud RMS", f"{f(ring['closure_m'], '.1f', 1000)} / {f(sq['closure_m'], '.1f', 1000)} mm, {f(ring['rms_m'], '.2f', 1000)} / {f(sq['rms_m'], '.2f', 1000)} mm", "<= 5 mm, <= 1 mm"],
         ["Deployed (OCL deployer)", "runs with status ok", f"{dep_ok} of {len(d)} (no_rotation: {d['bent_bar_no_rotation']['status']}; tight wave: {d['tight_wave']['status']})", "all but the ablation and the tight wave"],
+        robot_lab_summary_row(res.get("robot_lab", {})),
         ["First day, rehearsed", "steps passed", f"{sum(1 for x in reh if x['result'] == 'PASS')} of {len(reh)}", "all"],
     ]
     return table(["experiment", "quantity", "measured", "target"], rows)
@@ -416,6 +484,19 @@ def render_results_md(res):
         "the headless run's summary to the reporter's six significant digits.",
         "",
         render_runs(res, "deploy"),
+        "",
+        "## The robot path against the simulated lab (`scripts/run_robot_lab.sh`, out/robot_lab/<experiment>/)",
+        "",
+        "Each robot experiment (experiments.yaml, `robot: true`) through the unchanged robot deployment",
+        "(`scripts/run_robot.sh`) against `lab_sim` on its scene, in real time, beside its headless run.",
+        "Verdict: headless, status ok and the scene's criteria; robot path, the state machine FINISHED and",
+        f"the true force (lab_sim's ground truth) never above {FORCE_BOUND_N:g} N, the scene's criteria judged on",
+        "the truth beside it (a loop on a shared machine's wall clock). True force max: over the whole run,",
+        "and over the scored window; run time: the servo's time of the run (robot path: the reporter's).",
+        "",
+        render_robot_lab(res),
+        *([] if res.get("robot_lab_commit", res["commit"]) == res["commit"] else
+          ["", f"The runs of this table (headless and robot path alike) are of commit `{res['robot_lab_commit']}`."]),
         "",
         "## Controllers compared, shipped programs (out/compare/compare.csv)",
         "",

@@ -113,10 +113,10 @@ TEST(Experiments, EdgeExplorationThroughFri) {
   EXPECT_LT(s.alignment_time_s, 10.0);
   EXPECT_GE(s.path_length_m, 0.15);
   // One reply per physics cycle, and the KRC never applied a step above the
-  // bridge's rate limit (fri.yaml: 0.05 m/s, 0.25 rad/s at 1 kHz; floats on the wire).
+  // bridge's rate limit (fri.yaml: 0.15 m/s, 1.0 rad/s at 1 kHz; floats on the wire).
   EXPECT_GT(s.fri_replies, static_cast<long>(0.99 * s.sim_time_s * sc.rates.sim));
-  EXPECT_LE(s.fri_max_step_m, 0.05 / sc.rates.sim + 2e-7);
-  EXPECT_LE(s.fri_max_step_rad, 0.25 / sc.rates.sim + 2e-6);
+  EXPECT_LE(s.fri_max_step_m, 0.15 / sc.rates.sim + 2e-7);
+  EXPECT_LE(s.fri_max_step_rad, 1.0 / sc.rates.sim + 2e-6);
   EXPECT_GT(s.fri_max_step_m, 0.0);
 }
 

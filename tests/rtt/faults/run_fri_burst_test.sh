@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # ctest rtt_fault_fri_burst: a burst of 20 lost FRI packets while the arm
-# moves at the fastest speed the controller supports, through the robot
+# moves at the bar programs' step limit, through the robot
 # deployment (deployments/robot_loop.ops: the FRI bridge on its
 # FileDescriptorActivity, the WTS reader, features, servo, real-time
 # settings) against the simulated KRC on loopback (fri_sim_krc, 1 kHz, in
@@ -8,7 +8,7 @@
 # 1500-1519 are not sent, the KRC holds its set point meanwhile) and the
 # simulated WTS on a PTY (wts_sim --pattern zero: no contact). There is no
 # bar on this side (the KRC's plant is a first-order tracker), so the servo
-# slides in free motion at the step limit (free_slide.yaml: 0.05 m/s, also
+# slides in free motion at the step limit (free_slide.yaml: 0.05 m/s, under
 # the bridge's max_lin_speed). The only place where the FRI bridge component
 # receives packets; wall clock (about 3 s of KRC cycles), but no timing is
 # asserted: counts and bounds only (check_fri_burst.py).

@@ -393,6 +393,33 @@ class DeployGuard : public RTT::TaskContext {
     return false;
   }
 
+  // A machine that declares `param double run_time` (the run's length, as
+  // the headless run's: timed_phase_experiment.osd) gets the scene's
+  // `duration` unless the entry's params give it. "" or the error.
+  static std::string sceneDurationParam(const std::string& key, const std::string& scene_file,
+                                        const std::vector<OsdParam>& declared, std::vector<Param>& params) {
+    bool wants = false;
+    for (const auto& d : declared) wants = wants || (d.name == "run_time" && d.type == "double");
+    for (const auto& p : params) wants = wants && p.name != "run_time";
+    if (!wants) return "";
+    double duration = 0.0;
+    try {
+      const YAML::Node d = YAML::LoadFile(scene_file)["duration"];
+      if (!d) return key + "scene: " + scene_file + " has no `duration` (s, > 0) for the state machine's run_time";
+      duration = d.as<double>();
+    } catch (const YAML::Exception& ex) {
+      return key + "scene: " + scene_file + ": duration: " + ex.what() + " (valid: s, > 0)";
+    }
+    if (!(duration > 0.0))
+      return key + "scene: " + scene_file + ": duration: " + std::to_string(duration) + " (valid: s, > 0)";
+    std::ostringstream v;
+    v << duration;
+    Param p{"double", "run_time", v.str()};
+    p.number = duration;
+    params.push_back(p);
+    return "";
+  }
+
   // Registry paths are relative to the registry's directory; the deployer's
   // working directory is deployments/: prefix the registry's directory.
   std::string resolved(const std::string& path) const {
@@ -487,6 +514,8 @@ class DeployGuard : public RTT::TaskContext {
           params.push_back(param);
         }
       }
+      const std::string derived = sceneDurationParam(key, resolved(scene), declared, params);
+      if (!derived.empty()) return derived;
       // Checked: take it.
       experiment_ = name;
       scene_file_ = resolved(scene);
