@@ -60,14 +60,26 @@
 //   period      the measured packet period (host receive times, p50) within
 //               +-period_tolerance (default 0.25) of the KRC's cycle;
 //   jitter      p50 / p99 / max of the inter-arrival times; FAIL when
-//               p99 - p50 > max_jitter_ms (default 0.5 ms: half a 1 ms cycle);
+//               p99 - p50 > max_jitter_ms (default half the KRC's cycle: 0.5 ms
+//               at 1 ms, 1 ms at 2 ms);
 //   loss        sequence gaps / packets the KRC sent <= max_loss_rate (default
 //               0.001);
 //   order       duplicates and out-of-order packets: any FAILs;
 //   state       MON / CMD (and drives off: WARN) over time;
 //   quality     the KRC's link quality over time: FAIL when it is below OK at the
 //               end or drops below OK after having reached it; WARN when it
-//               started below OK (the KRC rates the link once answers arrive).
+//               started below OK (the KRC rates the link once answers arrive);
+//   cycle       whether this PC sustains the KRC's cycle: the share of answers the
+//               KRC missed (its missCounter over the run), the share this host
+//               answered later than 80 % of the cycle after the packet's due
+//               time (the KRC's send grid: the earliest arrival over the last
+//               1000 packets, this host's clock: a host that wakes late answers
+//               late), and the share of packets at
+//               PERFECT once PERFECT was first reached. Sustained (PASS): at most
+//               2 % missed or late and PERFECT >= 99 % (the simulated KRC's
+//               thresholds, KrcQualityRule). Otherwise at 1 ms: WARN, advise
+//               friOpen(2) with fri.cycle_time_s 0.002 and this check again; at
+//               2 ms or more: FAIL, the host must be fixed first.
 // The timing items (period, jitter) are diagnostics of this host and network,
 // measured with its clock. Exit (monitor mode): 0 every item PASS or WARN, 3 an
 // item FAILed, 2 no packet within --idle-timeout, 1 usage/configuration errors.
@@ -238,7 +250,7 @@ struct MonitorOptions {
   long cycles = 0;  ///< 0: by time only
   double idle_timeout = 10.0;
   double period_tolerance = 0.25;
-  double max_jitter_ms = 0.5;
+  double max_jitter_ms = -1.0;  ///< < 0: half the KRC's cycle
   double max_loss_rate = 0.001;
   std::string json_file;
   std::string params_file;
@@ -249,6 +261,33 @@ double percentile(const std::vector<double>& sorted, double q) {
   if (sorted.empty()) return 0.0;
   const std::size_t i = static_cast<std::size_t>(std::ceil(q * static_cast<double>(sorted.size())));
   return sorted[std::min(sorted.size() - 1, i == 0 ? 0 : i - 1)];
+}
+
+/// An answer later than this share of the cycle counts as late, and the
+/// cycle is sustained with at most kSustainedMissShare missed or late answers
+/// and PERFECT in at least kSustainedPerfectShare of the packets: the
+/// simulated KRC's thresholds (tactile::fri::KrcQualityRule, our reading of
+/// the KRC's rating: KUKA does not publish its own).
+constexpr double kLateShare = 0.8;
+constexpr double kSustainedMissShare = 0.02;
+constexpr double kSustainedPerfectShare = 0.99;
+
+/// The share of `answers` (packet index k on the KRC's grid, reply time) sent
+/// later than kLateShare of `cycle` after the packet's due time: the grid's
+/// origin is the earliest t_reply - k * cycle over the last 1000 packets (the
+/// KRC's clock and this host's drift apart slowly; the earliest answer marks
+/// the grid plus this host's least delay).
+double lateShare(const std::vector<std::pair<double, double>>& answers, double cycle) {
+  if (answers.empty() || !(cycle > 0.0)) return 0.0;
+  constexpr std::size_t kGrid = 1000;
+  uint64_t late = 0;
+  for (std::size_t i = 0; i < answers.size(); ++i) {
+    double origin = 1e300;
+    const std::size_t lo = i >= kGrid ? i - kGrid : 0, hi = std::min(answers.size(), i + kGrid);
+    for (std::size_t j = lo; j < hi; ++j) origin = std::min(origin, answers[j].second - answers[j].first * cycle);
+    if (answers[i].second - (origin + answers[i].first * cycle) > kLateShare * cycle) ++late;
+  }
+  return double(late) / double(answers.size());
 }
 
 int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams& up) {
@@ -290,6 +329,11 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
   const double t_start = t_last_rx;
   uint16_t first_seq = 0;
   bool reached_ok = false, dropped_below_ok = false, started_below_ok = false;
+  bool reached_perfect = false, have_miss0 = false;
+  uint64_t after_perfect = 0, perfect_after = 0;
+  uint32_t miss0 = 0;
+  std::vector<std::pair<double, double>> answers;  // (packet index on the KRC's grid, reply sent - its arrival)
+  answers.reserve(arrivals.capacity());
   Quality worst_after_ok = Quality::Perfect;
   std::vector<std::string> timeline;
   MsrPacket last{};
@@ -342,16 +386,24 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
     if (!known) peers.emplace_back(addr, peer_port);
     bridge.notePeerPort(peer_port);
     bridge.stepDatagram(buf, us == UdpStatus::Truncated ? sizeof buf + 1 : n, desired, t_rx, out);
+    double t_reply = 0.0;
     if (out.reply) {
       std::size_t w = 0;
       encodeCommand(out.cmd, tx, sizeof tx, w);
       if (sock.reply(tx, w) != UdpStatus::Ok) ++send_errors;
+      t_reply = now();
     }
     ++status_count[static_cast<std::size_t>(out.status) & 31u];
     if (out.status == BridgeStatus::Malformed || out.status == BridgeStatus::DroppedDuplicate ||
         out.status == BridgeStatus::DroppedOutOfOrder || out.status == BridgeStatus::NotConfigured)
       continue;
     const MsrPacket& msr = bridge.lastMeasurement();
+    if (!have_miss0) miss0 = msr.intf.stat.miss_counter, have_miss0 = true;
+    if (qualityOf(msr) == Quality::Perfect) reached_perfect = true;
+    if (reached_perfect) {
+      ++after_perfect;
+      perfect_after += qualityOf(msr) == Quality::Perfect;
+    }
     last = msr;
     if (!have_first) {
       have_first = true;
@@ -359,6 +411,7 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
       first_seq = msr.head.send_seq;
     }
     arrivals.push_back(t_rx);
+    if (out.reply) answers.emplace_back(double(seqDelta(first_seq, msr.head.send_seq)), t_reply);
     const State st = stateOf(msr);
     const Quality q = qualityOf(msr);
     ++state_count[static_cast<std::size_t>(st)];
@@ -524,10 +577,11 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
                {"tolerance", fmt("%g", mo.period_tolerance)}};
   }
   {
+    const double max_jitter_ms = mo.max_jitter_ms >= 0.0 ? mo.max_jitter_ms : 0.5e3 * krc_cycle;
     Item& it = item("jitter", "[jitter]");
     it.message = fmt("inter-arrival p50 %.3f ms, p99 %.3f ms, max %.3f ms; p99 - p50 = %.3f ms (limit %.3f ms)",
-                     1e3 * p50, 1e3 * p99, 1e3 * pmax, 1e3 * (p99 - p50), mo.max_jitter_ms);
-    if (!ia.empty() && 1e3 * (p99 - p50) > mo.max_jitter_ms) {
+                     1e3 * p50, 1e3 * p99, 1e3 * pmax, 1e3 * (p99 - p50), max_jitter_ms);
+    if (!ia.empty() && 1e3 * (p99 - p50) > max_jitter_ms) {
       worsen(it, Verdict::Fail);
       it.next.push_back("this host or the network delays packets: run the bridge on the real-time host "
                         "(PREEMPT_RT or Xenomai, SCHED_FIFO), a dedicated NIC on a direct cable to the KRC, no power "
@@ -536,7 +590,7 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
       it.next.push_back("the arrival times are regular enough");
     }
     it.json = {{"p50_s", fmt("%.6g", p50)}, {"p99_s", fmt("%.6g", p99)}, {"max_s", fmt("%.6g", pmax)},
-               {"limit_ms", fmt("%g", mo.max_jitter_ms)}};
+               {"limit_ms", fmt("%g", max_jitter_ms)}};
   }
   {
     Item& it = item("loss", "[loss]");
@@ -614,6 +668,40 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
     it.json = {{"perfect", std::to_string(quality_count[3])}, {"ok", std::to_string(quality_count[2])},
                {"bad", std::to_string(quality_count[1])}, {"unacceptable", std::to_string(quality_count[0])},
                {"last", jsonString(toString(qualityOf(last)))}};
+  }
+  {
+    Item& it = item("cycle", "[cycle]");
+    const uint64_t sent = bs.accepted + bs.lost;
+    const uint64_t misses = have_miss0 && last.intf.stat.miss_counter >= miss0 ? last.intf.stat.miss_counter - miss0 : 0;
+    const double miss_share = sent ? double(misses) / double(sent) : 0.0;
+    const double late_share = lateShare(answers, krc_cycle);
+    const double perfect_share = after_perfect ? double(perfect_after) / double(after_perfect) : 0.0;
+    const double cyc_ms = 1e3 * krc_cycle;
+    it.message = fmt("at the KRC's %.0f ms cycle: %.2f %% of the answers missed (the KRC's miss counter: %llu), "
+                     "%.2f %% answered later than %.0f %% of the cycle after the packet was due (this host's clock), PERFECT in %.1f %% of "
+                     "the packets once reached",
+                     cyc_ms, 100 * miss_share, static_cast<unsigned long long>(misses), 100 * late_share,
+                     100 * kLateShare, 100 * perfect_share);
+    const bool sustained =
+        reached_perfect && miss_share + late_share <= kSustainedMissShare && perfect_share >= kSustainedPerfectShare;
+    if (sustained) {
+      it.next.push_back(fmt("this PC sustains the %.0f ms cycle: keep friOpen(%.0f) and fri.cycle_time_s %g%s", cyc_ms,
+                            cyc_ms, krc_cycle, cyc_ms > 1.5 ? "; 1 ms may be sustained too: try friOpen(1)" : ""));
+    } else if (cyc_ms > 0.0 && cyc_ms < 1.5) {
+      worsen(it, Verdict::Warn);
+      it.next.push_back("this PC does not sustain 1 ms: use 2 ms, friOpen(2) in krc/TactileServo.src and "
+                        "fri.cycle_time_s: 0.002 in fri.yaml (krc/check_krc_config.py compares them), then run this "
+                        "check again (docs/bringup.md)");
+    } else {
+      worsen(it, Verdict::Fail);
+      it.next.push_back(fmt("this PC does not sustain even %.0f ms: a real-time host (scripts/realtime), a dedicated "
+                            "NIC on a direct cable, nothing else on this host, before any motion", cyc_ms));
+    }
+    const char* advice = sustained ? (cyc_ms < 1.5 ? "1ms" : "keep") : (cyc_ms < 1.5 ? "2ms" : "fix_host");
+    it.json = {{"krc_cycle_s", fmt("%.6g", krc_cycle)},  {"missed", std::to_string(misses)},
+               {"missed_share", fmt("%.6g", miss_share)}, {"late_share", fmt("%.6g", late_share)},
+               {"perfect_share", fmt("%.6g", perfect_share)}, {"sustained", sustained ? "true" : "false"},
+               {"advice", jsonString(advice)}};
   }
 
   int code = 0;
