@@ -73,14 +73,18 @@ grep -q "<value>$port</value>" "$dep/fri_bridge.cpf" || { echo "$name: could not
 # copied with C ms (the one change a lab makes for another cycle), the
 # bridge's copy of fri.yaml in the staged fri_bridge.cpf.
 fri_yaml="$out/fri.yaml"
-krl="$out/TactileServo.src"
+krl="$out/krc/TactileServo.src"
 cycle_s=$(printf '0.%03d' "$cycle_ms")
 sed -E "s#^( *cycle_time_s:) *[0-9.eE+-]+#\1 $cycle_s#" "$root/components/fri_bridge/params/fri.yaml" > "$fri_yaml"
+mkdir -p "$out/krc" && cp "$root"/krc/TactileServo.dat "$root"/krc/dlrrc.ini "$out/krc/"
 sed -E "s#friOpen\( *1 *\)#friOpen($cycle_ms)#" "$root/krc/TactileServo.src" > "$krl"
 grep -qE "^ *cycle_time_s: $cycle_s" "$fri_yaml" && grep -q "friOpen($cycle_ms)" "$krl" ||
   { echo "$name: could not set the cycle to $cycle_ms ms in $fri_yaml / $krl" >&2; exit 1; }
 sed -i "s#<value>[^<]*fri.yaml</value>#<value>$fri_yaml</value>#" "$dep/fri_bridge.cpf"
 grep -q "<value>$fri_yaml</value>" "$dep/fri_bridge.cpf" || { echo "$name: could not point the bridge at $fri_yaml" >&2; exit 1; }
+# Step 0's check on the two copies: the KRC side agrees with the RT PC's files.
+"$py" "$root/krc/check_krc_config.py" --krc "$out/krc" --fri-yaml "$fri_yaml" > "$out/check_krc_config.log" 2>&1 ||
+  { echo "$name: check_krc_config.py on the $cycle_ms ms copies failed: $out/check_krc_config.log" >&2; exit 1; }
 echo "== the FRI cycle: $cycle_ms ms (friOpen($cycle_ms), fri.cycle_time_s $cycle_s); the KRC's quality from the answers' timing, its \$STIFFNESS limits from $krl"
 results=()
 want() { case ",$steps," in *,"$1",*) return 0 ;; esac; return 1; }
