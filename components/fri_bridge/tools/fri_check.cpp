@@ -42,6 +42,7 @@
 //
 //   fri_check --monitor --params params/fri.yaml [--seconds S] [--cycles N] [--port P] [--bind ADDR]
 //             [--period-tolerance F] [--max-jitter-ms J] [--max-loss-rate R] [--json FILE]
+//             [--max-late-share R] [--min-perfect-share P]
 //
 // Never commands motion: the bridge runs in its dry run (FriBridge::setDryRun)
 // with no desired pose, so in MON it echoes the measured pose and in CMD it
@@ -76,8 +77,9 @@
 //               1000 packets, this host's clock: a host that wakes late answers
 //               late), and the share of packets at
 //               PERFECT once PERFECT was first reached. Sustained (PASS): at most
-//               2 % missed or late and PERFECT >= 99 % (the simulated KRC's
-//               thresholds, KrcQualityRule). Otherwise at 1 ms: WARN, advise
+//               max_late_share (default 0.02) missed or late and PERFECT in at
+//               least min_perfect_share (default 0.99) of the packets (the
+//               simulated KRC's thresholds, KrcQualityRule). Otherwise at 1 ms: WARN, advise
 //               friOpen(2) with fri.cycle_time_s 0.002 and this check again; at
 //               2 ms or more: FAIL, the host must be fixed first.
 // The timing items (period, jitter) are diagnostics of this host and network,
@@ -116,7 +118,8 @@ int usage(const char* msg) {
                "fri_check: %s\nusage: fri_check --port P [--cycles N] [--motion hold|circle] [--bind ADDR] "
                "[--radius M] [--circle-period S] [--max-lin-speed V] [--max-rot-speed W] [--idle-timeout S] [--cart-offset none|composed|elementwise]\n"
                "       fri_check --monitor --params FILE [--seconds S] [--cycles N] [--port P] [--bind ADDR] "
-               "[--period-tolerance F] [--max-jitter-ms J] [--max-loss-rate R] [--json FILE] [--idle-timeout S]\n",
+               "[--period-tolerance F] [--max-jitter-ms J] [--max-loss-rate R] [--json FILE] [--idle-timeout S]\n"
+               "       [--max-late-share R] [--min-perfect-share P]\n",
                msg);
   return 1;
 }
@@ -252,6 +255,8 @@ struct MonitorOptions {
   double period_tolerance = 0.25;
   double max_jitter_ms = -1.0;  ///< < 0: half the KRC's cycle
   double max_loss_rate = 0.001;
+  double max_late_share = 0.02;     ///< [cycle]: missed + late answers (KrcQualityRule's PERFECT share)
+  double min_perfect_share = 0.99;  ///< [cycle]: packets at PERFECT once reached
   std::string json_file;
   std::string params_file;
 };
@@ -263,14 +268,10 @@ double percentile(const std::vector<double>& sorted, double q) {
   return sorted[std::min(sorted.size() - 1, i == 0 ? 0 : i - 1)];
 }
 
-/// An answer later than this share of the cycle counts as late, and the
-/// cycle is sustained with at most kSustainedMissShare missed or late answers
-/// and PERFECT in at least kSustainedPerfectShare of the packets: the
-/// simulated KRC's thresholds (tactile::fri::KrcQualityRule, our reading of
-/// the KRC's rating: KUKA does not publish its own).
+/// An answer later than this share of the cycle counts as late (the
+/// simulated KRC's KrcQualityRule::late_fraction, our reading of the KRC's
+/// rating: KUKA does not publish its own).
 constexpr double kLateShare = 0.8;
-constexpr double kSustainedMissShare = 0.02;
-constexpr double kSustainedPerfectShare = 0.99;
 
 /// The share of `answers` (packet index k on the KRC's grid, reply time) sent
 /// later than kLateShare of `cycle` after the packet's due time: the grid's
@@ -679,11 +680,11 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
     const double cyc_ms = 1e3 * krc_cycle;
     it.message = fmt("at the KRC's %.0f ms cycle: %.2f %% of the answers missed (the KRC's miss counter: %llu), "
                      "%.2f %% answered later than %.0f %% of the cycle after the packet was due (this host's clock), PERFECT in %.1f %% of "
-                     "the packets once reached",
+                     "the packets once reached (sustained: at most %g %% missed or late, PERFECT in %g %%)",
                      cyc_ms, 100 * miss_share, static_cast<unsigned long long>(misses), 100 * late_share,
-                     100 * kLateShare, 100 * perfect_share);
+                     100 * kLateShare, 100 * perfect_share, 100 * mo.max_late_share, 100 * mo.min_perfect_share);
     const bool sustained =
-        reached_perfect && miss_share + late_share <= kSustainedMissShare && perfect_share >= kSustainedPerfectShare;
+        reached_perfect && miss_share + late_share <= mo.max_late_share && perfect_share >= mo.min_perfect_share;
     if (sustained) {
       it.next.push_back(fmt("this PC sustains the %.0f ms cycle: keep friOpen(%.0f) and fri.cycle_time_s %g%s", cyc_ms,
                             cyc_ms, krc_cycle, cyc_ms > 1.5 ? "; 1 ms may be sustained too: try friOpen(1)" : ""));
@@ -784,6 +785,12 @@ int main(int argc, char** argv) {
         return usage("--period-tolerance must be in (0, 10]");
     } else if (a == "--max-jitter-ms" && has) {
       if (!parseDouble(argv[++i], mo.max_jitter_ms) || mo.max_jitter_ms < 0.0) return usage("--max-jitter-ms must be >= 0");
+    } else if (a == "--max-late-share" && has) {
+      if (!parseDouble(argv[++i], mo.max_late_share) || mo.max_late_share < 0.0 || mo.max_late_share > 1.0)
+        return usage("--max-late-share must be in [0, 1]");
+    } else if (a == "--min-perfect-share" && has) {
+      if (!parseDouble(argv[++i], mo.min_perfect_share) || mo.min_perfect_share < 0.0 || mo.min_perfect_share > 1.0)
+        return usage("--min-perfect-share must be in [0, 1]");
     } else if (a == "--max-loss-rate" && has) {
       if (!parseDouble(argv[++i], mo.max_loss_rate) || mo.max_loss_rate < 0.0 || mo.max_loss_rate > 1.0)
         return usage("--max-loss-rate must be in [0, 1]");
