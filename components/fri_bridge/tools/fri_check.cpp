@@ -73,8 +73,8 @@
 //   cycle       whether this PC sustains the KRC's cycle: the share of answers the
 //               KRC missed (its missCounter over the run), the share this host
 //               answered later than 80 % of the cycle after the packet's due
-//               time (the KRC's send grid: the earliest arrival over the last
-//               1000 packets, this host's clock: a host that wakes late answers
+//               time (the KRC's send grid: the earliest answer within 100
+//               packets either side, this host's clock: a host that wakes late answers
 //               late), and the share of packets at
 //               PERFECT once PERFECT was first reached. Sustained (PASS): at most
 //               max_late_share (default 0.02) missed or late and PERFECT in at
@@ -275,12 +275,13 @@ constexpr double kLateShare = 0.8;
 
 /// The share of `answers` (packet index k on the KRC's grid, reply time) sent
 /// later than kLateShare of `cycle` after the packet's due time: the grid's
-/// origin is the earliest t_reply - k * cycle over the last 1000 packets (the
-/// KRC's clock and this host's drift apart slowly; the earliest answer marks
-/// the grid plus this host's least delay).
+/// origin is the earliest t_reply - k * cycle within kGrid packets either side
+/// (the earliest answer marks the grid plus this host's least delay; local,
+/// so that the clocks' drift and a sender that re-anchors its grid after a
+/// stall, as the simulated KRC does, shift it for at most kGrid packets).
 double lateShare(const std::vector<std::pair<double, double>>& answers, double cycle) {
   if (answers.empty() || !(cycle > 0.0)) return 0.0;
-  constexpr std::size_t kGrid = 1000;
+  constexpr std::size_t kGrid = 100;
   uint64_t late = 0;
   for (std::size_t i = 0; i < answers.size(); ++i) {
     double origin = 1e300;
