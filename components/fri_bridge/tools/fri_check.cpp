@@ -292,6 +292,50 @@ double lateShare(const std::vector<std::pair<double, double>>& answers, double c
   return double(late) / double(answers.size());
 }
 
+/// What the [cycle] item judges (runMonitor's counts).
+struct CycleFacts {
+  double krc_cycle = 0.0;      ///< the KRC's cycle (s)
+  uint64_t sent = 0;           ///< packets the KRC sent (accepted + sequence gaps)
+  uint64_t misses = 0;         ///< the KRC's miss counter over the run
+  double late_share = 0.0;     ///< lateShare()
+  double perfect_share = 0.0;  ///< packets at PERFECT once reached
+  bool reached_perfect = false;
+};
+
+/// [cycle]: whether this host sustains the KRC's cycle, and which to use.
+Item cycleItem(const CycleFacts& f, const MonitorOptions& mo) {
+  Item it{"cycle", "[cycle]", Verdict::Pass, "", {}, {}};
+  const double miss_share = f.sent ? double(f.misses) / double(f.sent) : 0.0;
+  const double cyc_ms = 1e3 * f.krc_cycle;
+  it.message = fmt("at the KRC's %.0f ms cycle: %.2f %% of the answers missed (the KRC's miss counter: %llu), "
+                   "%.2f %% answered later than %.0f %% of the cycle after the packet was due (this host's clock), "
+                   "PERFECT in %.1f %% of the packets once reached (sustained: at most %g %% missed or late, PERFECT "
+                   "in %g %%)",
+                   cyc_ms, 100 * miss_share, static_cast<unsigned long long>(f.misses), 100 * f.late_share,
+                   100 * kLateShare, 100 * f.perfect_share, 100 * mo.max_late_share, 100 * mo.min_perfect_share);
+  const bool sustained = f.reached_perfect && miss_share + f.late_share <= mo.max_late_share &&
+                         f.perfect_share >= mo.min_perfect_share;
+  if (sustained) {
+    it.next.push_back(fmt("this PC sustains the %.0f ms cycle: keep friOpen(%.0f) and fri.cycle_time_s %g%s", cyc_ms,
+                          cyc_ms, f.krc_cycle, cyc_ms > 1.5 ? "; 1 ms may be sustained too: try friOpen(1)" : ""));
+  } else if (cyc_ms > 0.0 && cyc_ms < 1.5) {
+    it.verdict = Verdict::Warn;
+    it.next.push_back("this PC does not sustain 1 ms: use 2 ms, friOpen(2) in krc/TactileServo.src and "
+                      "fri.cycle_time_s: 0.002 in fri.yaml (krc/check_krc_config.py compares them), then run this "
+                      "check again (docs/bringup.md)");
+  } else {
+    it.verdict = Verdict::Fail;
+    it.next.push_back(fmt("this PC does not sustain even %.0f ms: a real-time host (scripts/realtime), a dedicated "
+                          "NIC on a direct cable, nothing else on this host, before any motion", cyc_ms));
+  }
+  const char* advice = sustained ? (cyc_ms < 1.5 ? "1ms" : "keep") : (cyc_ms < 1.5 ? "2ms" : "fix_host");
+  it.json = {{"krc_cycle_s", fmt("%.6g", f.krc_cycle)}, {"missed", std::to_string(f.misses)},
+             {"missed_share", fmt("%.6g", miss_share)},  {"late_share", fmt("%.6g", f.late_share)},
+             {"perfect_share", fmt("%.6g", f.perfect_share)}, {"sustained", sustained ? "true" : "false"},
+             {"advice", jsonString(advice)}};
+  return it;
+}
+
 int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams& up) {
   FriBridge bridge;
   if (ConfigResult r = bridge.configure(bp); !r) {
@@ -672,38 +716,14 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
                {"last", jsonString(toString(qualityOf(last)))}};
   }
   {
-    Item& it = item("cycle", "[cycle]");
-    const uint64_t sent = bs.accepted + bs.lost;
-    const uint64_t misses = have_miss0 && last.intf.stat.miss_counter >= miss0 ? last.intf.stat.miss_counter - miss0 : 0;
-    const double miss_share = sent ? double(misses) / double(sent) : 0.0;
-    const double late_share = lateShare(answers, krc_cycle);
-    const double perfect_share = after_perfect ? double(perfect_after) / double(after_perfect) : 0.0;
-    const double cyc_ms = 1e3 * krc_cycle;
-    it.message = fmt("at the KRC's %.0f ms cycle: %.2f %% of the answers missed (the KRC's miss counter: %llu), "
-                     "%.2f %% answered later than %.0f %% of the cycle after the packet was due (this host's clock), PERFECT in %.1f %% of "
-                     "the packets once reached (sustained: at most %g %% missed or late, PERFECT in %g %%)",
-                     cyc_ms, 100 * miss_share, static_cast<unsigned long long>(misses), 100 * late_share,
-                     100 * kLateShare, 100 * perfect_share, 100 * mo.max_late_share, 100 * mo.min_perfect_share);
-    const bool sustained =
-        reached_perfect && miss_share + late_share <= mo.max_late_share && perfect_share >= mo.min_perfect_share;
-    if (sustained) {
-      it.next.push_back(fmt("this PC sustains the %.0f ms cycle: keep friOpen(%.0f) and fri.cycle_time_s %g%s", cyc_ms,
-                            cyc_ms, krc_cycle, cyc_ms > 1.5 ? "; 1 ms may be sustained too: try friOpen(1)" : ""));
-    } else if (cyc_ms > 0.0 && cyc_ms < 1.5) {
-      worsen(it, Verdict::Warn);
-      it.next.push_back("this PC does not sustain 1 ms: use 2 ms, friOpen(2) in krc/TactileServo.src and "
-                        "fri.cycle_time_s: 0.002 in fri.yaml (krc/check_krc_config.py compares them), then run this "
-                        "check again (docs/bringup.md)");
-    } else {
-      worsen(it, Verdict::Fail);
-      it.next.push_back(fmt("this PC does not sustain even %.0f ms: a real-time host (scripts/realtime), a dedicated "
-                            "NIC on a direct cable, nothing else on this host, before any motion", cyc_ms));
-    }
-    const char* advice = sustained ? (cyc_ms < 1.5 ? "1ms" : "keep") : (cyc_ms < 1.5 ? "2ms" : "fix_host");
-    it.json = {{"krc_cycle_s", fmt("%.6g", krc_cycle)},  {"missed", std::to_string(misses)},
-               {"missed_share", fmt("%.6g", miss_share)}, {"late_share", fmt("%.6g", late_share)},
-               {"perfect_share", fmt("%.6g", perfect_share)}, {"sustained", sustained ? "true" : "false"},
-               {"advice", jsonString(advice)}};
+    CycleFacts cf;
+    cf.krc_cycle = krc_cycle;
+    cf.sent = bs.accepted + bs.lost;
+    cf.misses = have_miss0 && last.intf.stat.miss_counter >= miss0 ? last.intf.stat.miss_counter - miss0 : 0;
+    cf.late_share = lateShare(answers, krc_cycle);
+    cf.perfect_share = after_perfect ? double(perfect_after) / double(after_perfect) : 0.0;
+    cf.reached_perfect = reached_perfect;
+    items.push_back(cycleItem(cf, mo));
   }
 
   int code = 0;
