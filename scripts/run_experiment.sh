@@ -76,6 +76,13 @@ deploy() {  # deploy EXPERIMENT: a non-zero exit is reported, not fatal
 while read -r name _; do deploy "$name"; done <<< "$experiments"
 /usr/bin/python3 "$root/scripts/tools/experiment_report.py" "$out/deploy"
 
+# The first day rehearsed at friOpen(2) (the KRC's cycle 2 ms: the copies of
+# fri.yaml and the KRL program at 2 ms; out/rehearsal_2ms/, ~1.5 min), then
+# at friOpen(1) below; both with the KRC's timing rule and $STIFFNESS limits.
+bash "$root/scripts/rehearse_first_day.sh" --cycle-ms 2 --out "$out/rehearsal_2ms" > "$out/rehearsal_2ms.log" 2>&1 \
+  || echo "  (rehearse_first_day.sh --cycle-ms 2: a step failed: $out/rehearsal_2ms.log)"
+tail -n 1 "$out/rehearsal_2ms.log"
+
 # The first day on the real arm, rehearsed against the simulated lab (the KRC
 # over FRI and the WTS on a PTY: lab_sim): the bring-up tools in order, the dry
 # run, the first touch and the edge exploration through the unchanged robot

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Checks and report of the first day's rehearsal (scripts/rehearse_first_day.sh).
 
-usage: rehearsal_report.py check STEP_DIR [--dry-run] [--start S] [--max-force N]
+usage: rehearsal_report.py check STEP_DIR [--fri-yaml FILE] [--dry-run] [--start S] [--max-force N]
        rehearsal_report.py report OUT_DIR
 
 check: one robot step against the simulated lab's ground truth (lab_sim's
@@ -19,7 +19,12 @@ controller), the run's timeseries.csv (run_robot.sh) and lab_sim's summary
     limited step of the bridge (fri.yaml max_lin_speed x the KRC's cycle);
   * --dry-run: the servo's commands moved away from the held arm (more than
     DRY_CMD_M): it computed as if the arm followed;
+  * the KRC never stopped the arm ($STIFFNESS.MAXFORCE / CPMAXDELTA: lab_sim's
+    "fault none"), and lab_sim's KRC link line (answers missed / late, the
+    quality drops, the measurements at each quality) is shown;
   * --max-force: the true contact force never exceeded it.
+--fri-yaml: the fri.yaml the step's bridge read (its cycle_time_s and
+max_lin_speed give the largest step; default the repository's).
 report: OUT_DIR/steps.txt (the shell's verdicts) -> OUT_DIR/rehearsal.md and
 OUT_DIR/rehearsal.png (the experiment step: the KRC's state, the true force
 and the arm's path over time).
@@ -68,8 +73,8 @@ def intervals(rows):
     return out
 
 
-def fri_step_limit(root):
-    text = open(os.path.join(root, "components/fri_bridge/params/fri.yaml")).read()
+def fri_step_limit(fri_yaml):
+    text = open(fri_yaml).read()
     v = float(re.search(r"^\s*max_lin_speed:\s*([0-9.eE+-]+)", text, re.M).group(1))
     cycle = float(re.search(r"^\s*cycle_time_s:\s*([0-9.eE+-]+)", text, re.M).group(1))
     return v * cycle + FLOAT_M
@@ -121,9 +126,16 @@ def check(args):
     # The KRC's largest applied step.
     log = open(os.path.join(d, "lab_sim.log")).read()
     m = re.search(r"KRC max_step ([0-9.eE+-]+) m", log)
-    limit = fri_step_limit(root)
+    limit = fri_step_limit(args.fri_yaml or os.path.join(root, "components/fri_bridge/params/fri.yaml"))
     verdict(m is not None and float(m.group(1)) <= limit,
             f"the KRC's largest step between applied commands {m.group(1) if m else '?'} m (<= {limit:.7f} m)")
+    # The KRC's own stop and its rating of the link.
+    m = re.search(r"KRC link answers missed (\d+) late (\d+).*quality drops out of CMD (\d+); (measurements[^;]*); fault (\w+)", log)
+    if m:
+        print(f"   KRC link: answers missed {m.group(1)}, late {m.group(2)}; quality drops out of command mode {m.group(3)}; "
+              f"{m.group(4)}")
+    verdict(m is not None and m.group(5) == "none",
+            f"the KRC never stopped the arm ($STIFFNESS.MAXFORCE / CPMAXDELTA): fault {m.group(5) if m else '?'}")
     # The run's own table.
     ts_path = os.path.join(d, "run", "timeseries.csv")
     ts = read_csv(ts_path) if os.path.exists(ts_path) else []
@@ -207,6 +219,7 @@ def main():
     c = sub.add_parser("check")
     c.add_argument("step_dir")
     c.add_argument("--dry-run", action="store_true")
+    c.add_argument("--fri-yaml", default=None)
     c.add_argument("--start", type=float, default=None)
     c.add_argument("--max-force", type=float, default=None)
     c.add_argument("--target-force", type=float, default=None)

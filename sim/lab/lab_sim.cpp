@@ -6,8 +6,8 @@
 //
 //   lab_sim SCENE.yaml [--fri-port P] [--wts-link PATH] [--krc SCRIPT]
 //           [--period-ms T] [--krc-cycle-ms C] [--msr-sample-ms M] [--cmd-sample-ms M]
-//           [--control cart|joint|position] [--cart-offset F] [--duration S]
-//           [--truth-out FILE.csv] [--truth-period-ms T] [--set KEY.PATH=VALUE ...]
+//           [--control cart|joint|position] [--cart-offset F] [--quality-rule on|off]
+//           [--krl FILE.src] [--duration S] [--truth-out FILE.csv] [--truth-period-ms T] [--set KEY.PATH=VALUE ...]
 //
 //   --fri-port P        the FRI bridge's UDP port on 127.0.0.1 (default 49938, fri.yaml's);
 //                       measurements go there and only there (loopback)
@@ -36,6 +36,15 @@
 //                       the offset zero; default), composed (cmdCartPos * offset as
 //                       frames), elementwise (cmdCartPos + offset over the 12 entries);
 //                       fri.yaml's cart_offset must match (fri_check finds it)
+//   --quality-rule R    on (default): the KRC rates the link from the remote's answers
+//                       (tactile::fri::KrcQualityRule: missed or late answers over the
+//                       last 100 cycles), reports the lower of that and the script's
+//                       quality, leaves command mode below OK and enters it (again)
+//                       only at PERFECT; off: the script alone
+//   --krl FILE          the KRL program whose $STIFFNESS.MAXFORCE / CPMAXDELTA the KRC
+//                       applies (krc/TactileServo.src): beyond either in command mode
+//                       the KRC brakes the drives and drops to monitor mode (a fault
+//                       until the end); default: not applied
 //   --duration S        stop after S s (default 0: until SIGINT/SIGTERM)
 //   --truth-out FILE    the world's ground truth over time, CSV (columns in
 //                       docs/lab_sim.md): time, KRC state, flange pose, the set
@@ -65,6 +74,7 @@
 #include "tactile_fri/krc_model.hpp"
 #include "tactile_fri/sim_krc.hpp"
 #include "tactile_lab/krc_schedule.hpp"
+#include "tactile_lab/krl_stiffness.hpp"
 #include "tactile_lab/world_plant.hpp"
 #include "tactile_sim/scene.hpp"
 #include "tactile_types/kdl_pose.hpp"
@@ -81,7 +91,7 @@ int usage(const std::string& msg) {
   std::fprintf(stderr,
                "lab_sim: %s\nusage: lab_sim SCENE.yaml [--fri-port P] [--wts-link PATH] [--krc SCRIPT] [--period-ms T]\n"
                "               [--krc-cycle-ms C] [--msr-sample-ms M] [--cmd-sample-ms M] [--control cart|joint|position] [--cart-offset F]\n"
-               "               [--duration S] [--truth-out FILE.csv] [--truth-period-ms T] [--set KEY.PATH=VALUE ...]\n"
+               "               [--quality-rule on|off] [--krl FILE.src] [--duration S] [--truth-out FILE.csv] [--truth-period-ms T] [--set KEY.PATH=VALUE ...]\n"
                "(see the header of sim/lab/lab_sim.cpp or docs/lab_sim.md)\n",
                msg.c_str());
   return 2;
@@ -156,7 +166,8 @@ void printForce(const char* label, const Stat& s, double cycle_s) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string scene_file, wts_link, truth_out, krc_spec, control = "cart";
+  std::string scene_file, wts_link, truth_out, krc_spec, control = "cart", krl_file;
+  bool quality_rule = true;
   fri::CartOffset cart_offset = fri::CartOffset::None;
   bool krc_given = false;
   long fri_port = fri::kDefaultPort;
@@ -196,6 +207,12 @@ int main(int argc, char** argv) {
     } else if (a == "--cart-offset" && has) {
       if (!fri::parseCartOffset(argv[++i], cart_offset))
         return usage("--cart-offset must be none, composed or elementwise");
+    } else if (a == "--quality-rule" && has) {
+      const std::string rule = argv[++i];
+      if (rule != "on" && rule != "off") return usage("--quality-rule must be on or off");
+      quality_rule = rule == "on";
+    } else if (a == "--krl" && has) {
+      krl_file = argv[++i];
     } else if (a == "--duration" && has) {
       if (!num(0, 1e7, duration_s)) return usage("--duration must be in [0, 1e7] (s; 0 = until killed)");
     } else if (a == "--truth-out" && has) {
@@ -260,6 +277,13 @@ int main(int argc, char** argv) {
   kp.cmd_sample_time_s = cmd_sample_ms * 1e-3;
   kp.initial_pose = plant.initialPose();
   kp.cart_offset = cart_offset;
+  kp.quality_rule.enabled = quality_rule;
+  if (!krl_file.empty()) {
+    if (ConfigResult r = lab::readKrlStiffnessLimits(krl_file, kp.limits); !r) {
+      std::fprintf(stderr, "lab_sim: --krl: %s\n", r.message().c_str());
+      return 2;
+    }
+  }
   kp.control = control == "cart"    ? fri::ControlStrategy::CartImpedance
                : control == "joint" ? fri::ControlStrategy::JointImpedance
                                     : fri::ControlStrategy::Position;
@@ -302,10 +326,12 @@ int main(int argc, char** argv) {
   std::signal(SIGTERM, onSignal);
   const KDL::Frame p0 = plant.initialPose();
   std::printf("lab_sim: scene %s (%s), world step %.3f ms, KRC cycle %.3f ms (advertised msr %.3f ms cmd %.3f ms), "
-              "control %s, cart_offset %s, FRI -> 127.0.0.1:%ld, WTS %dx%d at %.0f Hz\n",
+              "control %s, cart_offset %s, quality from timing %s, $STIFFNESS limits %s, FRI -> 127.0.0.1:%ld, "
+              "WTS %dx%d at %.0f Hz\n",
               scene.name.c_str(), scene.file.c_str(), T_world * 1e3, T_krc * 1e3,
               (kp.msr_sample_time_s > 0 ? kp.msr_sample_time_s : T_krc) * 1e3,
-              (kp.cmd_sample_time_s > 0 ? kp.cmd_sample_time_s : T_krc) * 1e3, control.c_str(), fri::toString(cart_offset), fri_port,
+              (kp.cmd_sample_time_s > 0 ? kp.cmd_sample_time_s : T_krc) * 1e3, control.c_str(), fri::toString(cart_offset),
+              quality_rule ? "on" : "off", krl_file.empty() ? "off" : krl_file.c_str(), fri_port,
               scene.features.rows, scene.features.cols, scene.rates.wts);
   std::printf("lab_sim: flange at (%.4f, %.4f, %.4f) m, true contact force %.3f N\n", p0.p.x(), p0.p.y(), p0.p.z(),
               -plant.state().wrench_s[2]);
@@ -327,6 +353,7 @@ int main(int argc, char** argv) {
   uint64_t last_reply_cycle = 0, missed_at_last = 0, closed_at_last = 0, replies_seen = 0;
   bool answered = false;
   uint64_t unplugs = 0;
+  bool fault_printed = false;
   while (!g_stop.load() && (max_cycles == 0 || krc.stats().cycles < max_cycles)) {
     const uint64_t c = krc.stats().cycles;  // this cycle's index: its scheduled events apply now
     krc.runCycle();
@@ -363,6 +390,14 @@ int main(int argc, char** argv) {
       first = false;
     }
     while (next_word < words.size() && words[next_word].cycle <= c) ++next_word;  // words that changed nothing
+    if (krc.fault() != fri::KrcFault::None && !fault_printed) {
+      const fri::PlantState& ps = krc.plantState();
+      std::printf("t %8.3f s  cycle %llu: KRC fault %s: the drives braked, monitor mode (estExtTcpFT %.2f %.2f %.2f N)\n",
+                  t, static_cast<unsigned long long>(c), fri::toString(krc.fault()), ps.wrench[0], ps.wrench[1],
+                  ps.wrench[2]);
+      std::fflush(stdout);
+      fault_printed = true;
+    }
     const sim::SimState& s = plant.state();
     if (s.status != last_world_status && (sim::fatal(s.status) || sim::fatal(last_world_status))) {
       std::printf("t %8.3f s  world: %s\n", t, sim::toString(s.status));
@@ -416,6 +451,13 @@ int main(int argc, char** argv) {
               (unsigned long long)k.mon_echo_errors, (unsigned long long)k.flag_errors,
               (unsigned long long)k.nonfinite_commands, (unsigned long long)k.remote_seq_errors,
               k.replies ? 1e6 * k.sum_latency_s / double(k.replies) : 0.0, 1e6 * k.max_latency_s);
+  std::printf("lab_sim: KRC link answers missed %llu late %llu (of the cycle: > %.0f %%), quality drops out of CMD %llu; "
+              "measurements at UNACCEPTABLE %llu BAD %llu OK %llu PERFECT %llu; fault %s\n",
+              (unsigned long long)k.answers_missed, (unsigned long long)k.answers_late,
+              100.0 * kp.quality_rule.late_fraction, (unsigned long long)k.quality_drops,
+              (unsigned long long)k.quality_cycles[0], (unsigned long long)k.quality_cycles[1],
+              (unsigned long long)k.quality_cycles[2], (unsigned long long)k.quality_cycles[3],
+              fri::toString(krc.fault()));
   std::printf("lab_sim: world steps %llu not_converged %llu invalid_commands %llu fatal %llu%s%s; WTS acquisitions "
               "%llu frames %llu, device frames sent %llu held %llu unplugged %llu commands %llu bad_commands %llu\n",
               (unsigned long long)w.physics_steps, (unsigned long long)w.not_converged,

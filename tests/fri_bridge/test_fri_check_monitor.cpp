@@ -1,6 +1,6 @@
 // fri_check --monitor end to end: the real executable against the
 // fri_sim_krc executable on 127.0.0.1, both as users run them. Each test has
-// its own ports in 49960..49969 (no other test uses them; ctest may run the
+// its own ports in 49959..49969 (no other test uses them; ctest may run the
 // cases in parallel). Runs are bounded by packet counts (--cycles), not time;
 // the two timing items get generous bands here (--period-tolerance 0.9,
 // --max-jitter-ms 1000: this machine is shared, and the host's timing is not
@@ -189,4 +189,34 @@ TEST(FriCheckMonitor, UsageErrorsExitOne) {
     EXPECT_EQ(closeStatus(p), 1) << args << ": " << out;
     EXPECT_TRUE(contains(out, "usage: fri_check")) << out;
   }
+}
+
+// Day one's cycle check: the share of answers the KRC missed (its miss
+// counter; a burst of 25 measurements not sent is 25 answers missed, 4 % of
+// 620: more than the 2 % a sustained cycle allows, whatever the host adds)
+// and the quality the KRC gave the link from them (the simulated KRC's
+// timing rule: 25 of the last 100 missed is BAD, and stays BAD with up to 5
+// more that a loaded host may add).
+TEST(FriCheckMonitor, MissedAnswersAtOneMillisecondAdviseTwo) {
+  const Outcome o = monitor(49959, "--params " + kParams + " --cycles 560" + kBands,
+                            "--cycles 620 --quality-rule on --burst 300:25 --schedule 0:MON:PERFECT");
+  EXPECT_EQ(o.check_exit, 3) << o.check;  // the quality dropped below OK: [quality] FAILs
+  EXPECT_TRUE(contains(o.sim, "quality from timing on: answers missed ")) << o.sim;
+  EXPECT_TRUE(o.verdict("[quality]", "FAIL")) << o.check;
+  EXPECT_TRUE(contains(o.check, "the quality dropped to BAD")) << o.check;
+  EXPECT_TRUE(o.verdict("[cycle]", "WARN")) << o.check;
+  EXPECT_TRUE(contains(o.item("[cycle]"), "at the KRC's 1 ms cycle")) << o.check;
+  EXPECT_TRUE(contains(o.check, "this PC does not sustain 1 ms: use 2 ms, friOpen(2)")) << o.check;
+}
+
+TEST(FriCheckMonitor, MissedAnswersAtTwoMillisecondsFailTheCycle) {
+  const std::string yaml = tactile::test::writeTempFile("fri_monitor_2ms.yaml", "fri:\n  cycle_time_s: 0.002\n");
+  const Outcome o = monitor(49967, "--params " + yaml + " --cycles 280" + kBands,
+                            "--cycles 320 --period-ms 2 --quality-rule on --burst 150:20 --schedule 0:MON:PERFECT");
+  EXPECT_EQ(o.check_exit, 3) << o.check;
+  EXPECT_TRUE(o.verdict("[cycle time]", "PASS")) << o.check;
+  EXPECT_TRUE(o.verdict("[cycle]", "FAIL")) << o.check;
+  EXPECT_TRUE(contains(o.item("[cycle]"), "at the KRC's 2 ms cycle")) << o.check;
+  EXPECT_TRUE(contains(o.check, "this PC does not sustain even 2 ms")) << o.check;
+  std::remove(yaml.c_str());
 }

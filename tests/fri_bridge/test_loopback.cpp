@@ -405,3 +405,53 @@ TEST(FriLoopback, LatencyLogRecordsLateRepliesWithTheirTrueLatency) {
   EXPECT_TRUE(std::isnan(log[1].latency_s));
   EXPECT_EQ(log.size(), 3u);
 }
+
+// A 2 ms KRC (friOpen(2)) with its two rules on, over UDP against the real
+// bridge: the link rated from the answers (a burst of 15 measurements lost,
+// 15 % of the 100-cycle window: BAD, command mode left and entered again at
+// PERFECT, the bridge holding, then following with 2 ms steps), then a press
+// beyond $STIFFNESS.MAXFORCE: the KRC brakes the drives and leaves command
+// mode, the bridge names it krc_fault.
+TEST(FriLoopback, TwoMillisecondKrcRatesTheLinkAndStopsAPressBeyondMaxForce) {
+  constexpr double kCycle = 0.002;
+  BridgeParams bp;
+  bp.cycle_time_s = kCycle;
+  bp.max_lin_speed = 0.05;
+  const KDL::Frame target(startPose().M, startPose().p + KDL::Vector(0.01, 0.0, 0.0));
+  BridgeLoop bridge(bp, target);
+  SimKrcParams kp = fastKrc(bridge.port());
+  kp.period_s = kCycle;
+  kp.initial.state = State::Cmd;  // the script's friStart at once: entered at PERFECT
+  kp.quality_rule.enabled = true;
+  kp.limits.max_force = {20.0, 20.0, 20.0, 2.0, 2.0, 2.0};
+  kp.limits.cp_max_delta = {0.015, 0.015, 0.015, 0.087, 0.087, 0.087};
+  kp.faults.burst_start = 200;
+  kp.faults.burst_length = 15;
+  FirstOrderPlant plant(0.02);
+  SimKrc krc;
+  ASSERT_TRUE(krc.configure(kp, plant).ok());
+  bridge.start();
+  krc.run(600);
+  const SimKrcStats& s = krc.stats();
+  EXPECT_EQ(s.quality_drops, 1u) << "the burst: BAD, command mode left once";
+  EXPECT_EQ(s.answers_missed, 15u) << "the burst's, no other";
+  EXPECT_EQ(s.inj_lost, 15u);
+  EXPECT_EQ(krc.state(), State::Cmd) << "entered again at PERFECT";
+  EXPECT_EQ(krc.quality(), Quality::Perfect);
+  EXPECT_EQ(krc.fault(), KrcFault::None);
+  EXPECT_LE(s.max_cmd_step_m, bp.max_lin_speed * kCycle + kPosTol) << "one limited step per 2 ms packet";
+  EXPECT_GT(s.max_cmd_step_m, bp.max_lin_speed * 0.001 + kPosTol) << "the bridge steps by the KRC's 2 ms";
+  EXPECT_LE(s.max_entry_offset_m, bp.max_lin_speed * kCycle + kPosTol) << "no jump at either entry";
+  EXPECT_EQ(s.mon_echo_errors, 0u);
+  EXPECT_LT((krc.plantState().pose.p - target.p).Norm(), 1e-4) << "the target reached after the resume";
+  plant.setWrench({0.0, 0.0, -25.0, 0.0, 0.0, 0.0});  // a press beyond MAXFORCE Z
+  krc.run(50);
+  bridge.stop();
+  EXPECT_EQ(krc.fault(), KrcFault::MaxForce);
+  EXPECT_EQ(krc.state(), State::Mon);
+  EXPECT_EQ(krc.power(), 0u);
+  EXPECT_EQ(krc.stats().faults, 1u);
+  EXPECT_GT(bridge.seen(BridgeStatus::KrcFault), 40u) << "named at each packet after the stop";
+  EXPECT_GT(bridge.seen(BridgeStatus::LeftCmd), 50u) << "the quality drop: held and reported";
+  EXPECT_EQ(krc.stats().mon_echo_errors, 0u);
+}

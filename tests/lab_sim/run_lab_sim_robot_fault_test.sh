@@ -24,6 +24,9 @@ max_travel="$6"
 source "$1/tests/lab_sim/lab_robot_common.sh"  # lab_robot_stage, lab_robot_start, lab_robot_run
 out="$build/lab_sim_test/fault_$(basename "$scene" .yaml)"
 lab_robot_stage "$out" 49973
-lab_robot_start "$out" 49973 "$scene" --truth-out "$out/truth.csv"
+# The KRC in command mode from its first packet: the script alone decides
+# (--quality-rule off), not the link's rating, which would hold monitor mode
+# for the first 100 answered cycles and end the run before the check's 100 ms.
+lab_robot_start "$out" 49973 "$scene" --truth-out "$out/truth.csv" --quality-rule off
 lab_robot_run "$exp" "$out" 60
 /usr/bin/python3 "$root/tests/lab_sim/check_lab_sim_fault.py" "$out" "$dep_rc" "$want_status" "$max_travel"

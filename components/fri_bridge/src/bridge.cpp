@@ -70,6 +70,7 @@ const char* toString(BridgeStatus s) {
     case BridgeStatus::PortMismatch: return "port_mismatch";
     case BridgeStatus::DryRun: return "dry_run";
     case BridgeStatus::OffsetMismatch: return "offset_mismatch";
+    case BridgeStatus::KrcFault: return "krc_fault";
     case BridgeStatus::DroppedDuplicate: return "dropped_duplicate";
     case BridgeStatus::DroppedOutOfOrder: return "dropped_out_of_order";
     case BridgeStatus::Malformed: return "malformed";
@@ -137,6 +138,8 @@ void FriBridge::reset() noexcept {
   have_command_ = false;
   engaged_ = false;
   was_in_cmd_ = false;
+  last_cmd_powered_ = false;
+  krc_fault_ = false;
   have_flags_ = false;
   cmd_flags_ = flags::kCartPose;
   sent_valid_.fill(false);
@@ -348,6 +351,12 @@ void FriBridge::trackState(const MsrPacket& msr, BridgeOutput& out) noexcept {
   have_state_ = true;
   last_state_ = state;
   last_quality_ = quality;
+  // The KRC's own stop (MAXFORCE, CPMAXDELTA, a drive error): command mode
+  // left and the drives braked in one step, or robot.error set.
+  const bool cmd_powered = state == State::Cmd && powerOn(msr);
+  if ((last_cmd_powered_ && state != State::Cmd && !powerOn(msr)) || msr.robot.error != 0) krc_fault_ = true;
+  if (cmd_powered && msr.robot.error == 0) krc_fault_ = false;
+  last_cmd_powered_ = cmd_powered;
 }
 
 BridgeStatus FriBridge::echoOutsideCmd(const MsrPacket& msr, const KDL::Frame& held, bool msr_valid,
@@ -362,6 +371,8 @@ BridgeStatus FriBridge::echoOutsideCmd(const MsrPacket& msr, const KDL::Frame& h
     out.status = BridgeStatus::OffsetMismatch;
   } else if (out.mismatch & mismatch::kControl) {
     out.status = BridgeStatus::WrongStrategy;
+  } else if (krc_fault_) {
+    out.status = BridgeStatus::KrcFault;
   } else if (out.state != State::Cmd && was_in_cmd_) {
     out.status = BridgeStatus::LeftCmd;
   } else if (!powerOn(msr)) {

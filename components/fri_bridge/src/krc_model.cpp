@@ -10,9 +10,47 @@
 namespace tactile {
 namespace fri {
 
+const char* toString(KrcFault f) {
+  switch (f) {
+    case KrcFault::None: return "none";
+    case KrcFault::MaxForce: return "maxforce";
+    case KrcFault::CpMaxDelta: return "cpmaxdelta";
+  }
+  return "unknown";
+}
+
+namespace {
+ConfigResult checkRule(const KrcQualityRule& r) {
+  if (r.window < 1 || r.window > KrcQualityRule::kMaxWindow)
+    return rangeError("krc.quality_rule.window", r.window, "must be in [1, 1000] (cycles)");
+  if (!(r.late_fraction > 0.0 && r.late_fraction <= 1.0))
+    return rangeError("krc.quality_rule.late_fraction", r.late_fraction, "must be in (0, 1] (share of the cycle)");
+  if (!(r.perfect_max >= 0.0 && r.perfect_max <= 1.0))
+    return rangeError("krc.quality_rule.perfect_max", r.perfect_max, "must be in [0, 1]");
+  if (!(r.ok_max >= r.perfect_max && r.ok_max <= 1.0))
+    return rangeError("krc.quality_rule.ok_max", r.ok_max, "must be in [perfect_max, 1]");
+  if (!(r.bad_max >= r.ok_max && r.bad_max <= 1.0))
+    return rangeError("krc.quality_rule.bad_max", r.bad_max, "must be in [ok_max, 1]");
+  return ConfigResult::success();
+}
+ConfigResult checkLimitsParams(const KrcStiffnessLimits& l) {
+  static const char* const kAxes[6] = {"X", "Y", "Z", "A", "B", "C"};
+  for (std::size_t i = 0; i < 6; ++i) {
+    if (!(std::isfinite(l.max_force[i]) && l.max_force[i] >= 0.0))
+      return rangeError(std::string("krc.limits.max_force ") + kAxes[i], l.max_force[i], "must be >= 0 (N, N m; 0 = off)");
+    if (!(std::isfinite(l.cp_max_delta[i]) && l.cp_max_delta[i] >= 0.0))
+      return rangeError(std::string("krc.limits.cp_max_delta ") + kAxes[i], l.cp_max_delta[i],
+                        "must be >= 0 (m, rad; 0 = off)");
+  }
+  return ConfigResult::success();
+}
+}  // namespace
+
 ConfigResult KrcModel::configure(const KrcModelParams& p) {
   if (!(std::isfinite(p.period_s) && p.period_s > 0.0 && p.period_s <= 0.1))
     return rangeError("krc.period_s", p.period_s, "must be in (0, 0.1] (s)");
+  if (ConfigResult r = checkRule(p.quality_rule); !r) return r;
+  if (ConfigResult r = checkLimitsParams(p.limits); !r) return r;
   params_ = p;
   reset(KDL::Frame::Identity());
   return ConfigResult::success();
@@ -29,6 +67,14 @@ void KrcModel::reset(const KDL::Frame& pose) {
   have_flags_ = false;
   refused_ = false;
   stop_requested_ = false;
+  fault_ = KrcFault::None;
+  // Before the remote answers, the KRC rates the link UNACCEPTABLE (with the rule).
+  timing_quality_ = params_.quality_rule.enabled ? Quality::Unacceptable : Quality::Perfect;
+  // Before the remote's first answer every cycle of the window counts as missed.
+  answer_ring_.fill(0);
+  for (uint32_t i = 0; i < params_.quality_rule.window; ++i) answer_ring_[i] = 1;
+  ring_bad_ = params_.quality_rule.window;
+  ring_pos_ = 0;
   set_point_ = pose;
   krl_pose_ = pose;
   last_applied_ = pose;
@@ -37,11 +83,76 @@ void KrcModel::reset(const KDL::Frame& pose) {
 }
 
 void KrcModel::setState(State state, Quality quality, uint16_t power) {
-  if ((refused_ || stop_requested_) && state == State::Cmd) state = State::Mon;  // left CMD: refused flags, or friStop
+  script_state_ = state;
+  script_quality_ = quality;
+  script_power_ = power;
+  applyState();
+}
+
+void KrcModel::applyState() {
+  State state = script_state_;
+  const Quality quality = std::min(script_quality_, timing_quality_);
+  uint16_t power = script_power_;
+  if ((refused_ || stop_requested_ || fault_ != KrcFault::None) && state == State::Cmd)
+    state = State::Mon;  // left CMD: refused flags, friStop, or the KRC's fault
+  if (fault_ != KrcFault::None) power = 0;  // the drives braked until the operator acknowledges
+  if (params_.quality_rule.enabled && state == State::Cmd) {
+    if (state_ == State::Cmd && quality < Quality::Ok) {
+      state = State::Mon;  // the KRC leaves command mode below OK
+      ++stats_.quality_drops;
+    } else if (state_ != State::Cmd && quality != Quality::Perfect) {
+      state = State::Mon;  // friStart (again) only at PERFECT
+    }
+  }
   if (state != State::Cmd || power == 0) have_applied_ = false;  // re-entry is checked as an entry
   state_ = state;
   quality_ = quality;
   power_ = power;
+}
+
+void KrcModel::noteAnswer(bool answered, double latency_s) {
+  const KrcQualityRule& r = params_.quality_rule;
+  const bool late = answered && latency_s > r.late_fraction * params_.period_s;
+  if (!answered) ++stats_.answers_missed;
+  if (late) ++stats_.answers_late;
+  const uint8_t bad = (!answered || late) ? 1 : 0;
+  ring_bad_ = ring_bad_ - answer_ring_[ring_pos_] + bad;
+  answer_ring_[ring_pos_] = bad;
+  ring_pos_ = (ring_pos_ + 1) % r.window;
+  if (!r.enabled) return;
+  const double share = static_cast<double>(ring_bad_) / static_cast<double>(r.window);
+  timing_quality_ = share <= r.perfect_max ? Quality::Perfect
+                    : share <= r.ok_max    ? Quality::Ok
+                    : share <= r.bad_max   ? Quality::Bad
+                                           : Quality::Unacceptable;
+  applyState();
+}
+
+void KrcModel::checkLimits(const PlantState& plant) {
+  // $STIFFNESS.MAXFORCE / CPMAXDELTA: watched while the KRC commands the arm
+  // under Cartesian impedance (command mode, drives on).
+  const KrcStiffnessLimits& l = params_.limits;
+  if (fault_ != KrcFault::None || state_ != State::Cmd || power_ == 0 ||
+      params_.control != ControlStrategy::CartImpedance || !l.any())
+    return;
+  KrcFault f = KrcFault::None;
+  for (std::size_t i = 0; i < 6; ++i)
+    if (l.max_force[i] > 0.0 && std::fabs(plant.wrench[i]) > l.max_force[i]) f = KrcFault::MaxForce;
+  if (f == KrcFault::None) {
+    // The deviation in base axes: translation, then the rotation vector of
+    // set point -> measured about z (A), y (B), x (C).
+    const KDL::Vector dp = plant.pose.p - set_point_.p;
+    const KDL::Vector rv = (plant.pose.M * set_point_.M.Inverse()).GetRot();
+    const double d[6] = {dp.x(), dp.y(), dp.z(), rv.z(), rv.y(), rv.x()};
+    for (std::size_t i = 0; i < 6; ++i)
+      if (l.cp_max_delta[i] > 0.0 && std::fabs(d[i]) > l.cp_max_delta[i]) f = KrcFault::CpMaxDelta;
+  }
+  if (f == KrcFault::None) return;
+  fault_ = f;
+  ++stats_.faults;
+  set_point_ = krl_pose_ = plant.pose;  // braked where it stands
+  ever_applied_ = true;                 // the KRC keeps that set point
+  applyState();                         // monitor mode, drives off, from this measurement on
 }
 
 void KrcModel::holdUnlessCommanding(const KDL::Frame& measured) {
@@ -52,6 +163,8 @@ void KrcModel::holdUnlessCommanding(const KDL::Frame& measured) {
 }
 
 void KrcModel::buildMeasurement(const PlantState& plant, double t_s, MsrPacket& out) {
+  checkLimits(plant);
+  ++stats_.quality_cycles[static_cast<std::size_t>(quality_) & 3u];
   MsrPacket& m = msr_;
   m.head.send_seq = ++seq_;
   m.head.refl_seq = last_remote_seq_;
@@ -115,8 +228,7 @@ ReplyResult KrcModel::handleReply(const uint8_t* buf, std::size_t n) {
     ++stats_.flag_changes;
     ++stats_.flag_errors;
     refused_ = true;
-    state_ = State::Mon;
-    have_applied_ = false;
+    applyState();
     return ReplyResult::Matched;
   }
   if (state_ == State::Cmd && power_ != 0) {

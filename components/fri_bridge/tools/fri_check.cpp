@@ -42,6 +42,7 @@
 //
 //   fri_check --monitor --params params/fri.yaml [--seconds S] [--cycles N] [--port P] [--bind ADDR]
 //             [--period-tolerance F] [--max-jitter-ms J] [--max-loss-rate R] [--json FILE]
+//             [--max-late-share R] [--min-perfect-share P]
 //
 // Never commands motion: the bridge runs in its dry run (FriBridge::setDryRun)
 // with no desired pose, so in MON it echoes the measured pose and in CMD it
@@ -60,14 +61,27 @@
 //   period      the measured packet period (host receive times, p50) within
 //               +-period_tolerance (default 0.25) of the KRC's cycle;
 //   jitter      p50 / p99 / max of the inter-arrival times; FAIL when
-//               p99 - p50 > max_jitter_ms (default 0.5 ms: half a 1 ms cycle);
+//               p99 - p50 > max_jitter_ms (default half the KRC's cycle: 0.5 ms
+//               at 1 ms, 1 ms at 2 ms);
 //   loss        sequence gaps / packets the KRC sent <= max_loss_rate (default
 //               0.001);
 //   order       duplicates and out-of-order packets: any FAILs;
 //   state       MON / CMD (and drives off: WARN) over time;
 //   quality     the KRC's link quality over time: FAIL when it is below OK at the
 //               end or drops below OK after having reached it; WARN when it
-//               started below OK (the KRC rates the link once answers arrive).
+//               started below OK (the KRC rates the link once answers arrive);
+//   cycle       whether this PC sustains the KRC's cycle: the share of answers the
+//               KRC missed (its missCounter over the run), the share this host
+//               answered later than 80 % of the cycle after the packet's due
+//               time (the KRC's send grid: the earliest answer within 100
+//               packets either side, this host's clock: a host that wakes late answers
+//               late), and the share of packets at
+//               PERFECT once PERFECT was first reached. Sustained (PASS): at most
+//               max_late_share (default 0.02) missed or late and PERFECT in at
+//               least min_perfect_share (default 0.99) of the packets (the
+//               simulated KRC's thresholds, KrcQualityRule). Otherwise at 1 ms: WARN, advise
+//               friOpen(2) with fri.cycle_time_s 0.002 and this check again; at
+//               2 ms or more: FAIL, the host must be fixed first.
 // The timing items (period, jitter) are diagnostics of this host and network,
 // measured with its clock. Exit (monitor mode): 0 every item PASS or WARN, 3 an
 // item FAILed, 2 no packet within --idle-timeout, 1 usage/configuration errors.
@@ -104,7 +118,8 @@ int usage(const char* msg) {
                "fri_check: %s\nusage: fri_check --port P [--cycles N] [--motion hold|circle] [--bind ADDR] "
                "[--radius M] [--circle-period S] [--max-lin-speed V] [--max-rot-speed W] [--idle-timeout S] [--cart-offset none|composed|elementwise]\n"
                "       fri_check --monitor --params FILE [--seconds S] [--cycles N] [--port P] [--bind ADDR] "
-               "[--period-tolerance F] [--max-jitter-ms J] [--max-loss-rate R] [--json FILE] [--idle-timeout S]\n",
+               "[--period-tolerance F] [--max-jitter-ms J] [--max-loss-rate R] [--json FILE] [--idle-timeout S]\n"
+               "       [--max-late-share R] [--min-perfect-share P]\n",
                msg);
   return 1;
 }
@@ -238,8 +253,10 @@ struct MonitorOptions {
   long cycles = 0;  ///< 0: by time only
   double idle_timeout = 10.0;
   double period_tolerance = 0.25;
-  double max_jitter_ms = 0.5;
+  double max_jitter_ms = -1.0;  ///< < 0: half the KRC's cycle
   double max_loss_rate = 0.001;
+  double max_late_share = 0.02;     ///< [cycle]: missed + late answers (KrcQualityRule's PERFECT share)
+  double min_perfect_share = 0.99;  ///< [cycle]: packets at PERFECT once reached
   std::string json_file;
   std::string params_file;
 };
@@ -249,6 +266,74 @@ double percentile(const std::vector<double>& sorted, double q) {
   if (sorted.empty()) return 0.0;
   const std::size_t i = static_cast<std::size_t>(std::ceil(q * static_cast<double>(sorted.size())));
   return sorted[std::min(sorted.size() - 1, i == 0 ? 0 : i - 1)];
+}
+
+/// An answer later than this share of the cycle counts as late (the
+/// simulated KRC's KrcQualityRule::late_fraction, our reading of the KRC's
+/// rating: KUKA does not publish its own).
+constexpr double kLateShare = 0.8;
+
+/// The share of `answers` (packet index k on the KRC's grid, reply time) sent
+/// later than kLateShare of `cycle` after the packet's due time: the grid's
+/// origin is the earliest t_reply - k * cycle within kGrid packets either side
+/// (the earliest answer marks the grid plus this host's least delay; local,
+/// so that the clocks' drift and a sender that re-anchors its grid after a
+/// stall, as the simulated KRC does, shift it for at most kGrid packets).
+double lateShare(const std::vector<std::pair<double, double>>& answers, double cycle) {
+  if (answers.empty() || !(cycle > 0.0)) return 0.0;
+  constexpr std::size_t kGrid = 100;
+  uint64_t late = 0;
+  for (std::size_t i = 0; i < answers.size(); ++i) {
+    double origin = 1e300;
+    const std::size_t lo = i >= kGrid ? i - kGrid : 0, hi = std::min(answers.size(), i + kGrid);
+    for (std::size_t j = lo; j < hi; ++j) origin = std::min(origin, answers[j].second - answers[j].first * cycle);
+    if (answers[i].second - (origin + answers[i].first * cycle) > kLateShare * cycle) ++late;
+  }
+  return double(late) / double(answers.size());
+}
+
+/// What the [cycle] item judges (runMonitor's counts).
+struct CycleFacts {
+  double krc_cycle = 0.0;      ///< the KRC's cycle (s)
+  uint64_t sent = 0;           ///< packets the KRC sent (accepted + sequence gaps)
+  uint64_t misses = 0;         ///< the KRC's miss counter over the run
+  double late_share = 0.0;     ///< lateShare()
+  double perfect_share = 0.0;  ///< packets at PERFECT once reached
+  bool reached_perfect = false;
+};
+
+/// [cycle]: whether this host sustains the KRC's cycle, and which to use.
+Item cycleItem(const CycleFacts& f, const MonitorOptions& mo) {
+  Item it{"cycle", "[cycle]", Verdict::Pass, "", {}, {}};
+  const double miss_share = f.sent ? double(f.misses) / double(f.sent) : 0.0;
+  const double cyc_ms = 1e3 * f.krc_cycle;
+  it.message = fmt("at the KRC's %.0f ms cycle: %.2f %% of the answers missed (the KRC's miss counter: %llu), "
+                   "%.2f %% answered later than %.0f %% of the cycle after the packet was due (this host's clock), "
+                   "PERFECT in %.1f %% of the packets once reached (sustained: at most %g %% missed or late, PERFECT "
+                   "in %g %%)",
+                   cyc_ms, 100 * miss_share, static_cast<unsigned long long>(f.misses), 100 * f.late_share,
+                   100 * kLateShare, 100 * f.perfect_share, 100 * mo.max_late_share, 100 * mo.min_perfect_share);
+  const bool sustained = f.reached_perfect && miss_share + f.late_share <= mo.max_late_share &&
+                         f.perfect_share >= mo.min_perfect_share;
+  if (sustained) {
+    it.next.push_back(fmt("this PC sustains the %.0f ms cycle: keep friOpen(%.0f) and fri.cycle_time_s %g%s", cyc_ms,
+                          cyc_ms, f.krc_cycle, cyc_ms > 1.5 ? "; 1 ms may be sustained too: try friOpen(1)" : ""));
+  } else if (cyc_ms > 0.0 && cyc_ms < 1.5) {
+    it.verdict = Verdict::Warn;
+    it.next.push_back("this PC does not sustain 1 ms: use 2 ms, friOpen(2) in krc/TactileServo.src and "
+                      "fri.cycle_time_s: 0.002 in fri.yaml (krc/check_krc_config.py compares them), then run this "
+                      "check again (docs/bringup.md)");
+  } else {
+    it.verdict = Verdict::Fail;
+    it.next.push_back(fmt("this PC does not sustain even %.0f ms: a real-time host (scripts/realtime), a dedicated "
+                          "NIC on a direct cable, nothing else on this host, before any motion", cyc_ms));
+  }
+  const char* advice = sustained ? (cyc_ms < 1.5 ? "1ms" : "keep") : (cyc_ms < 1.5 ? "2ms" : "fix_host");
+  it.json = {{"krc_cycle_s", fmt("%.6g", f.krc_cycle)}, {"missed", std::to_string(f.misses)},
+             {"missed_share", fmt("%.6g", miss_share)},  {"late_share", fmt("%.6g", f.late_share)},
+             {"perfect_share", fmt("%.6g", f.perfect_share)}, {"sustained", sustained ? "true" : "false"},
+             {"advice", jsonString(advice)}};
+  return it;
 }
 
 int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams& up) {
@@ -290,6 +375,11 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
   const double t_start = t_last_rx;
   uint16_t first_seq = 0;
   bool reached_ok = false, dropped_below_ok = false, started_below_ok = false;
+  bool reached_perfect = false, have_miss0 = false;
+  uint64_t after_perfect = 0, perfect_after = 0;
+  uint32_t miss0 = 0;
+  std::vector<std::pair<double, double>> answers;  // (packet index on the KRC's grid, reply sent - its arrival)
+  answers.reserve(arrivals.capacity());
   Quality worst_after_ok = Quality::Perfect;
   std::vector<std::string> timeline;
   MsrPacket last{};
@@ -342,16 +432,24 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
     if (!known) peers.emplace_back(addr, peer_port);
     bridge.notePeerPort(peer_port);
     bridge.stepDatagram(buf, us == UdpStatus::Truncated ? sizeof buf + 1 : n, desired, t_rx, out);
+    double t_reply = 0.0;
     if (out.reply) {
       std::size_t w = 0;
       encodeCommand(out.cmd, tx, sizeof tx, w);
       if (sock.reply(tx, w) != UdpStatus::Ok) ++send_errors;
+      t_reply = now();
     }
     ++status_count[static_cast<std::size_t>(out.status) & 31u];
     if (out.status == BridgeStatus::Malformed || out.status == BridgeStatus::DroppedDuplicate ||
         out.status == BridgeStatus::DroppedOutOfOrder || out.status == BridgeStatus::NotConfigured)
       continue;
     const MsrPacket& msr = bridge.lastMeasurement();
+    if (!have_miss0) miss0 = msr.intf.stat.miss_counter, have_miss0 = true;
+    if (qualityOf(msr) == Quality::Perfect) reached_perfect = true;
+    if (reached_perfect) {
+      ++after_perfect;
+      perfect_after += qualityOf(msr) == Quality::Perfect;
+    }
     last = msr;
     if (!have_first) {
       have_first = true;
@@ -359,6 +457,7 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
       first_seq = msr.head.send_seq;
     }
     arrivals.push_back(t_rx);
+    if (out.reply) answers.emplace_back(double(seqDelta(first_seq, msr.head.send_seq)), t_reply);
     const State st = stateOf(msr);
     const Quality q = qualityOf(msr);
     ++state_count[static_cast<std::size_t>(st)];
@@ -524,10 +623,11 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
                {"tolerance", fmt("%g", mo.period_tolerance)}};
   }
   {
+    const double max_jitter_ms = mo.max_jitter_ms >= 0.0 ? mo.max_jitter_ms : 0.5e3 * krc_cycle;
     Item& it = item("jitter", "[jitter]");
     it.message = fmt("inter-arrival p50 %.3f ms, p99 %.3f ms, max %.3f ms; p99 - p50 = %.3f ms (limit %.3f ms)",
-                     1e3 * p50, 1e3 * p99, 1e3 * pmax, 1e3 * (p99 - p50), mo.max_jitter_ms);
-    if (!ia.empty() && 1e3 * (p99 - p50) > mo.max_jitter_ms) {
+                     1e3 * p50, 1e3 * p99, 1e3 * pmax, 1e3 * (p99 - p50), max_jitter_ms);
+    if (!ia.empty() && 1e3 * (p99 - p50) > max_jitter_ms) {
       worsen(it, Verdict::Fail);
       it.next.push_back("this host or the network delays packets: run the bridge on the real-time host "
                         "(PREEMPT_RT or Xenomai, SCHED_FIFO), a dedicated NIC on a direct cable to the KRC, no power "
@@ -536,7 +636,7 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
       it.next.push_back("the arrival times are regular enough");
     }
     it.json = {{"p50_s", fmt("%.6g", p50)}, {"p99_s", fmt("%.6g", p99)}, {"max_s", fmt("%.6g", pmax)},
-               {"limit_ms", fmt("%g", mo.max_jitter_ms)}};
+               {"limit_ms", fmt("%g", max_jitter_ms)}};
   }
   {
     Item& it = item("loss", "[loss]");
@@ -614,6 +714,16 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
     it.json = {{"perfect", std::to_string(quality_count[3])}, {"ok", std::to_string(quality_count[2])},
                {"bad", std::to_string(quality_count[1])}, {"unacceptable", std::to_string(quality_count[0])},
                {"last", jsonString(toString(qualityOf(last)))}};
+  }
+  {
+    CycleFacts cf;
+    cf.krc_cycle = krc_cycle;
+    cf.sent = bs.accepted + bs.lost;
+    cf.misses = have_miss0 && last.intf.stat.miss_counter >= miss0 ? last.intf.stat.miss_counter - miss0 : 0;
+    cf.late_share = lateShare(answers, krc_cycle);
+    cf.perfect_share = after_perfect ? double(perfect_after) / double(after_perfect) : 0.0;
+    cf.reached_perfect = reached_perfect;
+    items.push_back(cycleItem(cf, mo));
   }
 
   int code = 0;
@@ -696,6 +806,12 @@ int main(int argc, char** argv) {
         return usage("--period-tolerance must be in (0, 10]");
     } else if (a == "--max-jitter-ms" && has) {
       if (!parseDouble(argv[++i], mo.max_jitter_ms) || mo.max_jitter_ms < 0.0) return usage("--max-jitter-ms must be >= 0");
+    } else if (a == "--max-late-share" && has) {
+      if (!parseDouble(argv[++i], mo.max_late_share) || mo.max_late_share < 0.0 || mo.max_late_share > 1.0)
+        return usage("--max-late-share must be in [0, 1]");
+    } else if (a == "--min-perfect-share" && has) {
+      if (!parseDouble(argv[++i], mo.min_perfect_share) || mo.min_perfect_share < 0.0 || mo.min_perfect_share > 1.0)
+        return usage("--min-perfect-share must be in [0, 1]");
     } else if (a == "--max-loss-rate" && has) {
       if (!parseDouble(argv[++i], mo.max_loss_rate) || mo.max_loss_rate < 0.0 || mo.max_loss_rate > 1.0)
         return usage("--max-loss-rate must be in [0, 1]");

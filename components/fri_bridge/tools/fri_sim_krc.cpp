@@ -23,6 +23,10 @@
 //                     force that press would put on the arm, so the servo's sensor checks see
 //                     two sensors that agree (docs/design.md, "The sensors against each other")
 //   --wrench-tool FX,FY,FZ  the same force in the flange's {e} axes (it turns with the arm)
+//   --quality-rule on|off  on: the KRC rates the link from the answers (KrcQualityRule: missed,
+//                     or later than 80 % of the cycle, over the last 100 cycles), reports the lower
+//                     of that and the schedule's quality, leaves command mode below OK and enters
+//                     it only at PERFECT; off (default): the schedule alone
 //   --fast            do not sleep; wait for each reply up to --reply-timeout-ms (default 100)
 //   --latency-out F   write one line per cycle to F: "LATENCY_US ON_TIME", the
 //                     reply latency in us (measurement sent -> its reply
@@ -47,7 +51,8 @@ int usage(const std::string& msg) {
                "fri_sim_krc: %s\nusage: fri_sim_krc --port P [--cycles N] [--period-ms T] [--fast] "
                "[--reply-timeout-ms T] [--latency-out FILE] [--schedule C:STATE:QUALITY[:POWER],...] [--loss p] [--dup p] [--reorder p] "
                "[--late p] [--wrong-size p] [--wrong-id p] [--cmd-loss p] [--seed S] [--burst CYCLE:N] [--local-port P] "
-               "[--control cart|joint|position|other] [--cart-offset none|composed|elementwise] [--msr-sample-ms T] [--cmd-sample-ms T]\n",
+               "[--control cart|joint|position|other] [--cart-offset none|composed|elementwise] [--msr-sample-ms T] [--cmd-sample-ms T]\n"
+               "       [--quality-rule on|off]\n",
                msg.c_str());
   return 1;
 }
@@ -132,6 +137,10 @@ int main(int argc, char** argv) {
     } else if ((a == "--msr-sample-ms" || a == "--cmd-sample-ms") && has) {
       if (!num(0.01, 100, v)) return usage(a + " must be in [0.01, 100]");
       (a == "--msr-sample-ms" ? p.msr_sample_time_s : p.cmd_sample_time_s) = v * 1e-3;
+    } else if (a == "--quality-rule" && has) {
+      const std::string q = argv[++i];
+      if (q != "on" && q != "off") return usage("--quality-rule must be on or off");
+      p.quality_rule.enabled = q == "on";
     } else if (a == "--schedule" && has) {
       std::string spec = argv[++i];
       std::size_t pos = 0;
@@ -196,6 +205,12 @@ int main(int argc, char** argv) {
               (unsigned long long)s.inj_lost, (unsigned long long)s.inj_duplicate, (unsigned long long)s.inj_reorder,
               (unsigned long long)s.inj_late, (unsigned long long)s.inj_wrong_size, (unsigned long long)s.inj_wrong_id,
               (unsigned long long)s.inj_cmd_lost);
+  std::printf("fri_sim_krc: quality from timing %s: answers missed %llu late %llu, drops out of CMD %llu; "
+              "measurements at UNACCEPTABLE %llu BAD %llu OK %llu PERFECT %llu\n",
+              p.quality_rule.enabled ? "on" : "off", (unsigned long long)s.answers_missed,
+              (unsigned long long)s.answers_late, (unsigned long long)s.quality_drops,
+              (unsigned long long)s.quality_cycles[0], (unsigned long long)s.quality_cycles[1],
+              (unsigned long long)s.quality_cycles[2], (unsigned long long)s.quality_cycles[3]);
   const bool clean = s.mon_echo_errors == 0 && s.flag_errors == 0 && s.nonfinite_commands == 0;
   return clean ? 0 : 3;
 }

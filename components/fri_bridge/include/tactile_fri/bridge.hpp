@@ -188,6 +188,9 @@ enum class BridgeStatus : uint8_t {
   OffsetMismatch = 14, ///< the set point read under cart_offset is not a pose or lies farther than
                        ///< setpoint_max_dev(_rot) from the measured pose: MON echo of the measured
                        ///< pose / CMD hold, nothing followed
+  KrcFault = 15,       ///< the KRC stopped the arm: it left CMD and braked the drives in the same
+                       ///< packet (a $STIFFNESS.MAXFORCE / CPMAXDELTA stop or another KRC error, or
+                       ///< robot.error set): MON echo, latched until CMD with the drives on again
   DroppedDuplicate = 16,   ///< same sendSeqCount as the last accepted packet: no reply
   DroppedOutOfOrder = 17,  ///< older sendSeqCount: no reply
   Malformed = 18,          ///< decode failed (see packet_status): no reply
@@ -328,6 +331,8 @@ class FriBridge {
   bool have_command_ = false;  // limiter_ holds a pose that was sent
   bool engaged_ = false;       // start gate passed: following the desired pose
   bool was_in_cmd_ = false;    // sticky LeftCmd
+  bool last_cmd_powered_ = false;  // the last accepted packet: CMD with the drives on
+  bool krc_fault_ = false;         // sticky KrcFault
   uint16_t peer_port_ = 0;     // source port of the current datagram (0: unknown)
   bool dry_run_ = false;
   bool stop_requested_ = false;  // requestStop(): latched

@@ -40,6 +40,23 @@
 // krl.int_data[0] is 99 ($FRI_FRM_INT[1] = TS_REQ_STOP) ends the program:
 // friStop (monitor mode, whatever the script says afterwards) and the step
 // 30 (stopRequested(); until reset()).
+//
+// The link quality from timing (KrcQualityRule, on when enabled): the caller
+// reports each open cycle's answer (noteAnswer(): a matching reply or none,
+// and its latency); over the last `window` cycles the share of missed or late
+// answers gives the quality (PERFECT / OK / BAD / UNACCEPTABLE); the KRC
+// reports the lower of it and the script's quality. In command mode a
+// quality below OK makes the KRC leave command mode (monitor mode, counted in
+// quality_drops); the script's command mode is entered, and re-entered after
+// such a drop, only at PERFECT (the KRL program waits for PERFECT before
+// friStart, krc/TactileServo.src step 6).
+//
+// The $STIFFNESS limits (KrcStiffnessLimits, on when set): in command mode
+// with the drives on, an estimated external TCP force/torque component beyond
+// MAXFORCE, or a deviation of the measured pose from the KRC's set point
+// beyond CPMAXDELTA, is a KRC fault: the KRC stops taking commands, brakes the
+// drives (power 0, the set point frozen at the measured pose) and leaves
+// command mode in the same cycle, until reset() (fault()).
 #pragma once
 
 #include <array>
@@ -64,8 +81,45 @@ struct PlantState {
   std::array<double, 6> wrench{};         ///< estimated external TCP wrench [Fx Fy Fz Tx Ty Tz] (N, N m)
 };
 
+/// The quality from the answers' timing. KUKA's friComm.h: the KRC's link
+/// statistics (answerRate, latency, missRate) are "average rating over the
+/// last 100 packets": the window. The shares per level are this project's
+/// reading (the thresholds KUKA's controller uses are not public): PERFECT
+/// while at most perfect_max of the window's answers were missed or late,
+/// OK up to ok_max, BAD up to bad_max, UNACCEPTABLE beyond.
+struct KrcQualityRule {
+  bool enabled = false;
+  uint32_t window = 100;       ///< cycles, [1, kMaxWindow]
+  double late_fraction = 0.8;  ///< an answer later than this share of the cycle counts as late, (0, 1]
+  double perfect_max = 0.02;   ///< share of missed/late answers still PERFECT, [0, 1]
+  double ok_max = 0.10;        ///< ... still OK (>= perfect_max)
+  double bad_max = 0.30;       ///< ... still BAD (>= ok_max); beyond: UNACCEPTABLE
+  static constexpr uint32_t kMaxWindow = 1000;
+};
+
+/// $STIFFNESS.MAXFORCE and $STIFFNESS.CPMAXDELTA as the KRC applies them (the
+/// values the KRL program writes, krc/TactileServo.src). 0 in a component:
+/// not checked. Components: [X Y Z A B C]; A about z, B about y, C about x of
+/// the base (our reading of KUKA's ABC order for the deviation's rotation).
+struct KrcStiffnessLimits {
+  std::array<double, 6> max_force{};     ///< |estExtTcpFT| per component (N, N m)
+  std::array<double, 6> cp_max_delta{};  ///< |set point - measured| per component (m, rad)
+  bool any() const {
+    for (std::size_t i = 0; i < 6; ++i)
+      if (max_force[i] > 0.0 || cp_max_delta[i] > 0.0) return true;
+    return false;
+  }
+};
+
+/// Why the KRC stopped the arm (KrcModel::fault()).
+enum class KrcFault : uint8_t { None = 0, MaxForce = 1, CpMaxDelta = 2 };
+/// "none", "maxforce", "cpmaxdelta".
+const char* toString(KrcFault f);
+
 struct KrcModelParams {
   double period_s = 0.001;  ///< the KRC's measurement / command sample time (s), (0, 0.1]
+  KrcQualityRule quality_rule{};
+  KrcStiffnessLimits limits{};
   ControlStrategy control = ControlStrategy::CartImpedance;
   /// The form in which the set point is sent: None (cmdCartPos is the set
   /// point, the offset zero), Composed or Elementwise (cmdCartPos the KRL
@@ -87,6 +141,11 @@ struct KrcModelStats {
   double max_cmd_step_rad = 0.0;  ///< largest rotation between consecutive applied commands
   double max_entry_offset_m = 0.0;   ///< first applied command after entering CMD vs the set point the KRC held
   double max_entry_offset_rad = 0.0;
+  uint64_t answers_missed = 0;    ///< noteAnswer(): cycles without a matching reply
+  uint64_t answers_late = 0;      ///< noteAnswer(): matching replies later than late_fraction of the cycle
+  uint64_t quality_drops = 0;     ///< command mode left because the quality fell below OK
+  uint64_t faults = 0;            ///< MAXFORCE / CPMAXDELTA faults (0 or 1: latched until reset())
+  std::array<uint64_t, 4> quality_cycles{};  ///< measurements sent at each quality (UNACCEPTABLE..PERFECT)
 };
 
 enum class ReplyResult : uint8_t { Matched = 0, Stale = 1, Malformed = 2 };
@@ -147,7 +206,15 @@ class KrcModel {
   /// Start: no packet exchanged yet, the set point at `pose`, statistics cleared.
   void reset(const KDL::Frame& pose);
 
+  /// The script's state, quality and drives (the KRC applies the timing rule,
+  /// a refusal, a stop request and a fault on top: state(), quality()).
   void setState(State state, Quality quality, uint16_t power);
+  /// One open cycle's answer, after its reply wait: `answered` a reply matched
+  /// this cycle's measurement, `latency_s` its latency (0 where the transport
+  /// does not measure it). Updates the timing quality (quality_rule) and the
+  /// state. With the rule the timing quality starts UNACCEPTABLE (nothing answered
+  /// yet); without it, it stays PERFECT.
+  void noteAnswer(bool answered, double latency_s);
   /// Outside CMD (or drives off) the set point follows the measured pose
   /// until a command was first applied; afterwards the KRC keeps it (friStop,
   /// a quality drop or braked drives keep a pressing contact's force).
@@ -171,8 +238,14 @@ class KrcModel {
   /// The RT PC asked the KRL program to end (krl.int_data[0] = 99): it left
   /// command mode and reports the step 30 (closed) until reset().
   bool stopRequested() const { return stop_requested_; }
+  /// MAXFORCE / CPMAXDELTA fault: the KRC stopped the arm (until reset()).
+  KrcFault fault() const { return fault_; }
+  /// The quality the answers' timing alone gives (PERFECT with the rule off).
+  Quality timingQuality() const { return timing_quality_; }
 
  private:
+  void applyState();
+  void checkLimits(const PlantState& plant);
   KrcModelParams params_{};
   KrcModelStats stats_{};
   State state_ = State::Mon;
@@ -188,6 +261,14 @@ class KrcModel {
   bool have_flags_ = false;
   bool refused_ = false;       // a flag change in CMD: monitor mode until reset()
   bool stop_requested_ = false;  // the RT PC's stop request: the program ended
+  State script_state_ = State::Mon;      // setState()'s, before the rules
+  Quality script_quality_ = Quality::Perfect;
+  uint16_t script_power_ = 0x7F;
+  Quality timing_quality_ = Quality::Perfect;
+  std::array<uint8_t, KrcQualityRule::kMaxWindow> answer_ring_{};  // 1: missed or late
+  uint32_t ring_pos_ = 0;
+  uint32_t ring_bad_ = 0;  // ones in the window
+  KrcFault fault_ = KrcFault::None;
   KDL::Frame set_point_ = KDL::Frame::Identity();
   KDL::Frame krl_pose_ = KDL::Frame::Identity();  // the KRL program's own pose (cmdCartPos unless form None)
   KDL::Frame last_applied_ = KDL::Frame::Identity();

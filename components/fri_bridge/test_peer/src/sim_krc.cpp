@@ -74,6 +74,8 @@ ConfigResult SimKrc::configure(const SimKrcParams& p, Plant& plant) {
   mp.period_s = p.period_s;
   mp.control = p.control;
   mp.cart_offset = p.cart_offset;
+  mp.quality_rule = p.quality_rule;
+  mp.limits = p.limits;
   ConfigResult r = model_.configure(mp);
   if (!r) return r;
   UdpParams up;
@@ -251,6 +253,9 @@ void SimKrc::runCycle() {
     if (nowSeconds() >= deadline) break;
   }
   if (!matched) ++stats_.missed;
+  // The KRC rates the link from this cycle's answer (the timing quality).
+  model_.noteAnswer(matched, params_.real_time && matched ? cycle_latency_s_ : 0.0);
+  syncStats();
   if (latency_log_ != nullptr) {
     sent_ring_[stats_.cycles % kLateWindow] =
         SentRecord{model_.sendSeq(), t_sent, latency_log_->size(), expect_reply};

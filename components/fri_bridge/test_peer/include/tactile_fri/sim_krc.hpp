@@ -131,6 +131,13 @@ struct SimKrcParams {
   /// its real one (the bridge's rate limiter steps by desiredCmdSampleTime).
   double msr_sample_time_s = 0.0;
   double cmd_sample_time_s = 0.0;
+  /// The quality from the answers' timing (KrcModel): off by default here (a
+  /// test peer's schedule alone decides); lab_sim and fri_sim_krc turn it on.
+  /// In real time an answer's latency counts against late_fraction of the
+  /// period; in fast mode only missed answers count.
+  KrcQualityRule quality_rule{};
+  /// $STIFFNESS.MAXFORCE / CPMAXDELTA (KrcModel): off by default (zeros).
+  KrcStiffnessLimits limits{};
   StateEvent initial{};                  ///< state at cycle 0 (its `cycle` is ignored)
   std::vector<StateEvent> schedule;      ///< sorted by cycle
   FaultParams faults{};
@@ -182,6 +189,7 @@ class SimKrc {
   Quality quality() const { return model_.quality(); }
   uint16_t power() const { return model_.power(); }
   bool open() const { return open_; }
+  KrcFault fault() const { return model_.fault(); }
   const KDL::Frame& setPoint() const { return model_.setPoint(); }
 
  private:
