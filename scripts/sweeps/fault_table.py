@@ -88,6 +88,11 @@ FAULTS = [
      f"[{{kind: wrench_drift, start_s: {T}, drift_n_per_min: [0, 0, 1]}}]", T, ("continue",)),
     ("wrench_drift", "wrench", "+10 N/min along z_g",
      f"[{{kind: wrench_drift, start_s: {T}, drift_n_per_min: [0, 0, 10]}}]", T, ("either", None, 50)),
+    # Reading less than the truth: the correction falls and the law pushes harder. The drift check
+    # (correction_drift, 1 N from its anchor) stops it when the drift has added about 1 N, 6-7 s at
+    # 10 N/min: at the slide's ~8 mm/s about 55 mm.
+    ("wrench_drift_down", "wrench", "-10 N/min along z_g (reads less than the truth)",
+     f"[{{kind: wrench_drift, start_s: {T}, drift_n_per_min: [0, 0, -10]}}]", T, ("either", None, 75)),
     ("wrench_frame", "wrench", "flange axes reported as base axes",
      f"[{{kind: wrench_frame, start_s: {T}, axes: flange}}]", T, ("either", None, 50)),
     ("wrench_sign", "wrench", "the wrench negated", f"[{{kind: wrench_sign, start_s: {T}}}]", T, ("either", None, 50)),
@@ -286,7 +291,9 @@ def write_docs(docs, md, rows, header, commit, mach, out):
              "the measured sensor origin's path (timeseries.csv `act_x..act_z`, every 0.1 s) from the fault's "
              "start to the run's end. The named stops are the servo's statuses (summary.json `status`): "
              "`phantom_contact`, a pad contact the wrench contradicts; `correction_saturated`, the fused "
-             "force correction held at its bound; `force_mismatch`, the tactile force and the wrench apart "
+             "force correction held at its bound; `correction_drift`, the correction moving on the straight "
+             "edge (the two sensors drifting apart: the wrench, or the pad's tare); `force_mismatch`, the "
+             "tactile force and the wrench apart "
              "(`tactile_servo/watchdog.hpp`). A verdict **differs** is an outcome the servo does not "
              "reach: a detection it lacks, or one that comes too late.", ""]
     with open(os.path.join(docs, "faults.md"), "w") as f:

@@ -72,7 +72,7 @@ SD_KEYS = ("cop_x", "cop_y", "d_z", "dzmp_x", "dzmp_y", "alpha_z")
 # The servo's fatal statuses (a watchdog or the force ceiling: the runner's servo_* end statuses) and the
 # simulated arm's (Robot.statusName() at the end).
 FATAL_SERVO = ("force_ceiling", "phase_timeout", "arm_stalled", "force_mismatch", "surface_too_curved", "phantom_contact",
-               "unseen_load", "correction_saturated")  # tactile::watchdogStatus and the ceiling
+               "unseen_load", "correction_saturated", "correction_drift")  # tactile::watchdogStatus and the ceiling
 FATAL_ROBOT = ("joint_limit", "singularity", "force_ceiling", "numerical_failure")
 
 

@@ -92,8 +92,9 @@ const char* explain(ServoStatus s) {
              "stopped as the program says";
     case ServoStatus::CorrectionDrift:
       return "the force estimate's correction kept moving where the load the taxels miss should stay the same "
-             "(watchdogs.correction_drift): the arm's wrench drifts and would carry the true force with it; "
-             "stopped as the program says";
+             "(watchdogs.correction_drift): the two sensors drift apart (the arm's wrench drifts or jumps, or "
+             "the pad's tare creeps) and the estimate would carry the true force with them; stopped as the "
+             "program says";
   }
   return "unknown status";
 }

@@ -160,7 +160,7 @@ enum class ServoStatus : uint8_t {
   CorrectionSaturated = 19, ///< the fused force estimate's correction held at its limit: the taxels and
                             ///< the wrench disagree by more than the estimate may bridge
   CorrectionDrift = 20      ///< the fused force estimate's correction kept moving where the load the pad
-                            ///< misses is stationary: the wrench drifts
+                            ///< misses is stationary: the sensors drift apart (the wrench, the pad's tare)
 };
 /// The highest ServoStatus value (tables and parsers that walk every status).
 constexpr ServoStatus kLastServoStatus = ServoStatus::CorrectionDrift;
