@@ -92,15 +92,17 @@ ConfigResult restMean(const std::string& file, const std::vector<WrenchSample>& 
   RestMean m;
   m.file = file;
   m.pose = s.front().pose;
+  double dp = 0.0, dr = 0.0;  // the largest excursion from the first pose
   for (const WrenchSample& x : s) {
     KDL::Vector axis;
-    const double dp = (x.pose.p - m.pose.p).Norm(), dr = rotationAngle(m.pose.M.Inverse() * x.pose.M, axis);
-    if (dp > kStillM || dr > kStillRad)
-      return ConfigResult::failure(fmt("%s: the arm moved %.1f mm / %.3f rad during the recording (at most %.0f mm / "
-                                       "%.2f rad): record again with the arm still",
-                                       file.c_str(), dp * 1e3, dr, kStillM * 1e3, kStillRad));
+    dp = std::max(dp, (x.pose.p - m.pose.p).Norm());
+    dr = std::max(dr, rotationAngle(m.pose.M.Inverse() * x.pose.M, axis));
     for (std::size_t i = 0; i < 6; ++i) m.w[i] += x.w[i];
   }
+  if (dp > kStillM || dr > kStillRad)
+    return ConfigResult::failure(fmt("%s: the arm moved %.1f mm / %.3f rad during the recording (at most %.0f mm / "
+                                     "%.2f rad): record again with the arm still",
+                                     file.c_str(), dp * 1e3, dr, kStillM * 1e3, kStillRad));
   m.samples = s.size();
   for (double& v : m.w) v /= double(s.size());
   double ss = 0.0;
