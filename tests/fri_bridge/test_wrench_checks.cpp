@@ -30,7 +30,7 @@ constexpr double kFloatTolN = 1e-4;
 KDL::Frame pendant(double x, double y, double z, double a, double b, double c) {
   return KDL::Frame(KDL::Rotation::RPY(c * kDeg, b * kDeg, a * kDeg), KDL::Vector(x * 1e-3, y * 1e-3, z * 1e-3));
 }
-const KDL::Frame kSideways = pendant(500, 0, 400, 0, 90, 180);  // flange z along base +x
+const KDL::Frame kSideways = pendant(500, 0, 400, 0, 90, 180);  // flange z along base -x, flange x down
 const KDL::Frame kDown = pendant(500, 0, 400, 0, 0, 180);       // flange z along base -z
 
 /// The wrench the simulated KRC reports for a plant at `pose`, as fri_check records it.
@@ -124,7 +124,7 @@ TEST(WrenchFrame, TheKrcModelSendsTheWrenchInItsStiffnessFrame) {
     s.frame = frame;
     s.force_base = KDL::Vector(0, 0, -19.6133);
     const RestMean m = rest(record(s, kSideways));
-    // kSideways: flange z = base +x, so base -z is flange +x
+    // kSideways: flange x points down (base -z), so a force along base -z is along flange +x
     const KDL::Vector want = frame == WrenchFrame::Base ? KDL::Vector(0, 0, -19.6133) : KDL::Vector(19.6133, 0, 0);
     for (int i = 0; i < 3; ++i) EXPECT_NEAR(m.w[static_cast<std::size_t>(i)], want(i), kFloatTolN) << toString(frame);
   }

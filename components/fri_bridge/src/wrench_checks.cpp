@@ -27,7 +27,11 @@ std::string fmt(const char* f, ...) {
 
 std::string vec(const KDL::Vector& v, double scale = 1.0, const char* f = "%.2f") {
   std::string s = "[";
-  for (int i = 0; i < 3; ++i) s += (i ? ", " : "") + fmt(f, scale * v(i));
+  for (int i = 0; i < 3; ++i) {
+    std::string x = fmt(f, scale * v(i));
+    if (x.find_first_not_of("-0.") == std::string::npos && x[0] == '-') x.erase(0, 1);  // no "-0.00"
+    s += (i ? ", " : "") + x;
+  }
   return s + "]";
 }
 
@@ -199,8 +203,8 @@ WeightResult checkKnownWeight(const RestMean& tare, const RestMean& loaded, cons
   for (int f = 0; f < 2; ++f)
     for (int s = 0; s < 2; ++s)
       if (f != bf || s != bs) r.separation_deg = std::min(r.separation_deg, angleDeg(pred[bf][bs], pred[f][s]));
-  r.lines.push_back(fmt("readings (angle to the change): base +%.1f deg, base -%.1f deg, tool +%.1f deg, tool "
-                        "-%.1f deg; best %s %s, %.1f deg from the nearest other reading",
+  r.lines.push_back(fmt("readings (angle to the change): base(+) %.1f deg, base(-) %.1f deg, tool(+) %.1f deg, "
+                        "tool(-) %.1f deg; best %s(%s), %.1f deg from the nearest other reading",
                         r.angle_deg[0][0], r.angle_deg[0][1], r.angle_deg[1][0], r.angle_deg[1][1],
                         bf == 0 ? "base" : "tool", bs == 0 ? "+" : "-", r.separation_deg));
   r.frame = bf == 0 ? WrenchFrame::Base : WrenchFrame::Tool;
