@@ -6,7 +6,7 @@
 //
 //   lab_sim SCENE.yaml [--fri-port P] [--wts-link PATH] [--krc SCRIPT]
 //           [--period-ms T] [--krc-cycle-ms C] [--msr-sample-ms M] [--cmd-sample-ms M]
-//           [--control cart|joint|position] [--cart-offset F] [--duration S]
+//           [--control cart|joint|position] [--cart-offset F] [--krl FILE] [--wrench-frame F] [--duration S]
 //           [--truth-out FILE.csv] [--truth-period-ms T] [--set KEY.PATH=VALUE ...]
 //
 //   --fri-port P        the FRI bridge's UDP port on 127.0.0.1 (default 49938, fri.yaml's);
@@ -36,6 +36,11 @@
 //                       the offset zero; default), composed (cmdCartPos * offset as
 //                       frames), elementwise (cmdCartPos + offset over the 12 entries);
 //                       fri.yaml's cart_offset must match (fri_check finds it)
+//   --krl FILE          the KRL program the KRC runs (krc/TactileServo.src): its
+//                       $STIFFNESS.FRAMETYPE gives the axes of estExtTcpFT (#BASE: base,
+//                       #TOOL: the flange's; tactile_fri/krl_settings.hpp). Default: base
+//   --wrench-frame F    base | tool: the axes of estExtTcpFT, overriding --krl's (a KRC
+//                       whose $STIFFNESS disagrees with fri.yaml's wrench_frame)
 //   --duration S        stop after S s (default 0: until SIGINT/SIGTERM)
 //   --truth-out FILE    the world's ground truth over time, CSV (columns in
 //                       docs/lab_sim.md): time, KRC state, flange pose, the set
@@ -63,6 +68,7 @@
 #include <vector>
 
 #include "tactile_fri/krc_model.hpp"
+#include "tactile_fri/krl_settings.hpp"
 #include "tactile_fri/sim_krc.hpp"
 #include "tactile_lab/krc_schedule.hpp"
 #include "tactile_lab/world_plant.hpp"
@@ -81,6 +87,7 @@ int usage(const std::string& msg) {
   std::fprintf(stderr,
                "lab_sim: %s\nusage: lab_sim SCENE.yaml [--fri-port P] [--wts-link PATH] [--krc SCRIPT] [--period-ms T]\n"
                "               [--krc-cycle-ms C] [--msr-sample-ms M] [--cmd-sample-ms M] [--control cart|joint|position] [--cart-offset F]\n"
+               "               [--krl FILE] [--wrench-frame base|tool]\n"
                "               [--duration S] [--truth-out FILE.csv] [--truth-period-ms T] [--set KEY.PATH=VALUE ...]\n"
                "(see the header of sim/lab/lab_sim.cpp or docs/lab_sim.md)\n",
                msg.c_str());
@@ -158,7 +165,8 @@ void printForce(const char* label, const Stat& s, double cycle_s) {
 int main(int argc, char** argv) {
   std::string scene_file, wts_link, truth_out, krc_spec, control = "cart";
   fri::CartOffset cart_offset = fri::CartOffset::None;
-  bool krc_given = false;
+  fri::WrenchFrame wrench_frame = fri::WrenchFrame::Base, frame_override = fri::WrenchFrame::Base;
+  bool krc_given = false, frame_given = false;
   long fri_port = fri::kDefaultPort;
   double period_ms = 0.0, krc_cycle_ms = 0.0, msr_sample_ms = 0.0, cmd_sample_ms = 0.0, duration_s = 0.0,
          truth_period_ms = 10.0;
@@ -196,6 +204,13 @@ int main(int argc, char** argv) {
     } else if (a == "--cart-offset" && has) {
       if (!fri::parseCartOffset(argv[++i], cart_offset))
         return usage("--cart-offset must be none, composed or elementwise");
+    } else if (a == "--krl" && has) {
+      fri::KrlSettings krl;
+      if (ConfigResult r = fri::readKrlSettings(argv[++i], krl); !r) return usage("--krl: " + r.message());
+      wrench_frame = krl.wrench_frame;
+    } else if (a == "--wrench-frame" && has) {
+      if (!fri::parseWrenchFrame(argv[++i], frame_override)) return usage("--wrench-frame must be base or tool");
+      frame_given = true;
     } else if (a == "--duration" && has) {
       if (!num(0, 1e7, duration_s)) return usage("--duration must be in [0, 1e7] (s; 0 = until killed)");
     } else if (a == "--truth-out" && has) {
@@ -260,6 +275,7 @@ int main(int argc, char** argv) {
   kp.cmd_sample_time_s = cmd_sample_ms * 1e-3;
   kp.initial_pose = plant.initialPose();
   kp.cart_offset = cart_offset;
+  kp.wrench_frame = frame_given ? frame_override : wrench_frame;
   kp.control = control == "cart"    ? fri::ControlStrategy::CartImpedance
                : control == "joint" ? fri::ControlStrategy::JointImpedance
                                     : fri::ControlStrategy::Position;
@@ -302,10 +318,11 @@ int main(int argc, char** argv) {
   std::signal(SIGTERM, onSignal);
   const KDL::Frame p0 = plant.initialPose();
   std::printf("lab_sim: scene %s (%s), world step %.3f ms, KRC cycle %.3f ms (advertised msr %.3f ms cmd %.3f ms), "
-              "control %s, cart_offset %s, FRI -> 127.0.0.1:%ld, WTS %dx%d at %.0f Hz\n",
+              "control %s, cart_offset %s, estExtTcpFT in %s axes, FRI -> 127.0.0.1:%ld, WTS %dx%d at %.0f Hz\n",
               scene.name.c_str(), scene.file.c_str(), T_world * 1e3, T_krc * 1e3,
               (kp.msr_sample_time_s > 0 ? kp.msr_sample_time_s : T_krc) * 1e3,
-              (kp.cmd_sample_time_s > 0 ? kp.cmd_sample_time_s : T_krc) * 1e3, control.c_str(), fri::toString(cart_offset), fri_port,
+              (kp.cmd_sample_time_s > 0 ? kp.cmd_sample_time_s : T_krc) * 1e3, control.c_str(), fri::toString(cart_offset),
+              fri::toString(kp.wrench_frame), fri_port,
               scene.features.rows, scene.features.cols, scene.rates.wts);
   std::printf("lab_sim: flange at (%.4f, %.4f, %.4f) m, true contact force %.3f N\n", p0.p.x(), p0.p.y(), p0.p.z(),
               -plant.state().wrench_s[2]);
