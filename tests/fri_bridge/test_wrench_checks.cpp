@@ -333,3 +333,22 @@ TEST(LoadData, TooFewOrTooAlikeOrientationsAreUndetermined) {
   EXPECT_EQ(r.verdict, LoadVerdict::Undetermined) << joined(r.lines);
   EXPECT_NE(joined(r.lines).find("too alike"), std::string::npos) << joined(r.lines);
 }
+
+TEST(KnownWeight, APushAlongThePadNormalIsGivenInToolAxes) {
+  // 15 N pressed on the pad's face along the flange's -z (the pad facing +z
+  // of the flange), the flange tilted: KnownWeight::dir_in_tool
+  const KDL::Frame tilted = pendant(500, 0, 400, 30, 45, 150);
+  SimulatedKrc tare, pushed;
+  pushed.force_base = tilted.M * KDL::Vector(0, 0, -15.0);
+  KnownWeight kw;
+  kw.mass_kg = 15.0 / kG;
+  kw.dir = KDL::Vector(0, 0, -1);
+  kw.dir_in_tool = true;
+  const WeightResult r = checkKnownWeight(rest(record(tare, tilted)), rest(record(pushed, tilted)), kw, WrenchFrame::Base);
+  EXPECT_EQ(r.verdict, WeightVerdict::Correct) << joined(r.lines);
+  EXPECT_NEAR((r.expected_base - pushed.force_base).Norm(), 0.0, kFloatTolN);  // the pose as float32
+  // the same push read as a weight along gravity does not fit
+  kw.dir_in_tool = false;
+  const WeightResult g = checkKnownWeight(rest(record(tare, tilted)), rest(record(pushed, tilted)), kw, WrenchFrame::Base);
+  EXPECT_NE(g.verdict, WeightVerdict::Correct) << joined(g.lines);
+}
