@@ -297,7 +297,8 @@ void fromWrench(const std::array<double, 6>& w, float (&ft)[kCartVecDim]) noexce
 /// $STIFFNESS.TASKFRAME"; this project reads $STIFFNESS.FRAMETYPE #BASE as
 /// the robot's base {g} (with $STIFFNESS.BASE the null frame) and #TOOL as
 /// the TCP's axes, here the flange {e} ($STIFFNESS.TOOL the null frame). The
-/// public sources do not say more; the day-one known-weight check
+/// public sources do not say more (ISIR's resetSTIFFNESS.src names #TOOL and
+/// #BASE as the Cartesian stiffness' frame); the day-one known-weight check
 /// (fri_check --wrench-check, docs/bringup.md) decides on the arm. The
 /// moment is about the TCP in either case: only the axes differ.
 enum class WrenchFrame : uint8_t { Base = 0, Tool = 1 };
