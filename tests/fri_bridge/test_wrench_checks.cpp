@@ -352,3 +352,19 @@ TEST(KnownWeight, APushAlongThePadNormalIsGivenInToolAxes) {
   const WeightResult g = checkKnownWeight(rest(record(tare, tilted)), rest(record(pushed, tilted)), kw, WrenchFrame::Base);
   EXPECT_NE(g.verdict, WeightVerdict::Correct) << joined(g.lines);
 }
+
+TEST(KnownWeight, AnUnreadableRecordingNamesItsFileAndLine) {
+  std::vector<WrenchSample> s;
+  const std::string bad = tactile::test::writeTempFile(
+      "bad.csv", "t_s,state,quality,r11,r12,r13,x,r21,r22,r23,y,r31,r32,r33,z,fx,fy,fz,tx,ty,tz\n0.0,1,3,1,0,0\n");
+  tactile::ConfigResult r = readRecording(bad, s);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("bad.csv:2: expected 21 numbers"), std::string::npos) << r.message();
+  const std::string empty = tactile::test::writeTempFile("empty.csv", "t_s,state\n");
+  r = readRecording(empty, s);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("no measurement"), std::string::npos) << r.message();
+  r = readRecording("/nonexistent/rec.csv", s);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("/nonexistent/rec.csv: cannot read"), std::string::npos) << r.message();
+}
