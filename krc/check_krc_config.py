@@ -17,8 +17,9 @@ Checks, each a line "ok ..." or "MISMATCH ..." naming both files and keys:
   5. $STIFFNESS.CPSTIFFNESS / CPDAMPING in force at friStart == fri.cart_stiffness /
      cart_damping (the arm behaves the same with or without fri.command_impedance)
   6. every field of $STIFFNESS written before friStart (nothing inherited from an
-     earlier program); FRAMETYPE #BASE, BASE and TOOL $NULLFRAME, and $TOOL, $BASE
-     $NULLFRAME: estExtTcpFT (in $STIFFNESS.TASKFRAME) and msrCartPos in the base
+     earlier program); FRAMETYPE == fri.wrench_frame (#BASE: base, #TOOL: tool;
+     the axes of estExtTcpFT, $STIFFNESS.TASKFRAME, that the bridge reads), BASE
+     and TOOL $NULLFRAME, and $TOOL, $BASE $NULLFRAME: msrCartPos in the base
      frame {g} and at the flange, as the bridge and the servo read them
   7. MAXFORCE Z above the first day's program's safety.force_ceiling (the servo's
      named stop acts before the KRC caps the force) and CPMAXDELTA x, y, z (mm)
@@ -226,7 +227,7 @@ def cart_impedance_code(path, failures):
     return int(c.group(1))
 
 
-def check_more(a, src, dat, krl, compare, oks, failures):
+def check_more(a, src, dat, krl, compare, oks, failures, fri):
     """Checks 6 to 10 (see the module's doc)."""
     more = parse_src_more(src, failures)
     d = parse_dat(dat, failures)
@@ -245,7 +246,17 @@ def check_more(a, src, dat, krl, compare, oks, failures):
             fields[f] = b[-1]
     servo_reads = ("the servo reads estimated_wrench (estExtTcpFT, in $STIFFNESS.TASKFRAME) in the base frame {g} "
                    "and flange_pose (msrCartPos) at the flange: components/servo/include/tactile_servo/servo.hpp")
-    for f, want in (("FRAMETYPE", "#BASE"), ("BASE", "$NULLFRAME"), ("TOOL", "$NULLFRAME")):
+    frame = fri.get("wrench_frame")
+    if frame not in ("base", "tool"):
+        failures.append(f"{a.fri_yaml}: fri.wrench_frame = {frame}: expected base or tool (the axes the bridge reads "
+                        "estExtTcpFT in)")
+    elif "FRAMETYPE" in fields:
+        ln, v = fields["FRAMETYPE"]
+        compare(v.upper() == "#" + frame.upper(),
+                f"task frame: {src}:{ln} $STIFFNESS.FRAMETYPE = {v} (the axes the KRC sends estExtTcpFT in), "
+                f"{a.fri_yaml} fri.wrench_frame = {frame} (the axes the bridge reads it in; "
+                f"#{frame.upper()} matches; fri_check --wrench-check tells the KRC's from a known weight)")
+    for f, want in (("BASE", "$NULLFRAME"), ("TOOL", "$NULLFRAME")):
         if f in fields:
             ln, v = fields[f]
             compare(v.upper() == want, f"task frame: {src}:{ln} $STIFFNESS.{f} = {v}, expected {want}: {servo_reads}")
@@ -397,7 +408,7 @@ def main():
             ln, k = krl[key]
             same = len(v) == 6 and all(abs(float(x) - y) <= TOL * max(1.0, abs(y)) for x, y in zip(v, k))
             compare(same, f"{fkey}: {src}:{ln} $STIFFNESS.{key.upper()} = {k}, {a.fri_yaml} fri.{fkey} = {v}")
-    check_more(a, src, dat, krl, compare, oks, failures)
+    check_more(a, src, dat, krl, compare, oks, failures, fri)
     kp = udp.get("krc_port", 0)
     oks.append(f"fri.udp.krc_port = {kp} ({'any source port' if not kp else 'only this source port'}; "
                "dlrrc.ini does not say which port the KRC sends from: take it from fri_check --monitor)")

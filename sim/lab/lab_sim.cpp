@@ -7,7 +7,8 @@
 //   lab_sim SCENE.yaml [--fri-port P] [--wts-link PATH] [--krc SCRIPT]
 //           [--period-ms T] [--krc-cycle-ms C] [--msr-sample-ms M] [--cmd-sample-ms M]
 //           [--control cart|joint|position] [--cart-offset F] [--quality-rule on|off]
-//           [--krl FILE.src] [--duration S] [--truth-out FILE.csv] [--truth-period-ms T] [--set KEY.PATH=VALUE ...]
+//           [--krl FILE.src] [--wrench-frame F] [--duration S] [--truth-out FILE.csv] [--truth-period-ms T]
+//           [--set KEY.PATH=VALUE ...]
 //
 //   --fri-port P        the FRI bridge's UDP port on 127.0.0.1 (default 49938, fri.yaml's);
 //                       measurements go there and only there (loopback)
@@ -41,10 +42,15 @@
 //                       last 100 cycles), reports the lower of that and the script's
 //                       quality, leaves command mode below OK and enters it (again)
 //                       only at PERFECT; off: the script alone
-//   --krl FILE          the KRL program whose $STIFFNESS.MAXFORCE / CPMAXDELTA the KRC
-//                       applies (krc/TactileServo.src): beyond either in command mode
-//                       the KRC brakes the drives and drops to monitor mode (a fault
-//                       until the end); default: not applied
+//   --krl FILE.src      the KRL program the KRC runs (krc/TactileServo.src and the .dat
+//                       beside it; tactile_fri/krl_settings.hpp): its
+//                       $STIFFNESS.FRAMETYPE gives the axes of estExtTcpFT (#BASE: base,
+//                       #TOOL: the flange's), and its $STIFFNESS.MAXFORCE / CPMAXDELTA
+//                       the KRC applies: beyond either in command mode the KRC brakes
+//                       the drives and drops to monitor mode (a fault until the end).
+//                       Default: base axes, no limits applied
+//   --wrench-frame F    base | tool: the axes of estExtTcpFT, overriding --krl's (a KRC
+//                       whose $STIFFNESS disagrees with fri.yaml's wrench_frame)
 //   --duration S        stop after S s (default 0: until SIGINT/SIGTERM)
 //   --truth-out FILE    the world's ground truth over time, CSV (columns in
 //                       docs/lab_sim.md): time, KRC state, flange pose, the set
@@ -72,9 +78,9 @@
 #include <vector>
 
 #include "tactile_fri/krc_model.hpp"
+#include "tactile_fri/krl_settings.hpp"
 #include "tactile_fri/sim_krc.hpp"
 #include "tactile_lab/krc_schedule.hpp"
-#include "tactile_lab/krl_stiffness.hpp"
 #include "tactile_lab/world_plant.hpp"
 #include "tactile_sim/scene.hpp"
 #include "tactile_types/kdl_pose.hpp"
@@ -91,7 +97,8 @@ int usage(const std::string& msg) {
   std::fprintf(stderr,
                "lab_sim: %s\nusage: lab_sim SCENE.yaml [--fri-port P] [--wts-link PATH] [--krc SCRIPT] [--period-ms T]\n"
                "               [--krc-cycle-ms C] [--msr-sample-ms M] [--cmd-sample-ms M] [--control cart|joint|position] [--cart-offset F]\n"
-               "               [--quality-rule on|off] [--krl FILE.src] [--duration S] [--truth-out FILE.csv] [--truth-period-ms T] [--set KEY.PATH=VALUE ...]\n"
+               "               [--quality-rule on|off] [--krl FILE.src] [--wrench-frame base|tool]\n"
+               "               [--duration S] [--truth-out FILE.csv] [--truth-period-ms T] [--set KEY.PATH=VALUE ...]\n"
                "(see the header of sim/lab/lab_sim.cpp or docs/lab_sim.md)\n",
                msg.c_str());
   return 2;
@@ -169,7 +176,9 @@ int main(int argc, char** argv) {
   std::string scene_file, wts_link, truth_out, krc_spec, control = "cart", krl_file;
   bool quality_rule = true;
   fri::CartOffset cart_offset = fri::CartOffset::None;
-  bool krc_given = false;
+  fri::WrenchFrame frame_override = fri::WrenchFrame::Base;
+  fri::KrlSettings krl;  // --krl: read once here, applied below
+  bool krc_given = false, frame_given = false;
   long fri_port = fri::kDefaultPort;
   double period_ms = 0.0, krc_cycle_ms = 0.0, msr_sample_ms = 0.0, cmd_sample_ms = 0.0, duration_s = 0.0,
          truth_period_ms = 10.0;
@@ -213,6 +222,10 @@ int main(int argc, char** argv) {
       quality_rule = rule == "on";
     } else if (a == "--krl" && has) {
       krl_file = argv[++i];
+      if (ConfigResult r = fri::readKrlSettings(krl_file, krl); !r) return usage("--krl: " + r.message());
+    } else if (a == "--wrench-frame" && has) {
+      if (!fri::parseWrenchFrame(argv[++i], frame_override)) return usage("--wrench-frame must be base or tool");
+      frame_given = true;
     } else if (a == "--duration" && has) {
       if (!num(0, 1e7, duration_s)) return usage("--duration must be in [0, 1e7] (s; 0 = until killed)");
     } else if (a == "--truth-out" && has) {
@@ -279,11 +292,10 @@ int main(int argc, char** argv) {
   kp.cart_offset = cart_offset;
   kp.quality_rule.enabled = quality_rule;
   if (!krl_file.empty()) {
-    if (ConfigResult r = lab::readKrlStiffnessLimits(krl_file, kp.limits); !r) {
-      std::fprintf(stderr, "lab_sim: --krl: %s\n", r.message().c_str());
-      return 2;
-    }
+    kp.limits = krl.limits;
+    kp.wrench_frame = krl.wrench_frame;
   }
+  if (frame_given) kp.wrench_frame = frame_override;
   kp.control = control == "cart"    ? fri::ControlStrategy::CartImpedance
                : control == "joint" ? fri::ControlStrategy::JointImpedance
                                     : fri::ControlStrategy::Position;
@@ -326,12 +338,13 @@ int main(int argc, char** argv) {
   std::signal(SIGTERM, onSignal);
   const KDL::Frame p0 = plant.initialPose();
   std::printf("lab_sim: scene %s (%s), world step %.3f ms, KRC cycle %.3f ms (advertised msr %.3f ms cmd %.3f ms), "
-              "control %s, cart_offset %s, quality from timing %s, $STIFFNESS limits %s, FRI -> 127.0.0.1:%ld, "
-              "WTS %dx%d at %.0f Hz\n",
+              "control %s, cart_offset %s, quality from timing %s, $STIFFNESS limits %s, estExtTcpFT in %s axes, "
+              "FRI -> 127.0.0.1:%ld, WTS %dx%d at %.0f Hz\n",
               scene.name.c_str(), scene.file.c_str(), T_world * 1e3, T_krc * 1e3,
               (kp.msr_sample_time_s > 0 ? kp.msr_sample_time_s : T_krc) * 1e3,
               (kp.cmd_sample_time_s > 0 ? kp.cmd_sample_time_s : T_krc) * 1e3, control.c_str(), fri::toString(cart_offset),
-              quality_rule ? "on" : "off", krl_file.empty() ? "off" : krl_file.c_str(), fri_port,
+              quality_rule ? "on" : "off", krl_file.empty() ? "off" : krl_file.c_str(), fri::toString(kp.wrench_frame),
+              fri_port,
               scene.features.rows, scene.features.cols, scene.rates.wts);
   std::printf("lab_sim: flange at (%.4f, %.4f, %.4f) m, true contact force %.3f N\n", p0.p.x(), p0.p.y(), p0.p.z(),
               -plant.state().wrench_s[2]);

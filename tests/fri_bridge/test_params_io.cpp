@@ -68,3 +68,16 @@ TEST(FriParams, ErrorsNameFileKeyAndRange) {
   EXPECT_FALSE(r.ok());
   EXPECT_NE(r.message().find("/nonexistent/fri.yaml"), std::string::npos) << r.message();
 }
+
+TEST(FriParams, WrenchFrameIsReadAndOtherWordsAreNamed) {
+  BridgeParams bp;
+  UdpParams up;
+  EXPECT_EQ(bp.wrench_frame, WrenchFrame::Base);  // the shipped fri.yaml's, and the default
+  ConfigResult r = loadString("fri: {wrench_frame: tool}", bp, up);
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_EQ(bp.wrench_frame, WrenchFrame::Tool);
+  r = loadString("fri: {wrench_frame: flange}", bp, up);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("fri.wrench_frame: 'flange' is not base or tool"), std::string::npos) << r.message();
+  EXPECT_NE(r.message().find("$STIFFNESS.FRAMETYPE"), std::string::npos) << r.message();
+}

@@ -20,6 +20,9 @@ fails, naming the disagreement, on copies with one value changed on one side:
   no $LOAD = TS_PAD_LOAD              -> "no $LOAD"
   no $STIFFNESS.MAXFORCE line         -> "MAXFORCE is not written"
   $STIFFNESS.FRAMETYPE = #TOOL        -> "task frame"
+  fri.wrench_frame tool               -> "task frame"
+  FRAMETYPE #TOOL and fri.wrench_frame tool -> agrees (exit 0)
+  fri.wrench_frame flange             -> "fri.wrench_frame"
   $TOOL = TOOL_DATA[1]                -> "frames"
   MAXFORCE Z 4.0 (below the 5 N ceiling) -> "force cap"
   CPMAXDELTA X 5.0 (inside 10 mm of spring) -> "deviation stop"
@@ -100,6 +103,9 @@ cases = [
     ("no_maxforce", "TactileServo.src", r"(?m)^\$STIFFNESS\.MAXFORCE = [^\n]*\n", "", "MAXFORCE is not written"),
     ("frametype_tool", "TactileServo.src", r"(?m)^\$STIFFNESS\.FRAMETYPE = #BASE", "$STIFFNESS.FRAMETYPE = #TOOL",
      "task frame"),
+    ("yaml_wrench_tool", "fri.yaml", r"wrench_frame: base", "wrench_frame: tool", "task frame"),
+    ("both_tool", "TactileServo.src", r"(?m)^\$STIFFNESS\.FRAMETYPE = #BASE", "$STIFFNESS.FRAMETYPE = #TOOL", None),
+    ("yaml_wrench_flange", "fri.yaml", r"wrench_frame: base", "wrench_frame: flange", "fri.wrench_frame"),
     ("tool_data", "TactileServo.src", r"(?m)^\$TOOL = \$NULLFRAME", "$TOOL = TOOL_DATA[1]", "frames"),
     ("maxforce_below_ceiling", "TactileServo.src", r"MAXFORCE = \{X 20\.0, Y 20\.0, Z 20\.0",
      "MAXFORCE = {X 20.0, Y 20.0, Z 4.0", "force cap"),
@@ -126,6 +132,9 @@ for name, f, old, new, expect in cases:
         text = text.replace(block, "", 1)
         text = re.sub(r"(TS_RET = friStart\(1\.0\)\n)", r"\1" + block.replace("$", r"\$"), text, count=1)
         open(path, "w", encoding="latin-1").write(text)
+    elif name == "both_tool":
+        edit(path, old, new)  # the KRC's frame type and fri.yaml's frame changed together
+        edit(os.path.join(d, "fri.yaml"), r"wrench_frame: base", "wrench_frame: tool")
     else:
         edit(path, old, new)
     rc, out = run(d, os.path.join(d, "fri.yaml"), os.path.join(d, "sensor.yaml"))

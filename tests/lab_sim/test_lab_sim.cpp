@@ -16,7 +16,6 @@
 #include "tactile_fri/sim_krc.hpp"
 #include "tactile_fri/udp.hpp"
 #include "tactile_lab/krc_schedule.hpp"
-#include "tactile_lab/krl_stiffness.hpp"
 #include "tactile_lab/world_plant.hpp"
 #include "tactile_sim/loop.hpp"
 #include "tactile_sim/scene.hpp"
@@ -274,35 +273,4 @@ TEST(SimKrcForLab, ClosedInterfaceAdvertisedSampleTimesAndHeldSetPoint) {
   EXPECT_LT((cmd.p - hold.p).Norm(), 1e-6);  // float on the wire
   EXPECT_GT((msr.p - cmd.p).Norm(), 1e-3);   // pressed: the flange 1.8 mm above its set point
   EXPECT_NEAR(trueForce(plant.state()), f0, 1e-3);  // still pressed after 15 cycles outside CMD (1 mN)
-}
-
-// The simulated KRC's $STIFFNESS limits come from the KRL program itself
-// (krc/TactileServo.src), converted to m / rad; a program without them, or
-// with a malformed one, is a clear error naming the file and line.
-TEST(KrlStiffness, TheShippedProgramsLimits) {
-  fri::KrcStiffnessLimits l;
-  const ConfigResult r = lab::readKrlStiffnessLimits(kSource + "/krc/TactileServo.src", l);
-  ASSERT_TRUE(r.ok()) << r.message();
-  EXPECT_DOUBLE_EQ(l.max_force[2], 20.0);
-  EXPECT_DOUBLE_EQ(l.max_force[3], 2.0);
-  EXPECT_DOUBLE_EQ(l.cp_max_delta[0], 0.015);
-  EXPECT_NEAR(l.cp_max_delta[5], 5.0 * 3.14159265358979 / 180.0, 1e-12);
-  const std::string dir = ::testing::TempDir();
-  const auto write = [&](const std::string& name, const std::string& text) {
-    const std::string p = dir + "/" + name;
-    FILE* f = std::fopen(p.c_str(), "w");
-    std::fputs(text.c_str(), f);
-    std::fclose(f);
-    return p;
-  };
-  const std::string missing = write("no_delta.src", "$STIFFNESS.MAXFORCE = {X 1, Y 1, Z 1, A 1, B 1, C 1}\n"
-                                                    "TS_RET = friOpen(2)\n$STIFFNESS.CPMAXDELTA = {X 1}\n");
-  ConfigResult e = lab::readKrlStiffnessLimits(missing, l);
-  ASSERT_FALSE(e.ok());
-  EXPECT_NE(e.message().find("CPMAXDELTA assignment before friOpen"), std::string::npos) << e.message();
-  const std::string bad = write("bad.src", "; a comment $STIFFNESS.MAXFORCE = {X -1}\n"
-                                           "$STIFFNESS.MAXFORCE = {X 1, Y 1, Z 1, A 1, B 1}\n");
-  e = lab::readKrlStiffnessLimits(bad, l);
-  ASSERT_FALSE(e.ok());
-  EXPECT_NE(e.message().find("bad.src:2: $STIFFNESS.MAXFORCE: component C missing"), std::string::npos) << e.message();
 }

@@ -564,3 +564,31 @@ TEST(FriBridgeComponent, FileDescriptorActivitySilentKrcIsReportedWithoutSpinnin
 }
 
 }  // namespace
+
+// estimated_wrench is in {g} whatever axes the KRC sends estExtTcpFT in: the
+// component reads them as fri.wrench_frame says. A KRC in tool axes with the
+// flange turned 90 deg about base y (flange x points down) sends a 10 N pull
+// along base -z as +10 N along flange x.
+TEST(FriBridgeComponent, EstimatedWrenchIsInTheBaseFrameForEitherWrenchFrame) {
+  const KDL::Frame pose(KDL::Rotation::RPY(3.14159265358979, 3.14159265358979 / 2, 0), KDL::Vector(0.5, 0.0, 0.4));
+  const std::array<double, 6> base_w{0.0, 0.0, -10.0, 0.3, 0.0, 0.0};
+  for (fri::WrenchFrame frame : {fri::WrenchFrame::Base, fri::WrenchFrame::Tool}) {
+    Rig rig(new RTT::extras::SlaveActivity(),
+            writeTemp("fri_wrench.yaml", std::string(kParams) + "  wrench_frame: " + fri::toString(frame) + "\n"));
+    ASSERT_TRUE(rig.comp.configure()) << rig.comp.lastError();
+    ASSERT_TRUE(rig.comp.start());
+    ManualKrc krc(static_cast<uint16_t>(rig.attr("local_port")));
+    krc.msr.intf.state = static_cast<uint16_t>(fri::State::Mon);
+    fri::fromFrame(pose, krc.msr.data.msr_cart_pos);
+    fri::fromWrenchIn(base_w, frame, pose.M, krc.msr.data.est_ext_tcp_ft);  // the KRC's $STIFFNESS.FRAMETYPE
+    if (frame == fri::WrenchFrame::Tool) {
+      EXPECT_NEAR(krc.msr.data.est_ext_tcp_ft[0], 10.0f, 1e-5);
+    }
+    krc.send();
+    ASSERT_TRUE(rig.comp.update());
+    ASSERT_TRUE(krc.reply());
+    Wrench w;
+    ASSERT_NE(rig.wrench_in.read(w), RTT::NoData);
+    for (std::size_t i = 0; i < 6; ++i) EXPECT_NEAR(w.w[i], base_w[i], 1e-5) << fri::toString(frame) << " " << i;
+  }
+}

@@ -188,7 +188,7 @@ void KrcModel::buildMeasurement(const PlantState& plant, double t_s, MsrPacket& 
   }
   fromFrame(plant.pose, m.data.msr_cart_pos);
   writeSetPoint(krl_pose_, set_point_, params_.cart_offset, m.data.cmd_cart_pos, m.data.cmd_cart_pos_fri_offset);
-  fromWrench(plant.wrench, m.data.est_ext_tcp_ft);
+  fromWrenchIn(plant.wrench, params_.wrench_frame, plant.pose.M, m.data.est_ext_tcp_ft);  // $STIFFNESS.FRAMETYPE
   out = m;
 }
 

@@ -27,7 +27,7 @@ ConfigResult loadBridgeParams(const YAML::Node& node, const Where& where, Bridge
     ConfigResult r = checkKeys(node, where,
                                {"max_lin_speed", "max_rot_speed", "cycle_time_s", "max_desired_age_s",
                                 "engage_max_trans", "engage_max_rot", "resync_after", "rewind_on_refl", "command_impedance", "cart_stiffness",
-                                "cart_damping", "cart_offset", "setpoint_max_dev", "setpoint_max_dev_rot", "stop_krc_on_servo_fault", "udp"});
+                                "cart_damping", "cart_offset", "wrench_frame", "setpoint_max_dev", "setpoint_max_dev_rot", "stop_krc_on_servo_fault", "udp"});
     if (!r) return r;
     for (auto rr : {read(node, "max_lin_speed", bp.max_lin_speed, where),
                     read(node, "max_rot_speed", bp.max_rot_speed, where),
@@ -50,6 +50,14 @@ ConfigResult loadBridgeParams(const YAML::Node& node, const Where& where, Bridge
       if (!parseCartOffset(form.c_str(), bp.cart_offset))
         return ConfigResult::failure(where.child("cart_offset").str() + ": '" + form +
                                      "' is not none, composed or elementwise (fri_check tells the KRC's form)");
+    }
+    if (node["wrench_frame"]) {
+      std::string frame;
+      if (!(r = read(node, "wrench_frame", frame, where))) return r;
+      if (!parseWrenchFrame(frame.c_str(), bp.wrench_frame))
+        return ConfigResult::failure(where.child("wrench_frame").str() + ": '" + frame +
+                                     "' is not base or tool (the KRC's $STIFFNESS.FRAMETYPE #BASE or #TOOL; "
+                                     "fri_check --wrench-check tells which one the KRC uses)");
     }
     if (const YAML::Node u = node["udp"]) {
       const Where uw = where.child("udp");

@@ -238,5 +238,33 @@ void fromWrench(const std::array<double, 6>& w, float (&ft)[kCartVecDim]) noexce
   ft[5] = static_cast<float>(w[3]);
 }
 
+const char* toString(WrenchFrame f) { return f == WrenchFrame::Tool ? "tool" : "base"; }
+
+bool parseWrenchFrame(const char* word, WrenchFrame& out) {
+  for (WrenchFrame f : {WrenchFrame::Base, WrenchFrame::Tool})
+    if (word != nullptr && std::strcmp(word, toString(f)) == 0) return out = f, true;
+  return false;
+}
+
+namespace {
+/// Force and moment of `w` turned by `r` (r * f, r * m).
+std::array<double, 6> turned(const std::array<double, 6>& w, const KDL::Rotation& r) noexcept {
+  const KDL::Vector f = r * KDL::Vector(w[0], w[1], w[2]);
+  const KDL::Vector m = r * KDL::Vector(w[3], w[4], w[5]);
+  return {f.x(), f.y(), f.z(), m.x(), m.y(), m.z()};
+}
+}  // namespace
+
+std::array<double, 6> wrenchInBase(const float (&ft)[kCartVecDim], WrenchFrame frame,
+                                   const KDL::Rotation& msr) noexcept {
+  const std::array<double, 6> w = toWrench(ft);
+  return frame == WrenchFrame::Tool ? turned(w, msr) : w;  // {g}R{e} * w_e
+}
+
+void fromWrenchIn(const std::array<double, 6>& w_base, WrenchFrame frame, const KDL::Rotation& msr,
+                  float (&ft)[kCartVecDim]) noexcept {
+  fromWrench(frame == WrenchFrame::Tool ? turned(w_base, msr.Inverse()) : w_base, ft);
+}
+
 }  // namespace fri
 }  // namespace tactile

@@ -42,7 +42,7 @@
 //
 //   fri_check --monitor --params params/fri.yaml [--seconds S] [--cycles N] [--port P] [--bind ADDR]
 //             [--period-tolerance F] [--max-jitter-ms J] [--max-loss-rate R] [--json FILE]
-//             [--max-late-share R] [--min-perfect-share P]
+//             [--max-late-share R] [--min-perfect-share P] [--record FILE]
 //
 // Never commands motion: the bridge runs in its dry run (FriBridge::setDryRun)
 // with no desired pose, so in MON it echoes the measured pose and in CMD it
@@ -82,9 +82,16 @@
 //               simulated KRC's thresholds, KrcQualityRule). Otherwise at 1 ms: WARN, advise
 //               friOpen(2) with fri.cycle_time_s 0.002 and this check again; at
 //               2 ms or more: FAIL, the host must be fixed first.
+// --record FILE writes every accepted measurement (time, state, quality,
+// msrCartPos, estExtTcpFT as sent) as one CSV line: the input of the wrench
+// checks below.
 // The timing items (period, jitter) are diagnostics of this host and network,
 // measured with its clock. Exit (monitor mode): 0 every item PASS or WARN, 3 an
 // item FAILed, 2 no packet within --idle-timeout, 1 usage/configuration errors.
+//
+// THE WRENCH CHECKS (offline, on --record files; fri_check_wrench.hpp):
+//   fri_check --wrench-check --mass KG --tare FILE --loaded FILE [--params FILE] [--direction ...]
+//   fri_check --load-data --sensor-params FILE [--params FILE] REST1 REST2 REST3 [...]
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -93,6 +100,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <memory>
 #include <string>
 
 #include "tactile_config/cli_args.hpp"
@@ -100,9 +108,11 @@
 
 #include <arpa/inet.h>
 
+#include "fri_check_wrench.hpp"
 #include "tactile_fri/bridge.hpp"
 #include "tactile_fri/params_io.hpp"
 #include "tactile_fri/udp.hpp"
+#include "tactile_fri/wrench_checks.hpp"
 
 using namespace tactile;
 using namespace tactile::fri;
@@ -119,7 +129,9 @@ int usage(const char* msg) {
                "[--radius M] [--circle-period S] [--max-lin-speed V] [--max-rot-speed W] [--idle-timeout S] [--cart-offset none|composed|elementwise]\n"
                "       fri_check --monitor --params FILE [--seconds S] [--cycles N] [--port P] [--bind ADDR] "
                "[--period-tolerance F] [--max-jitter-ms J] [--max-loss-rate R] [--json FILE] [--idle-timeout S]\n"
-               "       [--max-late-share R] [--min-perfect-share P]\n",
+               "       [--max-late-share R] [--min-perfect-share P] [--record FILE]\n"
+               "       fri_check --wrench-check --mass KG --tare FILE --loaded FILE [--params FILE] [--direction base|tool:X,Y,Z]\n"
+               "       fri_check --load-data --sensor-params FILE [--params FILE] REST1 REST2 REST3 [...]\n",
                msg);
   return 1;
 }
@@ -259,6 +271,7 @@ struct MonitorOptions {
   double min_perfect_share = 0.99;  ///< [cycle]: packets at PERFECT once reached
   std::string json_file;
   std::string params_file;
+  std::string record_file;  ///< every accepted measurement, one CSV line (wrench_checks.hpp)
 };
 
 /// Nearest-rank percentile of a sorted vector (q in [0, 1]).
@@ -383,6 +396,16 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
   Quality worst_after_ok = Quality::Perfect;
   std::vector<std::string> timeline;
   MsrPacket last{};
+  std::unique_ptr<FILE, int (*)(FILE*)> rec(nullptr, &std::fclose);
+  uint64_t recorded = 0;
+  if (!mo.record_file.empty()) {
+    rec.reset(std::fopen(mo.record_file.c_str(), "w"));
+    if (!rec) {
+      std::fprintf(stderr, "fri_check: cannot write %s\n", mo.record_file.c_str());
+      return 1;
+    }
+    writeRecordingHeader(rec.get());
+  }
 
   for (;;) {
     const double t = now();
@@ -456,6 +479,7 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
       t_first = t_rx;
       first_seq = msr.head.send_seq;
     }
+    if (rec) writeRecordingLine(rec.get(), t_rx - t_first, msr), ++recorded;
     arrivals.push_back(t_rx);
     if (out.reply) answers.emplace_back(double(seqDelta(first_seq, msr.head.send_seq)), t_reply);
     const State st = stateOf(msr);
@@ -732,6 +756,10 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
     for (const std::string& nx : it.next) std::printf("      next: %s\n", nx.c_str());
     if (it.verdict == Verdict::Fail) code = 3;
   }
+  if (rec)
+    std::printf("fri_check: %llu measurements recorded in %s (for fri_check --wrench-check / --load-data; the timing "
+                "items do not matter there)\n",
+                static_cast<unsigned long long>(recorded), mo.record_file.c_str());
   std::printf("fri_check: %s (exit %d)\n", code == 0 ? "every item passed" : "an item failed", code);
   if (!mo.json_file.empty()) {
     FILE* f = std::fopen(mo.json_file.c_str(), "w");
@@ -760,6 +788,10 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
 }  // namespace
 
 int main(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {  // the offline wrench checks
+    if (std::string(argv[i]) == "--wrench-check") return runWrenchCheck(argc, argv);
+    if (std::string(argv[i]) == "--load-data") return runLoadData(argc, argv);
+  }
   long port = -1;
   long cycles = 1000;
   std::string motion = "hold";
@@ -817,6 +849,8 @@ int main(int argc, char** argv) {
         return usage("--max-loss-rate must be in [0, 1]");
     } else if (a == "--json" && has) {
       mo.json_file = argv[++i];
+    } else if (a == "--record" && has) {
+      mo.record_file = argv[++i];
     } else if (a == "--bind" && has) {
       up.bind_address = argv[++i];
     } else if (a == "--radius" && has) {
@@ -843,6 +877,7 @@ int main(int argc, char** argv) {
   if (port < 0 && !have_params) return usage("--port (or --params FILE with fri.udp.port) is required");
   if (port >= 0) up.port = static_cast<uint16_t>(port);
   if (offset_given && monitor) return usage("--cart-offset is for the motion check (monitor mode reads fri.yaml's)");
+  if (!mo.record_file.empty() && !monitor) return usage("--record is for --monitor (the arm held, never commanded)");
   if (monitor) {
     if (motion_given) return usage("--monitor never commands motion: no --motion");
     mo.cycles = cycles_given ? cycles : 0;

@@ -27,6 +27,18 @@
 //                     or later than 80 % of the cycle, over the last 100 cycles), reports the lower
 //                     of that and the schedule's quality, leaves command mode below OK and enters
 //                     it only at PERFECT; off (default): the schedule alone
+//   --krl FILE        the KRL program this KRC runs (krc/TactileServo.src and the .dat beside
+//                     it): its $STIFFNESS.FRAMETYPE gives the axes of estExtTcpFT (#BASE: base,
+//                     #TOOL: the flange's), its $LOAD the load the KRC compensates, its
+//                     $STIFFNESS.MAXFORCE / CPMAXDELTA the limits beyond which the KRC stops the
+//                     arm in command mode (default: base axes, the load of --pad-load, no limits)
+//   --wrench-frame F  base | tool: the axes of estExtTcpFT, overriding --krl's (a KRC whose
+//                     $STIFFNESS says otherwise than the bridge's fri.wrench_frame)
+//   --pad-load M,CX,CY,CZ  the pad's true mass (kg) and centre of mass (mm, flange axes); the
+//                     difference to the load --krl names is reported as an external wrench
+//                     that turns with the arm (default: the load --krl names, nothing left)
+//   --pose X,Y,Z,A,B,C the arm's start pose as the pendant shows it (mm; deg, A about z, B
+//                     about y, C about x; default 500,0,400,0,0,180: the flange pointing down)
 //   --fast            do not sleep; wait for each reply up to --reply-timeout-ms (default 100)
 //   --latency-out F   write one line per cycle to F: "LATENCY_US ON_TIME", the
 //                     reply latency in us (measurement sent -> its reply
@@ -41,6 +53,7 @@
 #include <string>
 #include <vector>
 
+#include "tactile_fri/krl_settings.hpp"
 #include "tactile_fri/sim_krc.hpp"
 
 using namespace tactile::fri;
@@ -52,7 +65,8 @@ int usage(const std::string& msg) {
                "[--reply-timeout-ms T] [--latency-out FILE] [--schedule C:STATE:QUALITY[:POWER],...] [--loss p] [--dup p] [--reorder p] "
                "[--late p] [--wrong-size p] [--wrong-id p] [--cmd-loss p] [--seed S] [--burst CYCLE:N] [--local-port P] "
                "[--control cart|joint|position|other] [--cart-offset none|composed|elementwise] [--msr-sample-ms T] [--cmd-sample-ms T]\n"
-               "       [--quality-rule on|off]\n",
+               "       [--quality-rule on|off] [--wrench FX,FY,FZ | --wrench-tool FX,FY,FZ] [--krl FILE] "
+               "[--wrench-frame base|tool] [--pad-load M,CX,CY,CZ] [--pose X,Y,Z,A,B,C]\n",
                msg.c_str());
   return 1;
 }
@@ -67,6 +81,20 @@ bool parseWrench(const char* s, std::array<double, 6>& w) {
   }
   return true;
 }
+/// N comma-separated finite numbers.
+template <std::size_t N>
+bool parseNumbers(const char* s, std::array<double, N>& v) {
+  std::string rest = s;
+  for (std::size_t i = 0; i < N; ++i) {
+    char* end = nullptr;
+    v[i] = std::strtod(rest.c_str(), &end);
+    if (end == rest.c_str() || !std::isfinite(v[i])) return false;
+    const char next = *end;
+    if ((i + 1 < N && next != ',') || (i + 1 == N && next != '\0')) return false;
+    rest = std::string(end + (i + 1 < N ? 1 : 0));
+  }
+  return true;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -76,6 +104,10 @@ int main(int argc, char** argv) {
   std::string latency_out;
   std::array<double, 6> wrench{};
   bool wrench_tool = false;
+  KrlSettings krl;
+  bool have_krl = false, have_pad = false, have_frame = false;
+  WrenchFrame frame = WrenchFrame::Base;
+  std::array<double, 4> pad{};
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool has = i + 1 < argc;
@@ -132,6 +164,23 @@ int main(int argc, char** argv) {
     } else if ((a == "--wrench" || a == "--wrench-tool") && has) {
       if (!parseWrench(argv[++i], wrench)) return usage(a + " must be FX,FY,FZ in N, each in [-1000, 1000]");
       wrench_tool = a == "--wrench-tool";
+    } else if (a == "--krl" && has) {
+      if (tactile::ConfigResult r = readKrlSettings(argv[++i], krl); !r) return usage("--krl: " + r.message());
+      have_krl = true;
+    } else if (a == "--wrench-frame" && has) {
+      if (!parseWrenchFrame(argv[++i], frame)) return usage("--wrench-frame must be base or tool");
+      have_frame = true;
+    } else if (a == "--pad-load" && has) {
+      if (!parseNumbers(argv[++i], pad) || pad[0] < 0.0 || pad[0] > 20.0)
+        return usage("--pad-load must be M,CX,CY,CZ (kg in [0, 20], mm)");
+      have_pad = true;
+    } else if (a == "--pose" && has) {
+      std::array<double, 6> x{};
+      if (!parseNumbers(argv[++i], x) || std::fabs(x[0]) > 2000 || std::fabs(x[1]) > 2000 || std::fabs(x[2]) > 2000)
+        return usage("--pose must be X,Y,Z,A,B,C (mm within 2000 of the base, deg)");
+      const double d = 3.14159265358979323846 / 180.0;
+      p.initial_pose = KDL::Frame(KDL::Rotation::RPY(x[5] * d, x[4] * d, x[3] * d),
+                                  KDL::Vector(x[0] * 1e-3, x[1] * 1e-3, x[2] * 1e-3));
     } else if (a == "--cart-offset" && has) {
       if (!parseCartOffset(argv[++i], p.cart_offset)) return usage("--cart-offset must be none, composed or elementwise");
     } else if ((a == "--msr-sample-ms" || a == "--cmd-sample-ms") && has) {
@@ -170,6 +219,11 @@ int main(int argc, char** argv) {
 
   FirstOrderPlant plant;
   plant.setWrench(wrench, wrench_tool);
+  p.wrench_frame = have_frame ? frame : krl.wrench_frame;
+  if (have_krl) p.limits = krl.limits;
+  const KDL::Vector krl_com(krl.load_com_m[0], krl.load_com_m[1], krl.load_com_m[2]);
+  const KDL::Vector pad_com(pad[1] * 1e-3, pad[2] * 1e-3, pad[3] * 1e-3);
+  if (have_pad) plant.setPadLoad(pad[0], pad_com, have_krl ? krl.load_mass_kg : pad[0], have_krl ? krl_com : pad_com);
   SimKrc krc;
   if (tactile::ConfigResult r = krc.configure(p, plant); !r) {
     std::fprintf(stderr, "fri_sim_krc: %s\n", r.message().c_str());

@@ -159,6 +159,9 @@ struct BridgeParams {
   /// How the KRC's set point is read from cmdCartPos and cmdCartPosFriOffset
   /// (protocol.hpp CartOffset; fri_check finds the lab KRC's form).
   CartOffset cart_offset = CartOffset::Composed;
+  /// The axes the KRC sends estExtTcpFT in (its $STIFFNESS.FRAMETYPE; protocol.hpp
+  /// WrenchFrame): the component publishes the wrench in {g} (wrenchInBase).
+  WrenchFrame wrench_frame = WrenchFrame::Base;
   /// A servo watchdog status on the desired pose asks the KRL program to end (requestStop()).
   bool stop_krc_on_servo_fault = true;
   double setpoint_max_dev = 0.01;      ///< m, (0, 1]: set point vs measured pose, else OffsetMismatch

@@ -19,6 +19,7 @@
 //      in the form KrcModelParams::cart_offset says (cmdCartPos and
 //      cmdCartPosFriOffset, protocol.hpp writeSetPoint: the KRL program's own
 //      pose is the set point it held before the first applied command);
+//      the wrench in the axes KrcModelParams::wrench_frame says;
 //   5. handleReply(): decode; the remote's sendSeqCount must grow by one; a
 //      reply whose reflSeqCount is not this cycle's measurement is stale
 //      (ignored, as the KRC does); in CMD with the drives on and quality >= OK
@@ -125,6 +126,10 @@ struct KrcModelParams {
   /// point, the offset zero), Composed or Elementwise (cmdCartPos the KRL
   /// program's pose, the offset the FRI's part).
   CartOffset cart_offset = CartOffset::None;
+  /// The axes of estExtTcpFT, as the KRC's $STIFFNESS.FRAMETYPE says
+  /// (krl_settings.hpp reads it from the KRL program): the plant's wrench
+  /// ({g} axes) is sent in base axes, or turned into the measured flange's.
+  WrenchFrame wrench_frame = WrenchFrame::Base;
 };
 
 struct KrcModelStats {

@@ -293,5 +293,27 @@ double rotationAngle(const KDL::Rotation& r, KDL::Vector& axis) noexcept;
 std::array<double, 6> toWrench(const float (&ft)[kCartVecDim]) noexcept;
 void fromWrench(const std::array<double, 6>& w, float (&ft)[kCartVecDim]) noexcept;
 
+/// The axes estExtTcpFT is expressed in. KUKA's friComm.h: "reference frame:
+/// $STIFFNESS.TASKFRAME"; this project reads $STIFFNESS.FRAMETYPE #BASE as
+/// the robot's base {g} (with $STIFFNESS.BASE the null frame) and #TOOL as
+/// the TCP's axes, here the flange {e} ($STIFFNESS.TOOL the null frame). The
+/// public sources do not say more (ISIR's resetSTIFFNESS.src names #TOOL and
+/// #BASE as the Cartesian stiffness' frame); the day-one known-weight check
+/// (fri_check --wrench-check, docs/bringup.md) decides on the arm. The
+/// moment is about the TCP in either case: only the axes differ.
+enum class WrenchFrame : uint8_t { Base = 0, Tool = 1 };
+/// "base" | "tool" (the fri.yaml words).
+const char* toString(WrenchFrame f);
+/// The inverse of toString(WrenchFrame); false (out unchanged) for another word.
+bool parseWrenchFrame(const char* word, WrenchFrame& out);
+/// estExtTcpFT in `frame`'s axes -> [Fx Fy Fz Tx Ty Tz] in {g} axes; `msr`
+/// is the measured {g}R{e} (msrCartPos's rotation), used for Tool.
+std::array<double, 6> wrenchInBase(const float (&ft)[kCartVecDim], WrenchFrame frame,
+                                   const KDL::Rotation& msr) noexcept;
+/// The KRC's side: a wrench [Fx Fy Fz Tx Ty Tz] in {g} axes written as
+/// estExtTcpFT in `frame`'s axes.
+void fromWrenchIn(const std::array<double, 6>& w_base, WrenchFrame frame, const KDL::Rotation& msr,
+                  float (&ft)[kCartVecDim]) noexcept;
+
 }  // namespace fri
 }  // namespace tactile

@@ -259,13 +259,17 @@ void FriBridgeComponent::handleDatagram(fri::UdpStatus us, std::size_t n) {
   record(fri_state_, static_cast<int>(out_.state));
   record(fri_quality_, static_cast<int>(out_.quality));
   robot_out_.write(out_.robot);  // before the pose: a servo that sees the pose sees the state too
-  if (fri::validFriPose(msr.data.msr_cart_pos)) {
-    KDL::Frame f;
+  const bool pose_ok = fri::validFriPose(msr.data.msr_cart_pos);
+  KDL::Frame f = KDL::Frame::Identity();
+  if (pose_ok) {
     fri::toFrame(msr.data.msr_cart_pos, f);
     toPose(f, measured_);
     pose_out_.write(measured_);
   }
-  const std::array<double, 6> w = fri::toWrench(msr.data.est_ext_tcp_ft);
+  // the wrench in {g}: in the KRC's tool axes it needs the measured pose
+  const fri::WrenchFrame axes = bridge_.params().wrench_frame;
+  if (axes == fri::WrenchFrame::Tool && !pose_ok) return;
+  const std::array<double, 6> w = fri::wrenchInBase(msr.data.est_ext_tcp_ft, axes, f.M);
   bool finite = true;
   for (double v : w) finite = finite && std::isfinite(v);
   if (finite) {

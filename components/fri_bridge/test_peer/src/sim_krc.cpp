@@ -13,6 +13,7 @@ namespace {
 double nowSeconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
+constexpr double kStandardGravity = 9.80665;  // m/s^2
 constexpr std::array<double, kNumJoints> kHomeJoints{{0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0}};
 }  // namespace
 
@@ -27,11 +28,20 @@ void FirstOrderPlant::reset(const KDL::Frame& initial_pose) {
 
 void FirstOrderPlant::fillWrench() {
   state_.wrench = wrench_;
-  if (!tool_axes_) return;
-  for (int part = 0; part < 2; ++part) {  // force, then moment
-    const auto k = static_cast<std::size_t>(3 * part);
-    const KDL::Vector v = state_.pose.M * KDL::Vector(wrench_[k], wrench_[k + 1], wrench_[k + 2]);
-    for (int i = 0; i < 3; ++i) state_.wrench[k + static_cast<std::size_t>(i)] = v(i);
+  if (tool_axes_) {
+    for (int part = 0; part < 2; ++part) {  // force, then moment
+      const auto k = static_cast<std::size_t>(3 * part);
+      const KDL::Vector v = state_.pose.M * KDL::Vector(wrench_[k], wrench_[k + 1], wrench_[k + 2]);
+      for (int i = 0; i < 3; ++i) state_.wrench[k + static_cast<std::size_t>(i)] = v(i);
+    }
+  }
+  // the load the KRC does not compensate: its weight at its centre of mass
+  const KDL::Vector g(0.0, 0.0, -kStandardGravity);
+  const KDL::Vector f = g * load_dm_;
+  const KDL::Vector m = (state_.pose.M * load_s_) * g;
+  for (int i = 0; i < 3; ++i) {
+    state_.wrench[static_cast<std::size_t>(i)] += f(i);
+    state_.wrench[static_cast<std::size_t>(i + 3)] += m(i);
   }
 }
 
@@ -76,6 +86,7 @@ ConfigResult SimKrc::configure(const SimKrcParams& p, Plant& plant) {
   mp.cart_offset = p.cart_offset;
   mp.quality_rule = p.quality_rule;
   mp.limits = p.limits;
+  mp.wrench_frame = p.wrench_frame;
   ConfigResult r = model_.configure(mp);
   if (!r) return r;
   UdpParams up;

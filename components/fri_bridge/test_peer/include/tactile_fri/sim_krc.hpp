@@ -77,12 +77,25 @@ class FirstOrderPlant : public Plant {
     wrench_ = w;
     tool_axes_ = tool_axes;
   }
+  /// The pad's true load against the load the KRC's model compensates
+  /// ($LOAD): mass m (kg) and centre of mass c (m, flange axes) of each. The
+  /// KRC reports the difference's weight as an external wrench at the flange,
+  /// added to the one above: force (m_t - m_k) g_vec, moment
+  /// R (m_t c_t - m_k c_k) x g_vec, with g_vec = (0, 0, -9.80665) N/kg in {g}
+  /// and R the measured {g}R{e}: it turns in the flange's axes as the arm
+  /// reorients.
+  void setPadLoad(double true_mass, const KDL::Vector& true_com, double model_mass, const KDL::Vector& model_com) {
+    load_dm_ = true_mass - model_mass;
+    load_s_ = true_com * true_mass - model_com * model_mass;
+  }
 
  private:
   void fillWrench();
   double tau_;
   std::array<double, 6> wrench_{};
   bool tool_axes_ = false;
+  double load_dm_ = 0.0;     // true - modelled pad mass (kg)
+  KDL::Vector load_s_ = KDL::Vector::Zero();  // true - modelled first moment of mass (kg m, {e})
   PlantState state_{};
 };
 
@@ -125,6 +138,8 @@ struct SimKrcParams {
   ControlStrategy control = ControlStrategy::CartImpedance;
   /// The form of cmdCartPos / cmdCartPosFriOffset (KrcModelParams::cart_offset).
   CartOffset cart_offset = CartOffset::None;
+  /// The axes of estExtTcpFT (KrcModelParams::wrench_frame: the KRC's $STIFFNESS.FRAMETYPE).
+  WrenchFrame wrench_frame = WrenchFrame::Base;
   /// The sample times the KRC advertises in every measurement
   /// (desiredMsrSampleTime, desiredCmdSampleTime), s; 0 = period_s. A value
   /// other than period_s rehearses a KRC whose advertised cycle disagrees with

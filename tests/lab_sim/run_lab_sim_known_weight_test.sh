@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# ctest lab_sim_known_weight: the known-weight check (fri_check
+# --wrench-check, docs/bringup.md step 3c) on lab_sim's KRC, the weight and
+# the KRC's errors made by the world's own wrench faults (sim/lwr
+# sensor_faults.hpp), with 0.5 N of wrench noise per axis. The bring-up scene
+# without its bar rests in monitor mode with the pad facing sideways
+# (initial_flange.rpy_deg [90, 0, 180]: the flange's z horizontal); fri_check
+# --monitor --record records 500 packets of each:
+#   tare            nothing
+#   loaded          wrench_bias [0, 0, -9.80665] N ({g}): a 1 kg weight      -> frame correct (exit 0)
+#   loaded_flange   the same with wrench_frame axes: flange (reported in the
+#                   flange's axes as if base axes)                          -> frame is tool not base (3)
+#   loaded_sign     the same with wrench_sign (reported reversed)           -> sign inverted (3)
+# A cross-check of the check's readings against the world's independent
+# model of the same errors. fri_check listens on an ephemeral port.
+#   run_lab_sim_known_weight_test.sh SOURCE_DIR BUILD_DIR
+set -uo pipefail
+name=lab_sim_known_weight
+root="$1"
+build="$2"
+out="$build/lab_sim_test/known_weight"
+params="$root/components/fri_bridge/params/fri.yaml"
+for t in lab_sim fri_check; do
+  [ -x "$build/bin/$t" ] || { echo "$name: $build/bin/$t missing" >&2; exit 1; }
+done
+rm -rf "$out"
+mkdir -p "$out"
+
+# rest NAME FAULTS: lab_sim at rest, the pad sideways, with these faults, recorded
+rest() {
+  local tag="$1" rec="$out/$1.csv" faults="$2"
+  "$build/bin/fri_check" --monitor --params "$params" --port 0 --bind 127.0.0.1 --cycles 500 --seconds 60 \
+    --idle-timeout 10 --period-tolerance 0.9 --max-jitter-ms 1000 --record "$rec" >"$rec.log" 2>&1 &
+  local pid=$! port=""
+  for _ in $(seq 200); do
+    port=$(sed -n 's/^fri_check: listening on 127\.0\.0\.1:\([0-9]*\),.*/\1/p' "$rec.log")
+    [ -n "$port" ] && break
+    sleep 0.02
+  done
+  [ -n "$port" ] || { cat "$rec.log"; echo "$name: fri_check did not listen" >&2; kill "$pid"; return 1; }
+  "$build/bin/lab_sim" "$root/sim/lab/scenes/bringup_press.yaml" --fri-port "$port" --wts-link "$out/wts_$tag" \
+    --krc "0:friOpen" --krl "$root/krc/TactileServo.src" --duration 3 --set "objects=[]" \
+    --set "initial_flange.rpy_deg=[90, 0, 180]" --set "effects.wrench_error.noise_n=0.5" \
+    --set "faults=$faults" >"$out/$tag.lab.log" 2>&1 &
+  local lab=$!
+  wait "$pid"
+  kill -INT "$lab" 2>/dev/null
+  wait "$lab"
+}
+weight='{kind: wrench_bias, bias_n: [0, 0, -9.80665]}'
+rest tare "[]" || exit 1
+rest loaded "[$weight]" || exit 1
+rest loaded_flange "[$weight, {kind: wrench_frame, axes: flange}]" || exit 1
+rest loaded_sign "[$weight, {kind: wrench_sign}]" || exit 1
+failures=0
+expect() {
+  local code="$1" text="$2" loaded="$3" o rc
+  o=$("$build/bin/fri_check" --wrench-check --mass 1 --params "$params" --tare "$out/tare.csv" --loaded "$out/$loaded.csv" 2>&1)
+  rc=$?
+  echo "$o"
+  if [ "$rc" -ne "$code" ] || ! grep -qF -- "$text" <<<"$o"; then
+    echo "FAIL $loaded: expected exit $code and '$text', got exit $rc"
+    failures=$((failures + 1))
+  else
+    echo "ok   $loaded: exit $rc, '$text'"
+  fi
+}
+expect 0 "verdict: frame correct" loaded
+expect 3 "verdict: frame is tool not base" loaded_flange
+expect 3 "verdict: sign inverted" loaded_sign
+echo "$name: $failures failure(s)"
+[ "$failures" -eq 0 ]
