@@ -235,6 +235,42 @@ TEST(KrcLimits, APressBeyondMaxForceStopsTheArm) {
   EXPECT_EQ(l.out.status, BridgeStatus::Commanding) << "krc_fault clears in CMD with the drives on";
 }
 
+// MAXFORCE bounds estExtTcpFT's components as the KRC sends them: in the
+// axes of $STIFFNESS.FRAMETYPE. With the flange pointing sideways (its x axis
+// down) 15 N pressing down is 15 N along base z (within MAXFORCE Z 20 N) and
+// 15 N along tool x (beyond a MAXFORCE X of 10 N): only the KRC that reports
+// in tool axes stops the arm.
+TEST(KrcLimits, MaxForceIsCheckedInTheAxesEstExtTcpFtIsSentIn) {
+  const double pi = 3.14159265358979;
+  const KDL::Frame sideways(KDL::Rotation::RPY(pi, pi / 2, 0.0), KDL::Vector(0.5, 0, 0.4));
+  const KDL::Vector f_base(0, 0, -15.0);
+  const KDL::Vector f_tool = sideways.M.Inverse() * f_base;  // the ground truth, independent of the model
+  ASSERT_NEAR(std::fabs(f_tool.x()), 15.0, 1e-9) << "the flange's x axis points down";
+  for (const WrenchFrame frame : {WrenchFrame::Base, WrenchFrame::Tool}) {
+    KrcModelParams kp = limited();
+    kp.limits.max_force = {10.0, 10.0, 20.0, 2.0, 2.0, 2.0};
+    kp.wrench_frame = frame;
+    Loop l(kp);
+    l.plant.pose = sideways;
+    l.krc.reset(sideways);
+    l.desired.pose = toPose(sideways);
+    for (int k = 0; k < 20; ++k) l.cycle(State::Cmd);
+    ASSERT_EQ(l.out.status, BridgeStatus::Commanding) << toString(frame);
+    l.plant.wrench[0] = f_base.x();
+    l.plant.wrench[1] = f_base.y();
+    l.plant.wrench[2] = f_base.z();
+    l.cycle(State::Cmd);
+    const std::array<double, 6> sent = toWrench(l.msr.data.est_ext_tcp_ft);
+    if (frame == WrenchFrame::Base) {
+      EXPECT_NEAR(sent[2], -15.0, 1e-4) << "float32";
+      EXPECT_EQ(l.krc.fault(), KrcFault::None) << "15 N along base z: within MAXFORCE Z 20 N";
+    } else {
+      EXPECT_NEAR(sent[0], f_tool.x(), 1e-4) << "float32";
+      EXPECT_EQ(l.krc.fault(), KrcFault::MaxForce) << "15 N along tool x: beyond MAXFORCE X 10 N";
+    }
+  }
+}
+
 // A command that jumps beyond CPMAXDELTA (a reply written by hand: the bridge
 // itself never sends one, its rate limiter moves 50 um per cycle) while the
 // arm cannot follow at once: the KRC stops the arm.

@@ -135,9 +135,14 @@ void KrcModel::checkLimits(const PlantState& plant) {
   if (fault_ != KrcFault::None || state_ != State::Cmd || power_ == 0 ||
       params_.control != ControlStrategy::CartImpedance || !l.any())
     return;
+  // MAXFORCE bounds each component of estExtTcpFT as the KRC reports it: in
+  // the axes of $STIFFNESS.FRAMETYPE (a per-component limit, so the axes
+  // matter: 15 N along base z is 15 N along tool x when the flange points
+  // sideways).
+  const std::array<double, 6> w = wrenchInFrame(plant.wrench, params_.wrench_frame, plant.pose.M);
   KrcFault f = KrcFault::None;
   for (std::size_t i = 0; i < 6; ++i)
-    if (l.max_force[i] > 0.0 && std::fabs(plant.wrench[i]) > l.max_force[i]) f = KrcFault::MaxForce;
+    if (l.max_force[i] > 0.0 && std::fabs(w[i]) > l.max_force[i]) f = KrcFault::MaxForce;
   if (f == KrcFault::None) {
     // The deviation in base axes: translation, then the rotation vector of
     // set point -> measured about z (A), y (B), x (C).

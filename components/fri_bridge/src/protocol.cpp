@@ -261,9 +261,14 @@ std::array<double, 6> wrenchInBase(const float (&ft)[kCartVecDim], WrenchFrame f
   return frame == WrenchFrame::Tool ? turned(w, msr) : w;  // {g}R{e} * w_e
 }
 
+std::array<double, 6> wrenchInFrame(const std::array<double, 6>& w_base, WrenchFrame frame,
+                                    const KDL::Rotation& msr) noexcept {
+  return frame == WrenchFrame::Tool ? turned(w_base, msr.Inverse()) : w_base;  // {e}R{g} * w_g
+}
+
 void fromWrenchIn(const std::array<double, 6>& w_base, WrenchFrame frame, const KDL::Rotation& msr,
                   float (&ft)[kCartVecDim]) noexcept {
-  fromWrench(frame == WrenchFrame::Tool ? turned(w_base, msr.Inverse()) : w_base, ft);
+  fromWrench(wrenchInFrame(w_base, frame, msr), ft);
 }
 
 }  // namespace fri

@@ -310,6 +310,10 @@ bool parseWrenchFrame(const char* word, WrenchFrame& out);
 /// is the measured {g}R{e} (msrCartPos's rotation), used for Tool.
 std::array<double, 6> wrenchInBase(const float (&ft)[kCartVecDim], WrenchFrame frame,
                                    const KDL::Rotation& msr) noexcept;
+/// The KRC's side: a wrench [Fx Fy Fz Tx Ty Tz] in {g} axes turned into
+/// `frame`'s axes (the values estExtTcpFT carries, before float32).
+std::array<double, 6> wrenchInFrame(const std::array<double, 6>& w_base, WrenchFrame frame,
+                                    const KDL::Rotation& msr) noexcept;
 /// The KRC's side: a wrench [Fx Fy Fz Tx Ty Tz] in {g} axes written as
 /// estExtTcpFT in `frame`'s axes.
 void fromWrenchIn(const std::array<double, 6>& w_base, WrenchFrame frame, const KDL::Rotation& msr,
