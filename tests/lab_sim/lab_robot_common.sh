@@ -5,7 +5,8 @@
 # unattended by scripts/run_robot.sh.
 
 # lab_robot_stage OUT PORT: a fresh OUT with a staged copy of deployments/
-# whose FRI bridge listens on PORT.
+# whose FRI bridge listens on PORT, and of the KRL program the KRC runs
+# (OUT/krc: krc/TactileServo.src and the .dat beside it).
 lab_robot_stage() {
   local out="$1" port="$2"
   for t in "$deployer" "$build/bin/lab_sim"; do
@@ -16,16 +17,20 @@ lab_robot_stage() {
   rt_stage_deployments "$out"
   sed -i "/name=\"port\"/,/<\/simple>/ s#<value>-1</value>#<value>$port</value>#" "$out/deployments/fri_bridge.cpf"
   grep -q "<value>$port</value>" "$out/deployments/fri_bridge.cpf" || { echo "$name: could not set the bridge's port"; exit 1; }
+  mkdir -p "$out/krc"
+  cp "$root/krc/TactileServo.src" "$root/krc/TactileServo.dat" "$out/krc/"
 }
 
 # lab_robot_start OUT PORT SCENE [lab_sim arguments]: lab_sim on SCENE, the
-# KRC in command mode from its first packet, the WTS on OUT/wts0 (waited
-# for); its pid in `lab`, its log in OUT/lab_sim.log.
+# KRC in command mode from its first packet, running the staged KRL program
+# (--krl: estExtTcpFT in its FRAMETYPE's axes, its MAXFORCE / CPMAXDELTA
+# applied), the WTS on OUT/wts0 (waited for); its pid in `lab`, its log in
+# OUT/lab_sim.log.
 lab_robot_start() {
   local out="$1" port="$2" scene="$3"
   shift 3
   "${krc_prio[@]}" "$build/bin/lab_sim" "$scene" --fri-port "$port" --wts-link "$out/wts0" \
-    --krc "0:friOpen,0:friStart" "$@" >"$out/lab_sim.log" 2>&1 &
+    --krc "0:friOpen,0:friStart" --krl "$out/krc/TactileServo.src" "$@" >"$out/lab_sim.log" 2>&1 &
   lab=$!
   pids+=($lab)
   for _ in $(seq 100); do [ -e "$out/wts0" ] && break; sleep 0.05; done
