@@ -2,11 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdarg>
 #include <cstdlib>
 #include <fstream>
 
 #include <Eigen/Dense>
+
+#include "tactile_config/cli_args.hpp"
 
 namespace tactile {
 namespace fri {
@@ -15,15 +16,7 @@ namespace {
 
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
-std::string fmt(const char* f, ...) __attribute__((format(printf, 1, 2)));
-std::string fmt(const char* f, ...) {
-  char buf[1024];
-  va_list ap;
-  va_start(ap, f);
-  std::vsnprintf(buf, sizeof buf, f, ap);
-  va_end(ap);
-  return buf;
-}
+using config::fmt;  // printf into a std::string
 
 std::string vec(const KDL::Vector& v, double scale = 1.0, const char* f = "%.2f") {
   std::string s = "[";
