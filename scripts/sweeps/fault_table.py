@@ -227,7 +227,9 @@ def robot_scene(fault, out):
 def robot_measure(run_dir, start):
     """From the robot path's summary.json and lab_sim's truth.csv (lab_sim's
     clock, where the faults start): the true force's max, the flange's travel
-    after `start` (every TRAVEL_SAMPLE_S), the end in lab_sim's clock."""
+    after `start` (every TRAVEL_SAMPLE_S), the end in lab_sim's clock, and the
+    force targets over the scored window (the explore phase after its
+    transient, as the headless rows', before the fault and after it)."""
     with open(os.path.join(run_dir, "summary.json")) as f:
         s = json.load(f)
     travel, prev, t_prev, t_end = 0.0, None, -1e9, float("nan")
@@ -244,8 +246,8 @@ def robot_measure(run_dir, start):
             prev, t_prev = p, t
     fmax = s.get("force_true_run_max_n")
     return s, {"force_true_max_n": fmax if fmax is not None else float("nan"), "travel_after_m": travel,
-               "rms_after_n": s.get("slide_force_true_rms_error_n") or float("nan"),
-               "in_band_after": s.get("slide_force_true_in_band_fraction") or float("nan"), "t_end_s": t_end}
+               "rms_after_n": s.get("force_true_rms_error_n") or float("nan"),
+               "in_band_after": s.get("force_true_in_band_fraction") or float("nan"), "t_end_s": t_end}
 
 
 def robot_row(fault, out, k, n, ceiling):
@@ -396,7 +398,8 @@ def write_docs(docs, md, rows, header, commit, mach, out):
              "reach: a detection it lacks, or one that comes too late. The robot path (where run: "
              "`fault_table.py --robot`, the main job) is the same fault in lab_sim's world, the unchanged "
              "robot deployment against it over FRI and the WTS link (`scripts/run_robot_lab.sh`); its force and "
-             "travel are lab_sim's ground truth, its targets the whole slide's, in lab_sim's clock.", ""]
+             "travel are lab_sim's ground truth in lab_sim's clock, its targets those of the run's scored window "
+             "(the explore phase after its transient, before and after the fault).", ""]
     with open(os.path.join(docs, "faults.md"), "w") as f:
         f.write("\n".join(intro + md + ["", "![faults](img/faults.png)", ""]))
     with open(os.path.join(docs, "results", "faults.json"), "w") as f:
