@@ -205,7 +205,7 @@ struct WatchdogParams {
   double drift_max_change_n = 0.0;               ///< N, [0, 50], 0 = off
   double drift_tau_s = 1.0;                      ///< s, (0, 10]
   double drift_settle_s = 2.0;                   ///< s, [0, 60]
-  double drift_min_extent_ratio = 0.7;           ///< (0, 1]
+  double drift_min_extent_ratio = 0.5;           ///< (0, 1]
   /// What the servo does once one of the checks above stops it: hold the
   /// last command, or retreat along -z_s by retreat_m at the step limit, then
   /// hold.
