@@ -31,7 +31,9 @@ With --robot each row also runs on the robot path: the unchanged robot
 deployment against lab_sim (scripts/run_robot_lab.sh edge_exploration
 --scene: the KRC over FRI on loopback UDP, the WTS0614 on a PTY) with the
 same fault in lab_sim's world, one run at a time (about 10 min in all: lab_sim
-runs in real time). Its outcome is judged against the same statement, on
+runs in real time), the KRC's link quality held at PERFECT (lab_sim
+--quality-rule off: the row measures the fault, not this host's timing; the
+link's drops are the rehearsal's). Its outcome is judged against the same statement, on
 lab_sim's ground truth (the run's summary.json: the state machine's verdict,
 the servo's status, the true force; truth.csv: the flange's travel after the
 fault, in lab_sim's clock, where the faults are scheduled). Writes
@@ -254,8 +256,10 @@ def robot_row(fault, out, k, n, ceiling):
     """One row on the robot path: run_robot_lab.sh on the row's scene; its outcome and verdict."""
     d = os.path.join(out, "robot")
     t0 = time.time()
+    # The KRC's link held at PERFECT (lab_sim --quality-rule off): the row measures the fault, not this
+    # host's timing (the link's own drops are the rehearsal's, rehearse_first_day.sh).
     r = subprocess.run(["bash", os.path.join(ts.ROOT, "scripts", "run_robot_lab.sh"), SCENE, "--scene",
-                        robot_scene(fault, out), "--out", os.path.join(d, fault[0])],
+                        robot_scene(fault, out), "--out", os.path.join(d, fault[0]), "--", "--quality-rule", "off"],
                        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     run_dir = os.path.join(d, fault[0], SCENE)
     if not os.path.exists(os.path.join(run_dir, "summary.json")):
@@ -397,7 +401,9 @@ def write_docs(docs, md, rows, header, commit, mach, out):
              "(`tactile_servo/watchdog.hpp`). A verdict **differs** is an outcome the servo does not "
              "reach: a detection it lacks, or one that comes too late. The robot path (where run: "
              "`fault_table.py --robot`, the main job) is the same fault in lab_sim's world, the unchanged "
-             "robot deployment against it over FRI and the WTS link (`scripts/run_robot_lab.sh`); its force and "
+             "robot deployment against it over FRI and the WTS link (`scripts/run_robot_lab.sh`; the KRC's link "
+             "quality held at PERFECT, `lab_sim --quality-rule off`: the row measures the fault, the link's own "
+             "drops are the rehearsal's); its force and "
              "travel are lab_sim's ground truth in lab_sim's clock, its targets those of the run's scored window "
              "(the explore phase after its transient, before and after the fault).", ""]
     with open(os.path.join(docs, "faults.md"), "w") as f:

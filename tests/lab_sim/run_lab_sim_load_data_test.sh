@@ -26,25 +26,12 @@ rm -rf "$out"
 mkdir -p "$out"
 
 # rest NAME RPY [LAB_SIM ARGS...]: lab_sim at rest in that orientation, recorded
+source "$root/tests/lab_sim/lab_record_common.sh"  # lab_record
 rest() {
-  local tag="$1" rec="$out/$1.csv" rpy="$2"
+  local tag="$1" rpy="$2"
   shift 2
-  "$build/bin/fri_check" --monitor --params "$params" --port 0 --bind 127.0.0.1 --cycles 500 --seconds 60 \
-    --idle-timeout 10 --period-tolerance 0.9 --max-jitter-ms 1000 --record "$rec" >"$rec.log" 2>&1 &
-  local pid=$! port=""
-  for _ in $(seq 200); do
-    port=$(sed -n 's/^fri_check: listening on 127\.0\.0\.1:\([0-9]*\),.*/\1/p' "$rec.log")
-    [ -n "$port" ] && break
-    sleep 0.02
-  done
-  [ -n "$port" ] || { cat "$rec.log"; echo "$name: fri_check did not listen" >&2; kill "$pid"; return 1; }
-  "$build/bin/lab_sim" "$root/sim/lab/scenes/bringup_press.yaml" --fri-port "$port" --wts-link "$out/wts_$tag" \
-    --krc "0:friOpen" --krl "$root/krc/TactileServo.src" --duration 3 --set "objects=[]" \
-    --set "initial_flange.rpy_deg=$rpy" --set "effects.wrench_error.noise_n=0.5" "$@" >"$out/$tag.lab.log" 2>&1 &
-  local lab=$!
-  wait "$pid"
-  kill -INT "$lab" 2>/dev/null
-  wait "$lab"
+  lab_record "$tag" 500 "$root/krc/TactileServo.src" --duration 3 --set "objects=[]" \
+    --set "initial_flange.rpy_deg=$rpy" --set "effects.wrench_error.noise_n=0.5" "$@"
 }
 orient=("[180, 0, 180]" "[120, 0, 180]" "[180, 60, 180]")
 fault='faults=[{kind: pad_mass, mass_kg: 0.3}]'

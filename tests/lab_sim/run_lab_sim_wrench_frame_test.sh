@@ -23,25 +23,10 @@ sed 's/^\$STIFFNESS\.FRAMETYPE = #BASE/$STIFFNESS.FRAMETYPE = #TOOL/' "$root/krc
 cp "$root/krc/TactileServo.dat" "$out/krl_tool/"
 
 # run NAME KRL: lab_sim --krl KRL in monitor mode, recorded by fri_check
+source "$root/tests/lab_sim/lab_record_common.sh"  # lab_record
 run() {
-  local rec="$out/$1.csv"
-  "$build/bin/fri_check" --monitor --params "$root/components/fri_bridge/params/fri.yaml" --port 0 --bind 127.0.0.1 \
-    --cycles 300 --seconds 60 --idle-timeout 10 --period-tolerance 0.9 --max-jitter-ms 1000 --record "$rec" \
-    >"$rec.log" 2>&1 &
-  local pid=$! port=""
-  for _ in $(seq 200); do
-    port=$(sed -n 's/^fri_check: listening on 127\.0\.0\.1:\([0-9]*\),.*/\1/p' "$rec.log")
-    [ -n "$port" ] && break
-    sleep 0.02
-  done
-  [ -n "$port" ] || { cat "$rec.log"; echo "$name: fri_check did not listen" >&2; kill "$pid"; return 1; }
-  "$build/bin/lab_sim" "$root/sim/lab/scenes/bringup_press.yaml" --fri-port "$port" --wts-link "$out/wts_$1" \
-    --krc "0:friOpen" --krl "$2" --duration 2 >"$out/$1.lab.log" 2>&1 &
-  local lab=$!
-  wait "$pid"
-  kill -INT "$lab" 2>/dev/null
-  wait "$lab"
-  cat "$rec.log" "$out/$1.lab.log"
+  lab_record "$1" 300 "$2" --duration 2 || return 1
+  cat "$out/$1.csv.log" "$out/$1.lab.log"
 }
 run base "$root/krc/TactileServo.src" || exit 1
 run tool "$out/krl_tool/TactileServo.src" || exit 1

@@ -1,0 +1,32 @@
+# Shared by the bring-up check tests (run_lab_sim_known_weight_test.sh,
+# run_lab_sim_load_data_test.sh, run_lab_sim_wrench_frame_test.sh): one
+# recording of lab_sim's KRC in monitor mode by fri_check. Sourced; needs
+# name, root, build and out set.
+#
+#   lab_record TAG CYCLES KRL [LAB_SIM ARGS...]
+# fri_check --monitor --record OUT/TAG.csv (CYCLES packets, fri.yaml, an
+# ephemeral port on loopback; its console in OUT/TAG.csv.log), then lab_sim on
+# the bring-up scene against it (friOpen at 0, the KRL program KRL, the
+# given arguments; its console in OUT/TAG.lab.log); returns when fri_check has
+# its packets, lab_sim stopped. Non-zero when fri_check never listened.
+lab_record() {
+  local tag="$1" cycles="$2" krl="$3"
+  shift 3
+  local rec="$out/$tag.csv"
+  "$build/bin/fri_check" --monitor --params "$root/components/fri_bridge/params/fri.yaml" --port 0 --bind 127.0.0.1 \
+    --cycles "$cycles" --seconds 60 --idle-timeout 10 --period-tolerance 0.9 --max-jitter-ms 1000 --record "$rec" \
+    >"$rec.log" 2>&1 &
+  local pid=$! port=""
+  for _ in $(seq 200); do
+    port=$(sed -n 's/^fri_check: listening on 127\.0\.0\.1:\([0-9]*\),.*/\1/p' "$rec.log")
+    [ -n "$port" ] && break
+    sleep 0.02
+  done
+  [ -n "$port" ] || { cat "$rec.log"; echo "$name: fri_check did not listen" >&2; kill "$pid"; return 1; }
+  "$build/bin/lab_sim" "$root/sim/lab/scenes/bringup_press.yaml" --fri-port "$port" --wts-link "$out/wts_$tag" \
+    --krc "0:friOpen" --krl "$krl" "$@" >"$out/$tag.lab.log" 2>&1 &
+  local lab=$!
+  wait "$pid"
+  kill -INT "$lab" 2>/dev/null
+  wait "$lab"
+}
