@@ -26,8 +26,8 @@
 # scripts/tools/lab_run_summary.py) and truth.png. One line per experiment on
 # the console: its verdict, true force max, slide speed and wall time.
 # lab_sim runs in real time: each run costs its experiment's duration plus the
-# deployer's start-up. UDP: one run at a time on the machine (wrap the call in
-# `flock /tmp/udp.lock` where other runs may share it).
+# deployer's start-up. UDP: one run at a time per --port on the machine (the
+# ctests that run it hold the lab_sim_udp resource lock).
 # Exit: 0 every run's verdict pass, 3 a run failed (the others still run),
 # 1 set-up error, 2 usage.
 # Environment: BUILD (default <repo>/build), OROCOS, DEPLOYER.
