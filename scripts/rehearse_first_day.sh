@@ -164,12 +164,13 @@ if want 3; then
   echo "== step 3 FRI link: fri_check --monitor against the KRC after friOpen (monitor mode)"
   # The simulated KRC runs beside the tests on a host without real-time
   # priorities: its packet timing is not the KRC's. The jitter and period
-  # bands are widened here (5 ms, 100 %), and the cycle's (at most 10 %
-  # missed or late, PERFECT in 80 %); on the arm keep fri_check's defaults.
+  # bands are widened here (5 ms, 100 %), and the cycle's (at most 30 %
+  # missed or late, PERFECT in 80 %: 14 % of the answers late at 2 ms with
+  # the test suite running beside it); on the arm keep fri_check's defaults.
   rc=0
   if start_lab "$root/sim/scenes/edge_exploration.yaml" "0:friOpen" "$d"; then
     "$build/bin/fri_check" --monitor --port $port --params "$fri_yaml" \
-      --seconds 3 --max-jitter-ms 5 --period-tolerance 1.0 --max-late-share 0.1 --min-perfect-share 0.8 \
+      --seconds 3 --max-jitter-ms 5 --period-tolerance 1.0 --max-late-share 0.3 --min-perfect-share 0.8 \
       --json "$d/fri_check.json" > "$d/fri_check.log" 2>&1 || rc=$?
     stop_lab
   else

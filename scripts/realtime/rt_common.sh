@@ -36,9 +36,10 @@ trap rt_cleanup EXIT
 # (5.4-6.9 N). With it the servo's sensor checks see two sensors that agree;
 # without it the press is a phantom contact, and the servo stops the run.
 rt_press_wrench="0,0,6.3"
-# rt_press_wrench_tool EXPERIMENT: the same press along the experiment's z_s
-# in the flange's axes (its program's controller.sensor_mount), for
-# fri_sim_krc --wrench-tool.
+# rt_press_wrench_tool EXPERIMENT: the same press in the flange's axes for
+# fri_sim_krc --wrench-tool: the contact pushes the pad back toward the
+# flange, along -z_s (z_s from the program's controller.sensor_mount; the
+# servo reads a press as -F . z_s, force_estimator.hpp).
 rt_press_wrench_tool() {
   /usr/bin/python3 - "$root" "$1" <<'PY'
 import math, subprocess, sys, yaml
@@ -51,7 +52,7 @@ r, p, y = (math.radians(a) for a in mount.get("rpy_deg", [0, 0, 0]))
 z = (math.cos(y) * math.sin(p) * math.cos(r) + math.sin(y) * math.sin(r),
      math.sin(y) * math.sin(p) * math.cos(r) - math.cos(y) * math.sin(r),
      math.cos(p) * math.cos(r))
-print(",".join(f"{6.3 * c:.4f}" for c in z))
+print(",".join(f"{-6.3 * c:.4f}" for c in z))
 PY
 }
 rt_start_wts_sim() {
