@@ -28,6 +28,8 @@
 #include <thread>
 #include <vector>
 
+#include <unistd.h>
+
 #include "alloc_counter.hpp"
 #include "tactile_fri/bridge.hpp"
 #include "tactile_fri/protocol.hpp"
@@ -50,8 +52,10 @@ const auto* const env =
 
 double now() { return RTT::os::TimeService::Instance()->secondsSince(0); }
 
+// Per process: ctest runs each case as its own process, in parallel, and a
+// file of a shared name is truncated by one while another reads it.
 std::string writeTemp(const std::string& name, const std::string& text) {
-  const std::string path = ::testing::TempDir() + name;
+  const std::string path = ::testing::TempDir() + std::to_string(::getpid()) + "_" + name;
   std::ofstream(path) << text;
   return path;
 }
