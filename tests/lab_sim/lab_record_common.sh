@@ -1,7 +1,18 @@
 # Shared by the bring-up check tests (run_lab_sim_known_weight_test.sh,
-# run_lab_sim_load_data_test.sh, run_lab_sim_wrench_frame_test.sh): one
-# recording of lab_sim's KRC in monitor mode by fri_check. Sourced; needs
-# name, root, build and out set.
+# run_lab_sim_load_data_test.sh, run_lab_sim_wrench_frame_test.sh): their
+# output folder and one recording of lab_sim's KRC in monitor mode by
+# fri_check. Sourced; needs name, root and build set.
+#
+#   lab_record_init DIR
+# out=BUILD/lab_sim_test/DIR, emptied; exits when lab_sim or fri_check is not built.
+lab_record_init() {
+  out="$build/lab_sim_test/$1"
+  for t in lab_sim fri_check; do
+    [ -x "$build/bin/$t" ] || { echo "$name: $build/bin/$t missing" >&2; exit 1; }
+  done
+  rm -rf "$out"
+  mkdir -p "$out"
+}
 #
 #   lab_record TAG CYCLES KRL [LAB_SIM ARGS...]
 # fri_check --monitor --record OUT/TAG.csv (CYCLES packets, fri.yaml, an

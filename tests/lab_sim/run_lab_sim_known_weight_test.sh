@@ -18,16 +18,11 @@ set -uo pipefail
 name=lab_sim_known_weight
 root="$1"
 build="$2"
-out="$build/lab_sim_test/known_weight"
+source "$root/tests/lab_sim/lab_record_common.sh"  # lab_record_init, lab_record
+lab_record_init known_weight
 params="$root/components/fri_bridge/params/fri.yaml"
-for t in lab_sim fri_check; do
-  [ -x "$build/bin/$t" ] || { echo "$name: $build/bin/$t missing" >&2; exit 1; }
-done
-rm -rf "$out"
-mkdir -p "$out"
 
 # rest NAME FAULTS: lab_sim at rest, the pad sideways, with these faults, recorded
-source "$root/tests/lab_sim/lab_record_common.sh"  # lab_record
 rest() {
   lab_record "$1" 500 "$root/krc/TactileServo.src" --duration 3 --set "objects=[]" \
     --set "initial_flange.rpy_deg=[90, 0, 180]" --set "effects.wrench_error.noise_n=0.5" --set "faults=$2"

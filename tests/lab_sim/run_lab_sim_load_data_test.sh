@@ -17,16 +17,11 @@ set -uo pipefail
 name=lab_sim_load_data
 root="$1"
 build="$2"
-out="$build/lab_sim_test/load_data"
+source "$root/tests/lab_sim/lab_record_common.sh"  # lab_record_init, lab_record
+lab_record_init load_data
 params="$root/components/fri_bridge/params/fri.yaml"
-for t in lab_sim fri_check; do
-  [ -x "$build/bin/$t" ] || { echo "$name: $build/bin/$t missing" >&2; exit 1; }
-done
-rm -rf "$out"
-mkdir -p "$out"
 
 # rest NAME RPY [LAB_SIM ARGS...]: lab_sim at rest in that orientation, recorded
-source "$root/tests/lab_sim/lab_record_common.sh"  # lab_record
 rest() {
   local tag="$1" rpy="$2"
   shift 2

@@ -13,17 +13,13 @@ set -uo pipefail
 name=lab_sim_wrench_frame
 root="$1"
 build="$2"
-out="$build/lab_sim_test/wrench_frame"
-for t in lab_sim fri_check; do
-  [ -x "$build/bin/$t" ] || { echo "$name: $build/bin/$t missing" >&2; exit 1; }
-done
-rm -rf "$out"
+source "$root/tests/lab_sim/lab_record_common.sh"  # lab_record_init, lab_record
+lab_record_init wrench_frame
 mkdir -p "$out/krl_tool"
 sed 's/^\$STIFFNESS\.FRAMETYPE = #BASE/$STIFFNESS.FRAMETYPE = #TOOL/' "$root/krc/TactileServo.src" >"$out/krl_tool/TactileServo.src"
 cp "$root/krc/TactileServo.dat" "$out/krl_tool/"
 
 # run NAME KRL: lab_sim --krl KRL in monitor mode, recorded by fri_check
-source "$root/tests/lab_sim/lab_record_common.sh"  # lab_record
 run() {
   lab_record "$1" 300 "$2" --duration 2 || return 1
   cat "$out/$1.csv.log" "$out/$1.lab.log"
