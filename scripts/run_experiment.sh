@@ -23,14 +23,27 @@
 # the wrench headless and on the robot path (fault_table.py --robot ->
 # out/faults/, docs/faults.md), and last the results
 # pages (scripts/tools/results_docs.py -> docs/results.md, the README's table).
+#
+# Order: the registry's experiments headless and as deployed first (about a
+# minute on a built tree), then the sweeps, the rehearsals, the robot path
+# and the faults, each a numbered stage that prints its progress every 30 s
+# and its time. `--quick` stops after the experiments and their deployments
+# (the results pages are then not regenerated).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+quick=0
+case "${1:-}" in
+  --quick) quick=1 ;;
+  "") ;;
+  *) echo "usage: run_experiment.sh [--quick]   (--quick: the experiments and their deployments only)" >&2; exit 2 ;;
+esac
 bash "$root/scripts/setup/setup_deps.sh"
 bash "$root/scripts/setup/setup_orocos.sh"
 bash "$root/scripts/setup/build.sh"
 sim="$root/build/bin/tactile_sim"
 out="$root/out"
 mkdir -p "$out"
+t_main=$SECONDS
 
 run() {  # run NAME SCENE [args]: a non-zero exit is reported, not fatal (the no_rotation ablation is expected to fail)
   local name="$1" scene="$2"; shift 2
@@ -39,28 +52,47 @@ run() {  # run NAME SCENE [args]: a non-zero exit is reported, not fatal (the no
   [ "$rc" -eq 0 ] || echo "  ($name $*: exit code $rc, status in $out/$name/summary.json)"
 }
 
+# stage LABEL LOG CMD...: runs CMD with its output in LOG; prints the start,
+# every 30 s the log's last progress line ("[k/n] ..."), and the time it took.
+# A failure is reported with the log's path, not fatal (the next stage runs).
+n_stages=8
+k_stage=0
+stage() {
+  local label="$1" log="$2"; shift 2
+  k_stage=$((k_stage + 1))
+  local t0=$SECONDS
+  echo "main job: [$k_stage/$n_stages] $label (log $log)"
+  "$@" > "$log" 2>&1 &
+  local pid=$! last=$SECONDS rc=0
+  while kill -0 "$pid" 2> /dev/null; do
+    sleep 2
+    if [ $((SECONDS - last)) -ge 30 ]; then
+      last=$SECONDS
+      local line
+      line="$(grep -aE '^\[(robot |pooled )?[0-9]+/[0-9]+\]|^run_robot_lab: \[' "$log" | tail -n 1 | cut -c1-110 || true)"
+      echo "  ... $((SECONDS - t0)) s${line:+: $line}"
+    fi
+  done
+  wait "$pid" || rc=$?
+  if [ "$rc" -eq 0 ]; then
+    echo "  done in $((SECONDS - t0)) s"
+  else
+    echo "  ($label: exit code $rc after $((SECONDS - t0)) s; log $log)"
+  fi
+}
+
 # Every experiment of the registry (experiments.yaml): its scene with its
 # controller, into out/<experiment>/.
 registry() {  # one line per registry entry: NAME SCENE CONTROLLER ('-' for the program's own)
   /usr/bin/python3 "$root/scripts/tools/registry.py" rows
 }
 experiments="$(registry)"
+echo "main job: the registry's experiments headless (tactile_sim -> $out/<experiment>/)"
 while read -r name scene controller; do
   if [ "$controller" = "-" ]; then run "$name" "$scene"; else run "$name" "$scene" --controller "$controller"; fi
 done <<< "$experiments"
 /usr/bin/python3 "$root/scripts/tools/plot_run.py" "$out/bent_bar" --compare "$out/bent_bar_baseline" "$out/bent_bar_no_rotation"
 /usr/bin/python3 "$root/scripts/tools/experiment_report.py" "$out"
-/usr/bin/python3 "$root/scripts/sweeps/compare_controllers.py" --sim "$sim" --out "$out/compare" || echo "  (compare_controllers.py failed)"
-/usr/bin/python3 "$root/scripts/sweeps/compare_controllers.py" --sim "$sim" --out "$out/compare_paper" --paper || echo "  (compare_controllers.py --paper failed)"
-/usr/bin/python3 "$root/scripts/sweeps/sweep_correction.py" --sim "$sim" --seeds 3 --out "$out/correction" > "$out/correction.log" 2>&1 || echo "  (sweep_correction.py failed: $out/correction.log)"
-/usr/bin/python3 "$root/scripts/sweeps/sweep_force.py" --seeds 3 --out "$out/force" > "$out/force.log" 2>&1 || echo "  (sweep_force.py failed: $out/force.log)"
-/usr/bin/python3 "$root/scripts/sweeps/force_targets.py" --sim "$sim" --seeds 3 --out "$out/force_targets" > "$out/force_targets.log" 2>&1 \
-  || echo "  (force_targets.py: a scene misses the true-force targets or did not run: $out/force_targets.log)"
-/usr/bin/python3 "$root/scripts/sweeps/sweep_speed.py" --sim "$sim" --seeds 3 --out "$out/speed" > "$out/speed.log" 2>&1 || echo "  (sweep_speed.py failed: $out/speed.log)"
-/usr/bin/python3 "$root/scripts/sweeps/sweep_family.py" --sim "$sim" --seeds 3 --pool-seeds 15 --out "$out/family" > "$out/family.log" 2>&1 || echo "  (sweep_family.py failed: $out/family.log)"
-/usr/bin/python3 "$root/scripts/sweeps/run_contours.py" --sim "$sim" --out "$out/contours" > "$out/contours.log" 2>&1 || echo "  (run_contours.py failed: $out/contours.log)"
-/usr/bin/python3 "$root/scripts/sweeps/run_contours.py" --sim "$sim" --out "$out/contours_sensor_effects" --seeds 3 --sensor-effects \
-  > "$out/contours_sensor_effects.log" 2>&1 || echo "  (run_contours.py --sensor-effects failed: $out/contours_sensor_effects.log)"
 
 # The same experiments as deployed (the loop that runs on the robot, with the
 # simulated arm and sensor swapped in).
@@ -70,23 +102,45 @@ deploy() {  # deploy EXPERIMENT: a non-zero exit is reported, not fatal
   tail -n 1 "$log"
   [ "$rc" -eq 0 ] || echo "  (deployment $*: exit code $rc, log in $log)"
 }
+echo "main job: the same experiments deployed under the OCL deployer (scripts/run_deployment.sh -> $out/deploy/)"
 while read -r name _; do deploy "$name"; done <<< "$experiments"
 /usr/bin/python3 "$root/scripts/tools/experiment_report.py" "$out/deploy"
+echo "main job: experiments and deployments in $((SECONDS - t_main)) s"
+if [ "$quick" -eq 1 ]; then
+  echo "main job: --quick: the sweeps, the rehearsals, the robot path and the faults not run; docs/results.md not regenerated"
+  exit 0
+fi
 
-# The first day rehearsed at friOpen(2) (the KRC's cycle 2 ms: the copies of
-# fri.yaml and the KRL program at 2 ms; out/rehearsal_2ms/, ~1.5 min), then
-# at friOpen(1) below; both with the KRC's timing rule and $STIFFNESS limits.
-bash "$root/scripts/rehearse_first_day.sh" --cycle-ms 2 --out "$out/rehearsal_2ms" > "$out/rehearsal_2ms.log" 2>&1 \
-  || echo "  (rehearse_first_day.sh --cycle-ms 2: a step failed: $out/rehearsal_2ms.log)"
-tail -n 1 "$out/rehearsal_2ms.log"
+py() { /usr/bin/python3 "$@"; }
+sweeps() {  # the controllers compared, the force estimate and its bound, the true force on every scene, the speed
+  py "$root/scripts/sweeps/compare_controllers.py" --sim "$sim" --out "$out/compare" || echo "compare_controllers.py failed"
+  py "$root/scripts/sweeps/compare_controllers.py" --sim "$sim" --out "$out/compare_paper" --paper || echo "compare_controllers.py --paper failed"
+  py "$root/scripts/sweeps/sweep_correction.py" --sim "$sim" --seeds 3 --out "$out/correction" > "$out/correction.log" 2>&1 || echo "sweep_correction.py failed: $out/correction.log"
+  py "$root/scripts/sweeps/sweep_force.py" --seeds 3 --out "$out/force" > "$out/force.log" 2>&1 || echo "sweep_force.py failed: $out/force.log"
+  py "$root/scripts/sweeps/force_targets.py" --sim "$sim" --seeds 3 --out "$out/force_targets" > "$out/force_targets.log" 2>&1 \
+    || echo "force_targets.py: a scene misses the true-force targets or did not run: $out/force_targets.log"
+  py "$root/scripts/sweeps/sweep_speed.py" --sim "$sim" --seeds 3 --out "$out/speed" > "$out/speed.log" 2>&1 || echo "sweep_speed.py failed: $out/speed.log"
+}
+stage "sweeps: controllers, force estimate, force targets, slide speed (~1 min)" "$out/sweeps.log" sweeps
+stage "the family of bent bars (sweep_family.py, ~4400 runs, ~3 min)" "$out/family.log" \
+  py "$root/scripts/sweeps/sweep_family.py" --sim "$sim" --seeds 3 --pool-seeds 15 --out "$out/family"
+stage "closed contours (run_contours.py)" "$out/contours.log" py "$root/scripts/sweeps/run_contours.py" --sim "$sim" --out "$out/contours"
+stage "closed contours with every sensor effect (run_contours.py --sensor-effects)" "$out/contours_sensor_effects.log" \
+  py "$root/scripts/sweeps/run_contours.py" --sim "$sim" --out "$out/contours_sensor_effects" --seeds 3 --sensor-effects
 
 # The first day on the real arm, rehearsed against the simulated lab (the KRC
 # over FRI and the WTS on a PTY: lab_sim): the bring-up tools in order, the dry
 # run, the first touch and the edge exploration through the unchanged robot
 # deployments, the KRC started as KRL starts it and interrupted in the slide
-# (scripts/rehearse_first_day.sh -> out/rehearsal/rehearsal.md, rehearsal.png; ~1.5 min).
-bash "$root/scripts/rehearse_first_day.sh" --out "$out/rehearsal" > "$out/rehearsal.log" 2>&1 \
-  || echo "  (rehearse_first_day.sh: a step failed: $out/rehearsal.log)"
+# (scripts/rehearse_first_day.sh -> out/rehearsal/rehearsal.md, rehearsal.png;
+# ~1.5 min), first at friOpen(2) (the KRC's cycle 2 ms: the copies of fri.yaml
+# and the KRL program at 2 ms; out/rehearsal_2ms/), then at friOpen(1); both
+# with the KRC's timing rule and $STIFFNESS limits.
+stage "the first day rehearsed at friOpen(2) (~1.5 min)" "$out/rehearsal_2ms.log" \
+  bash "$root/scripts/rehearse_first_day.sh" --cycle-ms 2 --out "$out/rehearsal_2ms"
+tail -n 1 "$out/rehearsal_2ms.log"
+stage "the first day rehearsed at friOpen(1) (~1.5 min)" "$out/rehearsal.log" \
+  bash "$root/scripts/rehearse_first_day.sh" --out "$out/rehearsal"
 tail -n 1 "$out/rehearsal.log"
 
 # Every robot experiment (experiments.yaml, robot: true) on the robot path:
@@ -95,20 +149,20 @@ tail -n 1 "$out/rehearsal.log"
 # (scripts/run_robot_lab.sh -> out/robot_lab/<experiment>/summary.json;
 # each costs its experiment's duration plus the deployer's start-up, ~6 min
 # in all). One line per experiment on the console.
-echo "robot path against lab_sim (scripts/run_robot_lab.sh -> $out/robot_lab/, log $out/robot_lab.log):"
-{ bash "$root/scripts/run_robot_lab.sh" --out "$out/robot_lab" 2>&1 || echo "run_robot_lab: exit $? (a run failed or did not run)"; } \
-  | tee "$out/robot_lab.log" | grep --line-buffered "^run_robot_lab: " || true
+stage "every robot experiment on the robot path against lab_sim (~6 min)" "$out/robot_lab.log" \
+  bash "$root/scripts/run_robot_lab.sh" --out "$out/robot_lab"
+grep "^run_robot_lab: " "$out/robot_lab.log" || true
 
 # Each fault of the pad and of the arm's wrench during the edge exploration,
 # against its stated outcome, headless (seconds) and on the robot path against
 # lab_sim (one run per fault in real time, ~10 min; scripts/sweeps/fault_table.py
-# --robot -> out/faults/, docs/faults.md). One line per run on the console.
-echo "faults, headless and on the robot path (scripts/sweeps/fault_table.py --robot -> $out/faults/, log $out/faults.log):"
-{ /usr/bin/python3 "$root/scripts/sweeps/fault_table.py" --sim "$sim" --out "$out/faults" --robot 2>&1 \
-    || echo "fault_table.py: a fault's outcome differs from the stated one (docs/faults.md)"; } \
-  | tee "$out/faults.log" | grep --line-buffered "^\[\|^fault_table" || true
+# --robot -> out/faults/, docs/faults.md).
+stage "faults, headless and on the robot path (fault_table.py --robot, ~10 min)" "$out/faults.log" \
+  py "$root/scripts/sweeps/fault_table.py" --sim "$sim" --out "$out/faults" --robot
+grep -a "^\[\|^Commit" "$out/faults.log" | grep -a "DIFFERS\|^Commit" || true
 
 # The results pages from this run's outputs: docs/results.md,
 # docs/results/results.json (with the commit and the machine), docs/img/ and
 # the README's results table (scripts/tools/results_docs.py).
-/usr/bin/python3 "$root/scripts/tools/results_docs.py" --out "$out" || echo "  (results_docs.py failed)"
+py "$root/scripts/tools/results_docs.py" --out "$out" || echo "  (results_docs.py failed)"
+echo "main job: done in $((SECONDS - t_main)) s after the build"
