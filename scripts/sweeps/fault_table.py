@@ -24,7 +24,8 @@ above the program's force ceiling (safety.force_ceiling), and
             the fault;
   stop      a named servo stop (one of the row's statuses) with less than the
             row's travel after the fault;
-  either    one of the two (any named servo stop);
+  either    one of the two (any named servo stop); a named stop after the
+            targets were held all along counts as the run going on;
   reach     a wrench drift below the drift check's reach: the run ends ok
             with the true force's RMS error within the check's
             max_change_n (watchdogs.correction_drift), or the check stops it.
@@ -83,7 +84,8 @@ DRIFT = ["servo_correction_drift"]
 # name, group, what (parameters), fault list (YAML) or scene, start (s), expected.
 # expected: ("continue",) | ("stop", [statuses], max travel mm) | ("either", [statuses] or None: any named
 # servo stop, max travel mm, or None: a fault that grows slowly, stopped with the force targets held up to
-# the stop[, True: any named stop with the targets held up to it also]) | ("reach",): a drift below the
+# the stop; in either case any named stop with the targets held up to it is as good as the run going on
+# within them) | ("reach",): a drift below the
 # drift check's reach: the run ends ok with the true force's RMS error within the check's max_change_n (the
 # fused estimate follows the wrench: a drift it does not stop moves the set point by as much), or the
 # check's stop. The no-fault row is scored from FAULT_START_S, as the faults that start there.
@@ -106,7 +108,7 @@ FAULTS = [
     # load is the larger) a stop within a few cm; below it the run holds its targets, and the correction's
     # share of the load changes where the pad leaves the bar's end: a drift stop there, targets held.
     ("calibration_0.5x", "pad", "the reader reads 0.5 x the true force, from the start",
-     "[{kind: calibration, scale: 0.5}]", 0.0, ("either", SATURATED, 100, True)),
+     "[{kind: calibration, scale: 0.5}]", 0.0, ("either", SATURATED, 100)),
     ("calibration_2x", "pad", "the reader reads 2 x the true force, from the start",
      "[{kind: calibration, scale: 2.0}]", 0.0, ("either", CONTRADICTION + SATURATED, 100)),
     ("wrench_bias", "wrench", "+5 N along z_g", f"[{{kind: wrench_bias, start_s: {T}, bias_n: [0, 0, 5]}}]", T,
@@ -144,8 +146,8 @@ def expected_text(e, reach_n):
         return f"{names}, travel < {e[2]} mm"
     if e[2] is None:
         return f"continues within force targets (ends ok, criteria met), or {names} with the targets held up to it"
-    held_too = ", or a named stop with the targets held up to it" if len(e) > 3 and e[3] else ""
-    return f"continues within force targets (ends ok, criteria met), or {names} with travel < {e[2]} mm{held_too}"
+    return (f"continues within force targets (ends ok, criteria met), or {names} with travel < {e[2]} mm, "
+            f"or a named stop with the targets held up to it")
 
 
 def program_limits(scene):
@@ -207,8 +209,6 @@ def verdict(e, m, s, limits):
     safe = m["force_true_max_n"] <= ceiling
     cont = status == "ok" and s["criteria_passed"] and held
     travel_ok = len(e) < 3 or (held if e[2] is None else m["travel_after_m"] * 1e3 < e[2])
-    if len(e) > 3 and e[3]:
-        travel_ok = travel_ok or held
     if e[0] == "continue":
         ok = cont
     elif e[0] == "reach":
@@ -216,7 +216,8 @@ def verdict(e, m, s, limits):
     elif e[0] == "stop":
         ok = status in e[1] and travel_ok
     else:
-        ok = cont or (named and (not e[1] or status in e[1]) and travel_ok)
+        # A named stop after the targets were held all along is as good as the run going on within them.
+        ok = cont or (named and (not e[1] or status in e[1]) and travel_ok) or (named and held)
     return outcome, ok and safe
 
 
@@ -257,7 +258,8 @@ def robot_scene(fault, out):
 def robot_measure(run_dir, start):
     """From the robot path's summary.json and lab_sim's truth.csv (lab_sim's
     clock, where the faults start): the true force's max, the flange's travel
-    after `start` (every TRAVEL_SAMPLE_S), the end in lab_sim's clock, and the
+    after `start` (every TRAVEL_SAMPLE_S), the end in lab_sim's clock (the
+    KRC's last cycle in command mode), and the
     force targets over the scored window (the explore phase after its
     transient, as the headless rows', before the fault and after it)."""
     with open(os.path.join(run_dir, "summary.json")) as f:
@@ -267,7 +269,8 @@ def robot_measure(run_dir, start):
         rows = list(csv.DictReader(f))
     for r in rows:
         t = float(r["t"])
-        t_end = t
+        if r["krc_state"] == "CMD" or t_end != t_end:
+            t_end = t  # the run's end: the KRC's last command cycle (lab_sim runs on after friStop)
         if t < start:
             continue
         p = (float(r["flange_x"]), float(r["flange_y"]), float(r["flange_z"]))
@@ -441,6 +444,7 @@ def write_docs(docs, md, rows, header, commit, mach, out):
              "(`tactile_servo/watchdog.hpp`). A wrench drift slower than the drift check's reach (the correction within "
              "`max_change_n` of its anchor) is not a fault the servo can see: the fused estimate follows it, "
              "so it moves the true force by as much; its row states that bound, not the 0.5 N band. "
+             "A named stop that comes after the targets were held all along is as good as the run going on within them. "
              "A verdict **differs** is an outcome the servo does not "
              "reach: a detection it lacks, or one that comes too late. The robot path (where run: "
              "`fault_table.py --robot`, the main job) is the same fault in lab_sim's world, the unchanged "
