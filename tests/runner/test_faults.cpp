@@ -243,3 +243,36 @@ TEST(SceneFaults, PhantomPressReachesTheRunnersSensor) {
   }
   EXPECT_GT(seen, static_cast<int>(out.rows.size()) - 3) << "from the first frames on";
 }
+
+// A stream that re-sends its last frame for 2 s in the slide (new sequence
+// numbers and time stamps, the same image): the servo holds once the arm has
+// moved 2 mm on the frozen image (safety.frozen_image in the edge
+// exploration's program) instead of sliding blind on it, and goes on when the
+// frames change again. Without the check the arm slides on for the whole 2 s
+// (about 20 mm at the slide's 10 mm/s) and may lose the edge.
+TEST(SceneFaults, AFrozenStreamHoldsTheArmUntilTheImageChanges) {
+  Scene sc;
+  ASSERT_TRUE(load("[{kind: repeat, start_s: 12, duration_s: 2}]", sc).ok());
+  Runner runner;
+  ASSERT_TRUE(runner.configure(sc).ok());
+  RunResult out;
+  runner.run(out);
+  ASSERT_FALSE(out.rows.empty());
+  const LogRow* at_fault = nullptr;
+  const LogRow* at_end = nullptr;
+  int holding = 0, after = 0;
+  for (const LogRow& r : out.rows) {
+    if (r.t >= 12.0 && !at_fault) at_fault = &r;
+    if (r.t <= 14.0) at_end = &r;
+    if (r.t >= 12.3 && r.t < 14.0 && r.servo == ServoStatus::Holding) ++holding;
+    if (r.t >= 15.0 && r.servo == ServoStatus::Ok) ++after;
+  }
+  ASSERT_TRUE(at_fault && at_end);
+  const double travel = std::hypot(at_end->act[0] - at_fault->act[0], at_end->act[1] - at_fault->act[1]);
+  // 2 mm and 0.1 s (the program's frozen_image) plus the cycles until a new
+  // frame shows the repeat and the arm settles: within 4 mm.
+  EXPECT_LT(travel, 0.004) << "the arm slid on a frozen image";
+  EXPECT_GT(holding, 100) << "held (status Holding) for most of the repeat";
+  EXPECT_GT(after, 100) << "the slide goes on once the frames change";
+  EXPECT_EQ(out.summary.status, "ok");
+}

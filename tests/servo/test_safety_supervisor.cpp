@@ -167,9 +167,65 @@ TEST(SafetySupervisor, ConfigurationErrorsNameTheKeyAndRange) {
   EXPECT_TRUE(sup.configure(p).ok());
 }
 
+// A stream that re-sends its last frame (new seq and time stamp, the same
+// image) while the arm slides: held as stale once the image has stood for
+// frozen_image_s and the flange moved more than frozen_image_travel; a new
+// image or the end of the contact releases it.
+TEST(SafetySupervisor, AFrozenImageWhileTheArmMovesIsHeld) {
+  SafetyParams s;
+  s.frozen_image_travel = 0.002;  // m
+  s.frozen_image_s = 0.1;         // s
+  SafetySupervisor sup = configured(s);
+  ContactFeatures f = makeFeatures(0.0, 0.001, 0.0017, 0.0028, 0.0, 0.0017, 0.035);
+  f.area = 13;
+  f.lambda1 = 1.6e-4;
+  const double v = 0.0105, dt = 0.01;  // m/s along x_g: the slide; s, one frame a cycle
+  int first_held = -1;
+  for (int k = 0; k < 40; ++k) {
+    f.seq = static_cast<uint32_t>(k + 1);
+    f.time_s = k * dt;
+    const bool held = sup.frozenImage(f, KDL::Vector(v * k * dt, 0.0, 0.3), k * dt);
+    if (held && first_held < 0) first_held = k;
+    if (first_held >= 0) {
+      EXPECT_TRUE(held) << "latched until the image changes, cycle " << k;
+    }
+  }
+  // 2 mm at 10.5 mm/s: the first frame past 2 mm of travel (2.1 mm, after 0.2 s >= 0.1 s) is held.
+  EXPECT_EQ(first_held, 20);
+  // The same frame again (no new seq) keeps the verdict; a new image releases it.
+  EXPECT_TRUE(sup.frozenImage(f, KDL::Vector(0.4, 0.0, 0.3), 0.5));
+  f.seq = 100;
+  f.force += 1e-6;
+  EXPECT_FALSE(sup.frozenImage(f, KDL::Vector(0.4, 0.0, 0.3), 0.5));
+}
+
+TEST(SafetySupervisor, ARepeatedImageWithoutMotionOrWithoutContactIsNotFrozen) {
+  SafetyParams s;
+  s.frozen_image_travel = 0.002;
+  SafetySupervisor sup = configured(s);
+  ContactFeatures f = makeFeatures(0.0, 0.001, 0.0017, 0.0028, 0.0, 0.0017, 0.035);
+  f.area = 13;
+  for (int k = 0; k < 200; ++k) {  // 2 s of one image, the arm still (a frame re-sent while nothing moves)
+    f.seq = static_cast<uint32_t>(k + 1);
+    EXPECT_FALSE(sup.frozenImage(f, KDL::Vector(0.5, 0.0, 0.3), 0.01 * k));
+  }
+  ContactFeatures none = makeFeatures(0.0, 0, 0, 0, 0, 0, 0, ContactType::None);
+  for (int k = 0; k < 200; ++k) {  // no contact: all-zero frames repeat, the arm moves
+    none.seq = static_cast<uint32_t>(1000 + k);
+    EXPECT_FALSE(sup.frozenImage(none, KDL::Vector(0.01 * k, 0.0, 0.3), 2.0 + 0.01 * k));
+  }
+  // Off (travel 0, the default): never.
+  SafetySupervisor off = configured(SafetyParams{});
+  for (int k = 0; k < 100; ++k) {
+    f.seq = static_cast<uint32_t>(5000 + k);
+    EXPECT_FALSE(off.frozenImage(f, KDL::Vector(0.01 * k, 0.0, 0.3), 0.01 * k));
+  }
+}
+
 TEST(SafetySupervisor, NoAllocationPerCycle) {
   SafetyParams s;
   s.contact_loss = ContactLossMode::Search;
+  s.frozen_image_travel = 0.002;
   SafetySupervisor sup = configured(s);
   ContactFeatures f = makeFeatures(0, 0, 0, 0.002, 0, 0, 0);
   tactile::test::AllocationScope scope;
@@ -184,6 +240,8 @@ TEST(SafetySupervisor, NoAllocationPerCycle) {
     KDL::Frame T(KDL::Vector(0.0, 0.0, 3.0));
     sup.clipWorkspace(KDL::Vector(), T);
     sink += r + u.sum() + T.p.z() + sup.contactLoss(0.01) + (sup.stale(f, 0.01 * k) ? 1.0 : 0.0);
+    f.seq = static_cast<uint32_t>(k);
+    sink += sup.frozenImage(f, KDL::Vector(0.001 * k, 0.0, 0.0), 0.01 * k) ? 1.0 : 0.0;
     if (k % 10 == 0) sup.resetRecovery();
   }
   EXPECT_EQ(scope.count(), 0u);

@@ -140,6 +140,10 @@ TEST(ServoProgramIo, BadProgramsNameFilePhaseField) {
                  {"transitions[0].filter_s", "only for 'aligned'"});
   expectRejected("bad_max_duration", program("", "    max_duration_s: -1\n"), {"phases.hold", "max_duration_s", ">= 0"});
   expectRejected("bad_loss", "safety: {contact_loss: {mode: pray}}\n" + program(""), {"contact_loss.mode", "pray"});
+  expectRejected("bad_frozen_travel", "safety: {frozen_image: {travel_m: 0.5}}\n" + program(""),
+                 {"safety.frozen_image.travel_m", "[0, 0.05] m"});
+  expectRejected("bad_frozen_key", "safety: {frozen_image: {travel: 0.002}}\n" + program(""),
+                 {"safety.frozen_image", "travel"});
   expectRejected("not_a_number", program("", "    kp_per_s: {y: fast}\n"), {"phases.hold", "kp_per_s.y", "fast"});
   expectRejected("no_phases", "controller: {mode: proposed}\n", {"phases", "non-empty"});
   // The speed law's block: its ranges and phase names, named with the file and key.

@@ -400,6 +400,149 @@ ConfigResult readSensorChecks(const YAML::Node& wd, const Where& w, WatchdogPara
   return read(wd, "retreat_m", wp.fault_retreat_m, w);
 }
 
+// loadImpl's blocks, each its own step: the node given, `w` the block's key.
+ConfigResult readController(const YAML::Node& c, const Where& w, ServoParams& p) {
+  ConfigResult r;
+  if (!(r = checkKeys(c, w, {"mode", "pose_update", "c_z", "motion_sign", "sensor_mount", "initial_phase"}))) return r;
+  std::string s;
+  if (c["mode"]) {
+    if (!(r = read(c, "mode", s, w))) return r;
+    if (!parseControllerMode(s, p.mode))
+      return fail(w.child("mode"), "'" + s + "': must be " + kControllerModeNames);
+  }
+  if (c["pose_update"]) {
+    if (!(r = read(c, "pose_update", s, w))) return r;
+    if (s == "integrated") p.pose_update = PoseUpdate::Integrated;
+    else if (s == "measured") p.pose_update = PoseUpdate::Measured;
+    else return fail(w.child("pose_update"), "'" + s + "': must be integrated (Eq. 15) or measured (Eq. 12)");
+  }
+  if (!(r = read(c, "c_z", p.c_z, w))) return r;
+  if (!(std::isfinite(p.c_z) && p.c_z > 0)) return rangeError(w.child("c_z").str(), p.c_z, "must be > 0 (m/N)");
+  if (!(r = readVec6(c["motion_sign"], w.child("motion_sign"), kAxisNames, "axis", p.motion_sign))) return r;
+  if (!(r = readFrame(c["sensor_mount"], w.child("sensor_mount"), p.sensor_mount))) return r;
+  if (!(r = read(c, "initial_phase", p.initial_phase, w))) return r;
+  return ConfigResult::success();
+}
+
+ConfigResult readSafety(const YAML::Node& s, const Where& w, SafetyParams& sp) {
+  ConfigResult r;
+  const Renamed steps[] = {
+      {"max_trans_step", "max_trans_speed", "m/s; = per-cycle step x servo rate (0.0005 m at 100 Hz = 0.05 m/s)"},
+      {"max_rot_step_deg", "max_rot_speed_deg", "deg/s; = per-cycle step x servo rate (0.5 deg at 100 Hz = 50 deg/s)"}};
+  if (!(r = rejectRenamed(s, w, steps, 2))) return r;
+  if (!(r = checkKeys(s, w, {"max_trans_speed", "max_rot_speed_deg", "max_step_dt", "workspace", "force_ceiling",
+                             "ceiling_retreat", "stale_timeout", "contact_loss", "frozen_image"})))
+    return r;
+  double rot_deg = sp.max_rot_speed * 180.0 / kPi;
+  for (auto rr : {read(s, "max_trans_speed", sp.max_trans_speed, w), read(s, "max_rot_speed_deg", rot_deg, w),
+                  read(s, "max_step_dt", sp.max_step_dt, w),
+                  read(s, "force_ceiling", sp.force_ceiling, w), read(s, "ceiling_retreat", sp.ceiling_retreat, w),
+                  read(s, "stale_timeout", sp.stale_timeout, w)})
+    if (!rr) return rr;
+  sp.max_rot_speed = rot_deg * kPi / 180.0;
+  if (const YAML::Node ws = s["workspace"]) {
+    const Where ww = w.child("workspace");
+    if (!(r = checkKeys(ws, ww, {"min", "max"}))) return r;
+    std::vector<double> mn(sp.workspace_min.begin(), sp.workspace_min.end()),
+        mx(sp.workspace_max.begin(), sp.workspace_max.end());
+    if (!(r = read(ws, "min", mn, ww)) || !(r = read(ws, "max", mx, ww))) return r;
+    if (mn.size() != 3 || mx.size() != 3) return fail(ww, "min and max must have 3 entries (m)");
+    for (std::size_t i = 0; i < 3; ++i) {
+      sp.workspace_min[i] = mn[i];
+      sp.workspace_max[i] = mx[i];
+    }
+  }
+  if (const YAML::Node fi = s["frozen_image"]) {
+    const Where wf = w.child("frozen_image");
+    if (!(r = checkKeys(fi, wf, {"travel_m", "min_s"}))) return r;
+    if (!(r = read(fi, "travel_m", sp.frozen_image_travel, wf)) || !(r = read(fi, "min_s", sp.frozen_image_s, wf)))
+      return r;
+  }
+  if (const YAML::Node cl = s["contact_loss"]) {
+    const Where wc = w.child("contact_loss");
+    if (!(r = checkKeys(cl, wc, {"mode", "backoff_distance", "search_speed", "search_max_distance"}))) return r;
+    int mode = static_cast<int>(sp.contact_loss);
+    if (!(r = readChoice(cl, "mode", wc, {"hold", "backoff", "search"}, "hold, backoff or search", mode))) return r;
+    sp.contact_loss = static_cast<ContactLossMode>(mode);
+    for (auto rr : {read(cl, "backoff_distance", sp.backoff_distance, wc), read(cl, "search_speed", sp.search_speed, wc),
+                    read(cl, "search_max_distance", sp.search_max_distance, wc)})
+      if (!rr) return rr;
+  }
+  return ConfigResult::success();
+}
+
+ConfigResult readWatchdogs(const YAML::Node& wd, const Where& w, WatchdogParams& wp) {
+  ConfigResult r;
+  if (!(r = checkKeys(wd, w, {"arm_stall", "force_mismatch", "phantom_contact", "unseen_load", "correction_saturated", "correction_drift",
+                              "on_fault", "retreat_m", "surface_too_curved"})))
+    return r;
+  if (!(r = readSensorChecks(wd, w, wp))) return r;
+  if (const YAML::Node sc = wd["surface_too_curved"]) {
+    const Where wc = w.child("surface_too_curved");
+    if (!(r = checkKeys(sc, wc, {"tau_s", "excess_n", "max_extent_m", "max_tactile_share", "lift_n"}))) return r;
+    for (auto rr : {read(sc, "tau_s", wp.curved_tau_s, wc), read(sc, "excess_n", wp.curved_excess_n, wc),
+                    read(sc, "max_extent_m", wp.curved_max_extent_m, wc),
+                    read(sc, "max_tactile_share", wp.curved_max_tactile_share, wc),
+                    read(sc, "lift_n", wp.curved_lift_n, wc)})
+      if (!rr) return rr;
+  }
+  if (const YAML::Node st = wd["arm_stall"]) {
+    const Where ws = w.child("arm_stall");
+    if (!(r = checkKeys(st, ws, {"window_s", "min_distance", "min_angle_deg", "min_fraction"}))) return r;
+    double deg = wp.stall_min_angle * 180.0 / kPi;
+    for (auto rr : {read(st, "window_s", wp.stall_window_s, ws), read(st, "min_distance", wp.stall_min_distance, ws),
+                    read(st, "min_angle_deg", deg, ws), read(st, "min_fraction", wp.stall_min_fraction, ws)})
+      if (!rr) return rr;
+    wp.stall_min_angle = deg * kPi / 180.0;
+  }
+  if (const YAML::Node fm = wd["force_mismatch"]) {
+    const Where wf = w.child("force_mismatch");
+    if (!(r = checkKeys(fm, wf, {"window_s", "tolerance_n", "tolerance_rel"}))) return r;
+    for (auto rr : {read(fm, "window_s", wp.mismatch_window_s, wf), read(fm, "tolerance_n", wp.mismatch_tolerance_n, wf),
+                    read(fm, "tolerance_rel", wp.mismatch_tolerance_rel, wf)})
+      if (!rr) return rr;
+  }
+  return ConfigResult::success();
+}
+
+ConfigResult readForceEstimate(const YAML::Node& fe, const Where& w, ForceEstimateParams& fp) {
+  ConfigResult r;
+  if (!(r = checkKeys(fe, w, {"source", "tau_s", "max_correction_n", "tare_tau_s", "tare_gate_n", "tare_hold_s", "tare_max_n", "image_margin_n", "firing_threshold_n"}))) return r;
+  std::string src;
+  if (fe["source"]) {
+    if (!(r = read(fe, "source", src, w))) return r;
+    if (src == "tactile") fp.fused = false;
+    else if (src == "fused") fp.fused = true;
+    else return fail(w.child("source"), "'" + src + "': must be tactile (Eq. 2, the paper) or fused (with the arm's wrench)");
+  }
+  for (auto rr : {read(fe, "tau_s", fp.tau_s, w), read(fe, "max_correction_n", fp.max_correction_n, w),
+                  read(fe, "tare_tau_s", fp.tare_tau_s, w), read(fe, "tare_gate_n", fp.tare_gate_n, w),
+                  read(fe, "tare_hold_s", fp.tare_hold_s, w), read(fe, "tare_max_n", fp.tare_max_n, w),
+                  read(fe, "image_margin_n", fp.image_margin_n, w), read(fe, "firing_threshold_n", fp.firing_threshold_n, w)})
+    if (!rr) return rr;
+  ForceEstimator probe;
+  if (!(r = probe.configure(fp, w.str().c_str()))) return r;
+  return ConfigResult::success();
+}
+
+ConfigResult readPhaseDefaults(const YAML::Node& pd, const Where& w, Defaults& d) {
+  ConfigResult r;
+  if (!(r = rejectRenamed(pd, w, kRenamedGains, 4))) return r;
+  if (!(r = checkKeys(pd, w, {"kp_per_s", "ki_per_s2", "integral_limit_per_s", "u_max_per_s", "max_duration_s"})))
+    return r;
+  if (!(r = readGains(pd, w, d.kp, d.ki, d.ilim, d.umax))) return r;
+  if (!(r = read(pd, "max_duration_s", d.max_duration_s, w))) return r;
+  const std::pair<const char*, const Vec6*> vs[] = {
+      {"kp_per_s", &d.kp}, {"ki_per_s2", &d.ki}, {"integral_limit_per_s", &d.ilim}};
+  for (const auto& v : vs)
+    for (int i = 0; i < 6; ++i)
+      if (!((*v.second)(i) >= 0))
+        return rangeError(w.child(v.first).child(kAxisNames[i]).str(), (*v.second)(i), "must be >= 0");
+  for (int i = 0; i < 6; ++i)
+    if (!(d.umax(i) > 0)) return rangeError(w.child("u_max_per_s").child(kAxisNames[i]).str(), d.umax(i), "must be > 0");
+  return ConfigResult::success();
+}
+
 ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoParams& out) {
   ServoParams p;
   p.source = file;
@@ -408,117 +551,16 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
                                          "phase_defaults", "phases"});
   if (!r) return r;
   if (const YAML::Node c = root["controller"]) {
-    const Where w = top.child("controller");
-    if (!(r = checkKeys(c, w, {"mode", "pose_update", "c_z", "motion_sign", "sensor_mount", "initial_phase"}))) return r;
-    std::string s;
-    if (c["mode"]) {
-      if (!(r = read(c, "mode", s, w))) return r;
-      if (!parseControllerMode(s, p.mode))
-        return fail(w.child("mode"), "'" + s + "': must be " + kControllerModeNames);
-    }
-    if (c["pose_update"]) {
-      if (!(r = read(c, "pose_update", s, w))) return r;
-      if (s == "integrated") p.pose_update = PoseUpdate::Integrated;
-      else if (s == "measured") p.pose_update = PoseUpdate::Measured;
-      else return fail(w.child("pose_update"), "'" + s + "': must be integrated (Eq. 15) or measured (Eq. 12)");
-    }
-    if (!(r = read(c, "c_z", p.c_z, w))) return r;
-    if (!(std::isfinite(p.c_z) && p.c_z > 0)) return rangeError(w.child("c_z").str(), p.c_z, "must be > 0 (m/N)");
-    if (!(r = readVec6(c["motion_sign"], w.child("motion_sign"), kAxisNames, "axis", p.motion_sign))) return r;
-    if (!(r = readFrame(c["sensor_mount"], w.child("sensor_mount"), p.sensor_mount))) return r;
-    if (!(r = read(c, "initial_phase", p.initial_phase, w))) return r;
+    if (!(r = readController(c, top.child("controller"), p))) return r;
   }
   if (const YAML::Node s = root["safety"]) {
-    const Where w = top.child("safety");
-    SafetyParams& sp = p.safety;
-    const Renamed steps[] = {
-        {"max_trans_step", "max_trans_speed", "m/s; = per-cycle step x servo rate (0.0005 m at 100 Hz = 0.05 m/s)"},
-        {"max_rot_step_deg", "max_rot_speed_deg", "deg/s; = per-cycle step x servo rate (0.5 deg at 100 Hz = 50 deg/s)"}};
-    if (!(r = rejectRenamed(s, w, steps, 2))) return r;
-    if (!(r = checkKeys(s, w, {"max_trans_speed", "max_rot_speed_deg", "max_step_dt", "workspace", "force_ceiling",
-                               "ceiling_retreat", "stale_timeout", "contact_loss"})))
-      return r;
-    double rot_deg = sp.max_rot_speed * 180.0 / kPi;
-    for (auto rr : {read(s, "max_trans_speed", sp.max_trans_speed, w), read(s, "max_rot_speed_deg", rot_deg, w),
-                    read(s, "max_step_dt", sp.max_step_dt, w),
-                    read(s, "force_ceiling", sp.force_ceiling, w), read(s, "ceiling_retreat", sp.ceiling_retreat, w),
-                    read(s, "stale_timeout", sp.stale_timeout, w)})
-      if (!rr) return rr;
-    sp.max_rot_speed = rot_deg * kPi / 180.0;
-    if (const YAML::Node ws = s["workspace"]) {
-      const Where ww = w.child("workspace");
-      if (!(r = checkKeys(ws, ww, {"min", "max"}))) return r;
-      std::vector<double> mn(sp.workspace_min.begin(), sp.workspace_min.end()),
-          mx(sp.workspace_max.begin(), sp.workspace_max.end());
-      if (!(r = read(ws, "min", mn, ww)) || !(r = read(ws, "max", mx, ww))) return r;
-      if (mn.size() != 3 || mx.size() != 3) return fail(ww, "min and max must have 3 entries (m)");
-      for (std::size_t i = 0; i < 3; ++i) {
-        sp.workspace_min[i] = mn[i];
-        sp.workspace_max[i] = mx[i];
-      }
-    }
-    if (const YAML::Node cl = s["contact_loss"]) {
-      const Where wc = w.child("contact_loss");
-      if (!(r = checkKeys(cl, wc, {"mode", "backoff_distance", "search_speed", "search_max_distance"}))) return r;
-      int mode = static_cast<int>(sp.contact_loss);
-      if (!(r = readChoice(cl, "mode", wc, {"hold", "backoff", "search"}, "hold, backoff or search", mode))) return r;
-      sp.contact_loss = static_cast<ContactLossMode>(mode);
-      for (auto rr : {read(cl, "backoff_distance", sp.backoff_distance, wc), read(cl, "search_speed", sp.search_speed, wc),
-                      read(cl, "search_max_distance", sp.search_max_distance, wc)})
-        if (!rr) return rr;
-    }
+    if (!(r = readSafety(s, top.child("safety"), p.safety))) return r;
   }
   if (const YAML::Node wd = root["watchdogs"]) {
-    const Where w = top.child("watchdogs");
-    WatchdogParams& wp = p.watchdogs;
-    if (!(r = checkKeys(wd, w, {"arm_stall", "force_mismatch", "phantom_contact", "unseen_load", "correction_saturated", "correction_drift",
-                                "on_fault", "retreat_m", "surface_too_curved"})))
-      return r;
-    if (!(r = readSensorChecks(wd, w, wp))) return r;
-    if (const YAML::Node sc = wd["surface_too_curved"]) {
-      const Where wc = w.child("surface_too_curved");
-      if (!(r = checkKeys(sc, wc, {"tau_s", "excess_n", "max_extent_m", "max_tactile_share", "lift_n"}))) return r;
-      for (auto rr : {read(sc, "tau_s", wp.curved_tau_s, wc), read(sc, "excess_n", wp.curved_excess_n, wc),
-                      read(sc, "max_extent_m", wp.curved_max_extent_m, wc),
-                      read(sc, "max_tactile_share", wp.curved_max_tactile_share, wc),
-                      read(sc, "lift_n", wp.curved_lift_n, wc)})
-        if (!rr) return rr;
-    }
-    if (const YAML::Node st = wd["arm_stall"]) {
-      const Where ws = w.child("arm_stall");
-      if (!(r = checkKeys(st, ws, {"window_s", "min_distance", "min_angle_deg", "min_fraction"}))) return r;
-      double deg = wp.stall_min_angle * 180.0 / kPi;
-      for (auto rr : {read(st, "window_s", wp.stall_window_s, ws), read(st, "min_distance", wp.stall_min_distance, ws),
-                      read(st, "min_angle_deg", deg, ws), read(st, "min_fraction", wp.stall_min_fraction, ws)})
-        if (!rr) return rr;
-      wp.stall_min_angle = deg * kPi / 180.0;
-    }
-    if (const YAML::Node fm = wd["force_mismatch"]) {
-      const Where wf = w.child("force_mismatch");
-      if (!(r = checkKeys(fm, wf, {"window_s", "tolerance_n", "tolerance_rel"}))) return r;
-      for (auto rr : {read(fm, "window_s", wp.mismatch_window_s, wf), read(fm, "tolerance_n", wp.mismatch_tolerance_n, wf),
-                      read(fm, "tolerance_rel", wp.mismatch_tolerance_rel, wf)})
-        if (!rr) return rr;
-    }
+    if (!(r = readWatchdogs(wd, top.child("watchdogs"), p.watchdogs))) return r;
   }
   if (const YAML::Node fe = root["force_estimate"]) {
-    const Where w = top.child("force_estimate");
-    ForceEstimateParams& fp = p.force_estimate;
-    if (!(r = checkKeys(fe, w, {"source", "tau_s", "max_correction_n", "tare_tau_s", "tare_gate_n", "tare_hold_s", "tare_max_n", "image_margin_n", "firing_threshold_n"}))) return r;
-    std::string src;
-    if (fe["source"]) {
-      if (!(r = read(fe, "source", src, w))) return r;
-      if (src == "tactile") fp.fused = false;
-      else if (src == "fused") fp.fused = true;
-      else return fail(w.child("source"), "'" + src + "': must be tactile (Eq. 2, the paper) or fused (with the arm's wrench)");
-    }
-    for (auto rr : {read(fe, "tau_s", fp.tau_s, w), read(fe, "max_correction_n", fp.max_correction_n, w),
-                    read(fe, "tare_tau_s", fp.tare_tau_s, w), read(fe, "tare_gate_n", fp.tare_gate_n, w),
-                    read(fe, "tare_hold_s", fp.tare_hold_s, w), read(fe, "tare_max_n", fp.tare_max_n, w),
-                    read(fe, "image_margin_n", fp.image_margin_n, w), read(fe, "firing_threshold_n", fp.firing_threshold_n, w)})
-      if (!rr) return rr;
-    ForceEstimator probe;
-    if (!(r = probe.configure(fp, w.str().c_str()))) return r;
+    if (!(r = readForceEstimate(fe, top.child("force_estimate"), p.force_estimate))) return r;
   }
   if (const YAML::Node sl = root["speed_law"]) {
     if (!(r = readSpeedLaw(sl, top.child("speed_law"), p.speed_law))) return r;
@@ -528,20 +570,7 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
   }
   Defaults d;
   if (const YAML::Node pd = root["phase_defaults"]) {
-    const Where w = top.child("phase_defaults");
-    if (!(r = rejectRenamed(pd, w, kRenamedGains, 4))) return r;
-    if (!(r = checkKeys(pd, w, {"kp_per_s", "ki_per_s2", "integral_limit_per_s", "u_max_per_s", "max_duration_s"})))
-      return r;
-    if (!(r = readGains(pd, w, d.kp, d.ki, d.ilim, d.umax))) return r;
-    if (!(r = read(pd, "max_duration_s", d.max_duration_s, w))) return r;
-    const std::pair<const char*, const Vec6*> vs[] = {
-        {"kp_per_s", &d.kp}, {"ki_per_s2", &d.ki}, {"integral_limit_per_s", &d.ilim}};
-    for (const auto& v : vs)
-      for (int i = 0; i < 6; ++i)
-        if (!((*v.second)(i) >= 0))
-          return rangeError(w.child(v.first).child(kAxisNames[i]).str(), (*v.second)(i), "must be >= 0");
-    for (int i = 0; i < 6; ++i)
-      if (!(d.umax(i) > 0)) return rangeError(w.child("u_max_per_s").child(kAxisNames[i]).str(), d.umax(i), "must be > 0");
+    if (!(r = readPhaseDefaults(pd, top.child("phase_defaults"), d))) return r;
   }
   const YAML::Node phases = root["phases"];
   if (!phases || !phases.IsSequence() || phases.size() == 0)

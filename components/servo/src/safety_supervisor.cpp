@@ -34,6 +34,10 @@ ConfigResult SafetySupervisor::configure(const ServoParams& p) {
     return err(p, "", "safety.contact_loss.search_speed", s.search_speed, "must be in [0, 0.1] m/s");
   if (!(std::isfinite(s.search_max_distance) && s.search_max_distance >= 0 && s.search_max_distance <= 0.2))
     return err(p, "", "safety.contact_loss.search_max_distance", s.search_max_distance, "must be in [0, 0.2] m");
+  if (!(std::isfinite(s.frozen_image_travel) && s.frozen_image_travel >= 0 && s.frozen_image_travel <= 0.05))
+    return err(p, "", "safety.frozen_image.travel_m", s.frozen_image_travel, "must be in [0, 0.05] m (0: off)");
+  if (!(std::isfinite(s.frozen_image_s) && s.frozen_image_s > 0 && s.frozen_image_s <= 5.0))
+    return err(p, "", "safety.frozen_image.min_s", s.frozen_image_s, "must be in (0, 5] s");
   p_ = s;
   configured_ = true;
   reset();
@@ -44,6 +48,35 @@ void SafetySupervisor::reset() {
   ceiling_latched_ = false;
   ceiling_moved_ = 0.0;
   recovery_moved_ = 0.0;
+  have_image_ = false;
+  frozen_ = false;
+}
+
+bool SafetySupervisor::Image::operator==(const Image& o) const {
+  return force == o.force && cop_x == o.cop_x && cop_y == o.cop_y && coc_x == o.coc_x && coc_y == o.coc_y &&
+         lambda1 == o.lambda1 && lambda2 == o.lambda2 && max_taxel == o.max_taxel && area == o.area;
+}
+
+bool SafetySupervisor::frozenImage(const ContactFeatures& f, const KDL::Vector& flange, double now) {
+  if (p_.frozen_image_travel <= 0.0) return false;
+  if (f.contact == ContactType::None || f.area == 0 || !usable(f.status)) {  // no image: zeros repeat legitimately
+    have_image_ = frozen_ = false;
+    return false;
+  }
+  if (have_image_ && f.seq == image_seq_) return frozen_;  // no new frame this cycle
+  image_seq_ = f.seq;
+  const Image img{f.force, f.cop_x, f.cop_y, f.coc_x, f.coc_y, f.lambda1, f.lambda2, f.max_taxel, f.area};
+  if (!have_image_ || !(img == image_)) {  // a changed image: the stream is live
+    image_ = img;
+    image_at_ = flange;
+    image_since_ = now;
+    have_image_ = true;
+    frozen_ = false;
+    return false;
+  }
+  if (!frozen_ && now - image_since_ >= p_.frozen_image_s && (flange - image_at_).Norm() > p_.frozen_image_travel)
+    frozen_ = true;
+  return frozen_;
 }
 
 bool SafetySupervisor::featuresFinite(const ContactFeatures& f) {

@@ -254,31 +254,47 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   motion_cycle_ = false;
   dry_run_ = in.dry_run;
   in_contact_ = false;
-  const double now = in.time_s;
-  const bool time_ok = std::isfinite(now);
   KDL::Frame meas;
   const bool pose_ok = toFrame(in.flange_measured, meas);
+  ServoStatus gated = ServoStatus::Ok;
+  if (gate(in, meas, pose_ok, dt, gated, out)) return gated;
+  return control(in, meas, dt, out);
+}
+
+bool TactileServo::gate(const ServoInput& in, const KDL::Frame& meas, bool pose_ok, double dt, ServoStatus& st,
+                        ServoOutput& out) {
+  const double now = in.time_s;
+  const bool time_ok = std::isfinite(now);
+  const bool dt_ok = std::isfinite(dt) && dt > 0.0;
   if (!has_cmd_) {
     // Start (or after reset): no command before a valid measured pose; the
     // first command is that pose, x(0) of Eq. 15.
-    if (!pose_ok)
-      return finish(isNoPose(in.flange_measured) ? ServoStatus::WaitingForPose : ServoStatus::InvalidInput, now, out);
-    if (!time_ok) return finish(ServoStatus::InvalidInput, now, out);
+    if (!pose_ok) {
+      st = finish(isNoPose(in.flange_measured) ? ServoStatus::WaitingForPose : ServoStatus::InvalidInput, now, out);
+      return true;
+    }
+    if (!time_ok) {
+      st = finish(ServoStatus::InvalidInput, now, out);
+      return true;
+    }
     cmd_ = meas;
     has_cmd_ = true;
     observePose(in, meas, true);
     enterPhase(program_.pending() >= 0 ? program_.pending() : program_.current(), now);
     program_.clearPending();
-    return finish(ServoStatus::Starting, now, out);
+    st = finish(ServoStatus::Starting, now, out);
+    return true;
   }
   // Watchdogs: a latched one holds (a sensor fault may first retreat, on_fault).
   if (watchdogs_.latched() != ServoStatus::Ok) {
-    if (pose_ok && time_ok && std::isfinite(dt) && dt > 0.0 && (in.robot_ready || in.dry_run)) {
+    if (pose_ok && time_ok && dt_ok && (in.robot_ready || in.dry_run)) {
       const KDL::Frame base = params_.pose_update == PoseUpdate::Measured ? meas : cmd_;
       meas_ = meas;
-      return onSensorFault(base, dt, now, out);
+      st = onSensorFault(base, dt, now, out);
+    } else {
+      st = finish(watchdogs_.latched(), now, out);
     }
-    return finish(watchdogs_.latched(), now, out);
+    return true;
   }
   // ROBOT STATE: hold at the measured pose, everything frozen.
   if (!in.robot_ready && !in.dry_run) {
@@ -287,9 +303,10 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
       cmd_ = toFrame(in.robot_setpoint, held) ? held : meas;
       observePose(in, meas, false);
     }
-    if (time_ok && std::isfinite(dt) && dt > 0.0) program_.delayEntry(dt);  // the time in the phase stands still
+    if (time_ok && dt_ok) program_.delayEntry(dt);  // the time in the phase stands still
     waiting_ = true;
-    return finish(ServoStatus::WaitingForRobot, now, out);
+    st = finish(ServoStatus::WaitingForRobot, now, out);
+    return true;
   }
   waiting_ = false;
   if (time_ok && program_.pending() >= 0) {
@@ -300,12 +317,21 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
   // A phase longer than its limit latches.
   if (time_ok && !program_.terminal(program_.current()) &&
       watchdogs_.phaseTimeout(now - program_.enteredAt(),
-                              params_.phases[static_cast<std::size_t>(program_.current())].max_duration_s))
-    return finish(ServoStatus::PhaseTimeout, now, out);
-  if (!time_ok || !pose_ok || !(std::isfinite(dt) && dt > 0)) return finish(ServoStatus::InvalidInput, now, out);
+                              params_.phases[static_cast<std::size_t>(program_.current())].max_duration_s)) {
+    st = finish(ServoStatus::PhaseTimeout, now, out);
+    return true;
+  }
+  if (!time_ok || !pose_ok || !dt_ok) {
+    st = finish(ServoStatus::InvalidInput, now, out);
+    return true;
+  }
   meas_ = meas;
   observePose(in, meas, false);
+  return false;
+}
 
+ServoStatus TactileServo::control(const ServoInput& in, const KDL::Frame& meas, double dt, ServoOutput& out) {
+  const double now = in.time_s;
   const KDL::Frame base = params_.pose_update == PoseUpdate::Measured ? meas : cmd_;
   const ContactFeatures& f = in.features;
   Vec6 u = Vec6::Zero();
@@ -319,18 +345,17 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
     return applyIncrement(base, u, dt, ServoStatus::ForceCeiling, now, out);
   }
   if (!f_finite) return finish(ServoStatus::InvalidInput, now, out);
-  // Stale-features watchdog.
-  if (safety_.stale(f, now)) return finish(ServoStatus::Holding, now, out);
+  // Stale features, and a stream that re-sends its last image while the arm moves: hold.
+  if (safety_.frozenImage(f, meas.p, now) || safety_.stale(f, now)) return finish(ServoStatus::Holding, now, out);
   // The force the law and the transitions use, and the two sensors against each other.
   ForceStage fs;
   const ServoStatus fst = forceStage(in, meas, dt, now, fs, out);
   if (fst == ServoStatus::SurfaceTooCurved) return finish(fst, now, out);
   if (fst != ServoStatus::Ok) return onSensorFault(base, dt, now, out);  // the sensors disagree
-  const double f_law = fs.f_law, f_hat = fs.f_hat, excess = fs.excess, extent = fs.extent;
   ContactFeatures fc = in.features;
-  fc.d_z += law_.c_z() * (f_law - f.force);  // Eq. 2: d_z = C_z f
-  fc.force = f_law;
-  out.force = f_law;
+  fc.d_z += law_.c_z() * (fs.f_law - f.force);  // Eq. 2: d_z = C_z f
+  fc.force = fs.f_law;
+  out.force = fs.f_law;
 
   // Eq. 7-8 and the phase program.
   uint8_t beta = 0;
@@ -357,13 +382,17 @@ ServoStatus TactileServo::step(const ServoInput& in, double dt, ServoOutput& out
     return applyIncrement(base, u, dt, ServoStatus::ContactLost, now, out);
   }
   safety_.resetRecovery();
+  return law(ph, e, f, fs, base, dt, now, out);
+}
 
+ServoStatus TactileServo::law(int ph, const Vec6& e, const ContactFeatures& f, const ForceStage& fs,
+                              const KDL::Frame& base, double dt, double now, ServoOutput& out) {
   // Eq. 9: task projection; Eq. 13: PI, motion sign, feed-forward.
   const Vec6 task = law_.project(ph, e);
   out.error_task = task;
-  u = law_.increment(ph, task, dt);
-  const double cap = slideCap(ph, f, f_hat, params_.phases[static_cast<std::size_t>(ph)].s_d(kZ) / law_.c_z(), extent,
-                              excess, dt, out);
+  Vec6 u = law_.increment(ph, task, dt);
+  const double cap = slideCap(ph, f, fs.f_hat, params_.phases[static_cast<std::size_t>(ph)].s_d(kZ) / law_.c_z(),
+                              fs.extent, fs.excess, dt, out);
   if (cap >= 0.0) {
     const int a = params_.speed_law.axis;
     u(a) = speed_law_.slide(u(a) / dt, dt) * dt;  // capped, driven, guarded (speed_law.hpp)

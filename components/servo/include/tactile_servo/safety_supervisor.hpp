@@ -7,7 +7,8 @@
 //  * force ceiling: features.force > force_ceiling latches; retreat along
 //    -z_s by ceiling_retreat at the step limit, then hold; until cleared;
 //  * stale data: features older (or newer) than stale_timeout, or with an
-//    unusable status, hold;
+//    unusable status, hold; so is a frozen image (frozenImage: new frames
+//    that repeat the last image while the arm moves);
 //  * contact loss in a phase that needs contact: hold, back off (along -z_s
 //    by backoff_distance) or search (along +z_s at search_speed, at most
 //    search_max_distance), each at the step limit.
@@ -43,6 +44,14 @@ class SafetySupervisor {
   /// Unusable status, or time stamp further than stale_timeout from `now`.
   bool stale(const ContactFeatures& f, double now) const;
 
+  /// A frozen image (SafetyParams::frozen_image_travel; false when off): in
+  /// contact, f repeats the image of the last frame that changed it for at
+  /// least frozen_image_s (`now`, s) while the measured flange position
+  /// `flange` ({g}, m) moved more than frozen_image_travel from where that
+  /// image arrived. Latched until a frame brings a different image or the
+  /// contact ends. Call once per cycle with the cycle's features.
+  bool frozenImage(const ContactFeatures& f, const KDL::Vector& flange, double now);
+
   /// Contact lost in a phase that needs it: this cycle's recovery move along
   /// z_s (m; < 0 backoff, > 0 search), 0 = hold (mode hold, or distance done).
   double contactLoss(double dt);
@@ -67,6 +76,19 @@ class SafetySupervisor {
   bool ceiling_latched_ = false;
   double ceiling_moved_ = 0.0;
   double recovery_moved_ = 0.0;
+  // frozenImage(): the image of the last frame that changed it, where and when it arrived.
+  struct Image {
+    double force = 0.0, cop_x = 0.0, cop_y = 0.0, coc_x = 0.0, coc_y = 0.0, lambda1 = 0.0, lambda2 = 0.0,
+           max_taxel = 0.0;
+    uint16_t area = 0;
+    bool operator==(const Image& o) const;
+  };
+  bool have_image_ = false;
+  bool frozen_ = false;
+  uint32_t image_seq_ = 0;
+  Image image_;
+  KDL::Vector image_at_ = KDL::Vector::Zero();
+  double image_since_ = 0.0;
 };
 
 }  // namespace tactile

@@ -173,6 +173,18 @@ class TactileServo {
   /// check on one cycle: Ok, or the watchdog status that ends it.
   ServoStatus forceStage(const ServoInput& in, const KDL::Frame& meas, double dt, double now, ForceStage& fs,
                          ServoOutput& out);
+  /// step()'s gates before the law (the start, a latched watchdog, the
+  /// robot's state, a phase request or timeout, invalid input): true when the
+  /// cycle ends there, with its status in `st`.
+  bool gate(const ServoInput& in, const KDL::Frame& meas, bool pose_ok, double dt, ServoStatus& st,
+            ServoOutput& out);
+  /// step() past the gates: the force ceiling, stale data, the force stage,
+  /// the phase program and contact loss, then law().
+  ServoStatus control(const ServoInput& in, const KDL::Frame& meas, double dt, ServoOutput& out);
+  /// Eq. 9 and 13 in phase `ph` on the feature error `e`, the speed law, the
+  /// slope feed-forward and the wrist's unwinding: the cycle's increment.
+  ServoStatus law(int ph, const Vec6& e, const ContactFeatures& f, const ForceStage& fs, const KDL::Frame& base,
+                  double dt, double now, ServoOutput& out);
 
   bool configured_ = false;
   ServoParams params_;

@@ -149,6 +149,16 @@ struct SafetyParams {
   double backoff_distance = 0.005;              ///< m, >= 0
   double search_speed = 0.005;                  ///< m/s, >= 0
   double search_max_distance = 0.01;            ///< m, >= 0
+  /// A frozen image (SafetySupervisor::frozenImage): in contact, new frames
+  /// whose image is bit-identical to the last changed one (force, CoP, CoC,
+  /// PCA eigenvalues, peak taxel, area) for at least frozen_image_s while the
+  /// measured flange moved more than frozen_image_travel: a stream that
+  /// re-sends its last frame. Held as stale data until the image changes.
+  /// A live pad never repeats a loaded image (its noise, some counts per
+  /// taxel); a noise-free simulated pad sliding along a uniform edge does,
+  /// so the check is off unless a program states it.
+  double frozen_image_travel = 0.0;             ///< m, [0, 0.05]; 0 = off
+  double frozen_image_s = 0.1;                  ///< s, (0, 5]
 };
 
 /// Watchdogs (beyond the paper): what must never pass silently. Each ends in
