@@ -44,12 +44,18 @@ progress_last_mark() {
   tail -c 65536 "$1" 2>/dev/null | grep -aoE '^\[ *[0-9]+%\]|^\[[0-9]+/[0-9]+\]' | tail -n 1 | tr -d '[] '
 }
 
-# The user+sys seconds of this shell's finished children (bash `times`).
+# Sets PROGRESS_CHILD_CPU to the user+sys seconds of this shell's finished
+# children (bash `times`; in this shell, not in a command substitution, whose
+# children would be its own).
 progress_child_cpu() {
-  times | sed -n 2p | awk '{
+  local f
+  f="$(mktemp)"
+  times > "$f"
+  PROGRESS_CHILD_CPU="$(sed -n 2p "$f" | awk '{
     n = 0
     for (i = 1; i <= 2; i++) { split($i, a, "m"); sub("s", "", a[2]); n += a[1] * 60 + a[2] }
-    printf "%d", n + 0.5 }'
+    printf "%d", n + 0.5 }')"
+  rm -f "$f"
 }
 
 _progress_watch() {  # TAG KEY LOG START OWNER
@@ -71,13 +77,15 @@ progress_run() {
   local tag="$1" key="$2" log="$3"
   shift 3
   local t0=$SECONDS cpu0 rc=0 watcher
-  cpu0="$(progress_child_cpu)"
+  progress_child_cpu
+  cpu0=$PROGRESS_CHILD_CPU
   _progress_watch "$tag" "$key" "$log" "$t0" "$BASHPID" &
   watcher=$!
   "$@" > "$log" 2>&1 || rc=$?
   kill "$watcher" 2>/dev/null || true
   wait "$watcher" 2>/dev/null || true
   PROGRESS_WALL=$((SECONDS - t0))
-  PROGRESS_CPU=$(($(progress_child_cpu) - cpu0))
+  progress_child_cpu
+  PROGRESS_CPU=$((PROGRESS_CHILD_CPU - cpu0))
   return "$rc"
 }
