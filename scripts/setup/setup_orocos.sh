@@ -79,7 +79,7 @@ local -a OCL_OPTS=(-DOROCOS_TARGET=$target -DBUILD_TASKBROWSER=ON -DBUILD_DEPLOY
 
 stamp_dir="$prefix/share/tactile_servo"
 stamp="$stamp_dir/orocos.stamp"
-want_stamp="target=$target corba=off mq=off ocl=deployer,taskbrowser,deployment,reporting"
+want_stamp="target=$target corba=off mq=off ocl_parts=deployer,taskbrowser,deployment,reporting"
 for r in "${ORDER[@]}"; do want_stamp+=" $r=${COMMIT[$r]}"; done
 
 if [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$want_stamp" ] \
@@ -171,13 +171,21 @@ remove_former() {
     $SUDO rm -f "$m"
   done
   [ "$found" = 1 ] && return 0
-  # Installed before the manifests were kept: what OCL's Lua, logging, timer
-  # and helloworld and log4cpp installed (the former options), and OCL's
-  # plugin folder, which the new install fills again.
+  # Installed before the manifests were kept (the former options): what an
+  # install with them has and one with the present options has not (OCL's
+  # Lua, logging, timer and helloworld, log4cpp, RTT's docs), and OCL's
+  # component folder, which the new install fills again.
+  local h
+  for h in Appender Category CategoryStream FileAppender GenerationalFileAppender Log4cxxAppender \
+           LoggingEvent LoggingService LuaComponent LuaService LuaStateHandle OstreamAppender \
+           RollingFileAppender TimerComponent; do
+    $SUDO rm -f "$prefix/include/orocos/ocl/$h.hpp"
+  done
   $SUDO rm -rf "$prefix/lib/orocos/$target/ocl" "$prefix"/lib/liborocos-log4cpp.* \
-    "$prefix"/lib/liborocos-ocl-log4cpp-* "$prefix"/lib/pkgconfig/orocos-log4cpp.pc \
-    "$prefix"/include/orocos/log4cpp "$prefix"/bin/rttlua* "$prefix"/bin/helloworld* \
-    "$prefix"/share/lua "$prefix"/etc/orocos/profile.d/00.ocl-lua.sh
+    "$prefix"/lib/liborocos-ocl-log4cpp-* "$prefix"/include/orocos/log4cpp \
+    "$prefix"/lib/pkgconfig/ocl-{logging,lua,timer}-"$target".pc "$prefix"/lib/pkgconfig/orocos-log4cpp.pc \
+    "$prefix"/bin/rttlua* "$prefix"/bin/helloworld* "$prefix"/etc/orocos/profile.d/00.ocl-lua.sh \
+    "$prefix"/share/lua "$prefix"/share/log4cpp "$prefix"/share/doc/liborocos-rtt
 }
 if [ -f "$stamp" ]; then
   step="remove former install"
