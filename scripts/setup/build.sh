@@ -7,8 +7,13 @@
 # $OROCOS_PREFIX (default /opt/orocos), and this script then builds the RTT
 # layer with TACTILE_WITH_RTT=ON (CMake fails if RTT cannot be found).
 # Opt out with TACTILE_WITH_RTT=OFF (cores, simulator and tools only).
+# The compiler's output goes to build.compile.log (a progress line from its
+# [NN%] about every 45 s; on failure its first errors and last lines, and the
+# build's exit status).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+# shellcheck source=progress.sh
+source "$root/scripts/setup/progress.sh"
 jobs="${TACTILE_JOBS:-$(nproc)}"
 orocos="${OROCOS_PREFIX:-/opt/orocos}"
 with_rtt="${TACTILE_WITH_RTT:-ON}"
@@ -23,5 +28,14 @@ echo "build: configuring (TACTILE_WITH_RTT=$with_rtt)"
 cmake -S "$root" -B "$root/build" "${args[@]}" "$@" > "$root/build.configure.log" 2>&1 \
   || { echo "build: CMake configure failed. Log: $root/build.configure.log" >&2; tail -n 30 "$root/build.configure.log" >&2; exit 1; }
 grep -E "tactile_servo:" "$root/build.configure.log" || true
-echo "build: compiling with -j$jobs"
-cmake --build "$root/build" -j"$jobs"
+log="$root/build.compile.log"
+echo "build: compiling with -j$jobs ($(progress_about build) from scratch; log: $log)"
+rc=0
+progress_run "build:   compile" build "$log" cmake --build "$root/build" -j"$jobs" || rc=$?
+if [ "$rc" -ne 0 ]; then
+  echo "build: compile failed (exit $rc). Log: $log" >&2
+  grep -a -m 10 -E ' error: |Error [0-9]+' "$log" >&2 || true
+  tail -n 30 "$log" >&2
+  exit "$rc"
+fi
+echo "build: compiled in $PROGRESS_WALL s (CPU user+sys $PROGRESS_CPU s)"

@@ -1,7 +1,11 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages the project needs, only those missing
-# (idempotent: nothing is downloaded when everything is present).
+# (idempotent: nothing is downloaded when everything is present). apt's
+# output goes to /tmp/tactile-deps-apt.log (its last lines printed on failure,
+# with apt's exit status); a progress line about every 45 s meanwhile.
 set -euo pipefail
+# shellcheck source=progress.sh
+source "$(dirname "${BASH_SOURCE[0]}")/progress.sh"
 PKGS=(
   build-essential cmake pkg-config
   libeigen3-dev liborocos-kdl-dev libopencv-dev libyaml-cpp-dev
@@ -19,6 +23,17 @@ if [ ${#missing[@]} -eq 0 ]; then
 fi
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
-echo "setup_deps: installing ${missing[*]}"
-$SUDO apt-get update -qq
-DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+log=/tmp/tactile-deps-apt.log
+echo "setup_deps: installing ${missing[*]} ($(progress_about deps_apt); log: $log)"
+apt_install() {
+  $SUDO apt-get update -qq &&
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "$@"
+}
+rc=0
+progress_run "setup_deps:   apt" deps_apt "$log" apt_install "${missing[@]}" || rc=$?
+if [ "$rc" -ne 0 ]; then
+  echo "setup_deps: FAILED at step 'apt-get install' (exit $rc). Log: $log" >&2
+  tail -n 30 "$log" >&2
+  exit "$rc"
+fi
+echo "setup_deps:   apt done in $PROGRESS_WALL s"

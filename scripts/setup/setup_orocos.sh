@@ -1,19 +1,26 @@
 #!/usr/bin/env bash
-# Builds the Orocos toolchain 2.10 (log4cpp, RTT, OCL; gnulinux target, CORBA
-# off) into $OROCOS_PREFIX (default /opt/orocos), unless a matching install is
-# already there. Orocos is not packaged by Debian; it is a dependency, never
-# part of this repository.
+# Builds the parts of the Orocos toolchain 2.10 the deployments use into
+# $OROCOS_PREFIX (default /opt/orocos), unless a matching install is already
+# there: RTT (gnulinux target, CORBA and MQ off, its typekit, marshalling and
+# scripting plugins) and OCL's deployer, TaskBrowser, DeploymentComponent,
+# reporting components and print/os services (OCL's Lua, logging, timer and
+# helloworld off, so log4cpp is not needed). Orocos is not packaged by Debian;
+# it is a dependency, never part of this repository.
 #
 # Sources, in this order:
 #   1. $OROCOS_SOURCE_DIR: a folder of the upstream `git archive` snapshots
-#      (log4cpp-*.tar.gz, rtt-*.tar.gz, ocl-*.tar.gz) with a SHA256SUMS file,
-#      checked before use;
+#      (rtt-*.tar.gz, ocl-*.tar.gz; log4cpp-*.tar.gz beside them is not used)
+#      with a SHA256SUMS file, checked before use;
 #   2. otherwise ../shared/third_party beside the repository, when it holds
 #      SHA256SUMS (the same archives, checked the same way);
 #   3. otherwise a git clone of the upstream repositories at the pinned commits.
 #
-# Idempotent: $OROCOS_PREFIX/share/tactile_servo/orocos.stamp names the commits
-# and the target; a second run with the same stamp does nothing.
+# Idempotent: $OROCOS_PREFIX/share/tactile_servo/orocos.stamp names the commits,
+# the target and the build options; a second run with the same stamp does
+# nothing; a different stamp (e.g. an install with the former options)
+# rebuilds, after removing what the former install put into the prefix.
+# Prints each stage with its reference time (scripts/setup/progress.sh) and,
+# during a compile, a progress line about every 45 s.
 # Opt out of the whole RTT layer with TACTILE_WITH_RTT=OFF.
 # Then runs scripts/setup/setup_rtt_ros.sh (ROS 1 and rtt_ros_integration).
 #
@@ -23,6 +30,8 @@
 #   OROCOS_BUILD_DIR    scratch folder for the build (default /tmp/tactile-orocos-build)
 #   TACTILE_JOBS        parallel jobs (default: nproc)
 set -euo pipefail
+# shellcheck source=progress.sh
+source "$(dirname "${BASH_SOURCE[0]}")/progress.sh"
 
 main() {
 
@@ -37,22 +46,40 @@ work="${OROCOS_BUILD_DIR:-/tmp/tactile-orocos-build}"
 target=gnulinux
 
 # The pinned upstream commits (branch toolchain-2.10); the same as in
-# ../shared/third_party/README.md.
+# ../shared/third_party/README.md. log4cpp is only needed by OCL's logging,
+# which is off.
 local -A COMMIT=(
-  [log4cpp]=3c5b5ff323da1eea0762e5eebc32229ad981c8c9
   [rtt]=b499bd93a44a8971e1ad8aac3c787d0eba6dd95b
   [ocl]=7d42a742c2bf9b3235a33809dfcb71de0c15344b
 )
 local -A URL=(
-  [log4cpp]=https://github.com/orocos-toolchain/log4cpp.git
   [rtt]=https://github.com/orocos-toolchain/rtt.git
   [ocl]=https://github.com/orocos-toolchain/ocl.git
 )
-ORDER=(log4cpp rtt ocl)
+ORDER=(rtt ocl)
+
+# Both packages: CMake's Release (-O3 -DNDEBUG; -O2 saved 2 % of RTT's CPU
+# seconds, within the noise, so the libraries the 1 kHz loop calls keep the
+# code they were measured with); catkin (Debian's ROS 1, once setup_rtt_ros.sh
+# has installed it) not looked for, so a rebuild on a machine with ROS installs
+# the same files as a fresh one (catkin only adds env hooks).
+local -a COMMON=(-DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS="-w" -DCMAKE_DISABLE_FIND_PACKAGE_catkin=ON)
+# RTT: the library with its typekit, marshalling and scripting plugins (all
+# three used: loadService marshalling/scripting, the typekit's types); no
+# CORBA, no MQ transport, no tests, no docs.
+local -a RTT_OPTS=(-DOROCOS_TARGET=$target -DENABLE_CORBA=OFF -DENABLE_MQ=OFF -DENABLE_TESTS=OFF
+  -DBUILD_DOCS=OFF)
+# OCL: deployer-gnulinux (needs the TaskBrowser and the DeploymentComponent),
+# OCL::FileReporting (reporting), the print service and the ocl typekit
+# (always built). Off: Lua (rttlua, .lua scripts), the log4cpp logging
+# service, the timer component, helloworld, NetCDF reporting, tests, docs.
+local -a OCL_OPTS=(-DOROCOS_TARGET=$target -DBUILD_TASKBROWSER=ON -DBUILD_DEPLOYMENT=ON
+  -DBUILD_REPORTING=ON -DBUILD_REPORTING_NETCDF=OFF -DBUILD_LUA_RTT=OFF -DBUILD_LOGGING=OFF
+  -DBUILD_TIMER=OFF -DBUILD_HELLOWORLD=OFF -DBUILD_TESTS=OFF -DDOC_BUILD_DOCS=OFF)
 
 stamp_dir="$prefix/share/tactile_servo"
 stamp="$stamp_dir/orocos.stamp"
-want_stamp="target=$target corba=off"
+want_stamp="target=$target corba=off mq=off ocl_parts=deployer,taskbrowser,deployment,reporting"
 for r in "${ORDER[@]}"; do want_stamp+=" $r=${COMMIT[$r]}"; done
 
 if [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$want_stamp" ] \
@@ -66,17 +93,20 @@ PKGS=(build-essential cmake pkg-config git
       libboost-dev libboost-filesystem-dev libboost-system-dev libboost-thread-dev
       libboost-serialization-dev libboost-program-options-dev libboost-regex-dev
       libboost-test-dev
-      libxml2-dev libreadline-dev libncurses-dev liblua5.1-0-dev lua5.1)
+      libxml2-dev libreadline-dev libncurses-dev)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 if [ ${#missing[@]} -gt 0 ]; then
   SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
-  echo "setup_orocos: installing Debian packages ${missing[*]} (log: /tmp/tactile-orocos-apt.log)"
-  { $SUDO apt-get update -qq &&
-    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"; } \
-    > /tmp/tactile-orocos-apt.log 2>&1 || { echo "setup_orocos: FAILED at step 'apt-get install'. Log: /tmp/tactile-orocos-apt.log" >&2; tail -n 30 /tmp/tactile-orocos-apt.log >&2; exit 1; }
+  echo "setup_orocos: installing Debian packages ${missing[*]} ($(progress_about orocos_apt); log: /tmp/tactile-orocos-apt.log)"
+  apt_install() {
+    $SUDO apt-get update -qq &&
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "$@"
+  }
+  progress_run "setup_orocos:   apt" orocos_apt /tmp/tactile-orocos-apt.log apt_install "${missing[@]}" \
+    || { echo "setup_orocos: FAILED at step 'apt-get install'. Log: /tmp/tactile-orocos-apt.log" >&2; tail -n 30 /tmp/tactile-orocos-apt.log >&2; exit 1; }
 fi
 
 SUDO=""
@@ -103,7 +133,7 @@ fi
 if [ -n "${OROCOS_SOURCE_DIR:-}" ]; then
   src_dir="$(cd "$OROCOS_SOURCE_DIR" && pwd)"
   step="checksums"
-  echo "setup_orocos: [1/4] checking archives in $src_dir against SHA256SUMS"
+  echo "setup_orocos: [1/3] checking archives in $src_dir against SHA256SUMS"
   (cd "$src_dir" && sha256sum --quiet -c SHA256SUMS) > "$log_dir/checksums.log" 2>&1 \
     || fail "$log_dir/checksums.log"
   for r in "${ORDER[@]}"; do
@@ -114,7 +144,7 @@ if [ -n "${OROCOS_SOURCE_DIR:-}" ]; then
     tar -xzf "$archive" -C "$work/src" > "$log_dir/unpack.log" 2>&1 || fail "$log_dir/unpack.log"
   done
 else
-  echo "setup_orocos: [1/4] cloning upstream at the pinned commits (no OROCOS_SOURCE_DIR)"
+  echo "setup_orocos: [1/3] cloning upstream at the pinned commits (no OROCOS_SOURCE_DIR)"
   for r in "${ORDER[@]}"; do
     step="clone $r"
     {
@@ -125,30 +155,68 @@ else
   done
 fi
 
+# ---- the former install -------------------------------------------------------
+# A stamp that does not match is an install with other options or commits:
+# remove the files it installed (the manifests kept beside the stamp), so the
+# prefix holds what a fresh install holds (import("ocl") loads every library
+# in lib/orocos/<target>/ocl).
+remove_former() {
+  local m f found=0
+  for m in "$stamp_dir"/orocos-*.manifest; do
+    [ -f "$m" ] || continue
+    found=1
+    while IFS= read -r f; do
+      case "$f" in "$prefix"/*) $SUDO rm -f "$f" ;; esac
+    done < "$m"
+    $SUDO rm -f "$m"
+  done
+  [ "$found" = 1 ] && return 0
+  # Installed before the manifests were kept (the former options): what an
+  # install with them has and one with the present options has not (OCL's
+  # Lua, logging, timer and helloworld, log4cpp, RTT's docs), and OCL's
+  # component folder, which the new install fills again.
+  local h
+  for h in Appender Category CategoryStream FileAppender GenerationalFileAppender Log4cxxAppender \
+           LoggingEvent LoggingService LuaComponent LuaService LuaStateHandle OstreamAppender \
+           RollingFileAppender TimerComponent; do
+    $SUDO rm -f "$prefix/include/orocos/ocl/$h.hpp"
+  done
+  $SUDO rm -rf "$prefix/lib/orocos/$target/ocl" "$prefix"/lib/liborocos-log4cpp.* \
+    "$prefix"/lib/liborocos-ocl-log4cpp-* "$prefix"/include/orocos/log4cpp \
+    "$prefix"/lib/pkgconfig/ocl-{logging,lua,timer}-"$target".pc "$prefix"/lib/pkgconfig/orocos-log4cpp.pc \
+    "$prefix"/bin/rttlua* "$prefix"/bin/helloworld* "$prefix"/etc/orocos/profile.d/00.ocl-lua.sh \
+    "$prefix"/share/lua "$prefix"/share/log4cpp "$prefix"/share/doc/liborocos-rtt
+}
+if [ -f "$stamp" ]; then
+  step="remove former install"
+  echo "setup_orocos: removing the former install from $prefix (its stamp: $(cat "$stamp"))"
+  remove_former > "$log_dir/remove.log" 2>&1 || fail "$log_dir/remove.log"
+  $SUDO rm -f "$stamp"
+fi
+
 # ---- build -----------------------------------------------------------------
+build_steps() {  # NAME [cmake args]: configure, compile, install
+  local r="$1"; shift
+  cmake -S "$work/src/$r" -B "$work/build/$r" \
+    -DCMAKE_INSTALL_PREFIX="$prefix" -DCMAKE_PREFIX_PATH="$prefix" "$@" &&
+  cmake --build "$work/build/$r" -j"$jobs" &&
+  $SUDO cmake --install "$work/build/$r"
+}
 build() {  # build NAME [cmake args]
   local r="$1"; shift
   step="build $r"
   local log="$log_dir/$r.log"
-  local t0=$SECONDS
-  echo "setup_orocos: building $r (log: $log)"
-  {
-    cmake -S "$work/src/$r" -B "$work/build/$r" -DCMAKE_BUILD_TYPE=Release \
-      -DCMAKE_INSTALL_PREFIX="$prefix" -DCMAKE_PREFIX_PATH="$prefix" "$@" &&
-    cmake --build "$work/build/$r" -j"$jobs" &&
-    $SUDO cmake --install "$work/build/$r"
-  } > "$log" 2>&1 || fail "$log"
-  echo "setup_orocos:   $r done in $((SECONDS - t0)) s"
+  echo "setup_orocos: building $r with -j$jobs ($(progress_about "$r"); log: $log)"
+  progress_run "setup_orocos:   $r" "$r" "$log" build_steps "$r" "$@" || fail "$log"
+  $SUDO mkdir -p "$stamp_dir"
+  $SUDO cp "$work/build/$r/install_manifest.txt" "$stamp_dir/orocos-$r.manifest"
+  echo "setup_orocos:   $r done in $PROGRESS_WALL s (CPU user+sys $PROGRESS_CPU s)"
 }
 
-echo "setup_orocos: [2/4] log4cpp"
-# GCC 12 no longer includes <ctime> transitively; log4cpp relies on it.
-build log4cpp -DCMAKE_CXX_FLAGS="-include ctime -w" -DBUILD_TESTING=OFF
-echo "setup_orocos: [3/4] RTT ($target, CORBA off)"
-build rtt -DOROCOS_TARGET=$target -DENABLE_CORBA=OFF -DENABLE_TESTS=OFF -DENABLE_MQ=OFF \
-  -DCMAKE_CXX_FLAGS="-w"
-echo "setup_orocos: [4/4] OCL"
-build ocl -DOROCOS_TARGET=$target -DBUILD_TESTS=OFF -DCMAKE_CXX_FLAGS="-w"
+echo "setup_orocos: [2/3] RTT ($target, CORBA and MQ off)"
+build rtt "${COMMON[@]}" "${RTT_OPTS[@]}"
+echo "setup_orocos: [3/3] OCL (deployer, TaskBrowser, deployment, reporting)"
+build ocl "${COMMON[@]}" "${OCL_OPTS[@]}"
 
 step="stamp"
 $SUDO mkdir -p "$stamp_dir"

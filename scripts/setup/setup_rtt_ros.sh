@@ -26,6 +26,8 @@
 #   TACTILE_JOBS        parallel jobs (default: nproc)
 #   TACTILE_WITH_RVIZ=ON            also apt-install rviz, xvfb, x11-apps (scripts/tools/ros_screenshot.sh)
 set -euo pipefail
+# shellcheck source=progress.sh
+source "$(dirname "${BASH_SOURCE[0]}")/progress.sh"
 
 main() {
 
@@ -69,12 +71,14 @@ for p in "${DEB[@]}"; do
 done
 SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
 if [ ${#missing[@]} -gt 0 ]; then
-  t0=$SECONDS
-  echo "setup_rtt_ros: [1/5] installing Debian's ROS 1 packages ${missing[*]} (log: /tmp/tactile-ros-apt.log)"
-  { $SUDO apt-get update -qq &&
-    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"; } \
-    > /tmp/tactile-ros-apt.log 2>&1 || { echo "setup_rtt_ros: FAILED at step 'apt-get install'. Log: /tmp/tactile-ros-apt.log" >&2; tail -n 30 /tmp/tactile-ros-apt.log >&2; exit 1; }
-  echo "setup_rtt_ros:   apt done in $((SECONDS - t0)) s"
+  echo "setup_rtt_ros: [1/5] installing Debian's ROS 1 packages ${missing[*]} ($(progress_about rtt_ros_apt); log: /tmp/tactile-ros-apt.log)"
+  apt_install() {
+    $SUDO apt-get update -qq &&
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "$@"
+  }
+  progress_run "setup_rtt_ros:   apt" rtt_ros_apt /tmp/tactile-ros-apt.log apt_install "${missing[@]}" \
+    || { echo "setup_rtt_ros: FAILED at step 'apt-get install'. Log: /tmp/tactile-ros-apt.log" >&2; tail -n 30 /tmp/tactile-ros-apt.log >&2; exit 1; }
+  echo "setup_rtt_ros:   apt done in $PROGRESS_WALL s"
 else
   echo "setup_rtt_ros: [1/5] Debian's ROS 1 packages present (${#DEB[@]})"
 fi
@@ -148,10 +152,10 @@ cmake -S "$work/src" -B "$work/build" -DCMAKE_BUILD_TYPE=Release \
   > "$log_dir/configure.log" 2>&1 || fail "$log_dir/configure.log"
 echo "setup_rtt_ros:   configured in $((SECONDS - t0)) s"
 step="build"
-t0=$SECONDS
-echo "setup_rtt_ros: [4/5] building with -j$jobs (log: $log_dir/build.log)"
-cmake --build "$work/build" -j"$jobs" > "$log_dir/build.log" 2>&1 || fail "$log_dir/build.log"
-echo "setup_rtt_ros:   built in $((SECONDS - t0)) s"
+echo "setup_rtt_ros: [4/5] building with -j$jobs ($(progress_about rtt_ros); log: $log_dir/build.log)"
+progress_run "setup_rtt_ros:   build" rtt_ros "$log_dir/build.log" cmake --build "$work/build" -j"$jobs" \
+  || fail "$log_dir/build.log"
+echo "setup_rtt_ros:   built in $PROGRESS_WALL s (CPU user+sys $PROGRESS_CPU s)"
 step="install"
 echo "setup_rtt_ros: [5/5] installing into $ros_prefix"
 $SUDO cmake --install "$work/build" > "$log_dir/install.log" 2>&1 || fail "$log_dir/install.log"
