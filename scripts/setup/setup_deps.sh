@@ -3,7 +3,7 @@
 # (idempotent: nothing is downloaded when everything is present).
 set -euo pipefail
 PKGS=(
-  build-essential cmake pkg-config
+  build-essential cmake pkg-config clang-tidy  # clang-tidy: scripts/lint/function_size.sh
   libeigen3-dev liborocos-kdl-dev libopencv-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-matplotlib python3-numpy python3-yaml
