@@ -7,7 +7,7 @@ set -euo pipefail
 # shellcheck source=progress.sh
 source "$(dirname "${BASH_SOURCE[0]}")/progress.sh"
 PKGS=(
-  build-essential cmake pkg-config
+  build-essential cmake pkg-config clang-tidy  # clang-tidy: scripts/lint/function_size.sh
   libeigen3-dev liborocos-kdl-dev libopencv-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-matplotlib python3-numpy python3-yaml

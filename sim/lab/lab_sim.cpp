@@ -170,19 +170,35 @@ void printForce(const char* label, const Stat& s, double cycle_s) {
               double(s.n) * cycle_s, s.mean, s.sd(), s.min, s.max);
 }
 
-}  // namespace
 
-int main(int argc, char** argv) {
+/// lab_sim's command line (parseArgs).
+struct LabArgs {
   std::string scene_file, wts_link, truth_out, krc_spec, control = "cart", krl_file;
   bool quality_rule = true;
   fri::CartOffset cart_offset = fri::CartOffset::None;
   fri::WrenchFrame frame_override = fri::WrenchFrame::Base;
-  fri::KrlSettings krl;  // --krl: read once here, applied below
+  fri::KrlSettings krl;  // --krl: read once here, applied in krcParams()
   bool krc_given = false, frame_given = false;
   long fri_port = fri::kDefaultPort;
   double period_ms = 0.0, krc_cycle_ms = 0.0, msr_sample_ms = 0.0, cmd_sample_ms = 0.0, duration_s = 0.0,
          truth_period_ms = 10.0;
   std::vector<std::string> overrides;
+};
+
+/// The command line into `args` (--period-ms as a rates.sim override): -1, or
+/// usage()'s exit code.
+int parseArgs(int argc, char** argv, LabArgs& args) {
+  std::string &scene_file = args.scene_file, &wts_link = args.wts_link, &truth_out = args.truth_out,
+              &krc_spec = args.krc_spec, &control = args.control, &krl_file = args.krl_file;
+  bool& quality_rule = args.quality_rule;
+  fri::CartOffset& cart_offset = args.cart_offset;
+  fri::WrenchFrame& frame_override = args.frame_override;
+  fri::KrlSettings& krl = args.krl;
+  bool &krc_given = args.krc_given, &frame_given = args.frame_given;
+  long& fri_port = args.fri_port;
+  double &period_ms = args.period_ms, &krc_cycle_ms = args.krc_cycle_ms, &msr_sample_ms = args.msr_sample_ms,
+         &cmd_sample_ms = args.cmd_sample_ms, &duration_s = args.duration_s, &truth_period_ms = args.truth_period_ms;
+  std::vector<std::string>& overrides = args.overrides;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool has = i + 1 < argc;
@@ -242,136 +258,110 @@ int main(int argc, char** argv) {
   }
   if (scene_file.empty()) return usage("a scene file is required");
   if (period_ms > 0.0) overrides.push_back("rates.sim=" + std::to_string(1000.0 / period_ms));
+  return -1;
+}
 
-  sim::Scene scene;
-  if (ConfigResult r = sim::loadScene(scene_file, scene, overrides); !r) {
-    std::fprintf(stderr, "lab_sim: %s\n", r.message().c_str());
-    return 2;
-  }
-  const double T_world = 1.0 / scene.rates.sim;
-  const double T_krc = krc_cycle_ms > 0.0 ? krc_cycle_ms * 1e-3 : T_world;
-  const long steps_per_cycle = wholeMultiple(T_krc, T_world);
-  char msg[200];
-  if (steps_per_cycle == 0) {
-    std::snprintf(msg, sizeof msg, "--krc-cycle-ms = %g must be a whole number of world steps (%g ms, --period-ms)",
-                  T_krc * 1e3, T_world * 1e3);
-    return usage(msg);
-  }
-  const long truth_every = wholeMultiple(truth_period_ms * 1e-3, T_krc);
-  if (truth_every == 0) {
-    std::snprintf(msg, sizeof msg, "--truth-period-ms = %g must be a whole number of KRC cycles (%g ms)",
-                  truth_period_ms, T_krc * 1e3);
-    return usage(msg);
-  }
-  if (scene.world.fri_delay_s > 0.0 || scene.world.krc_cycle_s > 0.0)
-    std::fprintf(stderr,
-                 "lab_sim: warning: %s sets effects.fri_delay_s = %g s / krc_cycle_s = %g s: the world delays and holds "
-                 "the set point on top of this KRC's own cycle\n",
-                 scene.file.c_str(), scene.world.fri_delay_s, scene.world.krc_cycle_s);
-
-  fri::KrcScript script;
-  const std::string spec = krc_given ? krc_spec : scene.krc;
-  if (ConfigResult r = script.parse(spec, krc_given ? std::string("--krc") : scene.file + ": krc"); !r) {
-    std::fprintf(stderr, "lab_sim: %s\n", r.message().c_str());
-    return 2;
-  }
-
-  lab::WorldPlant plant;
-  if (ConfigResult r = plant.configure(scene); !r) {
-    std::fprintf(stderr, "lab_sim: %s\n", r.message().c_str());
-    return 2;
-  }
-
+/// The simulated KRC's parameters: the command line's over the scene's
+/// start pose, at the KRC cycle T_krc.
+fri::SimKrcParams krcParams(const LabArgs& args, double T_krc, const lab::WorldPlant& plant) {
+  const std::string& control = args.control;
   fri::SimKrcParams kp;
-  kp.remote_port = static_cast<uint16_t>(fri_port);
+  kp.remote_port = static_cast<uint16_t>(args.fri_port);
   kp.period_s = T_krc;
   kp.real_time = true;
-  kp.msr_sample_time_s = msr_sample_ms * 1e-3;
-  kp.cmd_sample_time_s = cmd_sample_ms * 1e-3;
+  kp.msr_sample_time_s = args.msr_sample_ms * 1e-3;
+  kp.cmd_sample_time_s = args.cmd_sample_ms * 1e-3;
   kp.initial_pose = plant.initialPose();
-  kp.cart_offset = cart_offset;
-  kp.quality_rule.enabled = quality_rule;
-  if (!krl_file.empty()) {
-    kp.limits = krl.limits;
-    kp.wrench_frame = krl.wrench_frame;
+  kp.cart_offset = args.cart_offset;
+  kp.quality_rule.enabled = args.quality_rule;
+  if (!args.krl_file.empty()) {
+    kp.limits = args.krl.limits;
+    kp.wrench_frame = args.krl.wrench_frame;
   }
-  if (frame_given) kp.wrench_frame = frame_override;
+  if (args.frame_given) kp.wrench_frame = args.frame_override;
   kp.control = control == "cart"    ? fri::ControlStrategy::CartImpedance
                : control == "joint" ? fri::ControlStrategy::JointImpedance
                                     : fri::ControlStrategy::Position;
-  std::vector<lab::ScheduledWord> words;
-  lab::scheduleFromScript(script, T_krc, kp.initial, kp.schedule, words);
+  return kp;
+}
 
-  // The WTS0614 on a PTY, its frames from the world (the latest acquisition).
-  wts::SimulatedWts wts;
-  wts::SimulatedWts::Params wp;
-  wp.cells.rows = scene.features.rows;
-  wp.cells.cols = scene.features.cols;
-  wp.link = wts_link;
-  wts.setSource([&plant](uint32_t, RawTactileFrame& f) { plant.latestFrame(f); });
-  std::string why;
-  if (!wts.start(wp, &why)) {
-    std::fprintf(stderr, "lab_sim: WTS device: %s\n", why.c_str());
-    return 1;
+/// --truth-out: the file with its header line, or nullptr (after the message).
+FILE* openTruth(const std::string& truth_out) {
+  FILE* truth = std::fopen(truth_out.c_str(), "w");
+  if (truth == nullptr) {
+    std::fprintf(stderr, "lab_sim: cannot write %s\n", truth_out.c_str());
+    return nullptr;
   }
+  std::fprintf(truth,
+               "t,krc_open,krc_state,krc_quality,krc_power,applied,flange_x,flange_y,flange_z,flange_qx,flange_qy,"
+               "flange_qz,flange_qw,setpoint_x,setpoint_y,setpoint_z,setpoint_qx,setpoint_qy,setpoint_qz,setpoint_qw,"
+               "force_true,force_layer,housing_force,in_contact,est_fx,est_fy,est_fz,sim_status\n");
+  return truth;
+}
 
-  fri::SimKrc krc;
-  if (ConfigResult r = krc.configure(kp, plant); !r) {
-    std::fprintf(stderr, "lab_sim: KRC: %s\n", r.message().c_str());
-    return 1;
-  }
-
-  FILE* truth = nullptr;
-  if (!truth_out.empty()) {
-    truth = std::fopen(truth_out.c_str(), "w");
-    if (truth == nullptr) {
-      std::fprintf(stderr, "lab_sim: cannot write %s\n", truth_out.c_str());
-      return 1;
-    }
-    std::fprintf(truth,
-                 "t,krc_open,krc_state,krc_quality,krc_power,applied,flange_x,flange_y,flange_z,flange_qx,flange_qy,"
-                 "flange_qz,flange_qw,setpoint_x,setpoint_y,setpoint_z,setpoint_qx,setpoint_qy,setpoint_qz,setpoint_qw,"
-                 "force_true,force_layer,housing_force,in_contact,est_fx,est_fy,est_fz,sim_status\n");
-  }
-
-  std::signal(SIGINT, onSignal);
-  std::signal(SIGTERM, onSignal);
+/// The run's settings, the start pose and the WTS device on stdout.
+void printBanner(const LabArgs& args, const sim::Scene& scene, const fri::SimKrcParams& kp, double T_world, double T_krc,
+                 const lab::WorldPlant& plant, const wts::SimulatedWts& wts) {
   const KDL::Frame p0 = plant.initialPose();
   std::printf("lab_sim: scene %s (%s), world step %.3f ms, KRC cycle %.3f ms (advertised msr %.3f ms cmd %.3f ms), "
               "control %s, cart_offset %s, quality from timing %s, $STIFFNESS limits %s, estExtTcpFT in %s axes, "
               "FRI -> 127.0.0.1:%ld, WTS %dx%d at %.0f Hz\n",
               scene.name.c_str(), scene.file.c_str(), T_world * 1e3, T_krc * 1e3,
               (kp.msr_sample_time_s > 0 ? kp.msr_sample_time_s : T_krc) * 1e3,
-              (kp.cmd_sample_time_s > 0 ? kp.cmd_sample_time_s : T_krc) * 1e3, control.c_str(), fri::toString(cart_offset),
-              quality_rule ? "on" : "off", krl_file.empty() ? "off" : krl_file.c_str(), fri::toString(kp.wrench_frame),
-              fri_port,
+              (kp.cmd_sample_time_s > 0 ? kp.cmd_sample_time_s : T_krc) * 1e3, args.control.c_str(), fri::toString(args.cart_offset),
+              args.quality_rule ? "on" : "off", args.krl_file.empty() ? "off" : args.krl_file.c_str(), fri::toString(kp.wrench_frame),
+              args.fri_port,
               scene.features.rows, scene.features.cols, scene.rates.wts);
   std::printf("lab_sim: flange at (%.4f, %.4f, %.4f) m, true contact force %.3f N\n", p0.p.x(), p0.p.y(), p0.p.z(),
               -plant.state().wrench_s[2]);
   std::printf("device: %s\n", wts.path().c_str());
   std::fflush(stdout);
 
-  const uint64_t max_cycles = duration_s > 0.0 ? static_cast<uint64_t>(std::llround(duration_s / T_krc)) : 0;
-  std::size_t next_word = 0;
-  bool was_open = false;
-  fri::State was_state = fri::State::Off;
-  fri::Quality was_quality = fri::Quality::Perfect;
-  uint16_t was_power = 0;
-  bool first = true;
-  Stat force_all, force_cmd;
-  sim::SimStatus last_world_status = sim::SimStatus::Ok;
-  // The remote's session: from its first to its last reply (the loss before
-  // and after is the remote not running yet / any more, not lost packets).
-  uint64_t first_reply_cycle = 0, missed_at_first = 0, closed_at_first = 0;
-  uint64_t last_reply_cycle = 0, missed_at_last = 0, closed_at_last = 0, replies_seen = 0;
-  bool answered = false;
-  uint64_t unplugs = 0;
-  bool fault_printed = false;
-  while (!g_stop.load() && (max_cycles == 0 || krc.stats().cycles < max_cycles)) {
+}
+
+/// The run, cycle by cycle: the KRC's cycle, the link faults, and what
+/// changed on stdout (the remote's replies, the KRC's state, the world's),
+/// the contact force and the truth file; the summary at the end.
+struct LabRun {
+  LabRun(fri::SimKrc& krc_, lab::WorldPlant& plant_, wts::SimulatedWts& wts_,
+         const std::vector<lab::ScheduledWord>& words_, double T_krc_, FILE* truth_, long truth_every_)
+      : krc(krc_), plant(plant_), wts(wts_), words(words_), T_krc(T_krc_), truth(truth_), truth_every(truth_every_) {}
+
+  fri::SimKrc& krc;
+  lab::WorldPlant& plant;
+  wts::SimulatedWts& wts;
+  const std::vector<lab::ScheduledWord>& words;
+  const double T_krc;
+  FILE* truth;
+  const long truth_every;
+    std::size_t next_word = 0;
+    bool was_open = false;
+    fri::State was_state = fri::State::Off;
+    fri::Quality was_quality = fri::Quality::Perfect;
+    uint16_t was_power = 0;
+    bool first = true;
+    Stat force_all, force_cmd;
+    sim::SimStatus last_world_status = sim::SimStatus::Ok;
+    // The remote's session: from its first to its last reply (the loss before
+    // and after is the remote not running yet / any more, not lost packets).
+    uint64_t first_reply_cycle = 0, missed_at_first = 0, closed_at_first = 0;
+    uint64_t last_reply_cycle = 0, missed_at_last = 0, closed_at_last = 0, replies_seen = 0;
+    bool answered = false;
+    uint64_t unplugs = 0;
+    bool fault_printed = false;
+
+  void cycle() {
     const uint64_t c = krc.stats().cycles;  // this cycle's index: its scheduled events apply now
     krc.runCycle();
     const double t = double(c) * T_krc;
     linkFaults(plant, wts, t, unplugs);
+    noteReplies(c, t);
+    noteState(c, t);
+    noteWorld(c, t);
+  }
+
+  /// The remote's first and last reply (its session).
+  void noteReplies(uint64_t c, double t) {
     if (krc.stats().replies != replies_seen) {
       replies_seen = krc.stats().replies;
       if (!answered) {
@@ -386,6 +376,11 @@ int main(int argc, char** argv) {
       missed_at_last = krc.stats().missed;
       closed_at_last = krc.stats().closed_cycles;
     }
+  }
+
+  /// The KRC's state, quality and drives when they change (with the script's
+  /// words that led there); a KRC fault once.
+  void noteState(uint64_t c, double t) {
     const bool open = krc.open();
     const fri::State st = krc.state();
     const fri::Quality q = krc.quality();
@@ -411,6 +406,14 @@ int main(int argc, char** argv) {
       std::fflush(stdout);
       fault_printed = true;
     }
+  }
+
+  /// The world's fatal status changes, the contact force, the truth line.
+  void noteWorld(uint64_t c, double t) {
+    const bool open = krc.open();
+    const fri::State st = krc.state();
+    const fri::Quality q = krc.quality();
+    const uint16_t pw = krc.power();
     const sim::SimState& s = plant.state();
     if (s.status != last_world_status && (sim::fatal(s.status) || sim::fatal(last_world_status))) {
       std::printf("t %8.3f s  world: %s\n", t, sim::toString(s.status));
@@ -436,51 +439,141 @@ int main(int argc, char** argv) {
                    s.normal_force, s.housing_force, contact ? 1 : 0, w.w[0], w.w[1], w.w[2], sim::toString(s.status));
     }
   }
-  if (truth != nullptr) std::fclose(truth);
-  const wts::SimStats ws = wts.stats();
-  wts.stop();
 
-  const fri::SimKrcStats& k = krc.stats();
-  const lab::WorldPlantStats& w = plant.stats();
-  std::printf("lab_sim: %s after %.3f s\n", g_stop.load() ? "stopped by a signal" : "duration reached",
-              double(k.cycles) * T_krc);
-  std::printf("lab_sim: KRC cycles %llu sent %llu replies %llu lost %llu (cycles without their reply) closed %llu "
-              "stale %llu malformed %llu overruns %llu applied %llu\n",
-              (unsigned long long)k.cycles, (unsigned long long)k.sent, (unsigned long long)k.replies,
-              (unsigned long long)k.missed, (unsigned long long)k.closed_cycles, (unsigned long long)k.stale_replies,
-              (unsigned long long)k.malformed_replies, (unsigned long long)k.overruns, (unsigned long long)k.applied);
-  if (answered)
-    std::printf("lab_sim: KRC first reply at t %.3f s, last at t %.3f s; between them sent %llu lost %llu\n",
-                double(first_reply_cycle) * T_krc, double(last_reply_cycle) * T_krc,
-                (unsigned long long)(last_reply_cycle + 1 - first_reply_cycle - (closed_at_last - closed_at_first)),
-                (unsigned long long)(missed_at_last - missed_at_first));
-  else
-    std::printf("lab_sim: KRC no reply from the remote\n");
-  std::printf("lab_sim: KRC max_step %.6f m %.6f rad (between consecutive applied commands), max_entry_offset "
-              "%.6f m %.6f rad (first command after entering CMD vs the set point the KRC held)\n",
-              k.max_cmd_step_m, k.max_cmd_step_rad, k.max_entry_offset_m, k.max_entry_offset_rad);
-  std::printf("lab_sim: KRC protocol mon_echo_errors %llu flag_errors %llu nonfinite %llu remote_seq_errors %llu; "
-              "latency mean %.1f us max %.1f us\n",
-              (unsigned long long)k.mon_echo_errors, (unsigned long long)k.flag_errors,
-              (unsigned long long)k.nonfinite_commands, (unsigned long long)k.remote_seq_errors,
-              k.replies ? 1e6 * k.sum_latency_s / double(k.replies) : 0.0, 1e6 * k.max_latency_s);
-  std::printf("lab_sim: KRC link answers missed %llu late %llu (of the cycle: > %.0f %%), quality drops out of CMD %llu; "
-              "measurements at UNACCEPTABLE %llu BAD %llu OK %llu PERFECT %llu; fault %s\n",
-              (unsigned long long)k.answers_missed, (unsigned long long)k.answers_late,
-              100.0 * kp.quality_rule.late_fraction, (unsigned long long)k.quality_drops,
-              (unsigned long long)k.quality_cycles[0], (unsigned long long)k.quality_cycles[1],
-              (unsigned long long)k.quality_cycles[2], (unsigned long long)k.quality_cycles[3],
-              fri::toString(krc.fault()));
-  std::printf("lab_sim: world steps %llu not_converged %llu invalid_commands %llu fatal %llu%s%s; WTS acquisitions "
-              "%llu frames %llu, device frames sent %llu held %llu unplugged %llu commands %llu bad_commands %llu\n",
-              (unsigned long long)w.physics_steps, (unsigned long long)w.not_converged,
-              (unsigned long long)w.invalid_commands, (unsigned long long)w.fatal_steps,
-              w.fatal_steps ? " first " : "", w.fatal_steps ? sim::toString(w.first_fatal) : "",
-              (unsigned long long)w.acquisitions, (unsigned long long)w.frames, (unsigned long long)ws.frames,
-              (unsigned long long)ws.held_frames, (unsigned long long)unplugs, (unsigned long long)ws.commands,
-              (unsigned long long)ws.bad_commands);
-  printForce("(all)", force_all, T_krc);
-  printForce("(in CMD)", force_cmd, T_krc);
-  const bool clean = k.mon_echo_errors == 0 && k.flag_errors == 0 && k.nonfinite_commands == 0;
-  return clean ? 0 : 3;
+  /// The statistics on stdout; the exit code: 0 when no protocol violation
+  /// (MON echo, flags, non-finite command) was seen, else 3.
+  int summary(const fri::SimKrcParams& kp) {
+    if (truth != nullptr) std::fclose(truth);
+    const wts::SimStats ws = wts.stats();
+    wts.stop();
+
+    const fri::SimKrcStats& k = krc.stats();
+    const lab::WorldPlantStats& w = plant.stats();
+    std::printf("lab_sim: %s after %.3f s\n", g_stop.load() ? "stopped by a signal" : "duration reached",
+                double(k.cycles) * T_krc);
+    std::printf("lab_sim: KRC cycles %llu sent %llu replies %llu lost %llu (cycles without their reply) closed %llu "
+                "stale %llu malformed %llu overruns %llu applied %llu\n",
+                (unsigned long long)k.cycles, (unsigned long long)k.sent, (unsigned long long)k.replies,
+                (unsigned long long)k.missed, (unsigned long long)k.closed_cycles, (unsigned long long)k.stale_replies,
+                (unsigned long long)k.malformed_replies, (unsigned long long)k.overruns, (unsigned long long)k.applied);
+    if (answered)
+      std::printf("lab_sim: KRC first reply at t %.3f s, last at t %.3f s; between them sent %llu lost %llu\n",
+                  double(first_reply_cycle) * T_krc, double(last_reply_cycle) * T_krc,
+                  (unsigned long long)(last_reply_cycle + 1 - first_reply_cycle - (closed_at_last - closed_at_first)),
+                  (unsigned long long)(missed_at_last - missed_at_first));
+    else
+      std::printf("lab_sim: KRC no reply from the remote\n");
+    std::printf("lab_sim: KRC max_step %.6f m %.6f rad (between consecutive applied commands), max_entry_offset "
+                "%.6f m %.6f rad (first command after entering CMD vs the set point the KRC held)\n",
+                k.max_cmd_step_m, k.max_cmd_step_rad, k.max_entry_offset_m, k.max_entry_offset_rad);
+    std::printf("lab_sim: KRC protocol mon_echo_errors %llu flag_errors %llu nonfinite %llu remote_seq_errors %llu; "
+                "latency mean %.1f us max %.1f us\n",
+                (unsigned long long)k.mon_echo_errors, (unsigned long long)k.flag_errors,
+                (unsigned long long)k.nonfinite_commands, (unsigned long long)k.remote_seq_errors,
+                k.replies ? 1e6 * k.sum_latency_s / double(k.replies) : 0.0, 1e6 * k.max_latency_s);
+    std::printf("lab_sim: KRC link answers missed %llu late %llu (of the cycle: > %.0f %%), quality drops out of CMD %llu; "
+                "measurements at UNACCEPTABLE %llu BAD %llu OK %llu PERFECT %llu; fault %s\n",
+                (unsigned long long)k.answers_missed, (unsigned long long)k.answers_late,
+                100.0 * kp.quality_rule.late_fraction, (unsigned long long)k.quality_drops,
+                (unsigned long long)k.quality_cycles[0], (unsigned long long)k.quality_cycles[1],
+                (unsigned long long)k.quality_cycles[2], (unsigned long long)k.quality_cycles[3],
+                fri::toString(krc.fault()));
+    std::printf("lab_sim: world steps %llu not_converged %llu invalid_commands %llu fatal %llu%s%s; WTS acquisitions "
+                "%llu frames %llu, device frames sent %llu held %llu unplugged %llu commands %llu bad_commands %llu\n",
+                (unsigned long long)w.physics_steps, (unsigned long long)w.not_converged,
+                (unsigned long long)w.invalid_commands, (unsigned long long)w.fatal_steps,
+                w.fatal_steps ? " first " : "", w.fatal_steps ? sim::toString(w.first_fatal) : "",
+                (unsigned long long)w.acquisitions, (unsigned long long)w.frames, (unsigned long long)ws.frames,
+                (unsigned long long)ws.held_frames, (unsigned long long)unplugs, (unsigned long long)ws.commands,
+                (unsigned long long)ws.bad_commands);
+    printForce("(all)", force_all, T_krc);
+    printForce("(in CMD)", force_cmd, T_krc);
+    const bool clean = k.mon_echo_errors == 0 && k.flag_errors == 0 && k.nonfinite_commands == 0;
+    return clean ? 0 : 3;
+  }
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  LabArgs args;
+  if (int code = parseArgs(argc, argv, args); code >= 0) return code;
+  const std::vector<std::string>& overrides = args.overrides;
+  const double krc_cycle_ms = args.krc_cycle_ms, truth_period_ms = args.truth_period_ms;
+  const bool krc_given = args.krc_given;
+
+  sim::Scene scene;
+  if (ConfigResult r = sim::loadScene(args.scene_file, scene, overrides); !r) {
+    std::fprintf(stderr, "lab_sim: %s\n", r.message().c_str());
+    return 2;
+  }
+  const double T_world = 1.0 / scene.rates.sim;
+  const double T_krc = krc_cycle_ms > 0.0 ? krc_cycle_ms * 1e-3 : T_world;
+  const long steps_per_cycle = wholeMultiple(T_krc, T_world);
+  char msg[200];
+  if (steps_per_cycle == 0) {
+    std::snprintf(msg, sizeof msg, "--krc-cycle-ms = %g must be a whole number of world steps (%g ms, --period-ms)",
+                  T_krc * 1e3, T_world * 1e3);
+    return usage(msg);
+  }
+  const long truth_every = wholeMultiple(truth_period_ms * 1e-3, T_krc);
+  if (truth_every == 0) {
+    std::snprintf(msg, sizeof msg, "--truth-period-ms = %g must be a whole number of KRC cycles (%g ms)",
+                  truth_period_ms, T_krc * 1e3);
+    return usage(msg);
+  }
+  if (scene.world.fri_delay_s > 0.0 || scene.world.krc_cycle_s > 0.0)
+    std::fprintf(stderr,
+                 "lab_sim: warning: %s sets effects.fri_delay_s = %g s / krc_cycle_s = %g s: the world delays and holds "
+                 "the set point on top of this KRC's own cycle\n",
+                 scene.file.c_str(), scene.world.fri_delay_s, scene.world.krc_cycle_s);
+
+  fri::KrcScript script;
+  const std::string spec = krc_given ? args.krc_spec : scene.krc;
+  if (ConfigResult r = script.parse(spec, krc_given ? std::string("--krc") : scene.file + ": krc"); !r) {
+    std::fprintf(stderr, "lab_sim: %s\n", r.message().c_str());
+    return 2;
+  }
+
+  lab::WorldPlant plant;
+  if (ConfigResult r = plant.configure(scene); !r) {
+    std::fprintf(stderr, "lab_sim: %s\n", r.message().c_str());
+    return 2;
+  }
+
+  fri::SimKrcParams kp = krcParams(args, T_krc, plant);
+  std::vector<lab::ScheduledWord> words;
+  lab::scheduleFromScript(script, T_krc, kp.initial, kp.schedule, words);
+
+  // The WTS0614 on a PTY, its frames from the world (the latest acquisition).
+  wts::SimulatedWts wts;
+  wts::SimulatedWts::Params wp;
+  wp.cells.rows = scene.features.rows;
+  wp.cells.cols = scene.features.cols;
+  wp.link = args.wts_link;
+  wts.setSource([&plant](uint32_t, RawTactileFrame& f) { plant.latestFrame(f); });
+  std::string why;
+  if (!wts.start(wp, &why)) {
+    std::fprintf(stderr, "lab_sim: WTS device: %s\n", why.c_str());
+    return 1;
+  }
+
+  fri::SimKrc krc;
+  if (ConfigResult r = krc.configure(kp, plant); !r) {
+    std::fprintf(stderr, "lab_sim: KRC: %s\n", r.message().c_str());
+    return 1;
+  }
+
+  FILE* truth = nullptr;
+  if (!args.truth_out.empty() && (truth = openTruth(args.truth_out)) == nullptr) return 1;
+
+  std::signal(SIGINT, onSignal);
+  std::signal(SIGTERM, onSignal);
+  printBanner(args, scene, kp, T_world, T_krc, plant, wts);
+
+  const uint64_t max_cycles =
+      args.duration_s > 0.0 ? static_cast<uint64_t>(std::llround(args.duration_s / T_krc)) : 0;
+  LabRun run{krc, plant, wts, words, T_krc, truth, truth_every};
+  while (!g_stop.load() && (max_cycles == 0 || krc.stats().cycles < max_cycles)) run.cycle();
+  return run.summary(kp);
 }

@@ -188,24 +188,13 @@ int summarize(int argc, char** argv) {
   return s.exit_code;
 }
 
-int main(int argc, char** argv) {
-  if (argc >= 2 && std::string(argv[1]) == "summarize") return summarize(argc, argv);
-  if (argc < 3 || std::string(argv[1]) != "run") {
-    usage();
-    return 2;
-  }
-  const std::string scene_file = argv[2];
-  std::vector<std::string> overrides;  // --set, applied to the scene file before it is read
-  for (int i = 3; i + 1 < argc; ++i)
-    if (std::string(argv[i]) == "--set") overrides.push_back(argv[++i]);
-  Scene scene;
-  ConfigResult r = loadScene(scene_file, scene, overrides);
-  if (!r) {
-    std::cerr << "tactile_sim: " << r.message() << "\n";
-    return 2;
-  }
-  std::string out_dir = "runs/" + scene.name;
-  bool plots = true, out_given = false;
+// `run`'s options after the scene (argv[3..]) over the scene; the output
+// folder (default runs/<scene>[_<controller>]) and whether to plot. -1, or
+// the exit code (2).
+int runOptions(int argc, char** argv, Scene& scene, std::string& out_dir, bool& plots) {
+  out_dir = "runs/" + scene.name;
+  plots = true;
+  bool out_given = false;
   for (int i = 3; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&](double& v) {
@@ -263,6 +252,28 @@ int main(int argc, char** argv) {
     std::cerr << "tactile_sim: --duration must be > 0 (s)\n";
     return 2;
   }
+  return -1;
+}
+
+int main(int argc, char** argv) {
+  if (argc >= 2 && std::string(argv[1]) == "summarize") return summarize(argc, argv);
+  if (argc < 3 || std::string(argv[1]) != "run") {
+    usage();
+    return 2;
+  }
+  const std::string scene_file = argv[2];
+  std::vector<std::string> overrides;  // --set, applied to the scene file before it is read
+  for (int i = 3; i + 1 < argc; ++i)
+    if (std::string(argv[i]) == "--set") overrides.push_back(argv[++i]);
+  Scene scene;
+  ConfigResult r = loadScene(scene_file, scene, overrides);
+  if (!r) {
+    std::cerr << "tactile_sim: " << r.message() << "\n";
+    return 2;
+  }
+  std::string out_dir;
+  bool plots = true;
+  if (int code = runOptions(argc, argv, scene, out_dir, plots); code >= 0) return code;
   Runner runner;
   if (!(r = runner.configure(scene))) {
     std::cerr << "tactile_sim: " << r.message() << "\n";

@@ -290,70 +290,76 @@ double CalibrationFit::curveStdError(int taxel, double counts) const {
   return std::sqrt(std::max(0.0, v));
 }
 
-ConfigResult fitCalibration(const CalibrationRecording& rec, const CalibrationParams& base,
-                            const CalibrationFitOptions& opt, CalibrationFit& out) {
-  out = CalibrationFit{};
-  const std::string F = rec.file.empty() ? std::string("<recording>") : rec.file;
-  ConfigResult r = checkCalibrationFitOptions(opt);
-  if (!r) return ConfigResult::failure(F + ": " + r.message());
-  {
-    Calibration probe;
-    if (!(r = probe.configure(base))) return ConfigResult::failure("base parameters: " + r.message());
-  }
-  if (rec.rows != base.rows || rec.cols != base.cols)
-    return ConfigResult::failure(F + ": a " + std::to_string(rec.rows) + " x " + std::to_string(rec.cols) +
-                                 " recording for a " + std::to_string(base.rows) + " x " + std::to_string(base.cols) +
-                                 " sensor (the parameter file's features.rows / cols)");
-  const int rows = base.rows, cols = base.cols, n = rows * cols, d = opt.degree;
-  const double FS = base.full_scale;
-  const std::size_t N = rec.frames();
-  out.model = opt.model;
-  out.degree = d;
-  out.frames_total = N;
+namespace {
+
+// fitCalibration's steps, in order, on the recording and the fit's working
+// state: the frames each step keeps, and the normal equations of a model.
+struct Fitter {
+  Fitter(const CalibrationRecording& rec_, const CalibrationParams& base_, const CalibrationFitOptions& opt_,
+         CalibrationFit& out_, const std::string& file)
+      : rec(rec_), base(base_), opt(opt_), out(out_), F(file), rows(base_.rows), cols(base_.cols),
+        n(base_.rows * base_.cols), d(opt_.degree), FS(base_.full_scale), N(rec_.frames()) {}
+
+  const CalibrationRecording& rec;
+  const CalibrationParams& base;
+  const CalibrationFitOptions& opt;
+  CalibrationFit& out;
+  const std::string F;  // the recording's name in the messages
+  const int rows, cols, n, d;
+  const double FS;
+  const std::size_t N;
+  std::vector<std::size_t> unloaded, loaded;  // frames (splitFrames)
+  std::vector<std::vector<Entry>> rowsUsed;    // per used frame: its taxels above the noise (selectLoaded)
+  std::vector<std::size_t> used;               // the loaded frames in the fit
+  std::vector<double> maxTared;                // per taxel, over all loaded frames
+  std::size_t M = 0;                           // used.size()
+  std::vector<double> fref;                    // f_ref of the used frames
 
   // ---- Frames: unloaded (tare), loaded, impossible (negative) ------------
-  std::vector<std::size_t> unloaded, loaded;
-  std::size_t negative = 0, first_negative = 0;
-  for (std::size_t j = 0; j < N; ++j) {
-    const double f = rec.f_ref[j];
-    if (f < -opt.unloaded_max_n) {
-      if (negative++ == 0) first_negative = j;
-    } else if (f <= opt.unloaded_max_n) {
-      unloaded.push_back(j);
-    } else {
-      loaded.push_back(j);
+  ConfigResult splitFrames() {
+    std::size_t negative = 0, first_negative = 0;
+    for (std::size_t j = 0; j < N; ++j) {
+      const double f = rec.f_ref[j];
+      if (f < -opt.unloaded_max_n) {
+        if (negative++ == 0) first_negative = j;
+      } else if (f <= opt.unloaded_max_n) {
+        unloaded.push_back(j);
+      } else {
+        loaded.push_back(j);
+      }
     }
+    const std::string um = fmt("%g", opt.unloaded_max_n);
+    if (negative > 0)
+      return ConfigResult::failure(F + ": f_ref_n < -" + um + " N on " + std::to_string(negative) + " frame(s) (first at line " +
+                                   std::to_string(rec.line[first_negative]) + ": " + fmt("%g", rec.f_ref[first_negative]) +
+                                   " N): a load pressing on the pad is positive; a reference F/T sensor whose z points "
+                                   "out of the pad reads -Fz: write -Fz (docs/calibration.md)");
+    if (unloaded.empty())
+      return ConfigResult::failure(F + ": no unloaded frames (|f_ref_n| <= " + um +
+                                   " N), so no tare: record about 1 s with nothing touching the pad and f_ref_n = 0 "
+                                   "(at the start, and between loads)");
+    if (loaded.empty())
+      return ConfigResult::failure(F + ": no loaded frames (f_ref_n > " + um + " N): all " + std::to_string(N) +
+                                   " frames are unloaded: record presses with known loads (docs/calibration.md)");
+    out.frames_unloaded = unloaded.size();
+    out.frames_loaded = loaded.size();
+    return ConfigResult::success();
   }
-  const std::string um = fmt("%g", opt.unloaded_max_n);
-  if (negative > 0)
-    return ConfigResult::failure(F + ": f_ref_n < -" + um + " N on " + std::to_string(negative) + " frame(s) (first at line " +
-                                 std::to_string(rec.line[first_negative]) + ": " + fmt("%g", rec.f_ref[first_negative]) +
-                                 " N): a load pressing on the pad is positive; a reference F/T sensor whose z points "
-                                 "out of the pad reads -Fz: write -Fz (docs/calibration.md)");
-  if (unloaded.empty())
-    return ConfigResult::failure(F + ": no unloaded frames (|f_ref_n| <= " + um +
-                                 " N), so no tare: record about 1 s with nothing touching the pad and f_ref_n = 0 "
-                                 "(at the start, and between loads)");
-  if (loaded.empty())
-    return ConfigResult::failure(F + ": no loaded frames (f_ref_n > " + um + " N): all " + std::to_string(N) +
-                                 " frames are unloaded: record presses with known loads (docs/calibration.md)");
-  out.frames_unloaded = unloaded.size();
-  out.frames_loaded = loaded.size();
 
   // ---- Tare and noise from the unloaded frames ----------------------------
-  out.tare.assign(static_cast<std::size_t>(n), 0.0);
-  out.noise.assign(static_cast<std::size_t>(n), opt.min_noise_counts);
-  for (int i = 0; i < n; ++i) {
-    double s = 0.0;
-    for (std::size_t j : unloaded) s += rec.rawAt(j, i);
-    const double mean = s / static_cast<double>(unloaded.size());
-    double v = 0.0;
-    for (std::size_t j : unloaded) v += (rec.rawAt(j, i) - mean) * (rec.rawAt(j, i) - mean);
-    const double sd = unloaded.size() > 1 ? std::sqrt(v / static_cast<double>(unloaded.size() - 1)) : 0.0;
-    out.tare[static_cast<std::size_t>(i)] = mean;
-    out.noise[static_cast<std::size_t>(i)] = std::max(sd, opt.min_noise_counts);
-  }
-  {
+  ConfigResult tareAndNoise() {
+    out.tare.assign(static_cast<std::size_t>(n), 0.0);
+    out.noise.assign(static_cast<std::size_t>(n), opt.min_noise_counts);
+    for (int i = 0; i < n; ++i) {
+      double s = 0.0;
+      for (std::size_t j : unloaded) s += rec.rawAt(j, i);
+      const double mean = s / static_cast<double>(unloaded.size());
+      double v = 0.0;
+      for (std::size_t j : unloaded) v += (rec.rawAt(j, i) - mean) * (rec.rawAt(j, i) - mean);
+      const double sd = unloaded.size() > 1 ? std::sqrt(v / static_cast<double>(unloaded.size() - 1)) : 0.0;
+      out.tare[static_cast<std::size_t>(i)] = mean;
+      out.noise[static_cast<std::size_t>(i)] = std::max(sd, opt.min_noise_counts);
+    }
     int worst = -1;
     for (int i = 0; i < n; ++i)
       if (out.tare[static_cast<std::size_t>(i)] > base.max_tare &&
@@ -365,64 +371,69 @@ ConfigResult fitCalibration(const CalibrationRecording& rec, const CalibrationPa
           " counts on average over the unloaded frames, above calibration.max_tare = " + std::to_string(base.max_tare) +
           ": the pad is pressed while f_ref_n says 0 (a cover, a weight left on it, or f_ref_n = 0 written for loaded "
           "frames): record the unloaded frames with nothing touching the pad");
+    return ConfigResult::success();
   }
 
   // ---- Loaded frames: tared counts above the noise; saturated, silent -----
-  std::vector<std::vector<Entry>> rowsUsed;
-  std::vector<std::size_t> used;
-  std::vector<double> maxTared(static_cast<std::size_t>(n), 0.0);  // over all loaded frames
-  std::size_t first_sat = 0;
-  int first_sat_taxel = -1;
-  for (std::size_t j : loaded) {
-    bool sat = false;
-    std::vector<Entry> e;
-    for (int i = 0; i < n; ++i) {
-      const double raw = rec.rawAt(j, i);
-      const double x = raw - out.tare[static_cast<std::size_t>(i)];
-      maxTared[static_cast<std::size_t>(i)] = std::max(maxTared[static_cast<std::size_t>(i)], x);
-      if (raw >= FS && !sat) {
-        sat = true;
-        if (first_sat_taxel < 0) {
-          first_sat = j;
-          first_sat_taxel = i;
+  ConfigResult selectLoaded() {
+    maxTared.assign(static_cast<std::size_t>(n), 0.0);
+    std::size_t first_sat = 0;
+    int first_sat_taxel = -1;
+    for (std::size_t j : loaded) {
+      bool sat = false;
+      std::vector<Entry> e;
+      for (int i = 0; i < n; ++i) {
+        const double raw = rec.rawAt(j, i);
+        const double x = raw - out.tare[static_cast<std::size_t>(i)];
+        maxTared[static_cast<std::size_t>(i)] = std::max(maxTared[static_cast<std::size_t>(i)], x);
+        if (raw >= FS && !sat) {
+          sat = true;
+          if (first_sat_taxel < 0) {
+            first_sat = j;
+            first_sat_taxel = i;
+          }
         }
+        if (x > opt.noise_sigmas * out.noise[static_cast<std::size_t>(i)]) e.push_back({i, x});
       }
-      if (x > opt.noise_sigmas * out.noise[static_cast<std::size_t>(i)]) e.push_back({i, x});
+      if (sat) {
+        ++out.frames_saturated;
+        continue;
+      }
+      if (e.empty()) {
+        ++out.frames_silent;
+        continue;
+      }
+      rowsUsed.push_back(std::move(e));
+      used.push_back(j);
     }
-    if (sat) {
-      ++out.frames_saturated;
-      continue;
-    }
-    if (e.empty()) {
-      ++out.frames_silent;
-      continue;
-    }
-    rowsUsed.push_back(std::move(e));
-    used.push_back(j);
+    if (out.frames_saturated == loaded.size())
+      return ConfigResult::failure(F + ": all " + std::to_string(loaded.size()) +
+                                   " loaded frames are saturated (a raw count at full_scale = " + fmt("%.0f", FS) +
+                                   "; first at line " + std::to_string(rec.line[first_sat]) + ", taxel " +
+                                   taxelName(first_sat_taxel, cols) +
+                                   "): a saturated count no longer follows the load: record lighter loads, up to just "
+                                   "below saturation");
+    if (used.empty())
+      return ConfigResult::failure(F + ": none of the " + std::to_string(loaded.size() - out.frames_saturated) +
+                                   " unsaturated loaded frames has a taxel above its noise (" + fmt("%g", opt.noise_sigmas) +
+                                   " sigma over the tare): the pad does not respond to the loads (loads below the firing "
+                                   "threshold, the wrong device, or the raw columns not the pad's)");
+    if (out.frames_saturated > 0)
+      out.notes.push_back(std::to_string(out.frames_saturated) + " of " + std::to_string(loaded.size()) +
+                          " loaded frames dropped: saturated (a raw count >= " + fmt("%.0f", FS) + ", first at line " +
+                          std::to_string(rec.line[first_sat]) + ", taxel " + taxelName(first_sat_taxel, cols) +
+                          "): the fit covers the counts below full scale");
+    if (out.frames_silent > 0)
+      out.notes.push_back(std::to_string(out.frames_silent) + " loaded frames dropped: no taxel above its noise (a load "
+                          "below the firing threshold or on a dead spot)");
+    M = used.size();
+    fref.assign(M, 0.0);
+    for (std::size_t a = 0; a < M; ++a) fref[a] = rec.f_ref[used[a]];
+    return ConfigResult::success();
   }
-  if (out.frames_saturated == loaded.size())
-    return ConfigResult::failure(F + ": all " + std::to_string(loaded.size()) +
-                                 " loaded frames are saturated (a raw count at full_scale = " + fmt("%.0f", FS) +
-                                 "; first at line " + std::to_string(rec.line[first_sat]) + ", taxel " +
-                                 taxelName(first_sat_taxel, cols) +
-                                 "): a saturated count no longer follows the load: record lighter loads, up to just "
-                                 "below saturation");
-  if (used.empty())
-    return ConfigResult::failure(F + ": none of the " + std::to_string(loaded.size() - out.frames_saturated) +
-                                 " unsaturated loaded frames has a taxel above its noise (" + fmt("%g", opt.noise_sigmas) +
-                                 " sigma over the tare): the pad does not respond to the loads (loads below the firing "
-                                 "threshold, the wrong device, or the raw columns not the pad's)");
-  if (out.frames_saturated > 0)
-    out.notes.push_back(std::to_string(out.frames_saturated) + " of " + std::to_string(loaded.size()) +
-                        " loaded frames dropped: saturated (a raw count >= " + fmt("%.0f", FS) + ", first at line " +
-                        std::to_string(rec.line[first_sat]) + ", taxel " + taxelName(first_sat_taxel, cols) +
-                        "): the fit covers the counts below full scale");
-  if (out.frames_silent > 0)
-    out.notes.push_back(std::to_string(out.frames_silent) + " loaded frames dropped: no taxel above its noise (a load "
-                        "below the firing threshold or on a dead spot)");
 
   // ---- Dead taxels: silent while every 4-neighbour was loaded -------------
-  {
+  ConfigResult deadTaxels() const {
     std::string dead;
     int ndead = 0;
     for (int i = 0; i < n; ++i) {
@@ -450,10 +461,11 @@ ConfigResult fitCalibration(const CalibrationRecording& rec, const CalibrationPa
           " noise sigmas while each of its neighbours was loaded: check with `wts_check --press`; if it stays "
           "silent the pad has a dead cell (the features read it as 0): repair or replace the pad. If the load simply "
           "never reached it (a spot the recording skipped), press on it and record again");
+    return ConfigResult::success();
   }
 
   // ---- Distinct loads ----------------------------------------------------
-  {
+  ConfigResult distinctLoads() {
     std::vector<double> f;
     for (std::size_t j : used) f.push_back(rec.f_ref[j]);
     std::sort(f.begin(), f.end());
@@ -473,22 +485,22 @@ ConfigResult fitCalibration(const CalibrationRecording& rec, const CalibrationPa
           " distinct non-zero loads (" + std::to_string(d) +
           " coefficients and one more to see the residual): record more load levels, or lower --degree");
     }
+    return ConfigResult::success();
   }
 
   // ---- Unknowns ------------------------------------------------------------
   // Groups: shared 0; border: interior 0, ring 1; per_taxel: the taxel.
-  auto groupOf = [&](CalibrationModel m, int i) {
+  int groupOf(CalibrationModel m, int i) const {
     if (m == CalibrationModel::Shared) return 0;
     if (m == CalibrationModel::Border) return isBorder(i, rows, cols) ? 1 : 0;
     return i;
-  };
-  auto groupsOf = [&](CalibrationModel m) { return m == CalibrationModel::Shared ? 1 : m == CalibrationModel::Border ? 2 : n; };
-  const std::size_t M = used.size();
-  std::vector<double> fref(M);
-  for (std::size_t a = 0; a < M; ++a) fref[a] = rec.f_ref[used[a]];
+  }
+  int groupsOf(CalibrationModel m) const {
+    return m == CalibrationModel::Shared ? 1 : m == CalibrationModel::Border ? 2 : n;
+  }
 
   // Normal equations of model m: H = A^T A, g = A^T f (normalised counts u).
-  auto normal = [&](CalibrationModel m, Eigen::MatrixXd& H, Eigen::VectorXd& g) {
+  void normal(CalibrationModel m, Eigen::MatrixXd& H, Eigen::VectorXd& g) const {
     const Eigen::Index P = groupsOf(m) * d;
     H = Eigen::MatrixXd::Zero(P, P);
     g = Eigen::VectorXd::Zero(P);
@@ -517,14 +529,15 @@ ConfigResult fitCalibration(const CalibrationRecording& rec, const CalibrationPa
         for (const auto& c2 : row) H(c1.first, c2.first) += c1.second * c2.second;
       }
     }
-  };
+  }
+
   // Scaled solve: columns scaled to a unit diagonal (zero columns left at 1).
-  auto scaling = [](const Eigen::MatrixXd& H) {
+  static Eigen::VectorXd scaling(const Eigen::MatrixXd& H) {
     Eigen::VectorXd s(H.rows());
     for (Eigen::Index k = 0; k < H.rows(); ++k) s(k) = H(k, k) > 0.0 ? 1.0 / std::sqrt(H(k, k)) : 1.0;
     return s;
-  };
-  auto solve = [&](const Eigen::MatrixXd& H, const Eigen::VectorXd& g, Eigen::VectorXd& theta) {
+  }
+  int solve(const Eigen::MatrixXd& H, const Eigen::VectorXd& g, Eigen::VectorXd& theta) const {
     const Eigen::VectorXd s = scaling(H);
     const Eigen::MatrixXd Hs = s.asDiagonal() * H * s.asDiagonal();
     const Eigen::VectorXd gs = s.asDiagonal() * g;
@@ -537,8 +550,8 @@ ConfigResult fitCalibration(const CalibrationRecording& rec, const CalibrationPa
     }
     theta = s.asDiagonal() * y;
     return held;
-  };
-  auto excitedGroups = [&](CalibrationModel m, std::vector<int>& frames) {
+  }
+  void excitedGroups(CalibrationModel m, std::vector<int>& frames) const {
     frames.assign(static_cast<std::size_t>(groupsOf(m)), 0);
     for (const auto& e : rowsUsed) {
       std::vector<int> seen;
@@ -550,8 +563,8 @@ ConfigResult fitCalibration(const CalibrationRecording& rec, const CalibrationPa
         }
       }
     }
-  };
-  auto designCondition = [&](const Eigen::MatrixXd& H) {
+  }
+  static double designCondition(const Eigen::MatrixXd& H) {
     std::vector<Eigen::Index> idx;
     for (Eigen::Index k = 0; k < H.rows(); ++k)
       if (H(k, k) > 0.0) idx.push_back(k);
@@ -561,11 +574,11 @@ ConfigResult fitCalibration(const CalibrationRecording& rec, const CalibrationPa
         G(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) =
             H(idx[a], idx[b]) / std::sqrt(H(idx[a], idx[a]) * H(idx[b], idx[b]));
     return gramCondition(G);
-  };
+  }
 
   // The group model (shared or border) fitted directly, or as the per_taxel prior.
-  CalibrationModel groupModel = opt.model == CalibrationModel::Shared ? CalibrationModel::Shared : CalibrationModel::Border;
-  {
+  ConfigResult chooseGroupModel(CalibrationModel& groupModel) {
+    groupModel = opt.model == CalibrationModel::Shared ? CalibrationModel::Shared : CalibrationModel::Border;
     std::vector<int> gf;
     excitedGroups(CalibrationModel::Border, gf);
     if (groupModel == CalibrationModel::Border && (gf[0] == 0 || gf[1] == 0)) {
@@ -579,26 +592,13 @@ ConfigResult fitCalibration(const CalibrationRecording& rec, const CalibrationPa
       groupModel = CalibrationModel::Shared;  // per_taxel prior: one polynomial
       out.notes.push_back(which + " never loaded: the per-taxel prior is one shared polynomial");
     }
+    return ConfigResult::success();
   }
-  Eigen::MatrixXd Hg;
-  Eigen::VectorXd gg, thetaG;
-  normal(groupModel, Hg, gg);
-  const double condG = designCondition(Hg);
-  if (!(condG <= opt.max_condition))
-    return ConfigResult::failure(
-        F + ": the fit is ill-conditioned (condition " + fmt("%.3g", condG) + " of the column-scaled design, limit " +
-        fmt("%.3g", opt.max_condition) + "): the loads do not tell the " + std::to_string(d) +
-        " coefficients apart" + (groupModel == CalibrationModel::Border ? " (of the interior and the border)" : "") +
-        ": record loads spread over the whole count range on both the interior and the border taxels, or lower --degree");
-  int heldG = solve(Hg, gg, thetaG);
 
-  Eigen::MatrixXd Hfinal;
-  Eigen::VectorXd theta;
-  const CalibrationModel fm = opt.model == CalibrationModel::PerTaxel ? CalibrationModel::PerTaxel : groupModel;
-  out.param_index.assign(static_cast<std::size_t>(n), 0);
-  for (int i = 0; i < n; ++i) out.param_index[static_cast<std::size_t>(i)] = groupOf(fm, i) * d;
-  double trace_eff = 0.0;
-  if (fm == CalibrationModel::PerTaxel) {
+  // per_taxel: each taxel's polynomial, ridge-regularised towards the group
+  // model's (`thetaG`); trace_eff: the effective number of parameters.
+  ConfigResult fitPerTaxel(CalibrationModel groupModel, const Eigen::VectorXd& thetaG, Eigen::MatrixXd& Hfinal,
+                           Eigen::VectorXd& theta, double& trace_eff) {
     Eigen::MatrixXd H;
     Eigen::VectorXd g;
     normal(CalibrationModel::PerTaxel, H, g);
@@ -642,6 +642,167 @@ ConfigResult fitCalibration(const CalibrationRecording& rec, const CalibrationPa
       out.notes.push_back(std::to_string(out.at_prior.size()) + " taxel(s) never loaded keep the " +
                           toString(groupModel) + " model's polynomial: " + list);
     }
+    return ConfigResult::success();
+  }
+
+  // ---- Coefficients in counts, the result's parameters ---------------------
+  void setCoefficients(CalibrationModel groupModel, CalibrationModel fm, const Eigen::VectorXd& thetaG,
+                       const Eigen::VectorXd& theta) {
+    auto coefficients = [&](const Eigen::VectorXd& th, int first) {
+      std::array<double, 4> c{0.0, 0.0, 0.0, 0.0};
+      for (int k = 0; k < d; ++k) c[static_cast<std::size_t>(k + 1)] = th(first + k) / std::pow(FS, k + 1);
+      return c;
+    };
+    out.params = base;
+    out.params.taxels.clear();
+    if (groupModel == CalibrationModel::Border) {
+      out.params.coeffs = coefficients(thetaG, 0);
+      out.params.border_coeffs = coefficients(thetaG, d);
+      out.params.use_border = true;
+    } else {
+      out.params.coeffs = coefficients(thetaG, 0);
+      out.params.use_border = false;
+    }
+    if (fm == CalibrationModel::PerTaxel)
+      for (int i = 0; i < n; ++i) out.params.taxels.push_back(coefficients(theta, i * d));
+  }
+
+  ConfigResult checkCurves(CalibrationModel groupModel, CalibrationModel fm) {
+    // A zero slope at 0 counts (the constraint holding c1 at 0): the light loads are missing.
+    for (int i = 0; i < n; ++i) {
+      const auto& c = coeffsOf(out.params, i);
+      if (!(c[1] > 0.0)) {
+        const std::string who = fm == CalibrationModel::PerTaxel ? "taxel " + taxelName(i, cols)
+                                : (groupModel == CalibrationModel::Border && isBorder(i, rows, cols)) ? "the border polynomial"
+                                                                                                       : "the polynomial";
+        return ConfigResult::failure(
+            F + ": " + who + " fits a slope c1 = " + fmt("%g", c[1]) + " N/count at 0 counts" +
+            (opt.nonnegative ? " (held there by the c_k >= 0 constraint)" : "") +
+            ", it must be > 0: the loads do not fix the curve near 0 counts (condition " + fmt("%.3g", out.condition) +
+            "). Record loads from just above the firing threshold (~0.3 N per taxel); if each load spreads over many "
+            "taxels (a plate, a palm), the interior and the border carry it alike and trade scale: add loads on single "
+            "taxels (a probe within one taxel), or fit --model shared");
+      }
+    }
+    if (!opt.nonnegative) {
+      for (int i = 0; i < n; ++i) {
+        const auto& c = coeffsOf(out.params, i);
+        bool mono = true;
+        for (int s = 0; s <= 64 && mono; ++s) {
+          const double x = FS * s / 64.0;
+          mono = c[1] + x * (2.0 * c[2] + 3.0 * c[3] * x) > 0.0;
+        }
+        if (!mono) {
+          out.notes.push_back("taxel " + taxelName(i, cols) +
+                              " (and perhaps others): the fitted curve is not monotone over [0, full_scale]: the reader "
+                              "can use it, the simulated sensor cannot invert it");
+          break;
+        }
+      }
+    }
+    return ConfigResult::success();
+  }
+
+  // ---- Residuals and report --------------------------------------------------
+  void residuals(double trace_eff) {
+    out.count_min.assign(static_cast<std::size_t>(n), 0.0);
+    out.count_max.assign(static_cast<std::size_t>(n), 0.0);
+    out.taxel_frames.assign(static_cast<std::size_t>(n), 0);
+    std::vector<double> sq(static_cast<std::size_t>(n), 0.0);
+    double rss = 0.0;
+    for (std::size_t a = 0; a < M; ++a) {
+      double pred = 0.0;
+      for (const Entry& e : rowsUsed[a]) pred += std::max(0.0, poly(coeffsOf(out.params, e.taxel), e.x));
+      const double res = pred - fref[a];
+      rss += res * res;
+      out.reference.push_back(fref[a]);
+      out.predicted.push_back(pred);
+      out.frame_line.push_back(rec.line[used[a]]);
+      if (std::fabs(res) > out.max_abs_n) {
+        out.max_abs_n = std::fabs(res);
+        out.max_abs_line = rec.line[used[a]];
+      }
+      for (const Entry& e : rowsUsed[a]) {
+        const std::size_t k = static_cast<std::size_t>(e.taxel);
+        const double share = pred > 0.0 ? std::max(0.0, poly(coeffsOf(out.params, e.taxel), e.x)) / pred : 0.0;
+        sq[k] += (share * res) * (share * res);
+        if (out.taxel_frames[k] == 0 || e.x < out.count_min[k]) out.count_min[k] = e.x;
+        out.count_max[k] = std::max(out.count_max[k], e.x);
+        ++out.taxel_frames[k];
+      }
+    }
+    out.frames_used = M;
+    out.taxel_residual.assign(static_cast<std::size_t>(n), std::numeric_limits<double>::quiet_NaN());
+    for (int i = 0; i < n; ++i) {
+      const std::size_t k = static_cast<std::size_t>(i);
+      if (out.taxel_frames[k] > 0) out.taxel_residual[k] = std::sqrt(sq[k] / out.taxel_frames[k]);
+    }
+    out.rms_n = std::sqrt(rss / static_cast<double>(M));
+    out.rms_pct = 100.0 * out.rms_n / out.load_max;
+    const double dof = static_cast<double>(M) - std::max(0.0, trace_eff - out.constrained);
+    out.sigma_n = dof >= 1.0 ? std::sqrt(rss / dof) : out.rms_n;
+  }
+
+  // Covariance sigma^2 (H + Lambda)^-1 in normalised units.
+  void setCovariance(const Eigen::MatrixXd& Hfinal) {
+    const Eigen::Index P = Hfinal.rows();
+    const Eigen::VectorXd s = scaling(Hfinal);
+    const Eigen::MatrixXd Hs = s.asDiagonal() * Hfinal * s.asDiagonal();
+    const Eigen::MatrixXd inv = s.asDiagonal() * Hs.ldlt().solve(Eigen::MatrixXd::Identity(P, P)) * s.asDiagonal();
+    out.covariance.resize(static_cast<std::size_t>(P * P));
+    for (Eigen::Index a = 0; a < P; ++a)
+      for (Eigen::Index b = 0; b < P; ++b)
+        out.covariance[static_cast<std::size_t>(a * P + b)] = out.sigma_n * out.sigma_n * inv(a, b);
+  }
+};
+
+}  // namespace
+
+ConfigResult fitCalibration(const CalibrationRecording& rec, const CalibrationParams& base,
+                            const CalibrationFitOptions& opt, CalibrationFit& out) {
+  out = CalibrationFit{};
+  const std::string F = rec.file.empty() ? std::string("<recording>") : rec.file;
+  ConfigResult r = checkCalibrationFitOptions(opt);
+  if (!r) return ConfigResult::failure(F + ": " + r.message());
+  {
+    Calibration probe;
+    if (!(r = probe.configure(base))) return ConfigResult::failure("base parameters: " + r.message());
+  }
+  if (rec.rows != base.rows || rec.cols != base.cols)
+    return ConfigResult::failure(F + ": a " + std::to_string(rec.rows) + " x " + std::to_string(rec.cols) +
+                                 " recording for a " + std::to_string(base.rows) + " x " + std::to_string(base.cols) +
+                                 " sensor (the parameter file's features.rows / cols)");
+  Fitter w(rec, base, opt, out, F);
+  const int n = w.n, d = w.d;
+  out.model = opt.model;
+  out.degree = d;
+  out.frames_total = w.N;
+  if (!(r = w.splitFrames()) || !(r = w.tareAndNoise()) || !(r = w.selectLoaded()) || !(r = w.deadTaxels()) ||
+      !(r = w.distinctLoads()))
+    return r;
+
+  CalibrationModel groupModel = CalibrationModel::Border;
+  if (!(r = w.chooseGroupModel(groupModel))) return r;
+  Eigen::MatrixXd Hg;
+  Eigen::VectorXd gg, thetaG;
+  w.normal(groupModel, Hg, gg);
+  const double condG = Fitter::designCondition(Hg);
+  if (!(condG <= opt.max_condition))
+    return ConfigResult::failure(
+        F + ": the fit is ill-conditioned (condition " + fmt("%.3g", condG) + " of the column-scaled design, limit " +
+        fmt("%.3g", opt.max_condition) + "): the loads do not tell the " + std::to_string(d) +
+        " coefficients apart" + (groupModel == CalibrationModel::Border ? " (of the interior and the border)" : "") +
+        ": record loads spread over the whole count range on both the interior and the border taxels, or lower --degree");
+  int heldG = w.solve(Hg, gg, thetaG);
+
+  Eigen::MatrixXd Hfinal;
+  Eigen::VectorXd theta;
+  const CalibrationModel fm = opt.model == CalibrationModel::PerTaxel ? CalibrationModel::PerTaxel : groupModel;
+  out.param_index.assign(static_cast<std::size_t>(n), 0);
+  for (int i = 0; i < n; ++i) out.param_index[static_cast<std::size_t>(i)] = w.groupOf(fm, i) * d;
+  double trace_eff = 0.0;
+  if (fm == CalibrationModel::PerTaxel) {
+    if (!(r = w.fitPerTaxel(groupModel, thetaG, Hfinal, theta, trace_eff))) return r;
   } else {
     Hfinal = Hg;
     theta = thetaG;
@@ -652,110 +813,14 @@ ConfigResult fitCalibration(const CalibrationRecording& rec, const CalibrationPa
   }
   out.unknowns = static_cast<int>(theta.size());
 
-  // ---- Coefficients in counts, the result's parameters ---------------------
-  auto coefficients = [&](const Eigen::VectorXd& th, int first) {
-    std::array<double, 4> c{0.0, 0.0, 0.0, 0.0};
-    for (int k = 0; k < d; ++k) c[static_cast<std::size_t>(k + 1)] = th(first + k) / std::pow(FS, k + 1);
-    return c;
-  };
-  out.params = base;
-  out.params.taxels.clear();
-  if (groupModel == CalibrationModel::Border) {
-    out.params.coeffs = coefficients(thetaG, 0);
-    out.params.border_coeffs = coefficients(thetaG, d);
-    out.params.use_border = true;
-  } else {
-    out.params.coeffs = coefficients(thetaG, 0);
-    out.params.use_border = false;
-  }
-  if (fm == CalibrationModel::PerTaxel)
-    for (int i = 0; i < n; ++i) out.params.taxels.push_back(coefficients(theta, i * d));
+  w.setCoefficients(groupModel, fm, thetaG, theta);
   {
     Calibration probe;
     if (!(r = probe.configure(out.params))) return ConfigResult::failure(F + ": the fitted calibration: " + r.message());
   }
-  // A zero slope at 0 counts (the constraint holding c1 at 0): the light loads are missing.
-  for (int i = 0; i < n; ++i) {
-    const auto& c = coeffsOf(out.params, i);
-    if (!(c[1] > 0.0)) {
-      const std::string who = fm == CalibrationModel::PerTaxel ? "taxel " + taxelName(i, cols)
-                              : (groupModel == CalibrationModel::Border && isBorder(i, rows, cols)) ? "the border polynomial"
-                                                                                                     : "the polynomial";
-      return ConfigResult::failure(
-          F + ": " + who + " fits a slope c1 = " + fmt("%g", c[1]) + " N/count at 0 counts" +
-          (opt.nonnegative ? " (held there by the c_k >= 0 constraint)" : "") +
-          ", it must be > 0: the loads do not fix the curve near 0 counts (condition " + fmt("%.3g", out.condition) +
-          "). Record loads from just above the firing threshold (~0.3 N per taxel); if each load spreads over many "
-          "taxels (a plate, a palm), the interior and the border carry it alike and trade scale: add loads on single "
-          "taxels (a probe within one taxel), or fit --model shared");
-    }
-  }
-  if (!opt.nonnegative) {
-    for (int i = 0; i < n; ++i) {
-      const auto& c = coeffsOf(out.params, i);
-      bool mono = true;
-      for (int s = 0; s <= 64 && mono; ++s) {
-        const double x = FS * s / 64.0;
-        mono = c[1] + x * (2.0 * c[2] + 3.0 * c[3] * x) > 0.0;
-      }
-      if (!mono) {
-        out.notes.push_back("taxel " + taxelName(i, cols) +
-                            " (and perhaps others): the fitted curve is not monotone over [0, full_scale]: the reader "
-                            "can use it, the simulated sensor cannot invert it");
-        break;
-      }
-    }
-  }
-
-  // ---- Residuals and report --------------------------------------------------
-  out.count_min.assign(static_cast<std::size_t>(n), 0.0);
-  out.count_max.assign(static_cast<std::size_t>(n), 0.0);
-  out.taxel_frames.assign(static_cast<std::size_t>(n), 0);
-  std::vector<double> sq(static_cast<std::size_t>(n), 0.0);
-  double rss = 0.0;
-  for (std::size_t a = 0; a < M; ++a) {
-    double pred = 0.0;
-    for (const Entry& e : rowsUsed[a]) pred += std::max(0.0, poly(coeffsOf(out.params, e.taxel), e.x));
-    const double res = pred - fref[a];
-    rss += res * res;
-    out.reference.push_back(fref[a]);
-    out.predicted.push_back(pred);
-    out.frame_line.push_back(rec.line[used[a]]);
-    if (std::fabs(res) > out.max_abs_n) {
-      out.max_abs_n = std::fabs(res);
-      out.max_abs_line = rec.line[used[a]];
-    }
-    for (const Entry& e : rowsUsed[a]) {
-      const std::size_t k = static_cast<std::size_t>(e.taxel);
-      const double share = pred > 0.0 ? std::max(0.0, poly(coeffsOf(out.params, e.taxel), e.x)) / pred : 0.0;
-      sq[k] += (share * res) * (share * res);
-      if (out.taxel_frames[k] == 0 || e.x < out.count_min[k]) out.count_min[k] = e.x;
-      out.count_max[k] = std::max(out.count_max[k], e.x);
-      ++out.taxel_frames[k];
-    }
-  }
-  out.frames_used = M;
-  out.taxel_residual.assign(static_cast<std::size_t>(n), std::numeric_limits<double>::quiet_NaN());
-  for (int i = 0; i < n; ++i) {
-    const std::size_t k = static_cast<std::size_t>(i);
-    if (out.taxel_frames[k] > 0) out.taxel_residual[k] = std::sqrt(sq[k] / out.taxel_frames[k]);
-  }
-  out.rms_n = std::sqrt(rss / static_cast<double>(M));
-  out.rms_pct = 100.0 * out.rms_n / out.load_max;
-  const double dof = static_cast<double>(M) - std::max(0.0, trace_eff - out.constrained);
-  out.sigma_n = dof >= 1.0 ? std::sqrt(rss / dof) : out.rms_n;
-
-  // Covariance sigma^2 (H + Lambda)^-1 in normalised units.
-  {
-    const Eigen::Index P = Hfinal.rows();
-    const Eigen::VectorXd s = scaling(Hfinal);
-    const Eigen::MatrixXd Hs = s.asDiagonal() * Hfinal * s.asDiagonal();
-    const Eigen::MatrixXd inv = s.asDiagonal() * Hs.ldlt().solve(Eigen::MatrixXd::Identity(P, P)) * s.asDiagonal();
-    out.covariance.resize(static_cast<std::size_t>(P * P));
-    for (Eigen::Index a = 0; a < P; ++a)
-      for (Eigen::Index b = 0; b < P; ++b)
-        out.covariance[static_cast<std::size_t>(a * P + b)] = out.sigma_n * out.sigma_n * inv(a, b);
-  }
+  if (!(r = w.checkCurves(groupModel, fm))) return r;
+  w.residuals(trace_eff);
+  w.setCovariance(Hfinal);
   return ConfigResult::success();
 }
 

@@ -93,68 +93,181 @@ int fail(const std::string& why, const std::vector<std::string>& next) {
   return 1;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+// The command line: the options, or false with the exit code (help: 0; a
+// usage error: 2, after its message).
+struct Options {
   std::string recording, params_file, out_file;
   CalibrationFitOptions opt;
   double max_rms_pct = 2.0, max_se_pct = 0.5;
+};
+
+bool parseArgs(int argc, char** argv, Options& o, int& code) {
   const config::CliArgs args("tactile_calibrate", argc, argv);
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() { return args.value(i); };
     auto number = [&](double lo, double hi) { return args.number(i, lo, hi); };
     if (a == "--recording") {
-      recording = value();
+      o.recording = value();
     } else if (a == "--params") {
-      params_file = value();
+      o.params_file = value();
     } else if (a == "--out") {
-      out_file = value();
+      o.out_file = value();
     } else if (a == "--model") {
       const std::string m = value();
-      if (!parseCalibrationModel(m, opt.model)) {
+      if (!parseCalibrationModel(m, o.opt.model)) {
         std::fprintf(stderr, "tactile_calibrate: --model '%s': must be border, per_taxel or shared\n", m.c_str());
-        return 2;
+        code = 2;
+        return false;
       }
     } else if (a == "--degree") {
       const double dg = number(1, 3);
       if (dg != std::floor(dg)) {
         std::fprintf(stderr, "tactile_calibrate: --degree must be 1, 2 or 3\n");
-        return 2;
+        code = 2;
+        return false;
       }
-      opt.degree = static_cast<int>(dg);
+      o.opt.degree = static_cast<int>(dg);
     } else if (a == "--ridge") {
-      opt.ridge = number(0, 1e6);
+      o.opt.ridge = number(0, 1e6);
     } else if (a == "--unloaded-max") {
-      opt.unloaded_max_n = number(1e-9, 1e3);
+      o.opt.unloaded_max_n = number(1e-9, 1e3);
     } else if (a == "--max-rms-pct") {
-      max_rms_pct = number(0, 100);
+      o.max_rms_pct = number(0, 100);
     } else if (a == "--max-se-pct") {
-      max_se_pct = number(0, 100);
+      o.max_se_pct = number(0, 100);
     } else if (a == "--unconstrained") {
-      opt.nonnegative = false;
+      o.opt.nonnegative = false;
     } else if (a == "-h" || a == "--help") {
       usage();
-      return 0;
+      code = 0;
+      return false;
     } else {
       std::fprintf(stderr, "tactile_calibrate: unknown argument %s\n", a.c_str());
       usage();
-      return 2;
+      code = 2;
+      return false;
     }
   }
-  if (recording.empty() || out_file.empty()) {
+  if (o.recording.empty() || o.out_file.empty()) {
     std::fprintf(stderr, "tactile_calibrate: --recording and --out are required\n");
     usage();
-    return 2;
+    code = 2;
+    return false;
   }
-  if (params_file.empty()) {
-    params_file = fileExists(TACTILE_CALIBRATE_DEFAULT_PARAMS) ? TACTILE_CALIBRATE_DEFAULT_PARAMS
+  if (o.params_file.empty()) {
+    o.params_file = fileExists(TACTILE_CALIBRATE_DEFAULT_PARAMS) ? TACTILE_CALIBRATE_DEFAULT_PARAMS
                                                                 : TACTILE_CALIBRATE_INSTALLED_PARAMS;
-    if (!fileExists(params_file)) {
+    if (!fileExists(o.params_file)) {
       std::fprintf(stderr, "tactile_calibrate: no --params given and the default wts0614.yaml is not found\n");
-      return 2;
+      code = 2;
+      return false;
     }
   }
+  return true;
+}
+
+// The fit's summary: frames, loads, model, coefficients, residual, condition,
+// notes. Returns the largest curve standard error at the largest count used.
+double printFit(const CalibrationFit& fit, const CalibrationFitOptions& opt, double fit_ms, int n) {
+  std::printf("frames: %zu in the file, %zu unloaded (tare and noise), %zu loaded: %zu used", fit.frames_total,
+              fit.frames_unloaded, fit.frames_loaded, fit.frames_used);
+  if (fit.frames_saturated) std::printf(", %zu saturated dropped", fit.frames_saturated);
+  if (fit.frames_silent) std::printf(", %zu silent dropped", fit.frames_silent);
+  std::printf("\nloads: %d distinct, up to %.4g N\n", fit.distinct_loads, fit.load_max);
+  std::printf("model: %s, degree %d, %d unknowns%s; fitted in %.1f ms\n", toString(fit.model), fit.degree,
+              fit.unknowns, opt.nonnegative ? " (c_k >= 0)" : "", fit_ms);
+  if (fit.model == CalibrationModel::PerTaxel) {
+    double lo = 1e300, hi = -1e300;
+    for (const auto& c : fit.params.taxels) {
+      lo = std::min(lo, c[1]);
+      hi = std::max(hi, c[1]);
+    }
+    std::printf("  per taxel: c1 from %.6g to %.6g N/count (ridge %g toward the prior below)\n", lo, hi, opt.ridge);
+  }
+  std::printf("  %s: f = %s\n", fit.params.use_border ? "interior" : "all taxels", poly(fit.params.coeffs, fit.degree).c_str());
+  if (fit.params.use_border) std::printf("  border:   f = %s\n", poly(fit.params.border_coeffs, fit.degree).c_str());
+  if (fit.constrained) std::printf("  %d coefficient(s) held at 0 by the c_k >= 0 constraint\n", fit.constrained);
+  std::printf("residual: RMS %.4g N = %.3g %% of the %.4g N load range, max %.4g N (line %ld), sigma %.4g N\n",
+              fit.rms_n, fit.rms_pct, fit.load_max, fit.max_abs_n, fit.max_abs_line, fit.sigma_n);
+  std::printf("condition: %.3g (column-scaled design)", fit.condition);
+  if (fit.model == CalibrationModel::PerTaxel) std::printf(", %.3g with the ridge", fit.condition_regularised);
+  std::printf("\n");
+  double se_max = 0.0;
+  for (int i = 0; i < n; ++i)
+    if (fit.taxel_frames[static_cast<std::size_t>(i)] > 0)
+      se_max = std::max(se_max, fit.curveStdError(i, fit.count_max[static_cast<std::size_t>(i)]));
+  std::printf("curve standard error at the largest count used: up to %.3g mN\n", 1000.0 * se_max);
+  for (const std::string& note : fit.notes) std::printf("note: %s\n", note.c_str());
+  return se_max;
+}
+
+// Per-taxel residual grid (mN). Returns the number of taxels marked '*'.
+int printResidualGrid(const CalibrationFit& fit, int rows, int cols) {
+  const int n = rows * cols;
+  std::vector<double> v;
+  for (int i = 0; i < n; ++i)
+    if (fit.taxel_frames[static_cast<std::size_t>(i)] > 0) v.push_back(fit.taxel_residual[static_cast<std::size_t>(i)]);
+  std::sort(v.begin(), v.end());
+  const double median = v.empty() ? 0.0 : v[v.size() / 2];
+  std::printf("per-taxel residual (mN; each frame's residual shared by the taxels' parts of the predicted force, RMS "
+              "over the frames that loaded the taxel; '-' never loaded, '*' above 3x the median %.3g mN):\n",
+              1000.0 * median);
+  std::printf("       ");
+  for (int c = 0; c < cols; ++c) std::printf("%6s ", ("c" + std::to_string(c)).c_str());
+  std::printf("\n");
+  int flagged = 0;
+  for (int rr = 0; rr < rows; ++rr) {
+    std::printf("  r%-3d ", rr);
+    for (int c = 0; c < cols; ++c) {
+      const std::size_t i = static_cast<std::size_t>(rr * cols + c);
+      if (fit.taxel_frames[i] == 0) {
+        std::printf("%6s ", "-");
+      } else {
+        const bool big = fit.taxel_residual[i] > 3.0 * median && median > 0.0;
+        flagged += big;
+        std::printf("%6.1f%c", 1000.0 * fit.taxel_residual[i], big ? '*' : ' ');
+      }
+    }
+    std::printf("\n");
+  }
+  return flagged;
+}
+
+// The written file read back through the project's loader: the same
+// calibration as the fit (`base`: the input's full scale for the probes).
+ConfigResult checkReadBack(const std::string& out_file, const CalibrationFit& fit, int rows, int cols,
+                           const CalibrationParams& base) {
+  const int n = rows * cols;
+  YAML::Node back;
+  FeatureParams fp2;
+  CalibrationParams cp2;
+  ConfigResult r = config::loadFile(out_file, back);
+  if (r) r = loadFeatureParams(back["features"], config::Where{out_file, "features"}, fp2);
+  if (r) r = loadCalibrationParams(back["calibration"], config::Where{out_file, "calibration"}, fp2.rows, fp2.cols, cp2);
+  if (r) {
+    bool same = fp2.rows == rows && fp2.cols == cols && cp2.use_border == fit.params.use_border &&
+                cp2.taxels.size() == fit.params.taxels.size();
+    CalibrationFit readBack;  // its force(): the coefficient rule of tactile::Calibration
+    readBack.params = cp2;
+    for (int i = 0; i < n && same; ++i)
+      for (double cnt : {0.25 * base.full_scale, 0.5 * base.full_scale, 1.0 * base.full_scale}) {
+        const double fb = fit.force(i, cnt);
+        same = same && std::fabs(readBack.force(i, cnt) - fb) <= 1e-7 * std::max(1.0, std::fabs(fb));
+      }
+    if (!same) r = ConfigResult::failure(out_file + ": read back, the calibration differs from the fit");
+  }
+  return r;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options cli;
+  if (int code = 0; !parseArgs(argc, argv, cli, code)) return code;
+  const std::string &recording = cli.recording, &params_file = cli.params_file, &out_file = cli.out_file;
+  const CalibrationFitOptions& opt = cli.opt;
+  const double max_rms_pct = cli.max_rms_pct, max_se_pct = cli.max_se_pct;
 
   // The sensor's parameters (size, full scale, max_tare, noise_counts).
   YAML::Node root;
@@ -187,64 +300,9 @@ int main(int argc, char** argv) {
   const double fit_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   if (!r) return fail(r.message(), {"fix the recording (docs/calibration.md: how to record) and run again"});
 
-  const int rows = fp.rows, cols = fp.cols, n = rows * cols;
-  std::printf("frames: %zu in the file, %zu unloaded (tare and noise), %zu loaded: %zu used", fit.frames_total,
-              fit.frames_unloaded, fit.frames_loaded, fit.frames_used);
-  if (fit.frames_saturated) std::printf(", %zu saturated dropped", fit.frames_saturated);
-  if (fit.frames_silent) std::printf(", %zu silent dropped", fit.frames_silent);
-  std::printf("\nloads: %d distinct, up to %.4g N\n", fit.distinct_loads, fit.load_max);
-  std::printf("model: %s, degree %d, %d unknowns%s; fitted in %.1f ms\n", toString(fit.model), fit.degree,
-              fit.unknowns, opt.nonnegative ? " (c_k >= 0)" : "", fit_ms);
-  if (fit.model == CalibrationModel::PerTaxel) {
-    double lo = 1e300, hi = -1e300;
-    for (const auto& c : fit.params.taxels) {
-      lo = std::min(lo, c[1]);
-      hi = std::max(hi, c[1]);
-    }
-    std::printf("  per taxel: c1 from %.6g to %.6g N/count (ridge %g toward the prior below)\n", lo, hi, opt.ridge);
-  }
-  std::printf("  %s: f = %s\n", fit.params.use_border ? "interior" : "all taxels", poly(fit.params.coeffs, fit.degree).c_str());
-  if (fit.params.use_border) std::printf("  border:   f = %s\n", poly(fit.params.border_coeffs, fit.degree).c_str());
-  if (fit.constrained) std::printf("  %d coefficient(s) held at 0 by the c_k >= 0 constraint\n", fit.constrained);
-  std::printf("residual: RMS %.4g N = %.3g %% of the %.4g N load range, max %.4g N (line %ld), sigma %.4g N\n",
-              fit.rms_n, fit.rms_pct, fit.load_max, fit.max_abs_n, fit.max_abs_line, fit.sigma_n);
-  std::printf("condition: %.3g (column-scaled design)", fit.condition);
-  if (fit.model == CalibrationModel::PerTaxel) std::printf(", %.3g with the ridge", fit.condition_regularised);
-  std::printf("\n");
-  double se_max = 0.0;
-  for (int i = 0; i < n; ++i)
-    if (fit.taxel_frames[static_cast<std::size_t>(i)] > 0)
-      se_max = std::max(se_max, fit.curveStdError(i, fit.count_max[static_cast<std::size_t>(i)]));
-  std::printf("curve standard error at the largest count used: up to %.3g mN\n", 1000.0 * se_max);
-  for (const std::string& note : fit.notes) std::printf("note: %s\n", note.c_str());
-
-  // Per-taxel residual grid (mN).
-  std::vector<double> v;
-  for (int i = 0; i < n; ++i)
-    if (fit.taxel_frames[static_cast<std::size_t>(i)] > 0) v.push_back(fit.taxel_residual[static_cast<std::size_t>(i)]);
-  std::sort(v.begin(), v.end());
-  const double median = v.empty() ? 0.0 : v[v.size() / 2];
-  std::printf("per-taxel residual (mN; each frame's residual shared by the taxels' parts of the predicted force, RMS "
-              "over the frames that loaded the taxel; '-' never loaded, '*' above 3x the median %.3g mN):\n",
-              1000.0 * median);
-  std::printf("       ");
-  for (int c = 0; c < cols; ++c) std::printf("%6s ", ("c" + std::to_string(c)).c_str());
-  std::printf("\n");
-  int flagged = 0;
-  for (int rr = 0; rr < rows; ++rr) {
-    std::printf("  r%-3d ", rr);
-    for (int c = 0; c < cols; ++c) {
-      const std::size_t i = static_cast<std::size_t>(rr * cols + c);
-      if (fit.taxel_frames[i] == 0) {
-        std::printf("%6s ", "-");
-      } else {
-        const bool big = fit.taxel_residual[i] > 3.0 * median && median > 0.0;
-        flagged += big;
-        std::printf("%6.1f%c", 1000.0 * fit.taxel_residual[i], big ? '*' : ' ');
-      }
-    }
-    std::printf("\n");
-  }
+  const int rows = fp.rows, cols = fp.cols;
+  const double se_max = printFit(fit, opt, fit_ms, rows * cols);
+  const int flagged = printResidualGrid(fit, rows, cols);
 
   if (!(fit.rms_pct <= max_rms_pct))
     return fail(fmt("residual RMS %.3g %% of the load range", fit.rms_pct) + fmt(" above --max-rms-pct %g %%", max_rms_pct),
@@ -278,24 +336,7 @@ int main(int argc, char** argv) {
       return fail(out_file + ": cannot write", {"check the directory and its permissions"});
   }
   // Read it back through the project's loader: the same calibration.
-  YAML::Node back;
-  FeatureParams fp2;
-  CalibrationParams cp2;
-  r = config::loadFile(out_file, back);
-  if (r) r = loadFeatureParams(back["features"], config::Where{out_file, "features"}, fp2);
-  if (r) r = loadCalibrationParams(back["calibration"], config::Where{out_file, "calibration"}, fp2.rows, fp2.cols, cp2);
-  if (r) {
-    bool same = fp2.rows == rows && fp2.cols == cols && cp2.use_border == fit.params.use_border &&
-                cp2.taxels.size() == fit.params.taxels.size();
-    CalibrationFit readBack;  // its force(): the coefficient rule of tactile::Calibration
-    readBack.params = cp2;
-    for (int i = 0; i < n && same; ++i)
-      for (double cnt : {0.25 * base.full_scale, 0.5 * base.full_scale, 1.0 * base.full_scale}) {
-        const double fb = fit.force(i, cnt);
-        same = same && std::fabs(readBack.force(i, cnt) - fb) <= 1e-7 * std::max(1.0, std::fabs(fb));
-      }
-    if (!same) r = ConfigResult::failure(out_file + ": read back, the calibration differs from the fit");
-  }
+  r = checkReadBack(out_file, fit, rows, cols, base);
   if (!r) return fail(r.message(), {"a bug in the writer: keep the recording and report it"});
 
   std::printf("PASS: wrote %s (the parameter file with its calibration: section replaced%s)\n", out_file.c_str(),

@@ -349,34 +349,21 @@ Item cycleItem(const CycleFacts& f, const MonitorOptions& mo) {
   return it;
 }
 
-int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams& up) {
-  FriBridge bridge;
-  if (ConfigResult r = bridge.configure(bp); !r) {
-    std::fprintf(stderr, "fri_check: %s\n", r.message().c_str());
-    return 1;
-  }
-  bridge.setDryRun(true);  // CMD: hold the pose where CMD was entered, whatever the desired pose
-  UdpSocket sock;
-  if (ConfigResult r = sock.open(up); !r) {
-    std::fprintf(stderr, "fri_check: %s\n", r.message().c_str());
-    return 1;
-  }
-  const std::string yaml = mo.params_file.empty() ? std::string("the defaults") : mo.params_file;
-  std::printf("fri_check: listening on %s:%u, monitor mode: never commands motion (MON: the measured pose echoed, "
-              "CMD: the pose where CMD was entered held)\n",
-              up.bind_address.c_str(), unsigned(sock.localPort()));
-  std::printf("fri_check: expected from %s: cycle_time_s %g, krc_port %d%s, control Cartesian impedance; observing "
-              "%g s%s\n",
-              yaml.c_str(), bp.cycle_time_s, bp.krc_port, bp.krc_port == 0 ? " (any)" : "", mo.seconds,
-              mo.cycles > 0 ? fmt(" or %ld packets", mo.cycles).c_str() : "");
-  std::fflush(stdout);
+/// One --monitor run: the bridge in dry run on the socket, what it saw
+/// (observe), the items judged from it (judge) and the report (report).
+struct Monitor {
+  Monitor(const MonitorOptions& mo_, const BridgeParams& bp_, const UdpParams& up_)
+      : mo(mo_), bp(bp_), up(up_), yaml(mo_.params_file.empty() ? std::string("the defaults") : mo_.params_file) {}
 
-  static uint8_t buf[2048];
-  static uint8_t tx[kCmdPacketSize];
+  const MonitorOptions& mo;
+  const BridgeParams& bp;
+  const UdpParams& up;
+  const std::string yaml;  // the parameter file, as the messages name it
+  FriBridge bridge;
+  UdpSocket sock;
   BridgeOutput out;
   PoseCommand desired;  // never set: status NotConfigured (a second guard: nothing to follow)
   std::vector<double> arrivals;
-  arrivals.reserve(static_cast<std::size_t>(std::min(2e6, 2.0 * mo.seconds / bp.cycle_time_s + 1000.0)));
   uint64_t state_count[3] = {0, 0, 0}, quality_count[4] = {0, 0, 0, 0}, power_off = 0;
   uint64_t status_count[32] = {};
   uint64_t strategy_count[5] = {};  // 0..3, 4 = unknown value
@@ -384,88 +371,131 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
   double msr_min = 1e9, msr_max = -1e9, cmd_min = 1e9, cmd_max = -1e9;
   std::vector<std::pair<std::string, uint16_t>> peers;  // distinct sender address:port
   bool have_first = false, silent_end = false;
-  double t_first = 0.0, t_last_rx = now();
-  const double t_start = t_last_rx;
+  double t_first = 0.0, t_last_rx = 0.0, t_start = 0.0;
   uint16_t first_seq = 0;
   bool reached_ok = false, dropped_below_ok = false, started_below_ok = false;
   bool reached_perfect = false, have_miss0 = false;
   uint64_t after_perfect = 0, perfect_after = 0;
   uint32_t miss0 = 0;
   std::vector<std::pair<double, double>> answers;  // (packet index on the KRC's grid, reply sent - its arrival)
-  answers.reserve(arrivals.capacity());
   Quality worst_after_ok = Quality::Perfect;
   std::vector<std::string> timeline;
   MsrPacket last{};
-  std::unique_ptr<FILE, int (*)(FILE*)> rec(nullptr, &std::fclose);
+  std::unique_ptr<FILE, int (*)(FILE*)> rec{nullptr, &std::fclose};
   uint64_t recorded = 0;
-  if (!mo.record_file.empty()) {
-    rec.reset(std::fopen(mo.record_file.c_str(), "w"));
-    if (!rec) {
-      std::fprintf(stderr, "fri_check: cannot write %s\n", mo.record_file.c_str());
+  // judge(): the inter-arrival times (sorted) and the items
+  double span = 0.0, p50 = 0.0, p99 = 0.0, pmax = 0.0, krc_cycle = 0.0;
+  std::vector<double> ia;
+  std::vector<Item> items;
+
+  /// The bridge and the socket; the record file. -1, or the exit code.
+  int open() {
+    if (ConfigResult r = bridge.configure(bp); !r) {
+      std::fprintf(stderr, "fri_check: %s\n", r.message().c_str());
       return 1;
     }
-    writeRecordingHeader(rec.get());
+    bridge.setDryRun(true);  // CMD: hold the pose where CMD was entered, whatever the desired pose
+    if (ConfigResult r = sock.open(up); !r) {
+      std::fprintf(stderr, "fri_check: %s\n", r.message().c_str());
+      return 1;
+    }
+    std::printf("fri_check: listening on %s:%u, monitor mode: never commands motion (MON: the measured pose echoed, "
+                "CMD: the pose where CMD was entered held)\n",
+                up.bind_address.c_str(), unsigned(sock.localPort()));
+    std::printf("fri_check: expected from %s: cycle_time_s %g, krc_port %d%s, control Cartesian impedance; observing "
+                "%g s%s\n",
+                yaml.c_str(), bp.cycle_time_s, bp.krc_port, bp.krc_port == 0 ? " (any)" : "", mo.seconds,
+                mo.cycles > 0 ? fmt(" or %ld packets", mo.cycles).c_str() : "");
+    std::fflush(stdout);
+    arrivals.reserve(static_cast<std::size_t>(std::min(2e6, 2.0 * mo.seconds / bp.cycle_time_s + 1000.0)));
+    t_last_rx = now();
+    t_start = t_last_rx;
+    answers.reserve(arrivals.capacity());
+    if (!mo.record_file.empty()) {
+      rec.reset(std::fopen(mo.record_file.c_str(), "w"));
+      if (!rec) {
+        std::fprintf(stderr, "fri_check: cannot write %s\n", mo.record_file.c_str());
+        return 1;
+      }
+      writeRecordingHeader(rec.get());
+    }
+    return -1;
   }
 
-  for (;;) {
-    const double t = now();
-    if (have_first && t - t_first >= mo.seconds) break;
-    if (have_first && mo.cycles > 0 && bridge.stats().accepted > 0 &&
-        seqDelta(first_seq, bridge.lastMeasurement().head.send_seq) + 1 >= mo.cycles)
-      break;
-    std::size_t n = 0;
-    const UdpStatus us = sock.receive(buf, sizeof buf, n, 100000);
-    const double t_rx = now();
-    if (us == UdpStatus::Timeout) {
-      if (!have_first && t_rx - t_start > mo.idle_timeout) {
-        std::printf("%-13s FAIL  no packet from the KRC within %.1f s on %s:%u\n", "[packets]", mo.idle_timeout,
-                    up.bind_address.c_str(), unsigned(sock.localPort()));
-        std::printf("      next: in the KRC's C:\\KRC\\Roboter\\INIT\\dlrrc.ini, FRIHOST = this host's address on the "
-                    "cable to the KRC and FRISOCK = %u,0 (krc/dlrrc.ini; reboot the KRC after a change); the KRL "
-                    "program (krc/TactileServo.src) must have called friOpen; ping both ways; no firewall on UDP "
-                    "%u\n",
-                    unsigned(sock.localPort()), unsigned(sock.localPort()));
-        std::printf("fri_check: no KRC (exit 2)\n");
-        if (!mo.json_file.empty()) {
-          if (FILE* f = std::fopen(mo.json_file.c_str(), "w")) {
-            std::fprintf(f, "{\n  \"tool\": \"fri_check --monitor\",\n  \"exit_code\": 2,\n  \"result\": \"no_krc\"\n}\n");
-            std::fclose(f);
-          }
-        }
-        return 2;
+  /// No packet within the idle timeout: the report and exit code 2.
+  int noKrc() const {
+    std::printf("%-13s FAIL  no packet from the KRC within %.1f s on %s:%u\n", "[packets]", mo.idle_timeout,
+                up.bind_address.c_str(), unsigned(sock.localPort()));
+    std::printf("      next: in the KRC's C:\\KRC\\Roboter\\INIT\\dlrrc.ini, FRIHOST = this host's address on the "
+                "cable to the KRC and FRISOCK = %u,0 (krc/dlrrc.ini; reboot the KRC after a change); the KRL "
+                "program (krc/TactileServo.src) must have called friOpen; ping both ways; no firewall on UDP "
+                "%u\n",
+                unsigned(sock.localPort()), unsigned(sock.localPort()));
+    std::printf("fri_check: no KRC (exit 2)\n");
+    if (!mo.json_file.empty()) {
+      if (FILE* f = std::fopen(mo.json_file.c_str(), "w")) {
+        std::fprintf(f, "{\n  \"tool\": \"fri_check --monitor\",\n  \"exit_code\": 2,\n  \"result\": \"no_krc\"\n}\n");
+        std::fclose(f);
       }
-      if (have_first && t_rx - t_last_rx > mo.idle_timeout) {
-        silent_end = true;
+    }
+    return 2;
+  }
+
+  /// Packets until the time or packet budget, or the KRC falls silent. -1,
+  /// or the exit code.
+  int observe() {
+    static uint8_t buf[2048];
+    static uint8_t tx[kCmdPacketSize];
+    for (;;) {
+      const double t = now();
+      if (have_first && t - t_first >= mo.seconds) break;
+      if (have_first && mo.cycles > 0 && bridge.stats().accepted > 0 &&
+          seqDelta(first_seq, bridge.lastMeasurement().head.send_seq) + 1 >= mo.cycles)
         break;
+      std::size_t n = 0;
+      const UdpStatus us = sock.receive(buf, sizeof buf, n, 100000);
+      const double t_rx = now();
+      if (us == UdpStatus::Timeout) {
+        if (!have_first && t_rx - t_start > mo.idle_timeout) return noKrc();
+        if (have_first && t_rx - t_last_rx > mo.idle_timeout) {
+          silent_end = true;
+          break;
+        }
+        continue;
       }
-      continue;
+      if (us != UdpStatus::Ok && us != UdpStatus::Truncated) {
+        std::fprintf(stderr, "fri_check: receive: %s (errno %d)\n", toString(us), sock.lastErrno());
+        return 1;
+      }
+      t_last_rx = t_rx;
+      if (us == UdpStatus::Truncated) ++truncated;
+      const sockaddr_in& peer = sock.lastPeer();
+      char addr[INET_ADDRSTRLEN] = "?";
+      inet_ntop(AF_INET, &peer.sin_addr, addr, sizeof addr);
+      const uint16_t peer_port = ntohs(peer.sin_port);
+      bool known = false;
+      for (const auto& pp : peers) known = known || (pp.first == addr && pp.second == peer_port);
+      if (!known) peers.emplace_back(addr, peer_port);
+      bridge.notePeerPort(peer_port);
+      bridge.stepDatagram(buf, us == UdpStatus::Truncated ? sizeof buf + 1 : n, desired, t_rx, out);
+      double t_reply = 0.0;
+      if (out.reply) {
+        std::size_t w = 0;
+        encodeCommand(out.cmd, tx, sizeof tx, w);
+        if (sock.reply(tx, w) != UdpStatus::Ok) ++send_errors;
+        t_reply = now();
+      }
+      ++status_count[static_cast<std::size_t>(out.status) & 31u];
+      if (out.status == BridgeStatus::Malformed || out.status == BridgeStatus::DroppedDuplicate ||
+          out.status == BridgeStatus::DroppedOutOfOrder || out.status == BridgeStatus::NotConfigured)
+        continue;
+      notePacket(t_rx, t_reply, addr, peer_port);
     }
-    if (us != UdpStatus::Ok && us != UdpStatus::Truncated) {
-      std::fprintf(stderr, "fri_check: receive: %s (errno %d)\n", toString(us), sock.lastErrno());
-      return 1;
-    }
-    t_last_rx = t_rx;
-    if (us == UdpStatus::Truncated) ++truncated;
-    const sockaddr_in& peer = sock.lastPeer();
-    char addr[INET_ADDRSTRLEN] = "?";
-    inet_ntop(AF_INET, &peer.sin_addr, addr, sizeof addr);
-    const uint16_t peer_port = ntohs(peer.sin_port);
-    bool known = false;
-    for (const auto& pp : peers) known = known || (pp.first == addr && pp.second == peer_port);
-    if (!known) peers.emplace_back(addr, peer_port);
-    bridge.notePeerPort(peer_port);
-    bridge.stepDatagram(buf, us == UdpStatus::Truncated ? sizeof buf + 1 : n, desired, t_rx, out);
-    double t_reply = 0.0;
-    if (out.reply) {
-      std::size_t w = 0;
-      encodeCommand(out.cmd, tx, sizeof tx, w);
-      if (sock.reply(tx, w) != UdpStatus::Ok) ++send_errors;
-      t_reply = now();
-    }
-    ++status_count[static_cast<std::size_t>(out.status) & 31u];
-    if (out.status == BridgeStatus::Malformed || out.status == BridgeStatus::DroppedDuplicate ||
-        out.status == BridgeStatus::DroppedOutOfOrder || out.status == BridgeStatus::NotConfigured)
-      continue;
+    return -1;
+  }
+
+  /// One accepted measurement (received at t_rx, answered at t_reply) into the counts.
+  void notePacket(double t_rx, double t_reply, const char* addr, uint16_t peer_port) {
     const MsrPacket& msr = bridge.lastMeasurement();
     if (!have_miss0) miss0 = msr.intf.stat.miss_counter, have_miss0 = true;
     if (qualityOf(msr) == Quality::Perfect) reached_perfect = true;
@@ -512,24 +542,40 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
     }
   }
 
-  // ---- the items
-  const BridgeStats& bs = bridge.stats();
-  const double span = arrivals.size() > 1 ? arrivals.back() - arrivals.front() : 0.0;
-  std::vector<double> ia;
-  for (std::size_t i = 1; i < arrivals.size(); ++i) ia.push_back(arrivals[i] - arrivals[i - 1]);
-  std::sort(ia.begin(), ia.end());
-  const double p50 = percentile(ia, 0.5), p99 = percentile(ia, 0.99), pmax = ia.empty() ? 0.0 : ia.back();
-  const double krc_cycle = double(last.intf.desired_msr_sample_time);
-  std::vector<Item> items;
-  auto item = [&](const char* key, const char* label) -> Item& {
+  Item& item(const char* key, const char* label) {
     items.push_back(Item{key, label, Verdict::Pass, "", {}, {}});
     return items.back();
-  };
-  auto worsen = [](Item& it, Verdict v) {
+  }
+  static void worsen(Item& it, Verdict v) {
     if (static_cast<int>(v) > static_cast<int>(it.verdict)) it.verdict = v;
-  };
+  }
 
-  {
+  /// The items, from the counts.
+  void judge() {
+    // ---- the items
+    span = arrivals.size() > 1 ? arrivals.back() - arrivals.front() : 0.0;
+    for (std::size_t i = 1; i < arrivals.size(); ++i) ia.push_back(arrivals[i] - arrivals[i - 1]);
+    std::sort(ia.begin(), ia.end());
+    p50 = percentile(ia, 0.5);
+    p99 = percentile(ia, 0.99);
+    pmax = ia.empty() ? 0.0 : ia.back();
+    krc_cycle = double(last.intf.desired_msr_sample_time);
+    packetsItem();
+    cycleTimeItem();
+    krcPortItem();
+    controlItem();
+    periodItem();
+    jitterItem();
+    lossItem();
+    orderItem();
+    stateItem();
+    qualityItem();
+    cycleFactsItem();
+  }
+
+  /// [packets]: the datagrams, their senders, the end of the stream.
+  void packetsItem() {
+    const BridgeStats& bs = bridge.stats();
     Item& it = item("packets", "[packets]");
     std::string from;
     for (const auto& pp : peers) from += fmt("%s%s:%u", from.empty() ? "" : ", ", pp.first.c_str(), unsigned(pp.second));
@@ -558,7 +604,9 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
                {"malformed", std::to_string(bs.malformed)}, {"seconds", fmt("%.4f", span)},
                {"silent_end", silent_end ? "true" : "false"}};
   }
-  {
+
+  /// [cycle time]: the KRC's sample times against fri.cycle_time_s.
+  void cycleTimeItem() {
     Item& it = item("cycle_time", "[cycle time]");
     constexpr double kTol = 1e-5;  // s: the bridge's tolerance (whole ms as float seconds)
     const bool msr_ok = std::fabs(msr_min - bp.cycle_time_s) <= kTol && std::fabs(msr_max - bp.cycle_time_s) <= kTol;
@@ -583,7 +631,9 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
                {"krc_cmd_sample_time_s", fmt("%.6g", cmd_max)},
                {"configured_s", fmt("%.6g", bp.cycle_time_s)}};
   }
-  {
+
+  /// [krc port]: the sender's UDP port against fri.udp.krc_port.
+  void krcPortItem() {
     Item& it = item("krc_port", "[krc port]");
     const uint16_t port = peers.empty() ? 0 : peers.front().second;
     it.message = fmt("the KRC sends from UDP port %u; fri.udp.krc_port = %d%s", unsigned(port), bp.krc_port,
@@ -606,7 +656,10 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
     it.json = {{"krc_port", std::to_string(port)}, {"configured", std::to_string(bp.krc_port)},
                {"senders", std::to_string(peers.size())}};
   }
-  {
+
+  /// [control]: the KRC's control strategy (the bridge needs Cartesian impedance).
+  void controlItem() {
+    const BridgeStats& bs = bridge.stats();
     Item& it = item("control", "[control]");
     const uint16_t c = last.robot.control;
     uint64_t other = 0;
@@ -625,7 +678,9 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
     }
     it.json = {{"control", std::to_string(c)}, {"name", jsonString(strategyName(c))}};
   }
-  {
+
+  /// [period]: the inter-arrival p50 against the KRC's cycle.
+  void periodItem() {
     Item& it = item("period", "[period]");
     it.message = fmt("packets every %.3f ms (p50 of %zu inter-arrival times, this host's clock); the KRC's cycle "
                      "%.3f ms, band +-%.0f %%",
@@ -646,7 +701,9 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
     it.json = {{"p50_s", fmt("%.6g", p50)}, {"krc_cycle_s", fmt("%.6g", krc_cycle)},
                {"tolerance", fmt("%g", mo.period_tolerance)}};
   }
-  {
+
+  /// [jitter]: the inter-arrival p99 - p50.
+  void jitterItem() {
     const double max_jitter_ms = mo.max_jitter_ms >= 0.0 ? mo.max_jitter_ms : 0.5e3 * krc_cycle;
     Item& it = item("jitter", "[jitter]");
     it.message = fmt("inter-arrival p50 %.3f ms, p99 %.3f ms, max %.3f ms; p99 - p50 = %.3f ms (limit %.3f ms)",
@@ -662,7 +719,10 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
     it.json = {{"p50_s", fmt("%.6g", p50)}, {"p99_s", fmt("%.6g", p99)}, {"max_s", fmt("%.6g", pmax)},
                {"limit_ms", fmt("%g", max_jitter_ms)}};
   }
-  {
+
+  /// [loss]: sequence gaps.
+  void lossItem() {
+    const BridgeStats& bs = bridge.stats();
     Item& it = item("loss", "[loss]");
     const uint64_t sent = bs.accepted + bs.lost;
     const double rate = sent ? double(bs.lost) / double(sent) : 0.0;
@@ -679,7 +739,10 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
     it.json = {{"lost", std::to_string(bs.lost)}, {"sent", std::to_string(sent)}, {"rate", fmt("%.6g", rate)},
                {"limit", fmt("%g", mo.max_loss_rate)}};
   }
-  {
+
+  /// [order]: duplicates, reordering, restarts.
+  void orderItem() {
+    const BridgeStats& bs = bridge.stats();
     Item& it = item("order", "[order]");
     it.message = fmt("%llu duplicates, %llu out of order, %llu sequence restarts",
                      static_cast<unsigned long long>(bs.duplicates), static_cast<unsigned long long>(bs.out_of_order),
@@ -693,7 +756,10 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
     }
     it.json = {{"duplicates", std::to_string(bs.duplicates)}, {"out_of_order", std::to_string(bs.out_of_order)}};
   }
-  {
+
+  /// [state]: MON / CMD / OFF and the drives.
+  void stateItem() {
+    const BridgeStats& bs = bridge.stats();
     Item& it = item("state", "[state]");
     const double tot = std::max<double>(1.0, double(bs.accepted));
     it.message = fmt("MON %.1f %%, CMD %.1f %%, OFF %.1f %% of the packets; drives off in %.1f %%; last %s",
@@ -713,7 +779,10 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
     it.json = {{"mon", std::to_string(state_count[1])}, {"cmd", std::to_string(state_count[2])},
                {"off", std::to_string(state_count[0])}, {"power_off", std::to_string(power_off)}};
   }
-  {
+
+  /// [quality]: the KRC's rating of the link.
+  void qualityItem() {
+    const BridgeStats& bs = bridge.stats();
     Item& it = item("quality", "[quality]");
     const double tot = std::max<double>(1.0, double(bs.accepted));
     it.message = fmt("PERFECT %.1f %%, OK %.1f %%, BAD %.1f %%, UNACCEPTABLE %.1f %% of the packets; last %s; the "
@@ -739,7 +808,10 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
                {"bad", std::to_string(quality_count[1])}, {"unacceptable", std::to_string(quality_count[0])},
                {"last", jsonString(toString(qualityOf(last)))}};
   }
-  {
+
+  /// [cycle]: cycleItem() on this run's counts.
+  void cycleFactsItem() {
+    const BridgeStats& bs = bridge.stats();
     CycleFacts cf;
     cf.krc_cycle = krc_cycle;
     cf.sent = bs.accepted + bs.lost;
@@ -750,48 +822,54 @@ int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams
     items.push_back(cycleItem(cf, mo));
   }
 
-  int code = 0;
-  for (const Item& it : items) {
-    std::printf("%-13s %s  %s\n", it.label.c_str(), toString(it.verdict), it.message.c_str());
-    for (const std::string& nx : it.next) std::printf("      next: %s\n", nx.c_str());
-    if (it.verdict == Verdict::Fail) code = 3;
-  }
-  if (rec)
-    std::printf("fri_check: %llu measurements recorded in %s (for fri_check --wrench-check / --load-data; the timing "
-                "items do not matter there)\n",
-                static_cast<unsigned long long>(recorded), mo.record_file.c_str());
-  std::printf("fri_check: %s (exit %d)\n", code == 0 ? "every item passed" : "an item failed", code);
-  if (!mo.json_file.empty()) {
-    FILE* f = std::fopen(mo.json_file.c_str(), "w");
-    if (f == nullptr) {
-      std::fprintf(stderr, "fri_check: cannot write %s\n", mo.json_file.c_str());
-      return code == 0 ? 1 : code;
-    }
-    std::fprintf(f, "{\n  \"tool\": \"fri_check --monitor\",\n  \"exit_code\": %d,\n  \"result\": %s", code,
-                 code == 0 ? "\"pass\"" : "\"fail\"");
+  /// The items on stdout (and --json); the exit code: 3 when an item failed.
+  int report() const {
+    int code = 0;
     for (const Item& it : items) {
-      std::string next = "[";
-      for (std::size_t i = 0; i < it.next.size(); ++i) next += (i ? ", " : "") + jsonString(it.next[i]);
-      std::fprintf(f, ",\n  %s: {\"verdict\": %s, \"message\": %s, \"next\": %s]", jsonString(it.key).c_str(),
-                   jsonString(toString(it.verdict)).c_str(), jsonString(it.message).c_str(), next.c_str());
-      for (const auto& kv : it.json) std::fprintf(f, ", %s: %s", jsonString(kv.first).c_str(), kv.second.c_str());
-      std::fprintf(f, "}");
+      std::printf("%-13s %s  %s\n", it.label.c_str(), toString(it.verdict), it.message.c_str());
+      for (const std::string& nx : it.next) std::printf("      next: %s\n", nx.c_str());
+      if (it.verdict == Verdict::Fail) code = 3;
     }
-    std::string tl = "[";
-    for (std::size_t i = 0; i < timeline.size(); ++i) tl += (i ? ", " : "") + jsonString(timeline[i]);
-    std::fprintf(f, ",\n  \"timeline\": %s]\n}\n", tl.c_str());
-    std::fclose(f);
+    if (rec)
+      std::printf("fri_check: %llu measurements recorded in %s (for fri_check --wrench-check / --load-data; the timing "
+                  "items do not matter there)\n",
+                  static_cast<unsigned long long>(recorded), mo.record_file.c_str());
+    std::printf("fri_check: %s (exit %d)\n", code == 0 ? "every item passed" : "an item failed", code);
+    if (!mo.json_file.empty()) {
+      FILE* f = std::fopen(mo.json_file.c_str(), "w");
+      if (f == nullptr) {
+        std::fprintf(stderr, "fri_check: cannot write %s\n", mo.json_file.c_str());
+        return code == 0 ? 1 : code;
+      }
+      std::fprintf(f, "{\n  \"tool\": \"fri_check --monitor\",\n  \"exit_code\": %d,\n  \"result\": %s", code,
+                   code == 0 ? "\"pass\"" : "\"fail\"");
+      for (const Item& it : items) {
+        std::string next = "[";
+        for (std::size_t i = 0; i < it.next.size(); ++i) next += (i ? ", " : "") + jsonString(it.next[i]);
+        std::fprintf(f, ",\n  %s: {\"verdict\": %s, \"message\": %s, \"next\": %s]", jsonString(it.key).c_str(),
+                     jsonString(toString(it.verdict)).c_str(), jsonString(it.message).c_str(), next.c_str());
+        for (const auto& kv : it.json) std::fprintf(f, ", %s: %s", jsonString(kv.first).c_str(), kv.second.c_str());
+        std::fprintf(f, "}");
+      }
+      std::string tl = "[";
+      for (std::size_t i = 0; i < timeline.size(); ++i) tl += (i ? ", " : "") + jsonString(timeline[i]);
+      std::fprintf(f, ",\n  \"timeline\": %s]\n}\n", tl.c_str());
+      std::fclose(f);
+    }
+    return code;
   }
-  return code;
+};
+
+int runMonitor(const MonitorOptions& mo, const BridgeParams& bp, const UdpParams& up) {
+  Monitor m(mo, bp, up);
+  if (int code = m.open(); code >= 0) return code;
+  if (int code = m.observe(); code >= 0) return code;
+  m.judge();
+  return m.report();
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  for (int i = 1; i < argc; ++i) {  // the offline wrench checks
-    if (std::string(argv[i]) == "--wrench-check") return runWrenchCheck(argc, argv);
-    if (std::string(argv[i]) == "--load-data") return runLoadData(argc, argv);
-  }
+/// fri_check's command line (parseArgs).
+struct CheckArgs {
   long port = -1;
   long cycles = 1000;
   std::string motion = "hold";
@@ -801,6 +879,21 @@ int main(int argc, char** argv) {
   bool monitor = false, motion_given = false, cycles_given = false, offset_given = false;
   CartOffset check_offset = CartOffset::None;
   MonitorOptions mo;
+};
+
+/// The parameter file (--params), then the options over it, into `args`.
+/// -1, or the exit code (a bad option: usage()'s).
+int parseArgs(int argc, char** argv, CheckArgs& args) {
+  long& port = args.port;
+  long& cycles = args.cycles;
+  std::string& motion = args.motion;
+  UdpParams& up = args.up;
+  BridgeParams& bp = args.bp;
+  double &radius = args.radius, &circle_period = args.circle_period, &idle_timeout = args.idle_timeout;
+  bool &monitor = args.monitor, &motion_given = args.motion_given, &cycles_given = args.cycles_given,
+       &offset_given = args.offset_given;
+  CartOffset& check_offset = args.check_offset;
+  MonitorOptions& mo = args.mo;
   for (int i = 1; i + 1 < argc; ++i) {  // the parameter file first, so that options override it
     if (std::string(argv[i]) == "--params") {
       if (ConfigResult r = loadBridgeParamsFile(argv[i + 1], bp, up); !r) {
@@ -872,39 +965,25 @@ int main(int argc, char** argv) {
       return usage(("unknown or incomplete argument '" + a + "'").c_str());
     }
   }
-  bool have_params = false;
-  for (int i = 1; i < argc; ++i) have_params = have_params || std::string(argv[i]) == "--params";
-  if (port < 0 && !have_params) return usage("--port (or --params FILE with fri.udp.port) is required");
-  if (port >= 0) up.port = static_cast<uint16_t>(port);
-  if (offset_given && monitor) return usage("--cart-offset is for the motion check (monitor mode reads fri.yaml's)");
-  if (!mo.record_file.empty() && !monitor) return usage("--record is for --monitor (the arm held, never commanded)");
-  if (monitor) {
-    if (motion_given) return usage("--monitor never commands motion: no --motion");
-    mo.cycles = cycles_given ? cycles : 0;
-    mo.idle_timeout = idle_timeout;
-    return runMonitor(mo, bp, up);
-  }
+  return -1;
+}
 
-  bp.cart_offset = check_offset;
+/// The motion check: the bridge on the socket following a held or circling
+/// pose (open, run), then its statistics (summary).
+struct MotionCheck {
+  explicit MotionCheck(const CheckArgs& a)
+      : motion(a.motion), cycles(a.cycles), radius(a.radius), circle_period(a.circle_period),
+        idle_timeout(a.idle_timeout), bp(a.bp), up(a.up) {}
+
+  const std::string& motion;
+  const long cycles;
+  const double radius, circle_period, idle_timeout;
+  const BridgeParams& bp;
+  const UdpParams& up;
   FriBridge bridge;
-  if (ConfigResult r = bridge.configure(bp); !r) {
-    std::fprintf(stderr, "fri_check: %s\n", r.message().c_str());
-    return 1;
-  }
   UdpSocket sock;
-  if (ConfigResult r = sock.open(up); !r) {
-    std::fprintf(stderr, "fri_check: %s\n", r.message().c_str());
-    return 1;
-  }
-  std::printf("fri_check: listening on %s:%u, motion %s, %ld cycles, cart_offset %s\n", up.bind_address.c_str(),
-              unsigned(sock.localPort()), motion.c_str(), cycles, toString(bp.cart_offset));
-  std::fflush(stdout);
-
-  static uint8_t buf[2048];
-  static uint8_t tx[kCmdPacketSize];
   BridgeOutput out;
   PoseCommand desired;
-  desired.status = ServoStatus::Ok;
   KDL::Frame anchor = KDL::Frame::Identity();
   bool have_anchor = false;
   OffsetProbe probe;
@@ -915,37 +994,34 @@ int main(int argc, char** argv) {
   bool in_cmd = false;
   uint64_t cmd_cycles = 0;
   RunningStat processing_us, period_ms;
-  double last_arrival = 0.0, last_packet_time = now();
+  double last_arrival = 0.0, last_packet_time = 0.0;
   uint64_t timeouts = 0, send_errors = 0, truncated = 0, status_changes = 0;
   BridgeStatus last_status = BridgeStatus::NotConfigured;
   float krc_latency = 0.0f, krc_answer_rate = 0.0f;
   uint32_t krc_miss = 0;
-  int exit_code = 0;
 
-  while (bridge.stats().accepted < static_cast<uint64_t>(cycles)) {
-    std::size_t n = 0;
-    const UdpStatus us = sock.receive(buf, sizeof buf, n, 100000);
-    const double t_rx = now();
-    if (us == UdpStatus::Timeout) {
-      ++timeouts;
-      if (t_rx - last_packet_time > idle_timeout) {
-        std::fprintf(stderr, "fri_check: no packet for %.1f s, giving up\n", idle_timeout);
-        exit_code = 2;
-        break;
-      }
-      continue;
+  /// The bridge and the socket. -1, or the exit code.
+  int open() {
+    if (ConfigResult r = bridge.configure(bp); !r) {
+      std::fprintf(stderr, "fri_check: %s\n", r.message().c_str());
+      return 1;
     }
-    if (us != UdpStatus::Ok && us != UdpStatus::Truncated) {
-      std::fprintf(stderr, "fri_check: receive: %s (errno %d)\n", toString(us), sock.lastErrno());
-      exit_code = 1;
-      break;
+    if (ConfigResult r = sock.open(up); !r) {
+      std::fprintf(stderr, "fri_check: %s\n", r.message().c_str());
+      return 1;
     }
-    last_packet_time = t_rx;
-    if (us == UdpStatus::Truncated) ++truncated;
+    std::printf("fri_check: listening on %s:%u, motion %s, %ld cycles, cart_offset %s\n", up.bind_address.c_str(),
+                unsigned(sock.localPort()), motion.c_str(), cycles, toString(bp.cart_offset));
+    std::fflush(stdout);
+    desired.status = ServoStatus::Ok;
+    last_packet_time = now();
+    return -1;
+  }
 
-    // The desired pose: hold the CMD entry pose, or a circle around it.
-    // Motion time base: CMD cycles times the KRC's command period (from the
-    // previous packet), so the motion is smooth whatever the host's timing.
+  // The desired pose: hold the CMD entry pose, or a circle around it.
+  // Motion time base: CMD cycles times the KRC's command period (from the
+  // previous packet), so the motion is smooth whatever the host's timing.
+  void setDesired(double t_rx) {
     const double krc_T = double(bridge.lastMeasurement().intf.desired_cmd_sample_time);
     const double T = (krc_T > 0.0 && krc_T <= 0.1) ? krc_T : bp.cycle_time_s;
     const double tc = static_cast<double>(cmd_cycles) * T;
@@ -957,22 +1033,11 @@ int main(int argc, char** argv) {
     }
     toPose(target, desired.pose);
     desired.time_s = t_rx;
+  }
 
-    bridge.stepDatagram(buf, us == UdpStatus::Truncated ? sizeof buf + 1 : n, desired, t_rx, out);
-    if (out.reply) {
-      std::size_t w = 0;
-      encodeCommand(out.cmd, tx, sizeof tx, w);
-      if (sock.reply(tx, w) != UdpStatus::Ok) ++send_errors;
-    }
-    const double t_tx = now();
-
-    if (out.status == BridgeStatus::Malformed) {
-      std::printf("cycle %llu: malformed datagram (%zu bytes): %s\n",
-                  static_cast<unsigned long long>(bridge.stats().accepted), n, toString(out.packet_status));
-      continue;
-    }
-    if (out.status == BridgeStatus::DroppedDuplicate || out.status == BridgeStatus::DroppedOutOfOrder) continue;
-
+  /// One accepted measurement (received at t_rx, answered at t_tx): timing,
+  /// the offset probe, the CMD anchor, and the state changes on stdout.
+  void notePacket(double t_rx, double t_tx) {
     processing_us.add((t_tx - t_rx) * 1e6);
     if (last_arrival > 0.0) period_ms.add((t_rx - last_arrival) * 1e3);
     last_arrival = t_rx;
@@ -1017,22 +1082,109 @@ int main(int argc, char** argv) {
     }
   }
 
-  const BridgeStats& s = bridge.stats();
-  char peer[INET_ADDRSTRLEN] = "-";
-  if (sock.hasPeer()) inet_ntop(AF_INET, &sock.lastPeer().sin_addr, peer, sizeof peer);
-  std::printf("summary: cycles %llu received %llu replies %llu lost %llu duplicates %llu out_of_order %llu "
-              "malformed %llu truncated %llu resyncs %llu limited %llu holds %llu send_errors %llu timeouts %llu peer %s\n",
-              static_cast<unsigned long long>(s.accepted), static_cast<unsigned long long>(s.received),
-              static_cast<unsigned long long>(s.replies), static_cast<unsigned long long>(s.lost),
-              static_cast<unsigned long long>(s.duplicates), static_cast<unsigned long long>(s.out_of_order),
-              static_cast<unsigned long long>(s.malformed), static_cast<unsigned long long>(truncated),
-              static_cast<unsigned long long>(s.resyncs), static_cast<unsigned long long>(s.limited),
-              static_cast<unsigned long long>(s.holds), static_cast<unsigned long long>(send_errors),
-              static_cast<unsigned long long>(timeouts), peer);
-  probe.report(bp.cart_offset, saw_offset_mismatch);
-  std::printf("latency: processing mean %.1f us max %.1f us; inter-arrival mean %.3f ms sd %.3f ms max %.3f ms; "
-              "KRC-reported latency %.6f s answer_rate %.3f miss_counter %u\n",
-              processing_us.mean(), processing_us.max, period_ms.mean(), period_ms.stddev(), period_ms.max,
-              double(krc_latency), double(krc_answer_rate), krc_miss);
+  /// Packets until `cycles` were accepted; the exit code (no packet for
+  /// idle_timeout: 2, a socket error: 1).
+  int run() {
+    static uint8_t buf[2048];
+    static uint8_t tx[kCmdPacketSize];
+    int exit_code = 0;
+    while (bridge.stats().accepted < static_cast<uint64_t>(cycles)) {
+      std::size_t n = 0;
+      const UdpStatus us = sock.receive(buf, sizeof buf, n, 100000);
+      const double t_rx = now();
+      if (us == UdpStatus::Timeout) {
+        ++timeouts;
+        if (t_rx - last_packet_time > idle_timeout) {
+          std::fprintf(stderr, "fri_check: no packet for %.1f s, giving up\n", idle_timeout);
+          exit_code = 2;
+          break;
+        }
+        continue;
+      }
+      if (us != UdpStatus::Ok && us != UdpStatus::Truncated) {
+        std::fprintf(stderr, "fri_check: receive: %s (errno %d)\n", toString(us), sock.lastErrno());
+        exit_code = 1;
+        break;
+      }
+      last_packet_time = t_rx;
+      if (us == UdpStatus::Truncated) ++truncated;
+
+      setDesired(t_rx);
+
+      bridge.stepDatagram(buf, us == UdpStatus::Truncated ? sizeof buf + 1 : n, desired, t_rx, out);
+      if (out.reply) {
+        std::size_t w = 0;
+        encodeCommand(out.cmd, tx, sizeof tx, w);
+        if (sock.reply(tx, w) != UdpStatus::Ok) ++send_errors;
+      }
+      const double t_tx = now();
+
+      if (out.status == BridgeStatus::Malformed) {
+        std::printf("cycle %llu: malformed datagram (%zu bytes): %s\n",
+                    static_cast<unsigned long long>(bridge.stats().accepted), n, toString(out.packet_status));
+        continue;
+      }
+      if (out.status == BridgeStatus::DroppedDuplicate || out.status == BridgeStatus::DroppedOutOfOrder) continue;
+
+      notePacket(t_rx, t_tx);
+    }
+    return exit_code;
+  }
+
+  void summary() {
+    const BridgeStats& s = bridge.stats();
+    char peer[INET_ADDRSTRLEN] = "-";
+    if (sock.hasPeer()) inet_ntop(AF_INET, &sock.lastPeer().sin_addr, peer, sizeof peer);
+    std::printf("summary: cycles %llu received %llu replies %llu lost %llu duplicates %llu out_of_order %llu "
+                "malformed %llu truncated %llu resyncs %llu limited %llu holds %llu send_errors %llu timeouts %llu peer %s\n",
+                static_cast<unsigned long long>(s.accepted), static_cast<unsigned long long>(s.received),
+                static_cast<unsigned long long>(s.replies), static_cast<unsigned long long>(s.lost),
+                static_cast<unsigned long long>(s.duplicates), static_cast<unsigned long long>(s.out_of_order),
+                static_cast<unsigned long long>(s.malformed), static_cast<unsigned long long>(truncated),
+                static_cast<unsigned long long>(s.resyncs), static_cast<unsigned long long>(s.limited),
+                static_cast<unsigned long long>(s.holds), static_cast<unsigned long long>(send_errors),
+                static_cast<unsigned long long>(timeouts), peer);
+    probe.report(bp.cart_offset, saw_offset_mismatch);
+    std::printf("latency: processing mean %.1f us max %.1f us; inter-arrival mean %.3f ms sd %.3f ms max %.3f ms; "
+                "KRC-reported latency %.6f s answer_rate %.3f miss_counter %u\n",
+                processing_us.mean(), processing_us.max, period_ms.mean(), period_ms.stddev(), period_ms.max,
+                double(krc_latency), double(krc_answer_rate), krc_miss);
+  }
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {  // the offline wrench checks
+    if (std::string(argv[i]) == "--wrench-check") return runWrenchCheck(argc, argv);
+    if (std::string(argv[i]) == "--load-data") return runLoadData(argc, argv);
+  }
+  CheckArgs args;
+  if (int code = parseArgs(argc, argv, args); code >= 0) return code;
+  const long port = args.port, cycles = args.cycles;
+  UdpParams& up = args.up;
+  const bool monitor = args.monitor, motion_given = args.motion_given, cycles_given = args.cycles_given,
+             offset_given = args.offset_given;
+  const double idle_timeout = args.idle_timeout;
+  const BridgeParams& bp = args.bp;
+  MonitorOptions& mo = args.mo;
+  bool have_params = false;
+  for (int i = 1; i < argc; ++i) have_params = have_params || std::string(argv[i]) == "--params";
+  if (port < 0 && !have_params) return usage("--port (or --params FILE with fri.udp.port) is required");
+  if (port >= 0) up.port = static_cast<uint16_t>(port);
+  if (offset_given && monitor) return usage("--cart-offset is for the motion check (monitor mode reads fri.yaml's)");
+  if (!mo.record_file.empty() && !monitor) return usage("--record is for --monitor (the arm held, never commanded)");
+  if (monitor) {
+    if (motion_given) return usage("--monitor never commands motion: no --motion");
+    mo.cycles = cycles_given ? cycles : 0;
+    mo.idle_timeout = idle_timeout;
+    return runMonitor(mo, bp, up);
+  }
+
+  args.bp.cart_offset = args.check_offset;
+  MotionCheck check(args);
+  if (int code = check.open(); code >= 0) return code;
+  const int exit_code = check.run();
+  check.summary();
   return exit_code;
 }

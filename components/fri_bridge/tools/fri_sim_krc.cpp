@@ -95,9 +95,51 @@ bool parseNumbers(const char* s, std::array<double, N>& v) {
   }
   return true;
 }
-}  // namespace
+/// --control cart|joint|position|other.
+bool parseControl(const std::string& c, ControlStrategy& out) {
+  if (c == "cart") out = ControlStrategy::CartImpedance;
+  else if (c == "joint") out = ControlStrategy::JointImpedance;
+  else if (c == "position") out = ControlStrategy::Position;
+  else if (c == "other") out = ControlStrategy::Other;
+  else return false;
+  return true;
+}
 
-int main(int argc, char** argv) {
+/// --pose X,Y,Z,A,B,C as the pendant shows it (mm within 2000 of the base; deg,
+/// A about z, B about y, C about x).
+bool parsePose(const char* s, KDL::Frame& pose) {
+  std::array<double, 6> x{};
+  if (!parseNumbers(s, x) || std::fabs(x[0]) > 2000 || std::fabs(x[1]) > 2000 || std::fabs(x[2]) > 2000) return false;
+  const double d = 3.14159265358979323846 / 180.0;
+  pose = KDL::Frame(KDL::Rotation::RPY(x[5] * d, x[4] * d, x[3] * d), KDL::Vector(x[0] * 1e-3, x[1] * 1e-3, x[2] * 1e-3));
+  return true;
+}
+
+/// --schedule SPEC: comma-separated CYCLE:STATE:QUALITY[:POWER] events into p.schedule.
+/// 0, or usage()'s exit code.
+int parseSchedule(const std::string& spec, SimKrcParams& p) {
+  std::size_t pos = 0;
+  while (pos <= spec.size()) {
+    const std::size_t comma = spec.find(',', pos);
+    const std::string ev = spec.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+    StateEvent e;
+    char st[16] = {0}, q[16] = {0};
+    unsigned long long c = 0;
+    unsigned pw = 0x7F;
+    const int got = std::sscanf(ev.c_str(), "%llu:%15[A-Z]:%15[A-Z]:%x", &c, st, q, &pw);
+    if (got < 3 || !parseState(st, e.state) || !parseQuality(q, e.quality) || pw > 0xFFFF)
+      return usage("bad --schedule event '" + ev + "' (CYCLE:OFF|MON|CMD:UNACCEPTABLE|BAD|OK|PERFECT[:POWERHEX])");
+    e.cycle = c;
+    e.power = static_cast<uint16_t>(pw);
+    p.schedule.push_back(e);
+    if (comma == std::string::npos) break;
+    pos = comma + 1;
+  }
+  return 0;
+}
+
+/// The command line's settings (parseArgs).
+struct Cli {
   SimKrcParams p;
   long port = -1;
   unsigned long long cycles = 1000;
@@ -108,6 +150,20 @@ int main(int argc, char** argv) {
   bool have_krl = false, have_pad = false, have_frame = false;
   WrenchFrame frame = WrenchFrame::Base;
   std::array<double, 4> pad{};
+};
+
+/// The command line into `cli`: 0, or usage()'s exit code.
+int parseArgs(int argc, char** argv, Cli& cli) {
+  SimKrcParams& p = cli.p;
+  long& port = cli.port;
+  unsigned long long& cycles = cli.cycles;
+  std::string& latency_out = cli.latency_out;
+  std::array<double, 6>& wrench = cli.wrench;
+  bool& wrench_tool = cli.wrench_tool;
+  KrlSettings& krl = cli.krl;
+  bool &have_krl = cli.have_krl, &have_pad = cli.have_pad, &have_frame = cli.have_frame;
+  WrenchFrame& frame = cli.frame;
+  std::array<double, 4>& pad = cli.pad;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool has = i + 1 < argc;
@@ -155,12 +211,7 @@ int main(int argc, char** argv) {
       if (!num(1, 65535, v)) return usage("--local-port must be in [1, 65535]");
       p.local_port = static_cast<uint16_t>(v);
     } else if (a == "--control" && has) {
-      const std::string c = argv[++i];
-      if (c == "cart") p.control = ControlStrategy::CartImpedance;
-      else if (c == "joint") p.control = ControlStrategy::JointImpedance;
-      else if (c == "position") p.control = ControlStrategy::Position;
-      else if (c == "other") p.control = ControlStrategy::Other;
-      else return usage("--control must be cart, joint, position or other");
+      if (!parseControl(argv[++i], p.control)) return usage("--control must be cart, joint, position or other");
     } else if ((a == "--wrench" || a == "--wrench-tool") && has) {
       if (!parseWrench(argv[++i], wrench)) return usage(a + " must be FX,FY,FZ in N, each in [-1000, 1000]");
       wrench_tool = a == "--wrench-tool";
@@ -175,12 +226,8 @@ int main(int argc, char** argv) {
         return usage("--pad-load must be M,CX,CY,CZ (kg in [0, 20], mm)");
       have_pad = true;
     } else if (a == "--pose" && has) {
-      std::array<double, 6> x{};
-      if (!parseNumbers(argv[++i], x) || std::fabs(x[0]) > 2000 || std::fabs(x[1]) > 2000 || std::fabs(x[2]) > 2000)
+      if (!parsePose(argv[++i], p.initial_pose))
         return usage("--pose must be X,Y,Z,A,B,C (mm within 2000 of the base, deg)");
-      const double d = 3.14159265358979323846 / 180.0;
-      p.initial_pose = KDL::Frame(KDL::Rotation::RPY(x[5] * d, x[4] * d, x[3] * d),
-                                  KDL::Vector(x[0] * 1e-3, x[1] * 1e-3, x[2] * 1e-3));
     } else if (a == "--cart-offset" && has) {
       if (!parseCartOffset(argv[++i], p.cart_offset)) return usage("--cart-offset must be none, composed or elementwise");
     } else if ((a == "--msr-sample-ms" || a == "--cmd-sample-ms") && has) {
@@ -191,61 +238,17 @@ int main(int argc, char** argv) {
       if (q != "on" && q != "off") return usage("--quality-rule must be on or off");
       p.quality_rule.enabled = q == "on";
     } else if (a == "--schedule" && has) {
-      std::string spec = argv[++i];
-      std::size_t pos = 0;
-      while (pos <= spec.size()) {
-        const std::size_t comma = spec.find(',', pos);
-        const std::string ev = spec.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
-        StateEvent e;
-        char st[16] = {0}, q[16] = {0};
-        unsigned long long c = 0;
-        unsigned pw = 0x7F;
-        const int got = std::sscanf(ev.c_str(), "%llu:%15[A-Z]:%15[A-Z]:%x", &c, st, q, &pw);
-        if (got < 3 || !parseState(st, e.state) || !parseQuality(q, e.quality) || pw > 0xFFFF)
-          return usage("bad --schedule event '" + ev + "' (CYCLE:OFF|MON|CMD:UNACCEPTABLE|BAD|OK|PERFECT[:POWERHEX])");
-        e.cycle = c;
-        e.power = static_cast<uint16_t>(pw);
-        p.schedule.push_back(e);
-        if (comma == std::string::npos) break;
-        pos = comma + 1;
-      }
+      if (int rc = parseSchedule(argv[++i], p); rc != 0) return rc;
     } else {
       return usage("unknown or incomplete argument '" + a + "'");
     }
   }
-  if (port < 0) return usage("--port is required");
-  p.remote_port = static_cast<uint16_t>(port);
-  if (!p.schedule.empty() && p.schedule.front().cycle == 0) p.initial = p.schedule.front();
+  return 0;
+}
 
-  FirstOrderPlant plant;
-  plant.setWrench(wrench, wrench_tool);
-  p.wrench_frame = have_frame ? frame : krl.wrench_frame;
-  if (have_krl) p.limits = krl.limits;
-  const KDL::Vector krl_com(krl.load_com_m[0], krl.load_com_m[1], krl.load_com_m[2]);
-  const KDL::Vector pad_com(pad[1] * 1e-3, pad[2] * 1e-3, pad[3] * 1e-3);
-  if (have_pad) plant.setPadLoad(pad[0], pad_com, have_krl ? krl.load_mass_kg : pad[0], have_krl ? krl_com : pad_com);
-  SimKrc krc;
-  if (tactile::ConfigResult r = krc.configure(p, plant); !r) {
-    std::fprintf(stderr, "fri_sim_krc: %s\n", r.message().c_str());
-    return 1;
-  }
-  std::vector<SimKrc::LatencySample> latencies;
-  if (!latency_out.empty()) {
-    if (cycles > 100000000ULL) return usage("--latency-out: at most 1e8 cycles");
-    latencies.reserve(cycles);
-    krc.setLatencyLog(&latencies);
-  }
-  krc.run(cycles);
-  if (!latency_out.empty()) {
-    FILE* f = std::fopen(latency_out.c_str(), "w");
-    if (f == nullptr) {
-      std::fprintf(stderr, "fri_sim_krc: cannot write %s\n", latency_out.c_str());
-      return 1;
-    }
-    for (const SimKrc::LatencySample& l : latencies) std::fprintf(f, "%.2f %d\n", 1e6 * l.latency_s, l.on_time ? 1 : 0);
-    std::fclose(f);
-  }
-  const SimKrcStats& s = krc.stats();
+/// The run's statistics on stdout; the exit code: 0 when no protocol
+/// violation (MON echo, flags, non-finite command) was seen, else 3.
+int printStats(const SimKrcStats& s, const SimKrcParams& p) {
   std::printf("fri_sim_krc: cycles %llu sent %llu replies %llu stale %llu malformed %llu missed %llu overruns %llu applied %llu "
               "remote_seq_errors %llu flag_errors %llu nonfinite %llu mon_echo_errors %llu max_step %.6f m %.6f rad "
               "latency mean %.1f us max %.1f us injected loss %llu dup %llu reorder %llu late %llu wrong_size %llu "
@@ -267,4 +270,51 @@ int main(int argc, char** argv) {
               (unsigned long long)s.quality_cycles[2], (unsigned long long)s.quality_cycles[3]);
   const bool clean = s.mon_echo_errors == 0 && s.flag_errors == 0 && s.nonfinite_commands == 0;
   return clean ? 0 : 3;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Cli cli;
+  if (int rc = parseArgs(argc, argv, cli); rc != 0) return rc;
+  SimKrcParams& p = cli.p;
+  const long port = cli.port;
+  const unsigned long long cycles = cli.cycles;
+  const std::string& latency_out = cli.latency_out;
+  const KrlSettings& krl = cli.krl;
+  const bool have_krl = cli.have_krl;
+  const std::array<double, 4>& pad = cli.pad;
+  if (port < 0) return usage("--port is required");
+  p.remote_port = static_cast<uint16_t>(port);
+  if (!p.schedule.empty() && p.schedule.front().cycle == 0) p.initial = p.schedule.front();
+
+  FirstOrderPlant plant;
+  plant.setWrench(cli.wrench, cli.wrench_tool);
+  p.wrench_frame = cli.have_frame ? cli.frame : krl.wrench_frame;
+  if (have_krl) p.limits = krl.limits;
+  const KDL::Vector krl_com(krl.load_com_m[0], krl.load_com_m[1], krl.load_com_m[2]);
+  const KDL::Vector pad_com(pad[1] * 1e-3, pad[2] * 1e-3, pad[3] * 1e-3);
+  if (cli.have_pad) plant.setPadLoad(pad[0], pad_com, have_krl ? krl.load_mass_kg : pad[0], have_krl ? krl_com : pad_com);
+  SimKrc krc;
+  if (tactile::ConfigResult r = krc.configure(p, plant); !r) {
+    std::fprintf(stderr, "fri_sim_krc: %s\n", r.message().c_str());
+    return 1;
+  }
+  std::vector<SimKrc::LatencySample> latencies;
+  if (!latency_out.empty()) {
+    if (cycles > 100000000ULL) return usage("--latency-out: at most 1e8 cycles");
+    latencies.reserve(cycles);
+    krc.setLatencyLog(&latencies);
+  }
+  krc.run(cycles);
+  if (!latency_out.empty()) {
+    FILE* f = std::fopen(latency_out.c_str(), "w");
+    if (f == nullptr) {
+      std::fprintf(stderr, "fri_sim_krc: cannot write %s\n", latency_out.c_str());
+      return 1;
+    }
+    for (const SimKrc::LatencySample& l : latencies) std::fprintf(f, "%.2f %d\n", 1e6 * l.latency_s, l.on_time ? 1 : 0);
+    std::fclose(f);
+  }
+  return printStats(krc.stats(), p);
 }

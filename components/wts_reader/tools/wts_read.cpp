@@ -52,16 +52,25 @@ double nowS() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+/// wts_read's command line (parseArgs).
+struct ReadArgs {
   tactile::wts::WtsParams wp;
-  wp.device.clear();
-  wp.periodic_ms = 0;
   long count = 0;
   bool raw = false, do_tare = false;
   long timeout_ms = 100;
   std::string calib_file;
+};
+
+/// The command line into `args`: -1, or the exit code (help 0, a bad option 2;
+/// a bad integer exits with 2 at once).
+int parseArgs(int argc, char** argv, ReadArgs& args) {
+  tactile::wts::WtsParams& wp = args.wp;
+  wp.device.clear();
+  wp.periodic_ms = 0;
+  long& count = args.count;
+  bool &raw = args.raw, &do_tare = args.do_tare;
+  long& timeout_ms = args.timeout_ms;
+  std::string& calib_file = args.calib_file;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto num = [&](long& v) {
@@ -138,13 +147,14 @@ int main(int argc, char** argv) {
     usage();
     return 2;
   }
-  tactile::wts::WtsDriver drv;
-  tactile::ConfigResult cr = drv.configure(wp);
-  if (!cr) {
-    std::fprintf(stderr, "wts_read: %s\n", cr.message().c_str());
-    return 2;
-  }
+  return -1;
+}
+
+/// The calibration of --params / --calib (else the defaults) for the
+/// cell map of `wp` into `calib`: -1, or the exit code (2).
+int loadCalibration(const tactile::wts::WtsParams& wp, const std::string& calib_file, tactile::Calibration& calib) {
   tactile::CalibrationParams cp;
+  tactile::ConfigResult cr;
   cp.rows = wp.cells.rows;
   cp.cols = wp.cells.cols;
   if (!calib_file.empty()) {
@@ -158,13 +168,55 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  tactile::Calibration calib;
   cr = calib.configure(cp);
   if (!cr) {
     std::fprintf(stderr, "wts_read: %s\n", cr.message().c_str());
     return 2;
   }
+  return -1;
+}
 
+/// The link's changes on stderr: a disconnection, reconnection or device
+/// error (once per change), new CRC or format errors.
+void reportLink(tactile::wts::WtsDriver& drv, tactile::wts::ReadStatus st, double reconnect_period_s,
+                tactile::wts::ReadStatus& last, uint64_t& last_crc, uint64_t& last_bad) {
+  if (st != last && (st == tactile::wts::ReadStatus::Disconnected || st == tactile::wts::ReadStatus::Reconnected ||
+                     st == tactile::wts::ReadStatus::DeviceError)) {
+    std::fprintf(stderr, "wts_read: link %s", tactile::wts::toString(st));
+    if (st == tactile::wts::ReadStatus::DeviceError)
+      std::fprintf(stderr, " (%s)", tactile::wts::toString(drv.lastDeviceStatus()));
+    if (st == tactile::wts::ReadStatus::Disconnected)
+      std::fprintf(stderr, " (%s; retrying every %.2f s)", std::strerror(drv.lastErrno()), reconnect_period_s);
+    std::fputc('\n', stderr);
+  }
+  if (st != tactile::wts::ReadStatus::NoData) last = st;
+  const auto& ps = drv.parserStats();
+  if (ps.crc_errors != last_crc || drv.stats().bad_frames != last_bad) {
+    std::fprintf(stderr, "wts_read: link errors: %llu CRC, %llu malformed frames, %llu bytes skipped so far\n",
+                 static_cast<unsigned long long>(ps.crc_errors),
+                 static_cast<unsigned long long>(drv.stats().bad_frames),
+                 static_cast<unsigned long long>(ps.skipped_bytes));
+    last_crc = ps.crc_errors;
+    last_bad = drv.stats().bad_frames;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ReadArgs args;
+  if (int code = parseArgs(argc, argv, args); code >= 0) return code;
+  const tactile::wts::WtsParams& wp = args.wp;
+  const long count = args.count, timeout_ms = args.timeout_ms;
+  const bool raw = args.raw, do_tare = args.do_tare;
+  tactile::wts::WtsDriver drv;
+  tactile::ConfigResult cr = drv.configure(wp);
+  if (!cr) {
+    std::fprintf(stderr, "wts_read: %s\n", cr.message().c_str());
+    return 2;
+  }
+  tactile::Calibration calib;
+  if (int code = loadCalibration(wp, args.calib_file, calib); code >= 0) return code;
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
   std::signal(SIGPIPE, onSignal);
@@ -191,25 +243,7 @@ int main(int argc, char** argv) {
   char num[32];
   while (!g_stop && (count == 0 || printed < count)) {
     const tactile::wts::ReadStatus st = drv.poll(nowS(), static_cast<int>(timeout_ms), rawf);
-    if (st != last && (st == tactile::wts::ReadStatus::Disconnected || st == tactile::wts::ReadStatus::Reconnected ||
-                       st == tactile::wts::ReadStatus::DeviceError)) {
-      std::fprintf(stderr, "wts_read: link %s", tactile::wts::toString(st));
-      if (st == tactile::wts::ReadStatus::DeviceError)
-        std::fprintf(stderr, " (%s)", tactile::wts::toString(drv.lastDeviceStatus()));
-      if (st == tactile::wts::ReadStatus::Disconnected)
-        std::fprintf(stderr, " (%s; retrying every %.2f s)", std::strerror(drv.lastErrno()), wp.reconnect_period_s);
-      std::fputc('\n', stderr);
-    }
-    if (st != tactile::wts::ReadStatus::NoData) last = st;
-    const auto& ps = drv.parserStats();
-    if (ps.crc_errors != last_crc || drv.stats().bad_frames != last_bad) {
-      std::fprintf(stderr, "wts_read: link errors: %llu CRC, %llu malformed frames, %llu bytes skipped so far\n",
-                   static_cast<unsigned long long>(ps.crc_errors),
-                   static_cast<unsigned long long>(drv.stats().bad_frames),
-                   static_cast<unsigned long long>(ps.skipped_bytes));
-      last_crc = ps.crc_errors;
-      last_bad = drv.stats().bad_frames;
-    }
+    reportLink(drv, st, wp.reconnect_period_s, last, last_crc, last_bad);
     if (st == tactile::wts::ReadStatus::Disconnected) {
       struct timespec ts {0, 20 * 1000 * 1000};
       nanosleep(&ts, nullptr);

@@ -133,14 +133,24 @@ void linkFaults(const tactile::sim::SensorFaultSchedule& s, double t, tactile::w
     std::fprintf(stderr, "wts_sim: t %.3f s: stream %s (--fault stale)\n", t, sim.held() ? "held" : "resumed");
   }
 }
-}  // namespace
 
-int main(int argc, char** argv) {
+/// wts_sim's command line (parseArgs).
+struct SimArgs {
   tactile::wts::SimulatedWts::Params p;
   std::string pattern = "blob", recording;
   std::vector<tactile::sim::FaultSpec> faults;
   double duration = 0.0;
   double noise = 6.0, offset = 30.0, press_after = 5.0, press_counts = 1500.0;
+};
+
+/// The command line into `args`: -1, or the exit code (2: a bad option; a
+/// bad value exits with 2 at once).
+int parseArgs(int argc, char** argv, SimArgs& args) {
+  tactile::wts::SimulatedWts::Params& p = args.p;
+  std::string &pattern = args.pattern, &recording = args.recording;
+  std::vector<tactile::sim::FaultSpec>& faults = args.faults;
+  double& duration = args.duration;
+  double &noise = args.noise, &offset = args.offset, &press_after = args.press_after, &press_counts = args.press_counts;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto val = [&](double& v) {
@@ -203,6 +213,98 @@ int main(int argc, char** argv) {
                          "(counts), --press-after >= 0 (s)\n");
     return 2;
   }
+  return -1;
+}
+
+/// --recording: one frame per line, rows*cols comma-separated counts ('#'
+/// lines and blank lines skipped), into `frames`. -1, or the exit code (2).
+int readRecording(std::ifstream& in, const std::string& recording, int rows, int cols,
+                  std::vector<tactile::RawTactileFrame>& frames) {
+  std::string line;
+  long lineno = 0;
+  while (std::getline(in, line)) {
+    ++lineno;
+    if (line.empty() || line[0] == '#') continue;
+    tactile::RawTactileFrame f;
+    f.rows = static_cast<uint16_t>(rows);
+    f.cols = static_cast<uint16_t>(cols);
+    std::stringstream ss(line);
+    std::string cell;
+    int k = 0;
+    while (std::getline(ss, cell, ',')) {
+      double x = 0;
+      if (k >= rows * cols || !toDouble(cell.c_str(), x) || x < 0 || x > 4095) {
+        std::fprintf(stderr, "wts_sim: %s:%ld: value %d is not a count in [0, 4095] or too many values\n",
+                     recording.c_str(), lineno, k + 1);
+        return 2;
+      }
+      f.counts[static_cast<std::size_t>(k++)] = static_cast<uint16_t>(x);
+    }
+    if (k != rows * cols) {
+      std::fprintf(stderr, "wts_sim: %s:%ld: expected %d values, got %d\n", recording.c_str(), lineno, rows * cols, k);
+      return 2;
+    }
+    frames.push_back(f);
+  }
+  return -1;
+}
+
+/// --pattern blob (a contact circling the pad), ramp or zero.
+tactile::wts::FrameSource patternSource(const std::string& pattern, int rows, int cols) {
+  const tactile::SensorGeometry geometry{rows, cols, tactile::kDefaultPitch};
+  return [=](uint32_t t_ms, tactile::RawTactileFrame& f) {
+    const double t = t_ms * 1e-3;
+    const double cx = 0.012 * std::cos(0.5 * t), cy = 0.004 * std::sin(0.5 * t);
+    for (int r = 0; r < rows; ++r)
+      for (int c = 0; c < cols; ++c) {
+        double v = 0;
+        if (pattern == "blob") {
+          const double x = geometry.x(c), y = geometry.y(r);
+          v = 2000.0 * std::exp(-((x - cx) * (x - cx) + (y - cy) * (y - cy)) / (2 * 0.004 * 0.004));
+        } else if (pattern == "ramp") {
+          v = std::fmod((r * cols + c) * 40.0 + t_ms, 4096.0);
+        }
+        f.counts[static_cast<std::size_t>(r * cols + c)] = static_cast<uint16_t>(v);
+      }
+  };
+}
+
+/// --pattern idle or press: per-taxel offsets and noise from the seed; press:
+/// press_counts more on every taxel after press_after s or on SIGUSR1.
+tactile::wts::FrameSource noiseSource(const std::string& pattern, int rows, int cols, uint32_t seed, double noise,
+                                      double offset, double press_after, double press_counts) {
+  // Per-taxel offsets fixed by the seed, noise from the same seed: one
+  // generator, called from the device thread only (under its lock).
+  struct Noise {
+    std::mt19937 gen;
+    std::normal_distribution<double> normal{0.0, 1.0};
+    std::vector<double> offsets;
+  };
+  auto st = std::make_shared<Noise>();
+  st->gen.seed(seed + 7919u);
+  std::uniform_real_distribution<double> spread(-10.0, 10.0);
+  for (int k = 0; k < rows * cols; ++k) st->offsets.push_back(std::max(0.0, offset + spread(st->gen)));
+  const bool press = pattern == "press";
+  return [=](uint32_t t_ms, tactile::RawTactileFrame& f) {
+    const int ps = g_press.load();
+    const bool pressed = press && (ps == 1 || (ps == -1 && press_after > 0.0 && t_ms * 1e-3 >= press_after));
+    for (int k = 0; k < rows * cols; ++k) {
+      double v = st->offsets[static_cast<std::size_t>(k)] + noise * st->normal(st->gen) + (pressed ? press_counts : 0.0);
+      v = std::round(v);
+      f.counts[static_cast<std::size_t>(k)] = static_cast<uint16_t>(v < 0.0 ? 0.0 : (v > 4095.0 ? 4095.0 : v));
+    }
+  };
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  SimArgs args;
+  if (int code = parseArgs(argc, argv, args); code >= 0) return code;
+  const tactile::wts::SimulatedWts::Params& p = args.p;
+  const std::string &pattern = args.pattern, &recording = args.recording;
+  const std::vector<tactile::sim::FaultSpec>& faults = args.faults;
+  const double duration = args.duration;
   const int rows = p.cells.rows, cols = p.cells.cols;
   auto schedule = std::make_shared<tactile::sim::SensorFaultSchedule>();
   if (const tactile::ConfigResult r = schedule->configure(faults, rows, cols, p.full_scale); !r) {
@@ -218,32 +320,7 @@ int main(int argc, char** argv) {
       return 2;
     }
     std::vector<tactile::RawTactileFrame> frames;
-    std::string line;
-    long lineno = 0;
-    while (std::getline(in, line)) {
-      ++lineno;
-      if (line.empty() || line[0] == '#') continue;
-      tactile::RawTactileFrame f;
-      f.rows = static_cast<uint16_t>(rows);
-      f.cols = static_cast<uint16_t>(cols);
-      std::stringstream ss(line);
-      std::string cell;
-      int k = 0;
-      while (std::getline(ss, cell, ',')) {
-        double x = 0;
-        if (k >= rows * cols || !toDouble(cell.c_str(), x) || x < 0 || x > 4095) {
-          std::fprintf(stderr, "wts_sim: %s:%ld: value %d is not a count in [0, 4095] or too many values\n",
-                       recording.c_str(), lineno, k + 1);
-          return 2;
-        }
-        f.counts[static_cast<std::size_t>(k++)] = static_cast<uint16_t>(x);
-      }
-      if (k != rows * cols) {
-        std::fprintf(stderr, "wts_sim: %s:%ld: expected %d values, got %d\n", recording.c_str(), lineno, rows * cols, k);
-        return 2;
-      }
-      frames.push_back(f);
-    }
+    if (int code = readRecording(in, recording, rows, cols, frames); code >= 0) return code;
     if (faults.empty()) {
       sim.setRecording(std::move(frames));
     } else {  // looped as setRecording() does, so that the faults apply to its frames
@@ -252,44 +329,9 @@ int main(int argc, char** argv) {
       src = [rec, next](uint32_t, tactile::RawTactileFrame& f) { f = (*rec)[(*next)++ % rec->size()]; };
     }
   } else if (pattern == "blob" || pattern == "ramp" || pattern == "zero") {
-    const tactile::SensorGeometry geometry{rows, cols, tactile::kDefaultPitch};
-    src = [=](uint32_t t_ms, tactile::RawTactileFrame& f) {
-      const double t = t_ms * 1e-3;
-      const double cx = 0.012 * std::cos(0.5 * t), cy = 0.004 * std::sin(0.5 * t);
-      for (int r = 0; r < rows; ++r)
-        for (int c = 0; c < cols; ++c) {
-          double v = 0;
-          if (pattern == "blob") {
-            const double x = geometry.x(c), y = geometry.y(r);
-            v = 2000.0 * std::exp(-((x - cx) * (x - cx) + (y - cy) * (y - cy)) / (2 * 0.004 * 0.004));
-          } else if (pattern == "ramp") {
-            v = std::fmod((r * cols + c) * 40.0 + t_ms, 4096.0);
-          }
-          f.counts[static_cast<std::size_t>(r * cols + c)] = static_cast<uint16_t>(v);
-        }
-    };
+    src = patternSource(pattern, rows, cols);
   } else if (pattern == "idle" || pattern == "press") {
-    // Per-taxel offsets fixed by the seed, noise from the same seed: one
-    // generator, called from the device thread only (under its lock).
-    struct Noise {
-      std::mt19937 gen;
-      std::normal_distribution<double> normal{0.0, 1.0};
-      std::vector<double> offsets;
-    };
-    auto st = std::make_shared<Noise>();
-    st->gen.seed(p.faults.seed + 7919u);
-    std::uniform_real_distribution<double> spread(-10.0, 10.0);
-    for (int k = 0; k < rows * cols; ++k) st->offsets.push_back(std::max(0.0, offset + spread(st->gen)));
-    const bool press = pattern == "press";
-    src = [=](uint32_t t_ms, tactile::RawTactileFrame& f) {
-      const int ps = g_press.load();
-      const bool pressed = press && (ps == 1 || (ps == -1 && press_after > 0.0 && t_ms * 1e-3 >= press_after));
-      for (int k = 0; k < rows * cols; ++k) {
-        double v = st->offsets[static_cast<std::size_t>(k)] + noise * st->normal(st->gen) + (pressed ? press_counts : 0.0);
-        v = std::round(v);
-        f.counts[static_cast<std::size_t>(k)] = static_cast<uint16_t>(v < 0.0 ? 0.0 : (v > 4095.0 ? 4095.0 : v));
-      }
-    };
+    src = noiseSource(pattern, rows, cols, p.faults.seed, args.noise, args.offset, args.press_after, args.press_counts);
   } else {
     std::fprintf(stderr, "wts_sim: --pattern = %s: must be blob, ramp, zero, idle or press\n", pattern.c_str());
     return 2;

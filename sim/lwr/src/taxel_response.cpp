@@ -18,9 +18,10 @@ ConfigResult checkMonotone(const std::array<double, 4>& c, const std::string& ke
   if (!(c[0] >= 0.0) || !std::isfinite(c[0])) return rangeError(key + "[0]", c[0], "must be >= 0 (N)");
   return ConfigResult::success();
 }
-}  // namespace
 
-ConfigResult TaxelResponse::configure(const TaxelResponseParams& p) {
+// The parameters' ranges: the calibration (the reader's checks, and a
+// monotone response the simulated sensor can invert), the noise, the effects.
+ConfigResult checkParams(const TaxelResponseParams& p) {
   Calibration probe;  // the same validation as the reader's
   ConfigResult r = probe.configure(p.calibration);
   if (!r) return r;
@@ -57,6 +58,16 @@ ConfigResult TaxelResponse::configure(const TaxelResponseParams& p) {
   if (!inRange(e.hysteresis, 0.0, 0.5)) return rangeError("effects.hysteresis", e.hysteresis, "must be in [0, 0.5]");
   if (!(e.max_frame_rate_hz > 0.0) || e.max_frame_rate_hz > 1e5)
     return rangeError("effects.max_frame_rate_hz", e.max_frame_rate_hz, "must be in (0, 1e5] Hz");
+  return ConfigResult::success();
+}
+}  // namespace
+
+ConfigResult TaxelResponse::configure(const TaxelResponseParams& p) {
+  ConfigResult r = checkParams(p);
+  if (!r) return r;
+  const CalibrationParams& c = p.calibration;
+  const SensorEffects& e = p.effects;
+  const int n = c.rows * c.cols;
 
   if (!(r = faults_.configure(p.faults, c.rows, c.cols, c.full_scale))) return r;
 

@@ -56,10 +56,10 @@ Mat6 twistMap(const KDL::Frame& T_ge, const KDL::Frame& T_gs) {
   A.bottomRightCorner<3, 3>() = R.transpose();
   return A;
 }
-}  // namespace
 
-ConfigResult World::configure(const WorldParams& p) {
-  configured_ = false;
+// The parameters' ranges; the FRI delay and the KRC cycle in whole physics
+// steps (the loop's time base).
+ConfigResult checkParams(const WorldParams& p, long& delay_steps, long& krc_steps) {
   if (p.fidelity != Fidelity::QuasiStatic && p.fidelity != Fidelity::Dynamics)
     return rangeError("fidelity", static_cast<int>(p.fidelity), "must be quasi_static or dynamics");
   if (!(p.force_ceiling > 0.0) || !std::isfinite(p.force_ceiling))
@@ -89,7 +89,6 @@ ConfigResult World::configure(const WorldParams& p) {
     }
     return ConfigResult::success();
   };
-  long delay_steps = 0, krc_steps = 0;
   {
     ConfigResult rs = steps("effects.fri_delay_s", p.fri_delay_s, delay_steps);
     if (!rs) return rs;
@@ -98,6 +97,54 @@ ConfigResult World::configure(const WorldParams& p) {
   for (int i = 0; i < 6; ++i)
     if (!std::isfinite(p.external_wrench[static_cast<std::size_t>(i)]))
       return ConfigResult::failure("external_wrench[" + std::to_string(i) + "]: must be finite (N, N m)");
+  return ConfigResult::success();
+}
+
+// The arm at initial_flange_pose (when given), at rest; its posture not singular.
+ConfigResult initialPosture(LwrArm& arm, const WorldParams& p) {
+  if (p.use_initial_flange_pose) {
+    if (!validPose(p.initial_flange_pose))
+      return ConfigResult::failure("initial_flange_pose: position must be finite and the quaternion a unit quaternion (|q| within 1e-3 of 1)");
+    const KDL::Frame T0 = toFrame(p.initial_flange_pose);
+    SimStatus s = SimStatus::Ok;
+    for (int k = 0; k < 30; ++k) s = arm.settle(T0);
+    const Vec6 e = toVec(KDL::diff(arm.state().T_ge, T0));
+    if (fatal(s) || e.head<3>().norm() > 1e-5 || e.tail<3>().norm() > 1e-4)
+      return ConfigResult::failure(std::string("initial_flange_pose: not reachable from arm.q_init (residual ") +
+                                   std::to_string(e.head<3>().norm()) + " m, " + std::to_string(e.tail<3>().norm()) +
+                                   " rad; status " + toString(s) + "): choose q_init near the pose");
+    arm.reset(arm.state().q);
+  }
+  if (arm.state().manipulability < p.arm.min_manipulability)
+    return rangeError("arm.q_init (manipulability)", arm.state().manipulability,
+                      "initial posture is singular: must be >= arm.min_manipulability = " +
+                          std::to_string(p.arm.min_manipulability));
+  return ConfigResult::success();
+}
+
+// An object that starts inside the sensor is a scene error.
+ConfigResult startsOutside(const PadSensor& pad_sensor, const ObjectSet& objects, const PadParams& pad) {
+  double dl = 0, dh = 0;
+  int obj = -1;
+  pad_sensor.maxPenetration(objects, dl, dh, obj);
+  if (dl > pad.layer_thickness || dh > 0.0) {
+    const ObjectParams& o = objects.params(obj < 0 ? 0 : obj);
+    const std::string name = "objects[" + std::to_string(obj) + "]" + (o.name.empty() ? "" : " (" + o.name + ")");
+    if (dh > 0.0)
+      return rangeError(name + ": starts inside the sensor housing, penetration", dh,
+                        "must be 0 at start (move the object or the initial pose)");
+    return rangeError(name + ": starts inside the sensor, layer penetration", dl,
+                      "must be <= pad.layer_thickness = " + std::to_string(pad.layer_thickness) + " m at start");
+  }
+  return ConfigResult::success();
+}
+
+}  // namespace
+
+ConfigResult World::configure(const WorldParams& p) {
+  configured_ = false;
+  long delay_steps = 0, krc_steps = 0;
+  if (ConfigResult rc = checkParams(p, delay_steps, krc_steps); !rc) return rc;
 
   ConfigResult r = arm_.configure(p.arm);
   if (!r) return r;
@@ -115,23 +162,7 @@ ConfigResult World::configure(const WorldParams& p) {
   for (int i = 0; i < 6; ++i) W_ext_[i] = p.external_wrench[static_cast<std::size_t>(i)];
 
   // Initial posture.
-  if (p.use_initial_flange_pose) {
-    if (!validPose(p.initial_flange_pose))
-      return ConfigResult::failure("initial_flange_pose: position must be finite and the quaternion a unit quaternion (|q| within 1e-3 of 1)");
-    const KDL::Frame T0 = toFrame(p.initial_flange_pose);
-    SimStatus s = SimStatus::Ok;
-    for (int k = 0; k < 30; ++k) s = arm_.settle(T0);
-    const Vec6 e = toVec(KDL::diff(arm_.state().T_ge, T0));
-    if (fatal(s) || e.head<3>().norm() > 1e-5 || e.tail<3>().norm() > 1e-4)
-      return ConfigResult::failure(std::string("initial_flange_pose: not reachable from arm.q_init (residual ") +
-                                   std::to_string(e.head<3>().norm()) + " m, " + std::to_string(e.tail<3>().norm()) +
-                                   " rad; status " + toString(s) + "): choose q_init near the pose");
-    arm_.reset(arm_.state().q);
-  }
-  if (arm_.state().manipulability < p.arm.min_manipulability)
-    return rangeError("arm.q_init (manipulability)", arm_.state().manipulability,
-                      "initial posture is singular: must be >= arm.min_manipulability = " +
-                          std::to_string(p.arm.min_manipulability));
+  if (ConfigResult rp = initialPosture(arm_, p); !rp) return rp;
 
   tray_ = TrayPose{};
   tray_rate_.setZero();
@@ -160,19 +191,7 @@ ConfigResult World::configure(const WorldParams& p) {
   slip_ = false;
   placeObjects(T_eq_, tray_);
 
-  // An object that starts inside the sensor is a scene error.
-  double dl = 0, dh = 0;
-  int obj = -1;
-  pad_.maxPenetration(objects_, dl, dh, obj);
-  if (dl > pad.layer_thickness || dh > 0.0) {
-    const ObjectParams& o = objects_.params(obj < 0 ? 0 : obj);
-    const std::string name = "objects[" + std::to_string(obj) + "]" + (o.name.empty() ? "" : " (" + o.name + ")");
-    if (dh > 0.0)
-      return rangeError(name + ": starts inside the sensor housing, penetration", dh,
-                        "must be 0 at start (move the object or the initial pose)");
-    return rangeError(name + ": starts inside the sensor, layer penetration", dl,
-                      "must be <= pad.layer_thickness = " + std::to_string(pad.layer_thickness) + " m at start");
-  }
+  if (ConfigResult ro = startsOutside(pad_, objects_, pad); !ro) return ro;
   evaluateContact(T_eq_, tray_);
   acq_seq_ = 0;
   qs_valid_ = false;

@@ -428,34 +428,87 @@ class DeployGuard : public RTT::TaskContext {
     return slash == std::string::npos ? path : registry_file_.substr(0, slash + 1) + path;
   }
 
-  // Reads and checks entry `name`; on success sets the properties and returns
-  // "", else the error (file: key: what, valid values) and changes nothing.
-  std::string readEntry(const std::string& name) {
+  // "" when every key of map `m` is in `valid`, else the first unknown key
+  // as an error under `prefix` (e.g. "file: experiments.x.state_machine.").
+  static std::string unknownKey(const YAML::Node& m, const std::string& prefix, const std::vector<std::string>& valid) {
+    for (const auto& kv : m) {
+      const std::string k = kv.first.as<std::string>();
+      bool known = false;
+      for (const auto& v : valid) known = known || v == k;
+      if (!known) return prefix + k + ": unknown key (valid: " + joined(valid) + ")";
+    }
+    return "";
+  }
+
+  // The entry's state_machine.params, each a declared param of the machine
+  // (`type` in `osd`) and of its declared type, into `params`. "" or the error.
+  static std::string entryParams(const YAML::Node& sm, const std::string& key, const std::string& type,
+                                 const std::string& osd, const std::vector<OsdParam>& declared,
+                                 std::vector<Param>& params) {
+    std::vector<std::string> declared_names;
+    for (const auto& d : declared) declared_names.push_back(d.name);
+    const YAML::Node ps = sm["params"];
+    if (!ps) return "";
+    if (!ps.IsMap()) return key + "state_machine.params: not a map (params: " + joined(declared_names) + ")";
+    for (const auto& kv : ps) {
+      const std::string p = kv.first.as<std::string>();
+      const OsdParam* d = nullptr;
+      for (const auto& x : declared) d = (x.name == p) ? &x : d;
+      if (!d)
+        return key + "state_machine.params." + p + ": not a param of " + type + " in " + osd +
+               " (params: " + joined(declared_names) + ")";
+      Param param{d->type, p, kv.second.as<std::string>()};
+      try {
+        if (d->type == "double") param.number = kv.second.as<double>();
+        if (d->type == "int") param.number = kv.second.as<int>();
+        if (d->type == "bool") param.number = kv.second.as<bool>() ? 1.0 : 0.0;
+      } catch (const YAML::Exception&) {
+        return key + "state_machine.params." + p + ": '" + param.value + "' is not a " + d->type + " (param " +
+               d->type + " " + p + " of " + type + ")";
+      }
+      params.push_back(param);
+    }
+    return "";
+  }
+
+  // The registry's entry `name` (the registry's own errors: unreadable, no
+  // experiments map, no such entry, not a map) into `err`, else "".
+  YAML::Node registryEntry(const std::string& name, std::string& err) const {
     const std::string& f = registry_file_;
     YAML::Node root;
     try {
       root = YAML::LoadFile(f);
-    } catch (const YAML::Exception& e) {
-      return f + ": cannot read the experiment registry (registry_file): " + e.what();
+    } catch (const YAML::Exception& ex) {
+      err = f + ": cannot read the experiment registry (registry_file): " + ex.what();
+      return {};
     }
     const YAML::Node all = root["experiments"];
-    if (!all || !all.IsMap()) return f + ": experiments: missing or not a map of experiment entries";
+    if (!all || !all.IsMap()) {
+      err = f + ": experiments: missing or not a map of experiment entries";
+      return {};
+    }
     std::vector<std::string> names;
     for (const auto& kv : all) names.push_back(kv.first.as<std::string>());
-    if (name.empty())
-      return f + ": no experiment selected (TACTILE_EXPERIMENT unset or Guard.select(\"\")); experiments: " +
-             joined(names);
     const YAML::Node e = all[name];
-    if (!e) return f + ": experiments." + name + ": no such experiment (experiments: " + joined(names) + ")";
-    const std::string key = f + ": experiments." + name + ".";
-    if (!e.IsMap()) return key.substr(0, key.size() - 1) + ": not a map";
+    if (name.empty())
+      err = f + ": no experiment selected (TACTILE_EXPERIMENT unset or Guard.select(\"\")); experiments: " +
+            joined(names);
+    else if (!e)
+      err = f + ": experiments." + name + ": no such experiment (experiments: " + joined(names) + ")";
+    else if (!e.IsMap())
+      err = f + ": experiments." + name + ": not a map";
+    return e;
+  }
+
+  // Reads and checks entry `name`; on success sets the properties and returns
+  // "", else the error (file: key: what, valid values) and changes nothing.
+  std::string readEntry(const std::string& name) {
+    std::string entry_err;
+    const YAML::Node e = registryEntry(name, entry_err);
+    if (!entry_err.empty()) return entry_err;
+    const std::string key = registry_file_ + ": experiments." + name + ".";
     try {
-      for (const auto& kv : e) {
-        const std::string k = kv.first.as<std::string>();
-        bool known = false;
-        for (const auto& v : kEntryKeys) known = known || v == k;
-        if (!known) return key + k + ": unknown key (valid: " + joined(kEntryKeys) + ")";
-      }
+      if (std::string err = unknownKey(e, key, kEntryKeys); !err.empty()) return err;
       for (const char* k : {"scene", "program", "controller", "state_machine", "timeout_s"})
         if (!e[k]) return key + k + ": missing (keys: " + joined(kEntryKeys) + ")";
       const std::string scene = e["scene"].as<std::string>();
@@ -469,12 +522,7 @@ class DeployGuard : public RTT::TaskContext {
       const bool robot = e["robot"] ? e["robot"].as<bool>() : false;
       const YAML::Node sm = e["state_machine"];
       if (!sm.IsMap()) return key + "state_machine: not a map (keys: " + joined(kStateMachineKeys) + ")";
-      for (const auto& kv : sm) {
-        const std::string k = kv.first.as<std::string>();
-        bool known = false;
-        for (const auto& v : kStateMachineKeys) known = known || v == k;
-        if (!known) return key + "state_machine." + k + ": unknown key (valid: " + joined(kStateMachineKeys) + ")";
-      }
+      if (std::string err = unknownKey(sm, key + "state_machine.", kStateMachineKeys); !err.empty()) return err;
       for (const char* k : {"file", "name"})
         if (!sm[k]) return key + "state_machine." + k + ": missing (keys: " + joined(kStateMachineKeys) + ")";
       const std::string osd = resolved(sm["file"].as<std::string>());
@@ -490,30 +538,8 @@ class DeployGuard : public RTT::TaskContext {
       if (type.empty())
         return key + "state_machine.name: " + instance + " is not a RootMachine of " + osd +
                " (RootMachines: " + joined(instances) + ")";
-      std::vector<std::string> declared_names;
-      for (const auto& d : declared) declared_names.push_back(d.name);
       std::vector<Param> params;
-      if (const YAML::Node ps = sm["params"]) {
-        if (!ps.IsMap()) return key + "state_machine.params: not a map (params: " + joined(declared_names) + ")";
-        for (const auto& kv : ps) {
-          const std::string p = kv.first.as<std::string>();
-          const OsdParam* d = nullptr;
-          for (const auto& x : declared) d = (x.name == p) ? &x : d;
-          if (!d)
-            return key + "state_machine.params." + p + ": not a param of " + type + " in " + osd +
-                   " (params: " + joined(declared_names) + ")";
-          Param param{d->type, p, kv.second.as<std::string>()};
-          try {
-            if (d->type == "double") param.number = kv.second.as<double>();
-            if (d->type == "int") param.number = kv.second.as<int>();
-            if (d->type == "bool") param.number = kv.second.as<bool>() ? 1.0 : 0.0;
-          } catch (const YAML::Exception&) {
-            return key + "state_machine.params." + p + ": '" + param.value + "' is not a " + d->type + " (param " +
-                   d->type + " " + p + " of " + type + ")";
-          }
-          params.push_back(param);
-        }
-      }
+      if (std::string err = entryParams(sm, key, type, osd, declared, params); !err.empty()) return err;
       const std::string derived = sceneDurationParam(key, resolved(scene), declared, params);
       if (!derived.empty()) return derived;
       // Checked: take it.

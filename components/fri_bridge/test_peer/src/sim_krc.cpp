@@ -155,41 +155,10 @@ void SimKrc::handleReply(const uint8_t* buf, std::size_t n, double t_sent, doubl
   stats_.max_latency_s = std::max(stats_.max_latency_s, lat);
 }
 
-void SimKrc::runCycle() {
-  if (plant_ == nullptr) return;
-  const double T = params_.period_s;
-  if (stats_.cycles == 0) t0_ = nowSeconds();
-  cycle_latency_s_ = std::nan("");
-  // 1. scheduled events
-  while (next_event_ < params_.schedule.size() && params_.schedule[next_event_].cycle <= stats_.cycles) {
-    const StateEvent& e = params_.schedule[next_event_++];
-    model_.setState(e.state, e.quality, e.power);
-    open_ = e.open;
-  }
-  // the KRL program ended on the RT PC's request (friStop): monitor mode, whatever the schedule says
-  if (model_.stopRequested() && model_.state() == State::Cmd) model_.setState(State::Cmd, model_.quality(), model_.power());
-  // 2. plant: outside CMD (or with the drives off) the robot holds its own set point.
-  model_.holdUnlessCommanding(plant_->holdPose(plant_state_));
-  plant_->step(model_.setPoint(), T, plant_state_);
-  if (!open_) {
-    // Closed interface: nothing sent, nothing taken; the cycle keeps its period.
-    if (params_.real_time) {
-      const double deadline = t0_ + double(stats_.cycles + 1) * T;
-      for (double now = nowSeconds(); now < deadline; now = nowSeconds()) {
-        std::size_t rn = 0;
-        socket_.receive(in_.data(), in_.size(), rn, int64_t((deadline - now) * 1e6));  // a stray datagram is dropped
-      }
-    }
-    ++stats_.closed_cycles;
-    ++stats_.cycles;
-    return;
-  }
-  // 3. measurement + faults
-  buildMeasurement();
-  std::size_t n = 0;
-  encodeMeasurement(msr_, out_.data(), out_.size(), n);
+// Step 3 of runCycle: the measurement (n bytes in out_) sent, or not, with the
+// configured faults; a packet held back in an earlier cycle after it.
+bool SimKrc::sendWithFaults(std::size_t n, bool& late) {
   bool expect_reply = true;
-  bool late = false;
   bool held_now = false;
   const FaultParams& f = params_.faults;
   if (f.burst_length > 0 && stats_.cycles >= f.burst_start && stats_.cycles - f.burst_start < f.burst_length) {
@@ -231,8 +200,13 @@ void SimKrc::runCycle() {
     sendMeasurement(held_.data(), held_size_);
     held_size_ = 0;
   }
-  const double t_sent = nowSeconds();
-  // 4. wait for the reply
+  return expect_reply;
+}
+
+// Step 4 of runCycle: the wait for the reply to the measurement sent at
+// t_sent, up to the reply timeout or (real time) the next tick of the period.
+bool SimKrc::awaitReply(double t_sent, bool expect_reply) {
+  const double T = params_.period_s;
   double deadline = expect_reply ? t_sent + params_.reply_timeout_s : t_sent;
   if (params_.real_time) {
     // Next tick of the period grid, but at least half a period for the reply.
@@ -263,6 +237,47 @@ void SimKrc::runCycle() {
     }
     if (nowSeconds() >= deadline) break;
   }
+  return matched;
+}
+
+void SimKrc::runCycle() {
+  if (plant_ == nullptr) return;
+  const double T = params_.period_s;
+  if (stats_.cycles == 0) t0_ = nowSeconds();
+  cycle_latency_s_ = std::nan("");
+  // 1. scheduled events
+  while (next_event_ < params_.schedule.size() && params_.schedule[next_event_].cycle <= stats_.cycles) {
+    const StateEvent& e = params_.schedule[next_event_++];
+    model_.setState(e.state, e.quality, e.power);
+    open_ = e.open;
+  }
+  // the KRL program ended on the RT PC's request (friStop): monitor mode, whatever the schedule says
+  if (model_.stopRequested() && model_.state() == State::Cmd) model_.setState(State::Cmd, model_.quality(), model_.power());
+  // 2. plant: outside CMD (or with the drives off) the robot holds its own set point.
+  model_.holdUnlessCommanding(plant_->holdPose(plant_state_));
+  plant_->step(model_.setPoint(), T, plant_state_);
+  if (!open_) {
+    // Closed interface: nothing sent, nothing taken; the cycle keeps its period.
+    if (params_.real_time) {
+      const double deadline = t0_ + double(stats_.cycles + 1) * T;
+      for (double now = nowSeconds(); now < deadline; now = nowSeconds()) {
+        std::size_t rn = 0;
+        socket_.receive(in_.data(), in_.size(), rn, int64_t((deadline - now) * 1e6));  // a stray datagram is dropped
+      }
+    }
+    ++stats_.closed_cycles;
+    ++stats_.cycles;
+    return;
+  }
+  // 3. measurement + faults
+  buildMeasurement();
+  std::size_t n = 0;
+  encodeMeasurement(msr_, out_.data(), out_.size(), n);
+  bool late = false;
+  const bool expect_reply = sendWithFaults(n, late);
+  const double t_sent = nowSeconds();
+  // 4. wait for the reply
+  const bool matched = awaitReply(t_sent, expect_reply);
   if (!matched) ++stats_.missed;
   // The KRC rates the link from this cycle's answer (the timing quality).
   model_.noteAnswer(matched, params_.real_time && matched ? cycle_latency_s_ : 0.0);

@@ -211,6 +211,11 @@ class SimKrc {
   void buildMeasurement();
   void sendMeasurement(const uint8_t* buf, std::size_t n);
   void handleReply(const uint8_t* buf, std::size_t n, double t_sent, double now);
+  // runCycle's steps: this cycle's measurement (n bytes in out_) sent with the
+  // configured faults (returns whether a reply is expected; `late`: send it
+  // after the wait); the wait for the reply (returns whether one matched).
+  bool sendWithFaults(std::size_t n, bool& late);
+  bool awaitReply(double t_sent, bool expect_reply);
 
   void syncStats();
 
