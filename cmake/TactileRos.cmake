@@ -42,18 +42,28 @@ set(_tactile_ros_launcher)
 if(CMAKE_CXX_COMPILER_LAUNCHER)
   set(_tactile_ros_launcher -DCMAKE_CXX_COMPILER_LAUNCHER=${CMAKE_CXX_COMPILER_LAUNCHER})
 endif()
+if(CMAKE_CXX_LINKER_LAUNCHER)
+  list(APPEND _tactile_ros_launcher -DCMAKE_CXX_LINKER_LAUNCHER=${CMAKE_CXX_LINKER_LAUNCHER})
+endif()
 # The workspace's environment (what sourcing the install space's setup.sh
 # gives, for the build only): Debian's python3 first (the generators of
 # genmsg and rtt_roscomm run as `python3`), the Orocos packages' pkg-config
 # files (UseOROCOS-RTT finds the rtt_ros packages with pkg-config).
 set(_tactile_ros_env ${CMAKE_COMMAND} -E env "PATH=/usr/bin:$ENV{PATH}"
     "PKG_CONFIG_PATH=${TACTILE_ROS_PREFIX_DIR}/lib/pkgconfig:${TACTILE_ROS_OROCOS_PREFIX}/lib/pkgconfig:$ENV{PKG_CONFIG_PATH}")
+# Makefiles: the parent make's $(MAKE) (shares its job server); other
+# generators (Ninja): cmake --build on the workspace, same generator.
+if(CMAKE_GENERATOR MATCHES "Makefiles")
+  set(_tactile_ros_build ${_tactile_ros_env} $(MAKE))
+else()
+  set(_tactile_ros_build ${_tactile_ros_env} ${CMAKE_COMMAND} --build <BINARY_DIR>)
+endif()
 ExternalProject_Add(tactile_ros_ws
   SOURCE_DIR ${PROJECT_SOURCE_DIR}/ros
   BINARY_DIR ${CMAKE_BINARY_DIR}/ros/build
   LIST_SEPARATOR |
   CMAKE_COMMAND ${_tactile_ros_env} ${CMAKE_COMMAND}
-  BUILD_COMMAND ${_tactile_ros_env} $(MAKE)
+  BUILD_COMMAND ${_tactile_ros_build}
   CMAKE_ARGS -DCMAKE_BUILD_TYPE=Release
              -DCMAKE_PREFIX_PATH=${TACTILE_ROS_PREFIX_DIR}|${TACTILE_ROS_OROCOS_PREFIX}
              -DCATKIN_DEVEL_PREFIX=${TACTILE_ROS_DEVEL}

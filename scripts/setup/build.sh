@@ -21,8 +21,12 @@ args=(-DCMAKE_BUILD_TYPE=Release -DTACTILE_WITH_RTT="$with_rtt")
 # The ROS 1 face (ros/): AUTO builds it where scripts/setup/setup_rtt_ros.sh installed rtt_ros_integration.
 args+=(-DTACTILE_WITH_ROS="${TACTILE_WITH_ROS:-AUTO}")
 if [ "$with_rtt" != "OFF" ]; then args+=(-DCMAKE_PREFIX_PATH="$orocos"); fi
-if [ -n "${TACTILE_CCACHE:-}" ] && command -v ccache >/dev/null; then
+# ccache wherever it is installed (its own cache, ~/.cache/ccache or $CCACHE_DIR);
+# TACTILE_CCACHE=0 builds without it.
+if [ "${TACTILE_CCACHE:-1}" != 0 ] && command -v ccache >/dev/null; then
   args+=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+else
+  args+=(-UCMAKE_CXX_COMPILER_LAUNCHER)
 fi
 echo "build: configuring (TACTILE_WITH_RTT=$with_rtt)"
 cmake -S "$root" -B "$root/build" "${args[@]}" "$@" > "$root/build.configure.log" 2>&1 \

@@ -6,6 +6,8 @@
 # so RTT_COMPONENT_PATH=<root>/lib/orocos and `import("tactile")` in a
 # deployment script load all of them.
 
+include(${PROJECT_SOURCE_DIR}/cmake/TactilePch.cmake)  # tactile_rtt_pch()
+
 set(TACTILE_RTT_PACKAGE tactile)
 set(TACTILE_RTT_COMPONENT_PATH ${CMAKE_BINARY_DIR}/lib/orocos)
 set(TACTILE_RTT_PACKAGE_DIR ${TACTILE_RTT_COMPONENT_PATH}/${OROCOS_TARGET}/${TACTILE_RTT_PACKAGE})
@@ -31,6 +33,7 @@ function(tactile_rtt_library target kind)
   target_compile_definitions(${target} PUBLIC OROCOS_TARGET=${OROCOS_TARGET})
   target_link_libraries(${target} PUBLIC ${OROCOS-RTT_LIBRARIES})
   tactile_warnings(${target})
+  tactile_rtt_pch(${target} LIB)
   set(dir ${TACTILE_RTT_PACKAGE_DIR})
   set(inst ${TACTILE_RTT_INSTALL_DIR})
   if(kind STREQUAL "TYPEKIT")
