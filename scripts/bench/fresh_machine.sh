@@ -63,6 +63,7 @@ stop_after=""
 udp_lock=""
 keep=0
 sampler_pid=""
+stage_pid=""
 
 say() { echo "fresh_machine: $*"; }
 die() { echo "fresh_machine: error: $*" >&2; exit 2; }
@@ -219,6 +220,7 @@ lay_project() {
 # Prefixes each line with the UTC time and the seconds since START_US (µs).
 stamp_lines() {
   local t0="$1" line now ms
+  trap '' INT
   while IFS= read -r line || [ -n "$line" ]; do
     now="${EPOCHREALTIME/./}"
     ms=$(( (now - t0) / 1000 ))
@@ -226,22 +228,24 @@ stamp_lines() {
   done
 }
 
-# run_stage NAME COMMAND: COMMAND in the root, in the clone, with a clean environment;
+# run_stage NAME COMMAND [WHAT]: COMMAND in the root, in the clone, with a clean environment;
 # its lines timestamped into LOGS/NAME.log, its wall/user/sys seconds and exit
 # code into LOGS/NAME.time ("wall user sys rc").
 run_stage() {
-  local name="$1" cmd="$2" t0 rc=0
+  local name="$1" cmd="$2" what="${3:-$2}" t0 rc=0
   local lock=(); [ -n "$udp_lock" ] && lock=(flock "$udp_lock")
-  say "[$name] $cmd (log $logs/$name.log)"
+  say "[$name] $what (log $logs/$name.log)"
   t0="${EPOCHREALTIME/./}"
-  set +e
-  "${lock[@]}" /usr/bin/time -f '%e %U %S' -o "$logs/$name.rusage" \
-    chroot "$root" /usr/bin/env -i HOME=/root LANG=C.UTF-8 TERM=dumb \
-      PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
-      TACTILE_JOBS="$jobs" bash -c "cd $PROJECT_IN_ROOT && $cmd" < /dev/null 2>&1 \
-    | stamp_lines "$t0" > "$logs/$name.log"
-  rc=${PIPESTATUS[0]}
-  set -e
+  # In the background, so that an interrupt's trap runs at once (`wait`
+  # returns on a trapped signal); pipefail: the exit code is the command's.
+  ( "${lock[@]}" /usr/bin/time -f '%e %U %S' -o "$logs/$name.rusage" \
+      chroot "$root" /usr/bin/env -i HOME=/root LANG=C.UTF-8 TERM=dumb \
+        PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
+        TACTILE_JOBS="$jobs" bash -c "cd $PROJECT_IN_ROOT && $cmd" < /dev/null 2>&1 \
+      | stamp_lines "$t0" > "$logs/$name.log" ) &
+  stage_pid=$!
+  wait "$stage_pid" || rc=$?
+  stage_pid=""
   echo "$(tail -n 1 "$logs/$name.rusage") $rc" > "$logs/$name.time"
   say "[$name] exit code $rc; wall/user/sys s: $(tail -n 1 "$logs/$name.rusage")"
   return 0
@@ -262,6 +266,37 @@ start_load_sampler() {
   uptime > "$logs/uptime-start.txt"
   ( while :; do echo "$(date -u +%H:%M:%S) $(cat /proc/loadavg)"; sleep 60; done ) > "$logs/loadavg.log" &
   sampler_pid=$!
+}
+
+# The processes running inside DIR (their root is DIR): this benchmark's own.
+root_pids() {
+  local p r
+  for p in /proc/[0-9]*; do
+    r="$(readlink "$p/root" 2>/dev/null)" || continue
+    [ "$r" = "$1" ] && echo "${p#/proc/}"
+  done
+  return 0
+}
+
+# On an interrupt: end what runs in the root (apt and dpkg ignore SIGINT), so
+# that the pipeline returns and the EXIT trap can unmount.
+stop_root_processes() {
+  local pids i
+  # flock or time waiting outside the root, then the stage's subshell
+  if [ -n "$stage_pid" ]; then
+    kill -TERM $(ps -o pid= --ppid "$stage_pid") "$stage_pid" 2>/dev/null || true
+  fi
+  pids="$(root_pids "$root") $(root_pids "$root.base")"
+  pids="$(echo $pids)"
+  [ -z "$pids" ] && return 0
+  say "interrupted: ending the processes in $root: $pids"
+  kill -TERM $pids 2>/dev/null || true
+  for i in 1 2 3 4 5; do
+    sleep 1
+    pids="$(echo $(root_pids "$root") $(root_pids "$root.base"))"
+    [ -z "$pids" ] && return 0
+  done
+  kill -KILL $pids 2>/dev/null || true
 }
 
 cleanup() {
@@ -307,14 +342,14 @@ main() {
   ensure_host_tools
   local tarball; tarball="$(base_tarball)"
   trap cleanup EXIT
-  trap 'exit 130' INT TERM
+  trap 'stop_root_processes; exit 130' INT TERM
   make_base "$tarball"
   fresh_root "$tarball"
   mount_all "$root"
   lay_project
   start_load_sampler
   if [ -n "$stop_after" ]; then
-    run_stage setup_only "$(partial_command)"
+    run_stage setup_only "$(partial_command)" "the set-up scripts up to --stop-after $stop_after"
   else
     run_stage test_command "CI=true bash .ci/run"
     run_stage main_job "bash scripts/run_experiment.sh --quick"
