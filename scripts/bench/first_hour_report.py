@@ -26,7 +26,10 @@ BUDGET_MAIN_S = 20 * 60   # the main job's first result, set-up and build includ
 BUDGET_TESTS_S = 30 * 60  # the test command green
 
 LINE = re.compile(r"^(\d\d:\d\d:\d\d) +(\d+\.\d+) (.*)$")
-STAGE_DONE = re.compile(r"^([\w.-]+): +(.+?) done in (\d+) s\s*$")
+# "<script>: <stage> done in N s" or "... took N s", anything after it (a CPU
+# figure, a log's path) allowed; the test command's own totals are read apart.
+STAGE_DONE = re.compile(r"^([\w.-]+): +(.+?) (?:done in|took) (\d+(?:\.\d+)?) ?s\b")
+TOTALS = ("run_tests", "ci")
 CTEST = re.compile(r"(\d+)% tests passed, (\d+) tests? failed out of (\d+)")
 
 
@@ -78,8 +81,14 @@ def first_time(rows, pattern):
 
 
 def stage_lines(rows):
-    return [{"script": m.group(1), "stage": m.group(2), "s": int(m.group(3))}
-            for _, text in rows for m in [STAGE_DONE.match(text)] if m]
+    out = []
+    for _, text in rows:
+        m = STAGE_DONE.match(text)
+        if m and m.group(1) not in TOTALS:
+            sec = float(m.group(3))
+            out.append({"script": m.group(1), "stage": m.group(2).strip(),
+                        "s": int(sec) if sec.is_integer() else sec})
+    return out
 
 
 def parse_test_command(rows):

@@ -59,6 +59,7 @@ def run_report(d, *extra):
 
 TEST_LINES = [(1, "setup_deps: installing build-essential"),
               (250, "setup_orocos:   rtt done in 180 s"),
+              (260, "setup_rtt_ros: [4/5] catkin build took 35 s (cpu 60 s; log /tmp/x.log)"),
               (300, "run_tests: set-up took 300 s"),
               (301, "build: configuring (TACTILE_WITH_RTT=ON)"),
               (900, "run_tests: set-up and build took 900 s"),
@@ -89,7 +90,8 @@ class Report(unittest.TestCase):
         self.assertAlmostEqual(s["main_job_first_result_s"], 300 + 600 + 42.5, delta=0.5)
         self.assertEqual(s["test_command"]["cpu_s"], 2300.75)
         self.assertEqual(s["ctest"], {"passed_percent": 100, "failed": 0, "total": 412})
-        self.assertEqual(rec["setup_details"], [{"script": "setup_orocos", "stage": "rtt", "s": 180}])
+        self.assertEqual(rec["setup_details"], [{"script": "setup_orocos", "stage": "rtt", "s": 180},
+                                                {"script": "setup_rtt_ros", "stage": "[4/5] catkin build", "s": 35}])
         self.assertEqual(rec["verdicts"], {"test_command": "pass", "main_job_first_result": "pass"})
         self.assertEqual(rc, 0)
         self.assertFalse(rec["load"]["shared"])
