@@ -50,9 +50,10 @@ SUITE=bookworm
 PROJECT_IN_ROOT=/srv/fresh/tactile_servo
 THIRD_PARTY_IN_ROOT=/srv/fresh/shared/third_party
 MARKER=.tactile-fresh-root
-MACHINE_PKGS=(${FRESH_MACHINE_PKGS:-g++ make cmake git python3 ca-certificates
+MACHINE_PKGS=(g++ make cmake git python3 ca-certificates
   libgtest-dev libgmock-dev libbenchmark-dev
-  clang-format clang-tidy clangd cppcheck bear gdb valgrind heaptrack})
+  clang-format clang-tidy clangd cppcheck bear gdb valgrind heaptrack)
+if [ -n "${FRESH_MACHINE_PKGS:-}" ]; then read -ra MACHINE_PKGS <<< "$FRESH_MACHINE_PKGS"; fi
 
 root=/var/tmp/tactile-fresh
 base_dir=/var/tmp
@@ -281,22 +282,21 @@ root_pids() {
 # On an interrupt: end what runs in the root (apt and dpkg ignore SIGINT), so
 # that the pipeline returns and the EXIT trap can unmount.
 stop_root_processes() {
-  local pids i
-  # flock or time waiting outside the root, then the stage's subshell
-  if [ -n "$stage_pid" ]; then
-    kill -TERM $(ps -o pid= --ppid "$stage_pid") "$stage_pid" 2>/dev/null || true
+  local pids=()
+  if [ -n "$stage_pid" ]; then  # flock or time waiting outside the root, then the stage's subshell
+    mapfile -t pids < <(ps -o pid= --ppid "$stage_pid" | tr -d ' ')
+    kill -TERM "${pids[@]}" "$stage_pid" 2>/dev/null || true
   fi
-  pids="$(root_pids "$root") $(root_pids "$root.base")"
-  pids="$(echo $pids)"
-  [ -z "$pids" ] && return 0
-  say "interrupted: ending the processes in $root: $pids"
-  kill -TERM $pids 2>/dev/null || true
-  for i in 1 2 3 4 5; do
+  mapfile -t pids < <(root_pids "$root"; root_pids "$root.base")
+  [ ${#pids[@]} -eq 0 ] && return 0
+  say "interrupted: ending the processes in $root: ${pids[*]}"
+  kill -TERM "${pids[@]}" 2>/dev/null || true
+  for _ in 1 2 3 4 5; do
     sleep 1
-    pids="$(echo $(root_pids "$root") $(root_pids "$root.base"))"
-    [ -z "$pids" ] && return 0
+    mapfile -t pids < <(root_pids "$root"; root_pids "$root.base")
+    [ ${#pids[@]} -eq 0 ] && return 0
   done
-  kill -KILL $pids 2>/dev/null || true
+  kill -KILL "${pids[@]}" 2>/dev/null || true
 }
 
 cleanup() {
