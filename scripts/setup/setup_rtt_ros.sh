@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Installs Debian 12's ROS 1 packages and builds the rtt_ros_integration
-# packages the project's ROS face needs (rtt_ros, rtt_rospack, rtt_rosnode,
-# rtt_rosclock, rtt_roscomm, rtt_rosparam and the typekits of std_msgs,
-# rosgraph_msgs, geometry_msgs and sensor_msgs) with catkin against Debian's ROS 1 and the
+# packages the project's ROS face needs (rtt_ros, rtt_rosnode, rtt_roscomm,
+# rtt_rosparam; no message typekit: the project generates its own for the few
+# message types it streams, ros/rtt_tactile_foreign_msgs) with catkin against
+# Debian's ROS 1 and the
 # Orocos toolchain in $OROCOS_PREFIX, into $OROCOS_PREFIX/ros (a catkin
 # install space: source $OROCOS_PREFIX/ros/setup.sh). rtt_ros_integration is not packaged by Debian;
 # it is a dependency, never part of this repository.
@@ -42,15 +43,14 @@ jobs="${TACTILE_JOBS:-$(nproc)}"
 work="${RTT_ROS_BUILD_DIR:-/tmp/tactile-rtt-ros-build}"
 commit=454c86f56a817453f7ee65a95e38e69533234b1e
 url=https://github.com/orocos/rtt_ros_integration.git
-# Folders of the repository, one catkin package each (rtt_rosclock needs
-# rtt_rosgraph_msgs, rtt_roscomm needs rtt_rospack and rtt_rosnode; the
-# project's tactile_msgs typekit needs rtt_std_msgs; the deployments stream
-# sensor_msgs/Image, geometry_msgs/PoseStamped and WrenchStamped through
-# rtt_roscomm: the typekits of geometry_msgs and sensor_msgs, 61 compilation
-# units, most of this build).
-PKGS=(rtt_ros rtt_rospack rtt_rosnode rtt_rosclock rtt_roscomm rtt_rosparam
-      typekits/rtt_std_msgs typekits/rtt_rosgraph_msgs
-      typekits/rtt_geometry_msgs typekits/rtt_sensor_msgs)
+# Folders of the repository, one catkin package each: what the deployments
+# import (ros.import of rtt_rosnode, rtt_rosparam; rtt_roscomm through
+# tactile_ros) and what those need (rtt_ros; rtt_roscomm loads rtt_rosnode).
+# No whole-package message typekit (rtt_std_msgs, rtt_sensor_msgs,
+# rtt_geometry_msgs: 96 compilation units): ros/rtt_tactile_foreign_msgs
+# generates typekit and ROS transport of the five foreign messages used.
+# rtt_rospack and rtt_rosclock (with rtt_rosgraph_msgs) are used by none.
+PKGS=(rtt_ros rtt_rosnode rtt_roscomm rtt_rosparam)
 
 stamp_dir="$ros_prefix/share/tactile_servo"
 stamp="$stamp_dir/rtt_ros.stamp"

@@ -4,8 +4,8 @@
 // functions of conversions.hpp, and
 // writes them as ROS messages to output ports that a deployment streams to
 // ROS topics with rtt_roscomm (deployments/ros_streams.ops; the typekits are
-// rtt_sensor_msgs, rtt_geometry_msgs and the project's rtt_tactile_msgs,
-// generated the rtt_roscomm way), and broadcasts TF with tf2_ros from this
+// the project's rtt_tactile_foreign_msgs and rtt_tactile_msgs, generated the
+// rtt_roscomm way), and broadcasts TF with tf2_ros from this
 // thread. The real-time components only gain one more lock-free connection
 // per port; conversion here, serialisation and publishing in rtt_roscomm's
 // publisher thread.
