@@ -239,12 +239,9 @@ int printResidualGrid(const CalibrationFit& fit, int rows, int cols) {
 ConfigResult checkReadBack(const std::string& out_file, const CalibrationFit& fit, int rows, int cols,
                            const CalibrationParams& base) {
   const int n = rows * cols;
-  YAML::Node back;
   FeatureParams fp2;
   CalibrationParams cp2;
-  ConfigResult r = config::loadFile(out_file, back);
-  if (r) r = loadFeatureParams(back["features"], config::Where{out_file, "features"}, fp2);
-  if (r) r = loadCalibrationParams(back["calibration"], config::Where{out_file, "calibration"}, fp2.rows, fp2.cols, cp2);
+  ConfigResult r = loadSensorParamFile(out_file, fp2, cp2);
   if (r) {
     bool same = fp2.rows == rows && fp2.cols == cols && cp2.use_border == fit.params.use_border &&
                 cp2.taxels.size() == fit.params.taxels.size();
@@ -270,13 +267,10 @@ int main(int argc, char** argv) {
   const double max_rms_pct = cli.max_rms_pct, max_se_pct = cli.max_se_pct;
 
   // The sensor's parameters (size, full scale, max_tare, noise_counts).
-  YAML::Node root;
   FeatureParams fp;
   CalibrationParams base;
   std::string params_text;
-  ConfigResult r = config::loadFile(params_file, root);
-  if (r) r = loadFeatureParams(root["features"], config::Where{params_file, "features"}, fp);
-  if (r) r = loadCalibrationParams(root["calibration"], config::Where{params_file, "calibration"}, fp.rows, fp.cols, base);
+  ConfigResult r = loadSensorParamFile(params_file, fp, base);
   if (r && !readText(params_file, params_text)) r = ConfigResult::failure(params_file + ": cannot read");
   if (!r) {
     std::fprintf(stderr, "tactile_calibrate: %s\n", r.message().c_str());

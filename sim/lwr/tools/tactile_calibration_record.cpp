@@ -324,12 +324,9 @@ int main(int argc, char** argv) {
   const long seed = args.seed;
 
   // The sensor: size and pitch (features:), the calibration its electronics invert.
-  YAML::Node root;
   FeatureParams fp;
   CalibrationParams cal;
-  ConfigResult r = config::loadFile(params_file, root);
-  if (r) r = loadFeatureParams(root["features"], config::Where{params_file, "features"}, fp);
-  if (r) r = loadCalibrationParams(root["calibration"], config::Where{params_file, "calibration"}, fp.rows, fp.cols, cal);
+  ConfigResult r = loadSensorParamFile(params_file, fp, cal);
   if (!r) {
     std::fprintf(stderr, "tactile_calibration_record: %s\n", r.message().c_str());
     return 2;

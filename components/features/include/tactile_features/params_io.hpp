@@ -29,4 +29,8 @@ ConfigResult loadFeatureParams(const YAML::Node& node, const config::Where& wher
 ConfigResult loadCalibrationParams(const YAML::Node& node, const config::Where& where, int rows, int cols,
                                    CalibrationParams& p);
 
+/// A sensor's parameter file (a map with `features:` and `calibration:`)
+/// into `fp` and `cp`, both from their defaults; errors name the file and key.
+ConfigResult loadSensorParamFile(const std::string& file, FeatureParams& fp, CalibrationParams& cp);
+
 }  // namespace tactile

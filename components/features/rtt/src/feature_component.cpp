@@ -12,20 +12,6 @@
 
 namespace tactile {
 
-ConfigResult loadSensorParamFile(const std::string& file, FeatureParams& fp, CalibrationParams& cp) {
-  if (file.empty()) return ConfigResult::failure("param_file is empty: set it to a YAML file with `features:` and `calibration:` maps");
-  YAML::Node root;
-  ConfigResult r = config::loadFile(file, root);
-  if (!r) return r;
-  if (!root.IsMap() || (!root["features"] && !root["calibration"]))
-    return ConfigResult::failure(file + ": expected a map with `features:` and/or `calibration:`");
-  fp = FeatureParams();
-  cp = CalibrationParams();
-  r = loadFeatureParams(root["features"], config::Where{file, "features"}, fp);
-  if (!r) return r;
-  return loadCalibrationParams(root["calibration"], config::Where{file, "calibration"}, fp.rows, fp.cols, cp);
-}
-
 FeatureComponent::FeatureComponent(const std::string& name)
     : Component(name, PreOperational),
       raw_in_("raw_frame"),

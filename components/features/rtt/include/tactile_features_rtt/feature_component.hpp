@@ -32,13 +32,11 @@
 
 #include "tactile_features/calibration.hpp"
 #include "tactile_features/extractor.hpp"
+#include "tactile_features/params_io.hpp"
 #include "tactile_features/sensor_stage.hpp"
 #include "tactile_types/types.hpp"
 
 namespace tactile {
-
-/// Loads `features:` and `calibration:` from a YAML file (configuration time).
-ConfigResult loadSensorParamFile(const std::string& file, FeatureParams& fp, CalibrationParams& cp);
 
 class FeatureComponent : public Component {
  public:
