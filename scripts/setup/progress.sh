@@ -10,21 +10,34 @@
 # How long each stage took on a fresh 2-core machine (Debian 12, nothing
 # installed before), in seconds; empty: not measured yet. The one place these
 # numbers live; update a number after a fresh run of its stage.
-#   orocos_apt, rtt, rtt_ros (the catkin build), build (the compile): fresh
+#   orocos_apt, rtt, build (the compile): fresh
 #   runs of the stages as they are (RTT has only lost its docs since).
 #   ocl: the fresh run with the former options (223 s, with Lua, logging,
 #   timer, helloworld) times the ratio of the CPU seconds (user+sys) of the
 #   present and the former options measured on one machine, 149.5 / 274.0
 #   (docs/deployment.md, "What setup_orocos.sh builds").
+#   rtt_ros: likewise, the former package set's fresh run (1391 s, every
+#   message of std_msgs, geometry_msgs and sensor_msgs as an RTT typekit)
+#   times 375 / 1634, the CPU seconds of the present four packages and of the
+#   former set measured on one machine (ros/README.md).
 declare -A TACTILE_REF_SECONDS=(
   [deps_apt]=""
   [orocos_apt]=48
   [rtt]=479
   [ocl]=122
   [rtt_ros_apt]=""
-  [rtt_ros]=1391
+  [rtt_ros]=319
   [build]=1105
 )
+
+# apt_install PKG...: Debian packages, non-interactive (sudo where not root);
+# the set-up scripts run it under progress_run.
+apt_install() {
+  local sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo="sudo"
+  $sudo apt-get update -qq &&
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "$@"
+}
 
 # "about 8 min on a fresh 2-core machine", or "no reference time yet".
 progress_about() {

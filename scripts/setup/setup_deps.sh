@@ -21,14 +21,8 @@ if [ ${#missing[@]} -eq 0 ]; then
   echo "setup_deps: all ${#PKGS[@]} packages present"
   exit 0
 fi
-SUDO=""
-if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 log=/tmp/tactile-deps-apt.log
 echo "setup_deps: installing ${missing[*]} ($(progress_about deps_apt); log: $log)"
-apt_install() {
-  $SUDO apt-get update -qq &&
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "$@"
-}
 rc=0
 progress_run "setup_deps:   apt" deps_apt "$log" apt_install "${missing[@]}" || rc=$?
 if [ "$rc" -ne 0 ]; then

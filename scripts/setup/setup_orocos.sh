@@ -99,12 +99,7 @@ for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 if [ ${#missing[@]} -gt 0 ]; then
-  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
   echo "setup_orocos: installing Debian packages ${missing[*]} ($(progress_about orocos_apt); log: /tmp/tactile-orocos-apt.log)"
-  apt_install() {
-    $SUDO apt-get update -qq &&
-    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "$@"
-  }
   progress_run "setup_orocos:   apt" orocos_apt /tmp/tactile-orocos-apt.log apt_install "${missing[@]}" \
     || { echo "setup_orocos: FAILED at step 'apt-get install'. Log: /tmp/tactile-orocos-apt.log" >&2; tail -n 30 /tmp/tactile-orocos-apt.log >&2; exit 1; }
 fi

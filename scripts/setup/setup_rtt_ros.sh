@@ -72,10 +72,6 @@ done
 SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
 if [ ${#missing[@]} -gt 0 ]; then
   echo "setup_rtt_ros: [1/5] installing Debian's ROS 1 packages ${missing[*]} ($(progress_about rtt_ros_apt); log: /tmp/tactile-ros-apt.log)"
-  apt_install() {
-    $SUDO apt-get update -qq &&
-    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "$@"
-  }
   progress_run "setup_rtt_ros:   apt" rtt_ros_apt /tmp/tactile-ros-apt.log apt_install "${missing[@]}" \
     || { echo "setup_rtt_ros: FAILED at step 'apt-get install'. Log: /tmp/tactile-ros-apt.log" >&2; tail -n 30 /tmp/tactile-ros-apt.log >&2; exit 1; }
   echo "setup_rtt_ros:   apt done in $PROGRESS_WALL s"
