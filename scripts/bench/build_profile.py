@@ -9,13 +9,13 @@ build. Prints a Markdown report (or writes it with --out).
 
 Measure (fresh build directory, no ccache):
 
-  cmake -S . -B /tmp/prof -G Ninja -DCMAKE_BUILD_TYPE=Release -DTACTILE_WITH_RTT=ON \\
+  cmake -S . -B $PROF -G Ninja -DCMAKE_BUILD_TYPE=Release -DTACTILE_WITH_RTT=ON \\
         -DCMAKE_PREFIX_PATH=/opt/orocos \\
         -DCMAKE_CXX_COMPILER_LAUNCHER=$PWD/scripts/bench/cpu_launcher.sh \\
         -DCMAKE_CXX_LINKER_LAUNCHER=$PWD/scripts/bench/cpu_launcher.sh
-  cd /tmp/prof && CCACHE_DISABLE=1 TACTILE_CPU_LOG=/tmp/prof.cpu \\
-        /usr/bin/time -v -o /tmp/prof.time ninja -j2
-  /usr/bin/python3 scripts/bench/build_profile.py /tmp/prof --cpu-log /tmp/prof.cpu --time /tmp/prof.time
+  cd $PROF && CCACHE_DISABLE=1 TACTILE_CPU_LOG=$PROF.cpu \\
+        /usr/bin/time -v -o $PROF.time ninja -j2
+  /usr/bin/python3 scripts/bench/build_profile.py $PROF --cpu-log $PROF.cpu --time $PROF.time
 
 Per-step times: CPU seconds (user+sys) from the CPU log when given, else the
 wall seconds of .ninja_log (inflated when the machine is shared).
