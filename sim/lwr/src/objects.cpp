@@ -201,6 +201,16 @@ void ballSlopes(const double* xc, int m, const double* cand, double* sx, double*
     sy[i] = boundSlope(-dy / nz);
   }
 }
+// A chunk of lowestZRow() before its primitives: no surface (+inf, object
+// -1) and, where asked for (sx, sy non-null), flat.
+void clearChunk(int m, double* z, int* which, double* sx, double* sy) {
+  for (int i = 0; i < m; ++i) {
+    z[i] = std::numeric_limits<double>::infinity();
+    which[i] = -1;
+  }
+  if (sx != nullptr && sy != nullptr)
+    for (int i = 0; i < m; ++i) sx[i] = sy[i] = 0.0;
+}
 }  // namespace
 
 void ObjectSet::lowestZRow(double y, const double* x, int n, double* z, int* which, double* sx, double* sy) const {
@@ -221,12 +231,7 @@ void ObjectSet::lowestZRow(double y, const double* x, int n, double* z, int* whi
     int* wc = which + i0;
     double* sxc = slopes ? sx + i0 : nullptr;
     double* syc = slopes ? sy + i0 : nullptr;
-    for (int i = 0; i < m; ++i) {
-      zc[i] = inf;
-      wc[i] = -1;
-    }
-    if (slopes)
-      for (int i = 0; i < m; ++i) sxc[i] = syc[i] = 0.0;
+    clearChunk(m, zc, wc, sxc, syc);
     bool first = true;
     int a = 0, b = m;
     // Columns [a, b) of the chunk with x0 <= x <= x1; false if none.
