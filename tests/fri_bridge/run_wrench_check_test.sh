@@ -19,6 +19,7 @@ set -uo pipefail
 name=fri_check_wrench
 root="$1"
 build="$2"
+source "$root/tests/lab_sim/lab_record_common.sh"  # fri_check_port
 out="$build/fri_check_wrench"
 check="$build/bin/fri_check"
 sim="$build/bin/fri_sim_krc"
@@ -40,14 +41,9 @@ record() {
   shift
   "$check" --monitor --params "$params" --port 0 --bind 127.0.0.1 --cycles 300 --seconds 60 --idle-timeout 5 \
     --period-tolerance 0.9 --max-jitter-ms 1000 --record "$file" >"$file.log" 2>&1 &
-  local pid=$!
-  local port=""
-  for _ in $(seq 200); do
-    port=$(sed -n 's/^fri_check: listening on 127\.0\.0\.1:\([0-9]*\),.*/\1/p' "$file.log")
-    [ -n "$port" ] && break
-    sleep 0.02
-  done
-  [ -n "$port" ] || { cat "$file.log"; echo "$name: fri_check did not listen" >&2; kill "$pid"; return 1; }
+  local pid=$! port
+  port=$(fri_check_port "$file.log" "$pid")
+  [ -n "$port" ] || return 1
   "$sim" --port "$port" --cycles 400 "$@" >"$file.sim.log" 2>&1
   wait "$pid"
   [ "$(wc -l <"$file")" -gt 100 ] || { cat "$file.log"; echo "$name: $file: too few lines" >&2; return 1; }

@@ -18,12 +18,8 @@ set -uo pipefail
 name=lab_sim_faults
 root="$1"
 build="$2"
-out="$build/lab_sim_test/faults"
-for t in lab_sim wts_read; do
-  [ -x "$build/bin/$t" ] || { echo "$name: $build/bin/$t missing" >&2; exit 1; }
-done
-rm -rf "$out"
-mkdir -p "$out"
+source "$root/tests/lab_sim/lab_record_common.sh"  # lab_record_init
+lab_record_init faults lab_sim wts_read
 faults='faults=[{kind: disconnect, start_s: 1.0, duration_s: 1.0}, {kind: stuck, start_s: 2.5, rows: [0, 0], cols: [0, 1], counts: 3000}, {kind: stale, start_s: 3.5, duration_s: 0.5}]'
 "$build/bin/lab_sim" "$root/sim/lab/scenes/bringup_press.yaml" --fri-port 49972 --wts-link "$out/wts0" \
   --duration 6 --set "$faults" >"$out/lab_sim.log" 2>&1 &
