@@ -24,8 +24,10 @@
 # out/faults/, docs/faults.md), and last the results
 # pages (scripts/tools/results_docs.py -> docs/results.md, the README's table).
 #
-# Order: the registry's experiments headless and as deployed first (about a
-# minute on a built tree), then the sweeps, the rehearsals, the robot path
+# Order: the Debian packages, the simulator alone, and the registry's
+# experiments headless (the first results, a few minutes from a fresh machine);
+# then Orocos and the whole build, and the same experiments as deployed (about
+# a minute on a built tree); then the sweeps, the rehearsals, the robot path
 # and the faults, each a numbered stage that prints its progress every 30 s
 # and its time. `--quick` stops after the experiments and their deployments
 # (the results pages are then not regenerated).
@@ -37,9 +39,19 @@ case "${1:-}" in
   "") ;;
   *) echo "usage: run_experiment.sh [--quick]   (--quick: the experiments and their deployments only)" >&2; exit 2 ;;
 esac
+# First the Debian packages and the simulator alone, so that the headless
+# experiments show a result before Orocos is built: a fresh build directory is
+# configured without the RTT layer for this step (a tree already configured with
+# it keeps its configuration), and the full configuration later reuses the
+# simulator's objects.
 bash "$root/scripts/setup/setup_deps.sh"
-bash "$root/scripts/setup/setup_orocos.sh"
-bash "$root/scripts/setup/build.sh"
+first_rtt=OFF
+if grep -qs '^TACTILE_WITH_RTT:STRING=ON$' "$root/build/CMakeCache.txt" && [ "${TACTILE_WITH_RTT:-ON}" != OFF ]; then first_rtt=ON; fi
+if [ "$first_rtt" = OFF ]; then
+  TACTILE_WITH_RTT=OFF TACTILE_WITH_ROS=OFF TACTILE_BUILD_TARGETS=tactile_sim bash "$root/scripts/setup/build.sh"
+else
+  TACTILE_BUILD_TARGETS=tactile_sim bash "$root/scripts/setup/build.sh"
+fi
 sim="$root/build/bin/tactile_sim"
 out="$root/out"
 mkdir -p "$out"
@@ -93,6 +105,13 @@ while read -r name scene controller; do
 done <<< "$experiments"
 /usr/bin/python3 "$root/scripts/tools/plot_run.py" "$out/bent_bar" --compare "$out/bent_bar_baseline" "$out/bent_bar_no_rotation"
 /usr/bin/python3 "$root/scripts/tools/experiment_report.py" "$out"
+echo "main job: the experiments headless in $((SECONDS - t_main)) s"
+
+# Orocos and rtt_ros (when missing), then the whole build: the RTT layer, the
+# ROS face, the tools and the tests.
+bash "$root/scripts/setup/setup_orocos.sh"
+bash "$root/scripts/setup/build.sh"
+t_built=$SECONDS
 
 # The same experiments as deployed (the loop that runs on the robot, with the
 # simulated arm and sensor swapped in).
@@ -105,7 +124,7 @@ deploy() {  # deploy EXPERIMENT: a non-zero exit is reported, not fatal
 echo "main job: the same experiments deployed under the OCL deployer (scripts/run_deployment.sh -> $out/deploy/)"
 while read -r name _; do deploy "$name"; done <<< "$experiments"
 /usr/bin/python3 "$root/scripts/tools/experiment_report.py" "$out/deploy"
-echo "main job: experiments and deployments in $((SECONDS - t_main)) s"
+echo "main job: the deployments in $((SECONDS - t_built)) s"
 if [ "$quick" -eq 1 ]; then
   echo "main job: --quick: the sweeps, the rehearsals, the robot path and the faults not run; docs/results.md not regenerated"
   exit 0
@@ -165,4 +184,4 @@ grep -a "^\[\|^Commit" "$out/faults.log" | grep -a "DIFFERS\|^Commit" || true
 # docs/results/results.json (with the commit and the machine), docs/img/ and
 # the README's results table (scripts/tools/results_docs.py).
 py "$root/scripts/tools/results_docs.py" --out "$out" || echo "  (results_docs.py failed)"
-echo "main job: done in $((SECONDS - t_main)) s after the build"
+echo "main job: done in $((SECONDS - t_built)) s after the build"

@@ -7,6 +7,9 @@
 # $OROCOS_PREFIX (default /opt/orocos), and this script then builds the RTT
 # layer with TACTILE_WITH_RTT=ON (CMake fails if RTT cannot be found).
 # Opt out with TACTILE_WITH_RTT=OFF (cores, simulator and tools only).
+# TACTILE_BUILD_TARGETS="t1 t2" builds only those targets (the main job builds
+# tactile_sim first, with TACTILE_WITH_RTT=OFF, to show a result before Orocos
+# is set up; the later configuration with the RTT layer reuses its objects).
 # The compiler's output goes to build.compile.log (a progress line from its
 # [NN%] about every 45 s; on failure its first errors and last lines, and the
 # build's exit status).
@@ -33,9 +36,16 @@ cmake -S "$root" -B "$root/build" "${args[@]}" "$@" > "$root/build.configure.log
   || { echo "build: CMake configure failed. Log: $root/build.configure.log" >&2; tail -n 30 "$root/build.configure.log" >&2; exit 1; }
 grep -E "tactile_servo:" "$root/build.configure.log" || true
 log="$root/build.compile.log"
-echo "build: compiling with -j$jobs ($(progress_about build) from scratch; log: $log)"
+targets=()
+key=build
+if [ -n "${TACTILE_BUILD_TARGETS:-}" ]; then
+  read -ra names <<< "$TACTILE_BUILD_TARGETS"
+  targets=(--target "${names[@]}")
+  key=build_cores
+fi
+echo "build: compiling ${TACTILE_BUILD_TARGETS:-everything} with -j$jobs ($(progress_about "$key") from scratch; log: $log)"
 rc=0
-progress_run "build:   compile" build "$log" cmake --build "$root/build" -j"$jobs" || rc=$?
+progress_run "build:   compile" "$key" "$log" cmake --build "$root/build" -j"$jobs" "${targets[@]}" || rc=$?
 if [ "$rc" -ne 0 ]; then
   echo "build: compile failed (exit $rc). Log: $log" >&2
   grep -a -m 10 -E ' error: |Error [0-9]+' "$log" >&2 || true

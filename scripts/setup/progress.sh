@@ -16,6 +16,8 @@
 #   timer, helloworld) times the ratio of the CPU seconds (user+sys) of the
 #   present and the former options measured on one machine, 149.5 / 274.0
 #   (docs/deployment.md, "What setup_orocos.sh builds").
+#   build_cores: tactile_sim and the cores it links (41 files, 115 CPU s on
+#   2 cores without ccache), the main job's first build.
 #   rtt_ros: likewise, the former package set's fresh run (1391 s, every
 #   message of std_msgs, geometry_msgs and sensor_msgs as an RTT typekit)
 #   times 375 / 1634, the CPU seconds of the present four packages and of the
@@ -28,6 +30,7 @@ declare -A TACTILE_REF_SECONDS=(
   [rtt_ros_apt]=""
   [rtt_ros]=319
   [build]=1105
+  [build_cores]=66
 )
 
 # apt_install PKG...: Debian packages, non-interactive (sudo where not root);
