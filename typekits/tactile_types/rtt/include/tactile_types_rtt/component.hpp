@@ -17,6 +17,8 @@
 
 #include <rtt/TaskContext.hpp>
 #include <rtt/base/ActivityInterface.hpp>
+#include <rtt/extras/SlaveActivity.hpp>
+#include <rtt/os/MainThread.hpp>
 
 namespace tactile {
 
@@ -26,7 +28,10 @@ class Component : public RTT::TaskContext {
       : RTT::TaskContext(name, initial_state) {}
 
   bool configure() override { return ordered([this] { return RTT::TaskContext::configure(); }); }
-  bool start() override { return ordered([this] { return RTT::TaskContext::start(); }); }
+  bool start() override {
+    executed_by_master_.store(hasMaster(), std::memory_order_relaxed);
+    return ordered([this] { return RTT::TaskContext::start(); });
+  }
   bool stop() override { return ordered([this] { return RTT::TaskContext::stop(); }); }
   bool cleanup() override { return ordered([this] { return RTT::TaskContext::cleanup(); }); }
 
@@ -39,6 +44,16 @@ class Component : public RTT::TaskContext {
   /// disconnecting from an event port) could otherwise run on destroyed ports.
   void haltActivity() noexcept {
     if (RTT::base::ActivityInterface* a = getActivity()) a->stop();
+  }
+
+  /// New data on an event port triggers a running component, except one that
+  /// a master executes (a slave of tactile::SimClock, which runs it on the
+  /// scene's schedule): there RTT's SlaveActivity::trigger would queue one
+  /// message per write on the master's engine, more than its queue holds
+  /// (100) within one of the clock's updates, for nothing the master needs.
+  /// Runs in the writer's thread: one atomic load.
+  bool dataOnPortHook(RTT::base::PortInterface* port) override {
+    return !executed_by_master_.load(std::memory_order_relaxed) && RTT::TaskContext::dataOnPortHook(port);
   }
 
   /// updateHook()'s first statement: sees what the other hooks wrote; what
@@ -65,7 +80,14 @@ class Component : public RTT::TaskContext {
     return ok;
   }
 
+  /// A SlaveActivity with a master (its thread is the master's, not the main thread).
+  bool hasMaster() {
+    auto* slave = dynamic_cast<RTT::extras::SlaveActivity*>(getActivity());
+    return slave != nullptr && slave->thread() != RTT::os::MainThread::Instance();
+  }
+
   mutable std::atomic<unsigned> gen_{0};
+  std::atomic<bool> executed_by_master_{false};  ///< set by start()
 };
 
 }  // namespace tactile
