@@ -19,6 +19,7 @@
 #include <rtt/extras/SlaveActivity.hpp>
 #include <rtt/os/TimeService.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -417,18 +418,101 @@ TEST(SimLoopClock, TicksDoNotAllocate) {
   ASSERT_TRUE(sensor.start() && features.start() && servo.start() && robot.start());
   ASSERT_TRUE(clock.start());
   auto ticks = [&] { return tactile::readAttribute<int>(*clock.provides(), "ticks", -1); };
-  for (int k = 0; k < 40; ++k) ASSERT_TRUE(clock.update());  // warm-up: 2000 ticks, every port used
+  const int per_update = SimClock::kTicksPerUpdate;
+  for (int k = 0; k < 2000 / per_update; ++k) ASSERT_TRUE(clock.update());  // warm-up: 2000 ticks, every port used
   {
     tactile::test::AllocationScope scope;
-    for (int k = 0; k < 100; ++k) clock.update();  // 5000 ticks: free motion into contact and alignment
+    for (int k = 0; k < 5000 / per_update; ++k) clock.update();  // 5000 ticks: free motion into contact and alignment
     EXPECT_EQ(scope.count(), 0u);
   }
   EXPECT_EQ(ticks(), 7000);
   EXPECT_NE(servo.phaseName(), "free_motion") << "the loop reached the bar";
   clock.stop();
-  // The stages' port events queued trigger messages on the clock's engine:
-  // process them before the stages go away.
-  clock.update();
+  clock.update();  // runs what is still queued on the clock's engine before the stages go away
+  RTT::os::TimeService::Instance()->enableSystemClock(true);
+}
+
+/// A slave with event ports, as the deployment's reporter (OCL::FileReporting):
+/// counts the samples that trigger it, each a message queued on the clock's
+/// engine (RTT's SlaveActivity::trigger).
+class TriggerCounter : public RTT::TaskContext {
+ public:
+  TriggerCounter() : RTT::TaskContext("Reporter") {
+    ports()->addEventPort(truth_);
+    ports()->addEventPort(pose_);
+    ports()->addEventPort(features_);
+    ports()->addEventPort(command_);
+  }
+  bool dataOnPortHook(RTT::base::PortInterface* port) override {
+    const bool trigger = RTT::TaskContext::dataOnPortHook(port);
+    if (trigger) ++triggers;
+    return trigger;
+  }
+  RTT::InputPort<SimTruth> truth_{"truth"};
+  RTT::InputPort<Pose> pose_{"flange_pose"};
+  RTT::InputPort<ContactFeatures> features_{"features"};
+  RTT::InputPort<PoseCommand> command_{"pose_command"};
+  int triggers = 0;
+};
+
+// Between two of the clock's updates, what its slaves queue on its engine
+// stays well within the queue (RTT 2.10's ORONUM_EE_MQUEUE_SIZE, 100): an
+// update that overfilled it left messages the engine never ran again, and
+// the deployer crashed unloading the slaves (rtt_deployer_sim_run_fails_cleanly
+// under load). The stages of the loop (tactile::Component) queue none; a
+// reporter on four ports queues one per sample.
+TEST(SimLoopClock, AnUpdateQueuesFarFewerTriggersThanTheEngineHolds) {
+  constexpr int kEngineQueue = 100;
+  const std::string scene = kScenes + "edge_exploration.yaml";
+  SimClock clock("Clock");
+  LwrSimComponent robot("Robot");
+  WtsSimComponent sensor("Sensor");
+  FeatureComponent features("Features");
+  ServoComponent servo("Servo");
+  TriggerCounter reporter;
+  clock.setActivity(new RTT::extras::SlaveActivity(0.0));
+  for (RTT::TaskContext* s : std::initializer_list<RTT::TaskContext*>{&robot, &sensor, &features, &servo, &reporter}) {
+    ASSERT_TRUE(s->setActivity(new RTT::extras::SlaveActivity(clock.getActivity())));
+    clock.addPeer(s);
+  }
+  robot.properties()->getPropertyType<std::string>("scene_file")->set(scene);
+  sensor.properties()->getPropertyType<std::string>("scene_file")->set(scene);
+  clock.properties()->getPropertyType<std::string>("scene_file")->set(scene);
+  features.properties()->getPropertyType<std::string>("param_file")->set(TACTILE_SOURCE_DIR
+                                                                          "/components/features/params/wts0614.yaml");
+  servo.properties()->getPropertyType<std::string>("program_file")->set(TACTILE_SOURCE_DIR
+                                                                         "/components/servo/programs/edge_exploration.yaml");
+  servo.properties()->getPropertyType<double>("period")->set(0.01);
+  const RTT::ConnPolicy data = RTT::ConnPolicy::data(RTT::ConnPolicy::LOCK_FREE);
+  auto connect = [&](RTT::TaskContext& a, const char* out, RTT::TaskContext& b, const char* in) {
+    ASSERT_TRUE(a.ports()->getPort(out)->connectTo(b.ports()->getPort(in), data)) << out << " -> " << in;
+  };
+  connect(robot, "taxel_forces", sensor, "taxel_forces");
+  connect(sensor, "raw_frame", features, "raw_frame");
+  connect(features, "features", servo, "features");
+  connect(robot, "flange_pose", servo, "flange_pose");
+  connect(robot, "estimated_wrench", servo, "estimated_wrench");
+  connect(servo, "pose_command", robot, "pose_command");
+  connect(robot, "truth", reporter, "truth");
+  connect(robot, "flange_pose", reporter, "flange_pose");
+  connect(features, "features", reporter, "features");
+  connect(servo, "pose_command", reporter, "pose_command");
+  ASSERT_TRUE(robot.configure() && sensor.configure() && features.configure() && servo.configure());
+  ASSERT_TRUE(clock.configure()) << clock.lastError();
+  ASSERT_TRUE(sensor.start() && features.start() && servo.start() && robot.start() && reporter.start());
+  ASSERT_TRUE(clock.start());
+  int most = 0;
+  for (int k = 0; k < 3000 / SimClock::kTicksPerUpdate; ++k) {  // 3 s: free motion into contact
+    const int before = reporter.triggers;
+    ASSERT_TRUE(clock.update());
+    most = std::max(most, reporter.triggers - before);
+  }
+  EXPECT_GT(most, 0) << "the reporter's ports were written";
+  // Two samples per tick (truth, flange pose) and a few per servo cycle: a
+  // quarter of the queue at most.
+  EXPECT_LE(most, kEngineQueue / 4);
+  clock.stop();
+  clock.update();  // runs what is still queued on the clock's engine before the slaves go away
   RTT::os::TimeService::Instance()->enableSystemClock(true);
 }
 

@@ -2,7 +2,9 @@
 
 #include "tactile_types_rtt/atomic_attribute.hpp"
 
+#include <rtt/Activity.hpp>
 #include <rtt/Logger.hpp>
+#include <rtt/base/DisposableInterface.hpp>
 #include <rtt/base/AttributeBase.hpp>
 #include <rtt/extras/SlaveActivity.hpp>
 #include <rtt/os/TimeService.hpp>
@@ -45,6 +47,11 @@ RTT::internal::DataSource<int>::shared_ptr intAttribute(RTT::TaskContext* tc, co
 }  // namespace
 
 bool SimClock::configureHook() {
+  if (detached_ != nullptr) {  // after cleanup(): the thread back on the engine
+    detached_->run(engine());
+    detached_->start();
+    detached_ = nullptr;
+  }
   sim::Scene scene;
   ConfigResult r = scene_file_.empty() ? ConfigResult::failure("scene_file is empty: set it to a scene YAML (sim/scenes/*.yaml)")
                                        : sim::loadScene(scene_file_, scene);
@@ -170,10 +177,49 @@ bool SimClock::tick() {
   return true;
 }
 
+namespace {
+/// A message that only marks that the engine's queue was run up to it.
+class QueueMarker : public RTT::base::DisposableInterface {
+ public:
+  void executeAndDispose() override { done_.store(true, std::memory_order_release); }
+  void dispose() override {}
+  bool done() const { return done_.load(std::memory_order_acquire); }
+
+ private:
+  std::atomic<bool> done_{false};
+};
+
+/// Returns when the engine's thread has run the messages queued before the
+/// call (true), or after 2 s (false: the marker is left to the engine).
+bool runQueued(RTT::ExecutionEngine& ee) {
+  auto* marker = new QueueMarker;  // cleanup only, not a per-tick path
+  if (!ee.process(marker)) {
+    delete marker;
+   
+    return false;
+  }
+  TIME_SPEC ms = ticks2timespec(nano2ticks(1000000LL));
+  for (int i = 0; i < 2000 && !marker->done(); ++i) rtos_nanosleep(&ms, nullptr);
+  if (!marker->done()) return false;
+  delete marker;
+  return true;
+}
+}  // namespace
+
+void SimClock::cleanupHook() {
+  RTT::base::ActivityInterface* a = getActivity();
+  if (dynamic_cast<RTT::Activity*>(a) == nullptr || !a->isActive() || a->thread()->isSelf()) return;
+  if (!runQueued(*engine()))  // what the slaves queued, run while they all exist
+    RTT::log(RTT::Warning) << getName() << ": its thread did not run its queued messages within 2 s" << RTT::endlog();
+  a->stop();
+  a->run(nullptr);  // the engine without an activity: nothing more is queued (SlaveActivity::trigger)
+  detached_ = a;
+}
+
 void SimClock::updateHook() {
   const HookScope hook(*this);  // the other hooks' writes before this update (component.hpp)
   if (finished_.load(std::memory_order_acquire)) return;
-  for (int k = 0; k < 50; ++k) {
+  for (int k = 0; k < kTicksPerUpdate; ++k) {
     if (realtime_factor_ > 0.0) {
       // Not ahead of the wall clock: t_i <= r * elapsed.
       const double elapsed = 1e-9 * static_cast<double>(rtos_get_time_ns() - wall_start_ns_);

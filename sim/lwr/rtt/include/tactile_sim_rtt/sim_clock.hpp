@@ -34,10 +34,28 @@
 //   op   string lastError()
 //
 // Execution: a non-periodic activity (setActivity("Clock", 0, ...)); each
-// update runs up to 50 ticks and triggers the next one. The slaves must be
+// update runs up to kTicksPerUpdate ticks and triggers the next one. Between
+// two updates the clock's engine runs its queued messages, and a slave with
+// event ports (the reporter, OCL::FileReporting) queues one trigger message
+// there per sample written to it (RTT's SlaveActivity::trigger): about two
+// per tick. RTT's engine queue holds 100; an update that overfills it left
+// messages that the engine never ran again, and the deployer crashed when it
+// unloaded the slaves. 10 ticks stay far below (test_sim_loop.cpp). The slaves must be
 // started before the clock. start() resets the schedule, disables the
 // system clock of RTT's TimeService and sets it to t = 0. Per tick: no heap
 // allocation.
+//
+// Teardown: the slaves reach this clock's thread through RTT's SlaveActivity
+// (a trigger queues a message that points into the slave's activity on the
+// clock's engine; a timeout wakes the clock's thread, which then runs the
+// slaves' queued messages). The deployer unloads the slaves before the clock,
+// and unloading the servo's state machine runs it once more, so the clock's
+// thread could still be at work in a slave being destroyed, or a message
+// could outlive its slave. cleanup() therefore waits until the clock's
+// thread has run what is queued (the slaves all still exist; a marker
+// message, up to 2 s), stops that thread and detaches it from the clock's
+// engine: a slave's trigger then queues nothing and wakes nobody.
+// configure() attaches it again.
 #pragma once
 
 #include <rtt/TaskContext.hpp>
@@ -54,12 +72,16 @@ namespace tactile {
 
 class SimClock : public Component {
  public:
+  /// Physics ticks per update (see "Execution" above).
+  static constexpr int kTicksPerUpdate = 10;
+
   explicit SimClock(const std::string& name);
   ~SimClock() override { haltActivity(); }  // stops its thread while its ports exist (component.hpp)
 
   bool configureHook() override;
   bool startHook() override;
   void updateHook() override;
+  void cleanupHook() override;
 
   std::string lastError() const { return last_error_; }
 
@@ -95,6 +117,9 @@ class SimClock : public Component {
   RTT::TaskContext* reporter_ = nullptr;
   RTT::internal::DataSource<int>::shared_ptr servo_status_, sim_status_;
   int64_t wall_start_ns_ = 0;
+  /// The clock's own thread while cleanup() has detached it from the engine
+  /// (owned by the TaskContext all along); configure() attaches it again.
+  RTT::base::ActivityInterface* detached_ = nullptr;
 };
 
 }  // namespace tactile
