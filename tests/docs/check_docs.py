@@ -53,7 +53,7 @@ HISTORY = [r"\bsessions?\b", r"\bagents?\b", r"\bhelpers?\b", r"\bissue\s*#?\d+"
 PROVENANCE = re.compile(r"^\*?Measured on: commit [0-9a-f]{7,40}, [^*]+\.\*?$")
 HEX = re.compile(r"(?<![0-9A-Za-z_./-])[0-9a-f]{7,40}(?![0-9A-Za-z_])")
 # Paths of one machine (a checkout, a temporary folder, a terminal), never a reader's.
-MACHINE_PATHS = re.compile(r"/work/|/home/[a-z]|/var/tmp/|/tmp/tmp[0-9A-Za-z_]|/tmp/check_docs_|/dev/pts/[0-9]")
+MACHINE_PATHS = re.compile(r"/work/|/home/[a-z]|/var/tmp/|/tmp/tmp[.0-9A-Za-z_]|/tmp/check_docs_|/dev/pts/[0-9]")
 DESIGN_MAX_LINES = 320
 # Pages a script writes whole (a "do not edit" in their first lines), and the
 # generated blocks of hand-written pages: (start marker, end marker or None = to the end).
@@ -388,7 +388,7 @@ def check_provenance(root, docroot=None):
                 if not above.startswith("#"):
                     err.append(f"{rel}:{no}: a `Measured on:` line not directly under a section's heading")
                 continue
-            if "Measured on:" in line:
+            if re.match(r"^[*_]?Measured on\b", line.strip()):
                 err.append(f"{rel}:{no}: not the form `Measured on: commit <hash>, <machine>.`")
             for m in HEX.finditer(line):
                 if is_commit(root, m.group(0), cache):
