@@ -48,7 +48,8 @@ HISTORY = [r"\bsessions?\b", r"\bagents?\b", r"\bhelpers?\b", r"\bissue\s*#?\d+"
            r"\bused to\b", r"\bwe fixed\b", r"\bthis commit\b", r"\bformerly\b", r"\bno longer\b",
            r"\bwas renamed\b", r"\bwere renamed\b", r"\bin the past\b", r"\bbefore the fix\b",
            r"\bwe (?:added|changed|removed|replaced|rewrote)\b", r"\bthe old (?:code|version|script)\b",
-           r"\bfixed (?:a|the) bug\b", r"\bdiary\b", r"\buntil now\b", r"\bfirst attempt\b"]
+           r"\bfixed (?:a|the) bug\b", r"\bdiary\b", r"\buntil now\b", r"\bfirst attempt\b",
+           r"\bnot kept\b", r"\b(?:was|were) tried\b", r"\bas it stood\b"]
 # A figure's provenance: the only place a commit id may stand in hand-written prose.
 PROVENANCE = re.compile(r"^\*?Measured on: commit [0-9a-f]{7,40}, [^*]+\.\*?$")
 HEX = re.compile(r"(?<![0-9A-Za-z_./-])[0-9a-f]{7,40}(?![0-9A-Za-z_])")
