@@ -12,10 +12,17 @@ Checks (each printed; exit 1 when one fails):
   - every frame of the URDF is published by RSP_NODE only (one publisher per
     frame: TF would otherwise jump between two parents), each under its URDF
     parent; the adapter publishes wts0614 -> contact;
-  - TF lwr_base -> wts0614 at the stamp of every joint state (the chain of
-    the transforms received on /tf with that stamp and /tf_static, composed
-    here: no interpolation) equals the simulated arm's /tactile/flange_pose of
-    that stamp composed with the URDF's mount, within POS_TOL / ROT_TOL.
+  - TF lwr_base -> wts0614 at the stamp of every joint state that
+    robot_state_publisher turned into TF (the chain of the transforms
+    received on /tf with that stamp and /tf_static, composed here: no
+    interpolation) equals the simulated arm's /tactile/flange_pose of that
+    stamp composed with the URDF's mount, within POS_TOL / ROT_TOL; and such
+    stamps follow the arm through the run: at least MIN_MATCHED of them,
+    spanning at least MIN_SPAN of the joint states' time range. A share of
+    the joint states is not asked for: robot_state_publisher, another
+    process, drops joint states when the machine is loaded (77 % were turned
+    into TF under a load of 18 on 2 cores: 2268 of 2938), and that is
+    timing, not a fault.
 """
 import collections
 import os
@@ -36,6 +43,9 @@ import urdf_fk  # noqa: E402
 # doubles; the tolerances of urdf_fk.
 POS_TOL = 1e-6  # m
 ROT_TOL = 1e-6  # rad
+
+MIN_MATCHED = 500  # stamps with TF: the run has about 2900 joint states
+MIN_SPAN = 0.8     # of the joint states' time range covered by stamps with TF
 
 failures = []
 
@@ -127,6 +137,7 @@ def main():
     # lwr_base -> wts0614 through the URDF and the joints against the arm's own pose.
     mount = model.relative("lwr_flange", "wts0614", {})
     matched, worst_p, worst_r, lookup_failed = 0, 0.0, 0.0, 0
+    matched_times = []
     for st in stamps:
         p = flange.get(st)
         if p is None:
@@ -136,13 +147,18 @@ def main():
             lookup_failed += 1
             continue
         matched += 1
+        matched_times.append(st.to_sec())
         want = pose_matrix([p.position.x, p.position.y, p.position.z],
                            [p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w]) @ mount
         worst_p = max(worst_p, float(np.linalg.norm(got[:3, 3] - want[:3, 3])))
         worst_r = max(worst_r, urdf_fk.rotation_angle(got[:3, :3].T @ want[:3, :3]))
-    check(len(stamps) > 100 and matched >= 0.9 * len(stamps) and worst_p <= POS_TOL and worst_r <= ROT_TOL,
-          "TF lwr_base -> wts0614 at %d of %d joint-state stamps (%d without TF of that stamp) = flange pose * mount: "
-          "largest %.2g m, %.2g rad" % (matched, len(stamps), lookup_failed, worst_p, worst_r))
+    times = [st.to_sec() for st in stamps]
+    run = (max(times) - min(times)) if len(times) > 1 else 0.0
+    span = (max(matched_times) - min(matched_times)) / run if run > 0 and matched_times else 0.0
+    check(matched >= MIN_MATCHED and span >= MIN_SPAN and worst_p <= POS_TOL and worst_r <= ROT_TOL,
+          "TF lwr_base -> wts0614 at %d of %d joint-state stamps (%d without TF of that stamp), spanning %.0f %% of "
+          "the run, = flange pose * mount: largest %.2g m, %.2g rad" %
+          (matched, len(stamps), lookup_failed, 100 * span, worst_p, worst_r))
     print("check_robot_model: %d failed" % len(failures))
     return 1 if failures else 0
 
