@@ -9,7 +9,10 @@
 # summary) and check_lab_sim_tools.py checks that packets flowed, frames
 # arrived and carried the press, the arm did not move in MON and held
 # fri_check's pose in CMD. Wall clock (about 3 s of KRC cycles) but no timing
-# asserted: counts and bounds only.
+# asserted: counts and bounds only. The KRC's link held at PERFECT
+# (--quality-rule off): the test is of the tools' plumbing, and on a loaded
+# machine a late answer would rightly end command mode (the rating from the
+# answers' timing: fri_check_monitor's burst cases, the rehearsals).
 #   run_lab_sim_tools_test.sh SOURCE_DIR BUILD_DIR
 # UDP port 49970 (fri.yaml's 49938 and the FRI burst test's 49958 stay free).
 set -uo pipefail
@@ -34,7 +37,8 @@ fri=$!
 pids+=($fri)
 for _ in $(seq 100); do grep -q "listening" "$out/fri_check.log" 2>/dev/null && break; sleep 0.05; done
 "$build/bin/lab_sim" "$root/sim/lab/scenes/bringup_press.yaml" --fri-port $port --wts-link "$out/wts0" \
-  --krc "0:friOpen,1.0:friStart" --truth-out "$out/truth.csv" --truth-period-ms 1 >"$out/lab_sim.log" 2>&1 &
+  --krc "0:friOpen,1.0:friStart" --quality-rule off --truth-out "$out/truth.csv" --truth-period-ms 1 \
+  >"$out/lab_sim.log" 2>&1 &
 lab=$!
 pids+=($lab)
 for _ in $(seq 100); do [ -e "$out/wts0" ] && break; sleep 0.05; done
