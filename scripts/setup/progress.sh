@@ -10,26 +10,18 @@
 # How long each stage took on a fresh 2-core machine (Debian 12, nothing
 # installed before), in seconds; empty: not measured yet. The one place these
 # numbers live; update a number after a fresh run of its stage.
-#   orocos_apt, rtt, build (the compile): fresh
-#   runs of the stages as they are (RTT has only lost its docs since).
-#   ocl: the fresh run with the former options (223 s, with Lua, logging,
-#   timer, helloworld) times the ratio of the CPU seconds (user+sys) of the
-#   present and the former options measured on one machine, 149.5 / 274.0
-#   (docs/deployment.md, "What setup_orocos.sh builds").
-#   build_cores: tactile_sim and the cores it links (41 files, 115 CPU s on
-#   2 cores without ccache), the main job's first build.
-#   rtt_ros: likewise, the former package set's fresh run (1391 s, every
-#   message of std_msgs, geometry_msgs and sensor_msgs as an RTT typekit)
-#   times 375 / 1634, the CPU seconds of the present four packages and of the
-#   former set measured on one machine (ros/README.md).
+#   The test command's fresh run of docs/first_hour.md (each stage's own
+#   "done in"/"built in"/"compiled in" line); build_cores: the main job's first
+#   build there (tactile_sim and the cores it links). orocos_apt: an earlier
+#   fresh run (its packages have not changed since).
 declare -A TACTILE_REF_SECONDS=(
-  [deps_apt]=""
+  [deps_apt]=62
   [orocos_apt]=48
-  [rtt]=479
-  [ocl]=122
-  [rtt_ros_apt]=""
-  [rtt_ros]=319
-  [build]=1105
+  [rtt]=216
+  [ocl]=65
+  [rtt_ros_apt]=20
+  [rtt_ros]=166
+  [build]=661
   [build_cores]=66
 )
 
