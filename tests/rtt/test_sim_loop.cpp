@@ -383,41 +383,70 @@ INSTANTIATE_TEST_SUITE_P(Scenes, SimLoop,
                            return n + "_" + toString(i.param.mode) + i.param.name;
                          });
 
-// The whole deployed loop per tick allocates nothing: the clock (on a
-// SlaveActivity here, so its updates run in this thread) executing the four
-// stages through an edge exploration into contact.
-TEST(SimLoopClock, TicksDoNotAllocate) {
-  const std::string scene = kScenes + "edge_exploration.yaml";
-  SimClock clock("Clock");
-  LwrSimComponent robot("Robot");
-  WtsSimComponent sensor("Sensor");
-  FeatureComponent features("Features");
-  ServoComponent servo("Servo");
-  clock.setActivity(new RTT::extras::SlaveActivity(0.0));
-  for (RTT::TaskContext* s : std::initializer_list<RTT::TaskContext*>{&robot, &sensor, &features, &servo}) {
-    ASSERT_TRUE(s->setActivity(new RTT::extras::SlaveActivity(clock.getActivity())));
-    clock.addPeer(s);
+/// The edge exploration's loop in this thread: the clock on a SlaveActivity
+/// without a master (its updates run in the caller), the four stages its
+/// slaves and wired as deployments/sim_loop.ops does, plus `extra` slaves.
+class ClockedEdgeExploration : public ::testing::Test {
+ protected:
+  /// threaded: the clock on a thread of its own (RTT::Activity), as deployed.
+  void build(std::initializer_list<RTT::TaskContext*> extra = {}, bool threaded = false) {
+    const std::string scene = kScenes + "edge_exploration.yaml";
+    if (threaded) {
+      clock.setActivity(new RTT::Activity(ORO_SCHED_OTHER, 0, 0.0));
+    } else {
+      clock.setActivity(new RTT::extras::SlaveActivity(0.0));
+    }
+    std::vector<RTT::TaskContext*> slaves{&robot, &sensor, &features, &servo};
+    slaves.insert(slaves.end(), extra);
+    for (RTT::TaskContext* s : slaves) {
+      ASSERT_TRUE(s->setActivity(new RTT::extras::SlaveActivity(clock.getActivity())));
+      clock.addPeer(s);
+    }
+    robot.properties()->getPropertyType<std::string>("scene_file")->set(scene);
+    sensor.properties()->getPropertyType<std::string>("scene_file")->set(scene);
+    clock.properties()->getPropertyType<std::string>("scene_file")->set(scene);
+    features.properties()->getPropertyType<std::string>("param_file")->set(
+        TACTILE_SOURCE_DIR "/components/features/params/wts0614.yaml");
+    servo.properties()->getPropertyType<std::string>("program_file")->set(
+        TACTILE_SOURCE_DIR "/components/servo/programs/edge_exploration.yaml");
+    servo.properties()->getPropertyType<double>("period")->set(0.01);
+    connect(robot, "taxel_forces", sensor, "taxel_forces");
+    connect(sensor, "raw_frame", features, "raw_frame");
+    connect(features, "features", servo, "features");
+    connect(robot, "flange_pose", servo, "flange_pose");
+    connect(robot, "estimated_wrench", servo, "estimated_wrench");
+    connect(servo, "pose_command", robot, "pose_command");
   }
-  robot.properties()->getPropertyType<std::string>("scene_file")->set(scene);
-  sensor.properties()->getPropertyType<std::string>("scene_file")->set(scene);
-  clock.properties()->getPropertyType<std::string>("scene_file")->set(scene);
-  features.properties()->getPropertyType<std::string>("param_file")->set(TACTILE_SOURCE_DIR
-                                                                          "/components/features/params/wts0614.yaml");
-  servo.properties()->getPropertyType<std::string>("program_file")->set(TACTILE_SOURCE_DIR
-                                                                         "/components/servo/programs/edge_exploration.yaml");
-  servo.properties()->getPropertyType<double>("period")->set(0.01);
-  const RTT::ConnPolicy data = RTT::ConnPolicy::data(RTT::ConnPolicy::LOCK_FREE);
-  ASSERT_TRUE(robot.ports()->getPort("taxel_forces")->connectTo(sensor.ports()->getPort("taxel_forces"), data));
-  ASSERT_TRUE(sensor.ports()->getPort("raw_frame")->connectTo(features.ports()->getPort("raw_frame"), data));
-  ASSERT_TRUE(features.ports()->getPort("features")->connectTo(servo.ports()->getPort("features"), data));
-  ASSERT_TRUE(robot.ports()->getPort("flange_pose")->connectTo(servo.ports()->getPort("flange_pose"), data));
-  ASSERT_TRUE(robot.ports()->getPort("estimated_wrench")->connectTo(servo.ports()->getPort("estimated_wrench"), data));
-  ASSERT_TRUE(servo.ports()->getPort("pose_command")->connectTo(robot.ports()->getPort("pose_command"), data));
-  ASSERT_TRUE(robot.configure() && sensor.configure() && features.configure() && servo.configure());
-  ASSERT_TRUE(clock.configure()) << clock.lastError();
-  ASSERT_TRUE(sensor.start() && features.start() && servo.start() && robot.start());
-  ASSERT_TRUE(clock.start());
-  auto ticks = [&] { return tactile::readAttribute<int>(*clock.provides(), "ticks", -1); };
+  void start() {
+    ASSERT_TRUE(robot.configure() && sensor.configure() && features.configure() && servo.configure());
+    ASSERT_TRUE(clock.configure()) << clock.lastError();
+    ASSERT_TRUE(sensor.start() && features.start() && servo.start() && robot.start());
+    ASSERT_TRUE(clock.start());
+  }
+  static void connect(RTT::TaskContext& a, const char* out, RTT::TaskContext& b, const char* in) {
+    const RTT::ConnPolicy data = RTT::ConnPolicy::data(RTT::ConnPolicy::LOCK_FREE);
+    ASSERT_TRUE(a.ports()->getPort(out)->connectTo(b.ports()->getPort(in), data)) << out << " -> " << in;
+  }
+  void TearDown() override {
+    clock.stop();
+    clock.update();  // runs what is still queued on the clock's engine before the slaves go away
+    RTT::os::TimeService::Instance()->enableSystemClock(true);
+  }
+  int ticks() { return tactile::readAttribute<int>(*clock.provides(), "ticks", -1); }
+
+  // Declared first, destroyed last: the slaves go away before their master.
+  SimClock clock{"Clock"};
+  LwrSimComponent robot{"Robot"};
+  WtsSimComponent sensor{"Sensor"};
+  FeatureComponent features{"Features"};
+  ServoComponent servo{"Servo"};
+};
+
+// The whole deployed loop per tick allocates nothing: the clock executing the
+// four stages through an edge exploration into contact.
+TEST_F(ClockedEdgeExploration, TicksDoNotAllocate) {
+  build();
+  start();
   const int per_update = SimClock::kTicksPerUpdate;
   for (int k = 0; k < 2000 / per_update; ++k) ASSERT_TRUE(clock.update());  // warm-up: 2000 ticks, every port used
   {
@@ -427,9 +456,27 @@ TEST(SimLoopClock, TicksDoNotAllocate) {
   }
   EXPECT_EQ(ticks(), 7000);
   EXPECT_NE(servo.phaseName(), "free_motion") << "the loop reached the bar";
-  clock.stop();
-  clock.update();  // runs what is still queued on the clock's engine before the stages go away
-  RTT::os::TimeService::Instance()->enableSystemClock(true);
+}
+
+// cleanup() leaves the clock's engine without its thread, so that nothing a
+// slave does while the deployer unloads it reaches the clock (the slaves are
+// unloaded before it); configure() gives the thread back and the clock runs.
+TEST_F(ClockedEdgeExploration, CleanupDetachesTheClocksThreadAndConfigureAttachesIt) {
+  build({}, true);
+  start();
+  for (int i = 0; i < 200000 && ticks() < 100; ++i) std::this_thread::yield();  // a count, not a time
+  ASSERT_GE(ticks(), 100) << "the clock's thread runs the loop";
+  ASSERT_TRUE(clock.stop());
+  ASSERT_TRUE(servo.stop() && features.stop() && sensor.stop() && robot.stop());
+  ASSERT_TRUE(clock.cleanup());
+  EXPECT_EQ(clock.getActivity(), nullptr) << "the engine without the clock's thread";
+  ASSERT_TRUE(clock.configure()) << clock.lastError();
+  ASSERT_NE(clock.getActivity(), nullptr);
+  EXPECT_TRUE(clock.getActivity()->isActive());
+  ASSERT_TRUE(sensor.start() && features.start() && servo.start() && robot.start());
+  ASSERT_TRUE(clock.start());
+  for (int i = 0; i < 200000 && ticks() < 100; ++i) std::this_thread::yield();
+  EXPECT_GE(ticks(), 100) << "the clock runs again after configure()";
 }
 
 /// A slave with event ports, as the deployment's reporter (OCL::FileReporting):
@@ -461,46 +508,16 @@ class TriggerCounter : public RTT::TaskContext {
 // the deployer crashed unloading the slaves (rtt_deployer_sim_run_fails_cleanly
 // under load). The stages of the loop (tactile::Component) queue none; a
 // reporter on four ports queues one per sample.
-TEST(SimLoopClock, AnUpdateQueuesFarFewerTriggersThanTheEngineHolds) {
+TEST_F(ClockedEdgeExploration, AnUpdateQueuesFarFewerTriggersThanTheEngineHolds) {
   constexpr int kEngineQueue = 100;
-  const std::string scene = kScenes + "edge_exploration.yaml";
-  SimClock clock("Clock");
-  LwrSimComponent robot("Robot");
-  WtsSimComponent sensor("Sensor");
-  FeatureComponent features("Features");
-  ServoComponent servo("Servo");
-  TriggerCounter reporter;
-  clock.setActivity(new RTT::extras::SlaveActivity(0.0));
-  for (RTT::TaskContext* s : std::initializer_list<RTT::TaskContext*>{&robot, &sensor, &features, &servo, &reporter}) {
-    ASSERT_TRUE(s->setActivity(new RTT::extras::SlaveActivity(clock.getActivity())));
-    clock.addPeer(s);
-  }
-  robot.properties()->getPropertyType<std::string>("scene_file")->set(scene);
-  sensor.properties()->getPropertyType<std::string>("scene_file")->set(scene);
-  clock.properties()->getPropertyType<std::string>("scene_file")->set(scene);
-  features.properties()->getPropertyType<std::string>("param_file")->set(TACTILE_SOURCE_DIR
-                                                                          "/components/features/params/wts0614.yaml");
-  servo.properties()->getPropertyType<std::string>("program_file")->set(TACTILE_SOURCE_DIR
-                                                                         "/components/servo/programs/edge_exploration.yaml");
-  servo.properties()->getPropertyType<double>("period")->set(0.01);
-  const RTT::ConnPolicy data = RTT::ConnPolicy::data(RTT::ConnPolicy::LOCK_FREE);
-  auto connect = [&](RTT::TaskContext& a, const char* out, RTT::TaskContext& b, const char* in) {
-    ASSERT_TRUE(a.ports()->getPort(out)->connectTo(b.ports()->getPort(in), data)) << out << " -> " << in;
-  };
-  connect(robot, "taxel_forces", sensor, "taxel_forces");
-  connect(sensor, "raw_frame", features, "raw_frame");
-  connect(features, "features", servo, "features");
-  connect(robot, "flange_pose", servo, "flange_pose");
-  connect(robot, "estimated_wrench", servo, "estimated_wrench");
-  connect(servo, "pose_command", robot, "pose_command");
+  TriggerCounter reporter;  // destroyed before the fixture's clock
+  build({&reporter});
   connect(robot, "truth", reporter, "truth");
   connect(robot, "flange_pose", reporter, "flange_pose");
   connect(features, "features", reporter, "features");
   connect(servo, "pose_command", reporter, "pose_command");
-  ASSERT_TRUE(robot.configure() && sensor.configure() && features.configure() && servo.configure());
-  ASSERT_TRUE(clock.configure()) << clock.lastError();
-  ASSERT_TRUE(sensor.start() && features.start() && servo.start() && robot.start() && reporter.start());
-  ASSERT_TRUE(clock.start());
+  start();
+  ASSERT_TRUE(reporter.start());
   int most = 0;
   for (int k = 0; k < 3000 / SimClock::kTicksPerUpdate; ++k) {  // 3 s: free motion into contact
     const int before = reporter.triggers;
@@ -512,8 +529,7 @@ TEST(SimLoopClock, AnUpdateQueuesFarFewerTriggersThanTheEngineHolds) {
   // quarter of the queue at most.
   EXPECT_LE(most, kEngineQueue / 4);
   clock.stop();
-  clock.update();  // runs what is still queued on the clock's engine before the slaves go away
-  RTT::os::TimeService::Instance()->enableSystemClock(true);
+  clock.update();  // the reporter goes before TearDown: nothing of it may stay queued
 }
 
 }  // namespace
