@@ -190,12 +190,12 @@ class QueueMarker : public RTT::base::DisposableInterface {
 };
 
 /// Returns when the engine's thread has run the messages queued before the
-/// call (true), or after 2 s (false: the marker is left to the engine).
+/// call (true); false when the queue is full or after 2 s (then the marker
+/// is left to the engine, whose dispose() of it does nothing).
 bool runQueued(RTT::ExecutionEngine& ee) {
   auto* marker = new QueueMarker;  // cleanup only, not a per-tick path
-  if (!ee.process(marker)) {
+  if (!ee.process(marker)) {  // not queued (the queue is full)
     delete marker;
-   
     return false;
   }
   TIME_SPEC ms = ticks2timespec(nano2ticks(1000000LL));
@@ -210,7 +210,7 @@ void SimClock::cleanupHook() {
   RTT::base::ActivityInterface* a = getActivity();
   if (dynamic_cast<RTT::Activity*>(a) == nullptr || !a->isActive() || a->thread()->isSelf()) return;
   if (!runQueued(*engine()))  // what the slaves queued, run while they all exist
-    RTT::log(RTT::Warning) << getName() << ": its thread did not run its queued messages within 2 s" << RTT::endlog();
+    RTT::log(RTT::Warning) << getName() << ": its thread did not run its queued messages (queue full, or not within 2 s)" << RTT::endlog();
   a->stop();
   a->run(nullptr);  // the engine without an activity: nothing more is queued (SlaveActivity::trigger)
   detached_ = a;
