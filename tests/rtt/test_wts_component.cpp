@@ -10,6 +10,7 @@
 #include <rtt/TaskContext.hpp>
 #include <rtt/extras/FileDescriptorActivity.hpp>
 #include <rtt/extras/SlaveActivity.hpp>
+#include <rtt/os/Thread.hpp>
 #include <rtt/os/main.h>
 
 #include <fcntl.h>
@@ -97,12 +98,16 @@ TEST(WtsComponent, InterfaceAndConfigureErrors) {
   tactile::WtsComponent c("w");
   ASSERT_NE(c.ports()->getPort("raw_frame"), nullptr);
   EXPECT_FALSE(c.ports()->getPort("raw_frame")->getDescription().empty());
-  for (const char* p : {"param_file", "device", "poll_timeout"}) EXPECT_NE(c.properties()->getProperty(p), nullptr) << p;
+  for (const char* p : {"param_file", "device", "poll_timeout", "stop_timeout"}) EXPECT_NE(c.properties()->getProperty(p), nullptr) << p;
   for (const char* a : {"read_status", "frames", "timeouts", "fd_activity"})
     EXPECT_NE(c.provides()->getAttribute(a), nullptr) << a;
   c.properties()->getPropertyType<double>("poll_timeout")->set(5.0);
   EXPECT_FALSE(c.configure());
   EXPECT_NE(c.lastError().find("poll_timeout"), std::string::npos) << c.lastError();
+  c.properties()->getPropertyType<double>("poll_timeout")->set(0.05);
+  c.properties()->getPropertyType<double>("stop_timeout")->set(0.5);
+  EXPECT_FALSE(c.configure());
+  EXPECT_NE(c.lastError().find("stop_timeout"), std::string::npos) << c.lastError();
   tactile::WtsComponent d("w2");
   d.setActivity(new RTT::extras::SlaveActivity());
   d.properties()->getPropertyType<std::string>("device")->set("/nonexistent/ttyACM9");
@@ -244,6 +249,10 @@ TEST(WtsComponent, UnplugAndReplugOnTheFileDescriptorActivity) {
     rig.comp.properties()->getPropertyType<double>("poll_timeout")->set(kPollTimeout);
     ASSERT_TRUE(rig.comp.configure()) << rig.comp.lastError();
     ASSERT_TRUE(rig.comp.start()) << rig.comp.lastError();
+    // stop() waits up to stop_timeout (default 5 s, not RTT's 1 s) for the thread to leave select().
+    const auto* thread = dynamic_cast<RTT::os::Thread*>(rig.comp.getActivity());
+    ASSERT_NE(thread, nullptr);
+    EXPECT_DOUBLE_EQ(thread->getStopTimeout(), 5.0);
     ASSERT_TRUE(waitFor([&] { return rig.attr("frames") >= 20; }, 5.0));
     const int status_disconnected = static_cast<int>(tactile::wts::ReadStatus::Disconnected);
     sim.unplug();

@@ -5,6 +5,7 @@
 #include <rtt/Component.hpp>
 #include <rtt/Logger.hpp>
 #include <rtt/extras/SlaveActivity.hpp>
+#include <rtt/os/Thread.hpp>
 #include <rtt/os/TimeService.hpp>
 
 #include <algorithm>
@@ -21,6 +22,10 @@ WtsComponent::WtsComponent(const std::string& name) : Component(name, PreOperati
   addProperty("poll_timeout", poll_timeout_)
       .doc("FileDescriptorActivity timeout (s), (0, 1]: with no byte for this long the hook runs anyway "
            "(NoData; reconnection checks while unplugged). The hook itself never waits.");
+  addProperty("stop_timeout", stop_timeout_)
+      .doc("Longest wait of stop() for a FileDescriptorActivity's thread to leave its loop (s), [1, 60]: "
+           "its select() on a tty can wait in the kernel for the tty's worker thread, which a loaded "
+           "machine can hold for hundreds of milliseconds (RTT's default is 1 s).");
   addAtomicAttribute(*provides(), "read_status", read_status_);
   addAtomicAttribute(*provides(), "frames", frames_);
   addAtomicAttribute(*provides(), "timeouts", timeouts_);
@@ -42,6 +47,7 @@ bool WtsComponent::configureHook() {
   }
   if (r && !device_.empty()) p.device = device_;
   if (r && !(poll_timeout_ > 0.0 && poll_timeout_ <= 1.0)) r = rangeError("poll_timeout", poll_timeout_, "(0, 1] s");
+  if (r && !(stop_timeout_ >= 1.0 && stop_timeout_ <= 60.0)) r = rangeError("stop_timeout", stop_timeout_, "[1, 60] s");
   if (r) r = driver_.configure(p);
   if (!r) {
     last_error_ = r.message();
@@ -92,6 +98,7 @@ bool WtsComponent::startHook() {
   record(frames_, 0);
   record(timeouts_, 0);
   if (fd_activity_) {
+    if (auto* thread = dynamic_cast<RTT::os::Thread*>(getActivity())) thread->setStopTimeout(stop_timeout_);
     // Clamped to [1 ms, 1 s] (the property may change after configure; 0 would mean no timeout).
     fd_activity_->setTimeout_us(static_cast<int>(1e6 * std::min(1.0, std::max(0.001, poll_timeout_))));
     watched_fd_ = -1;

@@ -7,6 +7,9 @@
 //   property device (string)       optional override of the serial device path
 //   property poll_timeout (double) s, (0, 1]: the FileDescriptorActivity's timeout (longest
 //                                  time without a byte before the hook runs anyway)
+//   property stop_timeout (double) s, [1, 60], default 5: the longest wait of stop() for the
+//                                  FileDescriptorActivity's thread (its select() on a tty can wait
+//                                  in the kernel for the tty's worker thread)
 //   out  raw_frame (/tactile/RawTactileFrame)  each new frame, stamped with RTT's TimeService
 //   attr read_status (int)   wts::ReadStatus of the last poll (0 new frame, 1 no data, 5 disconnected...)
 //   attr frames (int)        frames written since start
@@ -69,6 +72,7 @@ class WtsComponent : public Component {
   std::string param_file_;
   std::string device_;
   double poll_timeout_ = 0.05;
+  double stop_timeout_ = 5.0;
   std::string last_error_;
   // The component's record, written by the activity and read by any thread
   // (attributes over atomics: tactile_types_rtt/atomic_attribute.hpp).
