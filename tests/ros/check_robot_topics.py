@@ -7,12 +7,17 @@ deployments/ros_streams.ops while the robot deployment's ROS variant
 usage: check_robot_topics.py READY_FILE WINDOW_S
 
 Waits (up to 120 s) until every topic has carried a message, touches
-READY_FILE, counts WINDOW_S s of messages, then checks (each printed; exit 1
-when one fails):
-  - every topic arrives, at no less than a quarter of its nominal rate (KRC
-    1 kHz: flange_pose, wrench; servo 100 Hz: pose_command, phase; the
-    simulated WTS's frames: image, features) -- a generous floor on a loaded
-    machine: a topic that stops or a wrong connection is what it catches;
+READY_FILE, then waits for a count of messages on every topic: WINDOW_S s
+worth at a quarter of its nominal rate (KRC 1 kHz: flange_pose, wrench; servo
+100 Hz: pose_command, phase; the simulated WTS's frames: image, features),
+for at most 15 times WINDOW_S. Then checks (each printed; exit 1 when one
+fails):
+  - every topic arrives and carries its count: a topic that stops or a wrong
+    connection is what it catches. A count, not a rate in a wall-clock window:
+    on a loaded machine the kernel's tty worker can hold the sensor's bytes
+    for hundreds of milliseconds (docs/suite_under_load.md), which slows the
+    image and features topics without anything being wrong in the
+    deployment; the rates are printed;
   - the image is 6 x 14 32FC1 in wts0614; features in wts0614 with a usable
     status (< 10); the flange pose in lwr_base with a unit quaternion; the
     wrench in lwr_flange;
@@ -77,19 +82,23 @@ def main():
     open(ready_file, "w").close()
     if missing:
         return 1
+    want = {k: int(math.ceil(0.25 * nominal[k] * window)) for k in types}
     with lock:
         counting[0] = True
     start = time.monotonic()
-    time.sleep(window)
+    while time.monotonic() - start < 15.0 * window:
+        with lock:
+            if all(counts[k] >= want[k] for k in types):
+                break
+        time.sleep(0.05)
     with lock:
         counting[0] = False
         elapsed = time.monotonic() - start
         got = dict(counts)
         seen = dict(last)
     for k, n in got.items():
-        rate = n / elapsed
-        check(rate >= 0.25 * nominal[k], "/tactile/%s: %d messages in %.2f s (%.0f Hz; floor %.0f Hz)"
-              % (k, n, elapsed, rate, 0.25 * nominal[k]))
+        check(n >= want[k], "/tactile/%s: %d messages (count %d) in %.2f s (%.0f Hz)"
+              % (k, n, want[k], elapsed, n / elapsed))
     im = seen["image"]
     check(im.height == 6 and im.width == 14 and im.encoding == "32FC1" and im.header.frame_id == "wts0614"
           and len(im.data) == 6 * 14 * 4, "image 6 x 14 32FC1 in wts0614 (%d x %d %s %s)"

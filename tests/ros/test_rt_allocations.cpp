@@ -26,7 +26,7 @@
 // Robot = FriBridgeComponent at the KRC's 1 kHz, Servo periodic 100 Hz,
 // Features, Sensor, each in its own thread named after it) with
 // ros_streams.ops; the allocations of those four threads, found by name in
-// /proc/self/task, counted over 8 s after warm-up must be 0, while the
+// /proc/self/task, counted over at least 8 s after warm-up (until every stream carried its count) must be 0, while the
 // adapter's thread (RosAdapter: TF through tf2_ros) is seen allocating.
 //
 // AdapterJointStatePathDoesNotAllocate (ctest test_ros_joint_states): the
@@ -292,18 +292,29 @@ TEST(RosRealtimeAllocations, RobotLoopWithStreamsDoesNotAllocate) {
   const long msgs0 = seen.get("flange_pose"), cmds0 = seen.get("pose_command"), imgs0 = seen.get("image"),
              joints0 = seen.get("joint_states");
   const auto before = allocationsByThreadName();
-  std::this_thread::sleep_for(std::chrono::seconds(8));
+  // The window: at least 8 s, and until every stream has carried its count (at
+  // most 120 s): on a loaded machine the sensor's frames can come slower
+  // (docs/suite_under_load.md); a count, not a wall-clock window, decides.
+  const auto w0 = std::chrono::steady_clock::now();
+  auto window_s = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count(); };
+  auto counted = [&] {
+    return received() - received0 > 1000 && seen.get("pose_command") - cmds0 > 100 &&
+           seen.get("image") - imgs0 > 100 && seen.get("joint_states") - joints0 > 100;
+  };
+  while (window_s() < 120.0 && (window_s() < 8.0 || !counted()))
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  const double window = window_s();
   const auto after = allocationsByThreadName();
   const int received1 = received();
   const long msgs = seen.get("flange_pose") - msgs0, cmds = seen.get("pose_command") - cmds0,
              imgs = seen.get("image") - imgs0, joints = seen.get("joint_states") - joints0;
-  std::printf("over 8 s: Robot received %d KRC packets; in this process /tactile/flange_pose %ld, pose_command %ld, "
+  std::printf("over %.1f s: Robot received %d KRC packets; in this process /tactile/flange_pose %ld, pose_command %ld, "
               "image %ld, joint_states %ld messages\n",
-              received1 - received0, msgs, cmds, imgs, joints);
+              window, received1 - received0, msgs, cmds, imgs, joints);
   for (const char* name : {"Robot", "Servo", "Features", "Sensor", "RosAdapter"}) {
     const bool found = before.count(name) && after.count(name);
     const std::size_t delta = found ? after.at(name) - before.at(name) : 0;
-    std::printf("thread %-10s %s: %zu allocations over 8 s\n", name, found ? "found" : "MISSING", delta);
+    std::printf("thread %-10s %s: %zu allocations over %.1f s\n", name, found ? "found" : "MISSING", delta, window);
     EXPECT_TRUE(found) << "no thread named " << name;
     if (std::string(name) == "RosAdapter") {
       EXPECT_GT(delta, 0u) << "the adapter's thread (its TF broadcasts through tf2_ros) is not seen allocating: the counter is blind";
