@@ -63,7 +63,7 @@ run_once() {
   fi
   t0=$SECONDS
   local lock=(); [ -n "$udp_lock" ] && lock=(flock "$udp_lock")
-  (cd "$build" && "${lock[@]}" ctest -j"$jobs" --timeout 900 > "$log" 2>&1) || rc=$?
+  (cd "$build" && "${lock[@]}" ctest -j"$jobs" --timeout 900 --output-on-failure > "$log" 2>&1) || rc=$?
   load="$(cut -d' ' -f1-3 /proc/loadavg)"
   if [ -n "$stress_pid" ]; then kill "$stress_pid" 2> /dev/null; wait "$stress_pid" 2> /dev/null || true; fi
   failed="$(sed -n '/The following tests FAILED:/,$p' "$log" | grep -E '^\s+[0-9]+ - ' | sed -E 's/^\s+[0-9]+ - ([^ ]+).*/\1/' | paste -sd' ' -)"
