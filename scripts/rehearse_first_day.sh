@@ -100,14 +100,6 @@ verdict() {  # step title rc next
 
 # lab_sim SCENE KRC_SCRIPT DIR [args]: the simulated lab in the background, its PTY at $out/wts0.
 lab_pid=""
-# Priorities where the machine grants them (as the deployment's threads get
-# theirs): lab_sim stands for the KRC, a controller of its own (SCHED_FIFO 95,
-# as tests/lab_sim/lab_robot_common.sh runs it); fri_check answers the KRC
-# where the FRI bridge will (SCHED_FIFO 90, the bridge's priority), so its
-# verdict on the cycle is the bridge's and not that of whatever else runs.
-krc_prio=(chrt -f 95)
-bridge_prio=(chrt -f 90)
-chrt -f 1 true 2>/dev/null || { krc_prio=(); bridge_prio=(); }
 start_lab() {
   local scene="$1" krc="$2" dir="$3"
   shift 3

@@ -7,6 +7,15 @@ build="${BUILD:-$root/build}"
 orocos="${OROCOS:-/opt/orocos}"
 deployer="${DEPLOYER:-$orocos/bin/deployer-gnulinux}"  # scripts/realtime/sanitize.sh: its wrapper
 
+# The simulated peers' priorities where the machine grants SCHED_FIFO (as the
+# deployment's threads get theirs): lab_sim stands for the KRC, a controller of
+# its own (95); fri_check answers the KRC where the FRI bridge will (90, the
+# bridge's priority), so its verdict on the cycle is the bridge's and not that
+# of whatever else runs. Empty where not granted.
+krc_prio=(chrt -f 95)
+bridge_prio=(chrt -f 90)
+chrt -f 1 true 2>/dev/null || { krc_prio=(); bridge_prio=(); }
+
 # The deployer and the two simulated peers must be built.
 rt_check_tools() {
   local t

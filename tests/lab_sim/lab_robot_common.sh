@@ -29,6 +29,7 @@ lab_robot_stage() {
 lab_robot_start() {
   local out="$1" port="$2" scene="$3"
   shift 3
+  # krc_prio: scripts/realtime/rt_common.sh (sourced first)
   "${krc_prio[@]}" "$build/bin/lab_sim" "$scene" --fri-port "$port" --wts-link "$out/wts0" \
     --krc "0:friOpen,0:friStart" --krl "$out/krc/TactileServo.src" "$@" >"$out/lab_sim.log" 2>&1 &
   lab=$!
@@ -51,6 +52,3 @@ lab_robot_run() {
   cat "$out/run_robot.log"
 }
 
-# lab_sim's own priority where the machine grants it (the KRC's 1 ms cycle).
-krc_prio=(chrt -f 95)
-chrt -f 1 true 2>/dev/null || krc_prio=()
