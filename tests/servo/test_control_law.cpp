@@ -116,7 +116,7 @@ TEST(ControlLaw, ConfigurationErrorsNameTheKey) {
   ServoControlLaw law;
   ServoParams q = p;
   q.c_z = 0.0;
-  EXPECT_NE(law.configure(q).message().find("prog.yaml: c_z"), std::string::npos);
+  EXPECT_NE(law.configure(q).message().find("prog.yaml: controller.c_z = 0: must be > 0 m/N"), std::string::npos);
   q = p;
   q.motion_sign(kWY) = 0.5;
   EXPECT_NE(law.configure(q).message().find("motion_sign.wy"), std::string::npos);

@@ -153,7 +153,7 @@ TEST(ServoProgramIo, BadProgramsNameFilePhaseField) {
   expectRejected("bad_speed_excess_tau", "speed_law: {excess_tau_s: -0.01}\n" + program(""),
                  {"speed_law.excess_tau_s", "[0, 10] s"});
   expectRejected("bad_speed_phase", "speed_law: {phases: [hlod]}\n" + program(""), {"speed_law.phases", "'hlod'"});
-  expectRejected("bad_speed_axis", "speed_law: {axis: z}\n" + program(""), {"speed_law.axis", "'z'", "x or y"});
+  expectRejected("bad_speed_axis", "speed_law: {axis: z}\n" + program(""), {"speed_law.axis", "'z'", "must be one of x, y"});
   expectRejected("bad_speed_key", "speed_law: {vmax: 0.1}\n" + program(""), {"speed_law.vmax", "unknown key"});
   expectRejected("bad_speed_excess_against", "speed_law: {excess_against: wrench}\n" + program(""),
                  {"speed_law.excess_against", "'wrench'", "estimate", "tactile"});
@@ -169,13 +169,13 @@ TEST(ServoProgramIo, BadProgramsNameFilePhaseField) {
   expectRejected("bad_slope_phase", "slope_feedforward: {phases: [hlod]}\n" + program(""),
                  {"slope_feedforward.phases", "'hlod'"});
   expectRejected("bad_slope_axis", "slope_feedforward: {axis: z}\n" + program(""),
-                 {"slope_feedforward.axis", "'z'", "x or y"});
+                 {"slope_feedforward.axis", "'z'", "must be one of x, y"});
   expectRejected("bad_slope_key", "slope_feedforward: {window: 0.001}\n" + program(""),
                  {"slope_feedforward.window", "unknown key"});
   {
     const std::string body = program("").substr(program("").find('\n') + 1);  // without its controller: line
     expectRejected("bad_mode", "controller: {mode: li}\n" + body,
-                   {"controller.mode", "'li'", "proposed, baseline or no_rotation"});
+                   {"controller.mode", "'li'", "must be one of proposed, baseline, no_rotation"});
     expectRejected("bad_mode_case", "controller: {mode: No_Rotation}\n" + body, {"controller.mode", "No_Rotation"});
     for (const char* m : {"proposed", "baseline", "no_rotation"}) {
       ServoParams p;

@@ -723,7 +723,7 @@ TEST(ServoSensorChecks, ProgramKeysRead) {
   EXPECT_DOUBLE_EQ(p.watchdogs.fault_retreat_m, 0.005);
   ServoParams q;
   r = loadServoProgram(tactile::test::writeTempFile("sensor_checks_bad.yaml", "watchdogs: {on_fault: flee}\n"), q);
-  EXPECT_NE(r.message().find("watchdogs.on_fault: 'flee': must be hold or retreat"), std::string::npos) << r.message();
+  EXPECT_NE(r.message().find("watchdogs.on_fault: 'flee': must be one of hold, retreat"), std::string::npos) << r.message();
   r = loadServoProgram(tactile::test::writeTempFile("sensor_checks_old.yaml", "watchdogs: {force_mismatch: {no_contact_n: 5}}\n"), q);
   EXPECT_NE(r.message().find("no_contact_n"), std::string::npos) << r.message();
 }

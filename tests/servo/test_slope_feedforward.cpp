@@ -103,7 +103,7 @@ TEST(SlopeFeedforward, TheRangesAreNamed) {
   }
   const ConfigResult r = ff.configure(0.001, 2, "prog.yaml: slope_feedforward");
   ASSERT_FALSE(r.ok());
-  EXPECT_NE(r.message().find("slope_feedforward.axis: must be x or y"), std::string::npos) << r.message();
+  EXPECT_NE(r.message().find("slope_feedforward.axis = 2: must be one of x, y"), std::string::npos) << r.message();
 }
 
 TEST(SlopeFeedforward, StepDoesNotAllocate) {

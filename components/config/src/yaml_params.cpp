@@ -1,5 +1,7 @@
 #include "tactile_config/yaml_params.hpp"
 
+#include "tactile_config/schema_yaml.hpp"
+
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -48,6 +50,92 @@ ConfigResult readVec3(const YAML::Node& node, const char* key, std::array<double
   v = {x[0], x[1], x[2]};
   return ConfigResult::success();
 }
+
+ConfigResult checkNestedKeys(const YAML::Node& node, const Where& where, const std::vector<std::string>& keys,
+                             const std::string& prefix) {
+  if (!node) return ConfigResult::success();
+  if (!node.IsMap()) return ConfigResult::failure(where.str() + ": must be a mapping");
+  for (const auto& kv : node) {
+    const std::string k = kv.first.as<std::string>();
+    const std::string full = prefix + k;
+    bool leaf = false, branch = false;
+    for (const std::string& key : keys) {
+      leaf = leaf || key == full;
+      branch = branch || key.rfind(full + ".", 0) == 0;
+    }
+    if (branch && !leaf) {
+      const ConfigResult r = checkNestedKeys(kv.second, where.child(k), keys, full + ".");
+      if (!r) return r;
+      continue;
+    }
+    if (leaf) continue;
+    std::vector<std::string> here;  // the first components of the keys at this level
+    for (const std::string& key : keys) {
+      if (key.rfind(prefix, 0) != 0) continue;
+      const std::string rest = key.substr(prefix.size());
+      const std::string first = rest.substr(0, rest.find('.'));
+      bool seen = false;
+      for (const std::string& h : here) seen = seen || h == first;
+      if (!seen) here.push_back(first);
+    }
+    std::string list;
+    for (const std::string& h : here) list += (list.empty() ? "" : ", ") + h;
+    return ConfigResult::failure(where.child(k).str() + ": unknown key (allowed: " + list + ")");
+  }
+  return ConfigResult::success();
+}
+
+YAML::Node nodeAt(const YAML::Node& node, const std::string& dotted) {
+  if (!node.IsMap()) return YAML::Node(YAML::NodeType::Undefined);
+  const std::size_t dot = dotted.find('.');
+  const YAML::Node child = node[dotted.substr(0, dot)];  // const: never inserts
+  if (dot == std::string::npos || !child) return child;
+  return nodeAt(child, dotted.substr(dot + 1));
+}
+
+namespace detail {
+
+ConfigResult readNumber(const YAML::Node& v, const Where& w, double& out) {
+  if (!v.IsScalar()) return ConfigResult::failure(w.str() + ": must be a number");
+  return readScalar(v, w, out);
+}
+
+ConfigResult readChoiceIndex(const YAML::Node& v, const Where& w, const char* names, int& index) {
+  std::string s;
+  ConfigResult r = readScalar(v, w, s);
+  if (!r) return r;
+  const std::string all(names);
+  std::string allowed;
+  std::size_t start = 0;
+  for (int i = 0;; ++i) {
+    const std::size_t bar = all.find('|', start);
+    const std::string name = all.substr(start, bar == std::string::npos ? std::string::npos : bar - start);
+    if (name == s) {
+      index = i;
+      return r;
+    }
+    allowed += (i ? ", " : "") + name;
+    if (bar == std::string::npos) break;
+    start = bar + 1;
+  }
+  return ConfigResult::failure(w.str() + ": '" + s + "': must be one of " + allowed);
+}
+
+ConfigResult readNames(const YAML::Node& v, const Where& w, std::vector<std::string>& out) {
+  if (!v.IsSequence()) return ConfigResult::failure(w.str() + ": must be a list of names ([]: none)");
+  return readScalar(v, w, out);
+}
+
+ConfigResult readTriple(const YAML::Node& v, const Where& w, std::array<double, 3>& out) {
+  std::vector<double> x;
+  ConfigResult r = readScalar(v, w, x);
+  if (!r) return r;
+  if (x.size() != 3) return ConfigResult::failure(w.str() + ": must have 3 entries, has " + std::to_string(x.size()));
+  out = {x[0], x[1], x[2]};
+  return r;
+}
+
+}  // namespace detail
 
 ConfigResult locate(const ConfigResult& r, const Where& where) {
   if (r.ok()) return r;

@@ -1,4 +1,5 @@
 #include "tactile_servo/control_law.hpp"
+#include "tactile_servo/servo_schema.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -99,7 +100,8 @@ Vec6 defaultMotionSign() {
 
 ConfigResult ServoControlLaw::configure(const ServoParams& p) {
   configured_ = false;
-  if (!(std::isfinite(p.c_z) && p.c_z > 0)) return err(p, "", "c_z", p.c_z, "must be > 0 (m/N)");
+  if (const ConfigResult r = schema::checkRanges(controllerSchema(), p, servo_config::where(p, "", "controller")); !r)
+    return r;
   for (int i = 0; i < 6; ++i)
     if (p.motion_sign(i) != 1.0 && p.motion_sign(i) != -1.0)
       return err(p, "", std::string("motion_sign.") + kAxisNames[i], p.motion_sign(i), "must be +1 or -1");

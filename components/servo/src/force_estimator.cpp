@@ -1,4 +1,5 @@
 #include "tactile_servo/force_estimator.hpp"
+#include "tactile_servo/servo_schema.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,23 +7,9 @@
 
 namespace tactile {
 
-namespace {
-bool inRange(double v, double hi) { return std::isfinite(v) && v > 0.0 && v <= hi; }
-}  // namespace
-
 ConfigResult ForceEstimator::configure(const ForceEstimateParams& p, const char* where) {
-  const std::string w = std::string(where) + ".";
-  if (!inRange(p.tau_s, 100.0)) return rangeError(w + "tau_s", p.tau_s, "must be in (0, 100] s");
-  if (!inRange(p.max_correction_n, 50.0))
-    return rangeError(w + "max_correction_n", p.max_correction_n, "must be in (0, 50] N");
-  if (!inRange(p.tare_tau_s, 100.0)) return rangeError(w + "tare_tau_s", p.tare_tau_s, "must be in (0, 100] s");
-  if (!inRange(p.tare_gate_n, 50.0)) return rangeError(w + "tare_gate_n", p.tare_gate_n, "must be in (0, 50] N");
-  if (!inRange(p.tare_max_n, 50.0)) return rangeError(w + "tare_max_n", p.tare_max_n, "must be in (0, 50] N");
-  if (!inRange(p.tare_hold_s, 10.0)) return rangeError(w + "tare_hold_s", p.tare_hold_s, "must be in (0, 10] s");
-  if (!(std::isfinite(p.image_margin_n) && p.image_margin_n >= 0.0 && p.image_margin_n <= 50.0))
-    return rangeError(w + "image_margin_n", p.image_margin_n, "must be in [0, 50] N (0: no image bound)");
-  if (!(std::isfinite(p.firing_threshold_n) && p.firing_threshold_n >= 0.0 && p.firing_threshold_n <= 50.0))
-    return rangeError(w + "firing_threshold_n", p.firing_threshold_n, "must be in [0, 50] N");
+  const ConfigResult r = schema::checkRanges(forceEstimateSchema(), p, where);
+  if (!r) return r;
   p_ = p;
   reset();
   return ConfigResult::success();

@@ -9,7 +9,9 @@
 #include <utility>
 #include <vector>
 
+#include "tactile_config/schema_yaml.hpp"
 #include "tactile_config/yaml_params.hpp"
+#include "tactile_servo/servo_schema.hpp"
 
 namespace tactile {
 
@@ -290,239 +292,37 @@ ConfigResult readPhase(const YAML::Node& n, const Where& w0, const Defaults& d, 
   return ConfigResult::success();
 }
 
-/// A key whose value is one of `names`: `index` set to its position when the
-/// key is there (unchanged otherwise); any other value fails with "'value':
-/// must be <allowed>".
-ConfigResult readChoice(const YAML::Node& n, const char* key, const Where& w, std::initializer_list<const char*> names,
-                        const char* allowed, int& index) {
-  if (!n[key]) return ConfigResult::success();
-  std::string v;
-  ConfigResult r = read(n, key, v, w);
-  if (!r) return r;
-  int i = 0;
-  for (const char* name : names) {
-    if (v == name) {
-      index = i;
-      return r;
-    }
-    ++i;
-  }
-  return fail(w.child(key), "'" + v + "': must be " + allowed);
-}
-
-/// A slide block's `phases` (the phases it acts in, [] = off) and `axis` (x or
-/// y of {s}), as speed_law and slope_feedforward have them.
-ConfigResult readPhasesAndAxis(const YAML::Node& n, const Where& w, std::vector<std::string>& phases, int& axis) {
-  ConfigResult r = ConfigResult::success();
-  if (const YAML::Node ph = n["phases"]) {
-    if (!ph.IsSequence()) return fail(w.child("phases"), "must be a list of phase names ([] = off)");
-    if (!(r = read(n, "phases", phases, w))) return r;
-  }
-  return readChoice(n, "axis", w, {"x", "y"}, "x or y (the slide axis of {s})", axis);
-}
-
-/// speed_law: the block of SpeedLawConfig (servo_params.hpp); the ranges and
-/// the phase names are checked by TactileServo::configure (loadImpl's last step).
+/// speed_law: one block in the file over two structs, the law's own keys
+/// (SpeedLawParams) and the servo's (SpeedLawConfig); the ranges and the phase
+/// names are checked by TactileServo::configure (loadImpl's last step).
 ConfigResult readSpeedLaw(const YAML::Node& sl, const Where& w, SpeedLawConfig& c) {
-  ConfigResult r = checkKeys(sl, w, {"phases", "axis", "rate_tau_s", "excess_tau_s", "v_max", "v_min", "accel_mps2", "force_budget_n", "force_deadband_n",
-                                     "horizon_s", "angle_rate_ref", "curvature_ref", "extent_full_m", "extent_min_m",
-                                     "excess_ref_n", "excess_deadband_n", "excess_deadband_per_m", "excess_short_max_m",
-                                     "excess_against", "drive_fraction", "guard_excess_n", "guard_accel_mps2", "crawl_mps",
-                                     "crawl_after_s"});
-  if (!r || !(r = readPhasesAndAxis(sl, w, c.phases, c.axis))) return r;
-  int against = c.excess_against_tactile ? 1 : 0;
-  if (!(r = readChoice(sl, "excess_against", w, {"estimate", "tactile"}, "estimate (f_hat) or tactile (Eq. 2's f)",
-                       against)))
-    return r;
-  c.excess_against_tactile = against == 1;
-  SpeedLawParams& lp = c.law;
-  for (auto rr : {read(sl, "rate_tau_s", c.rate_tau_s, w), read(sl, "excess_tau_s", c.excess_tau_s, w),
-                  read(sl, "v_max", lp.v_max, w), read(sl, "v_min", lp.v_min, w),
-                  read(sl, "accel_mps2", lp.accel_mps2, w), read(sl, "force_budget_n", lp.force_budget_n, w),
-                  read(sl, "force_deadband_n", lp.force_deadband_n, w),
-                  read(sl, "horizon_s", lp.horizon_s, w), read(sl, "angle_rate_ref", lp.angle_rate_ref, w),
-                  read(sl, "curvature_ref", lp.curvature_ref, w), read(sl, "extent_full_m", lp.extent_full_m, w),
-                  read(sl, "extent_min_m", lp.extent_min_m, w), read(sl, "excess_ref_n", lp.excess_ref_n, w),
-                  read(sl, "excess_deadband_n", lp.excess_deadband_n, w),
-                  read(sl, "excess_deadband_per_m", lp.excess_deadband_per_m, w),
-                  read(sl, "excess_short_max_m", lp.excess_short_max_m, w),
-                  read(sl, "drive_fraction", lp.drive_fraction, w), read(sl, "guard_excess_n", lp.guard_excess_n, w),
-                  read(sl, "guard_accel_mps2", lp.guard_accel_mps2, w), read(sl, "crawl_mps", lp.crawl_mps, w),
-                  read(sl, "crawl_after_s", lp.crawl_after_s, w)})
-    if (!rr) return rr;
-  return ConfigResult::success();
-}
-
-/// slope_feedforward: the block of SlopeFeedforwardConfig (servo_params.hpp);
-/// the range and the phase names are checked by TactileServo::configure.
-ConfigResult readSlopeFeedforward(const YAML::Node& sf, const Where& w, SlopeFeedforwardConfig& c) {
-  ConfigResult r = checkKeys(sf, w, {"phases", "axis", "window_m"});
-  if (!r || !(r = readPhasesAndAxis(sf, w, c.phases, c.axis))) return r;
-  return read(sf, "window_m", c.window_m, w);
-}
-
-/// watchdogs' sensor checks (WatchdogParams): phantom_contact, unseen_load,
-/// correction_saturated, correction_drift and what the servo does on one (on_fault, retreat_m);
-/// the ranges are checked by ServoWatchdogs::configure.
-ConfigResult readSensorChecks(const YAML::Node& wd, const Where& w, WatchdogParams& wp) {
-  ConfigResult r = ConfigResult::success();
-  if (const YAML::Node ph = wd["phantom_contact"]) {
-    const Where wc = w.child("phantom_contact");
-    if (!(r = checkKeys(ph, wc, {"window_s", "tolerance_n", "tolerance_rel"}))) return r;
-    for (auto rr : {read(ph, "window_s", wp.phantom_window_s, wc), read(ph, "tolerance_n", wp.phantom_tolerance_n, wc),
-                    read(ph, "tolerance_rel", wp.phantom_tolerance_rel, wc)})
-      if (!rr) return rr;
-  }
-  if (const YAML::Node ul = wd["unseen_load"]) {
-    const Where wc = w.child("unseen_load");
-    if (!(r = checkKeys(ul, wc, {"window_s", "max_n"}))) return r;
-    for (auto rr : {read(ul, "window_s", wp.unseen_window_s, wc), read(ul, "max_n", wp.unseen_max_n, wc)})
-      if (!rr) return rr;
-  }
-  if (const YAML::Node cs = wd["correction_saturated"]) {
-    const Where wc = w.child("correction_saturated");
-    if (!(r = checkKeys(cs, wc, {"window_s", "margin_n"}))) return r;
-    for (auto rr : {read(cs, "window_s", wp.correction_window_s, wc), read(cs, "margin_n", wp.correction_margin_n, wc)})
-      if (!rr) return rr;
-  }
-  if (const YAML::Node cd = wd["correction_drift"]) {
-    const Where wc = w.child("correction_drift");
-    if (!(r = checkKeys(cd, wc, {"max_change_n", "tau_s", "settle_s", "min_extent_ratio"}))) return r;
-    for (auto rr : {read(cd, "max_change_n", wp.drift_max_change_n, wc), read(cd, "tau_s", wp.drift_tau_s, wc),
-                    read(cd, "settle_s", wp.drift_settle_s, wc),
-                    read(cd, "min_extent_ratio", wp.drift_min_extent_ratio, wc)})
-      if (!rr) return rr;
-  }
-  int retreat = wp.fault_retreat ? 1 : 0;
-  if (!(r = readChoice(wd, "on_fault", w, {"hold", "retreat"}, "hold or retreat (along -z_s by retreat_m)", retreat)))
-    return r;
-  wp.fault_retreat = retreat == 1;
-  return read(wd, "retreat_m", wp.fault_retreat_m, w);
+  ConfigResult r = config::readBlock(sl, w, speedLawServoSchema(), c, config::keysOf(speedLawSchema()));
+  if (!r) return r;
+  return config::readBlock(sl, w, speedLawSchema(), c.law, config::keysOf(speedLawServoSchema()));
 }
 
 // loadImpl's blocks, each its own step: the node given, `w` the block's key.
 ConfigResult readController(const YAML::Node& c, const Where& w, ServoParams& p) {
-  ConfigResult r;
-  if (!(r = checkKeys(c, w, {"mode", "pose_update", "c_z", "motion_sign", "sensor_mount", "initial_phase"}))) return r;
-  std::string s;
-  if (c["mode"]) {
-    if (!(r = read(c, "mode", s, w))) return r;
-    if (!parseControllerMode(s, p.mode))
-      return fail(w.child("mode"), "'" + s + "': must be " + kControllerModeNames);
-  }
-  if (c["pose_update"]) {
-    if (!(r = read(c, "pose_update", s, w))) return r;
-    if (s == "integrated") p.pose_update = PoseUpdate::Integrated;
-    else if (s == "measured") p.pose_update = PoseUpdate::Measured;
-    else return fail(w.child("pose_update"), "'" + s + "': must be integrated (Eq. 15) or measured (Eq. 12)");
-  }
-  if (!(r = read(c, "c_z", p.c_z, w))) return r;
-  if (!(std::isfinite(p.c_z) && p.c_z > 0)) return rangeError(w.child("c_z").str(), p.c_z, "must be > 0 (m/N)");
+  ConfigResult r = config::readBlock(c, w, controllerSchema(), p, {"motion_sign", "sensor_mount"});
+  if (!r) return r;
   if (!(r = readVec6(c["motion_sign"], w.child("motion_sign"), kAxisNames, "axis", p.motion_sign))) return r;
-  if (!(r = readFrame(c["sensor_mount"], w.child("sensor_mount"), p.sensor_mount))) return r;
-  if (!(r = read(c, "initial_phase", p.initial_phase, w))) return r;
-  return ConfigResult::success();
+  return readFrame(c["sensor_mount"], w.child("sensor_mount"), p.sensor_mount);
 }
 
 ConfigResult readSafety(const YAML::Node& s, const Where& w, SafetyParams& sp) {
-  ConfigResult r;
   const Renamed steps[] = {
       {"max_trans_step", "max_trans_speed", "m/s; = per-cycle step x servo rate (0.0005 m at 100 Hz = 0.05 m/s)"},
       {"max_rot_step_deg", "max_rot_speed_deg", "deg/s; = per-cycle step x servo rate (0.5 deg at 100 Hz = 50 deg/s)"}};
-  if (!(r = rejectRenamed(s, w, steps, 2))) return r;
-  if (!(r = checkKeys(s, w, {"max_trans_speed", "max_rot_speed_deg", "max_step_dt", "workspace", "force_ceiling",
-                             "ceiling_retreat", "stale_timeout", "contact_loss", "frozen_image"})))
-    return r;
-  double rot_deg = sp.max_rot_speed * 180.0 / kPi;
-  for (auto rr : {read(s, "max_trans_speed", sp.max_trans_speed, w), read(s, "max_rot_speed_deg", rot_deg, w),
-                  read(s, "max_step_dt", sp.max_step_dt, w),
-                  read(s, "force_ceiling", sp.force_ceiling, w), read(s, "ceiling_retreat", sp.ceiling_retreat, w),
-                  read(s, "stale_timeout", sp.stale_timeout, w)})
-    if (!rr) return rr;
-  sp.max_rot_speed = rot_deg * kPi / 180.0;
-  if (const YAML::Node ws = s["workspace"]) {
-    const Where ww = w.child("workspace");
-    if (!(r = checkKeys(ws, ww, {"min", "max"}))) return r;
-    std::vector<double> mn(sp.workspace_min.begin(), sp.workspace_min.end()),
-        mx(sp.workspace_max.begin(), sp.workspace_max.end());
-    if (!(r = read(ws, "min", mn, ww)) || !(r = read(ws, "max", mx, ww))) return r;
-    if (mn.size() != 3 || mx.size() != 3) return fail(ww, "min and max must have 3 entries (m)");
-    for (std::size_t i = 0; i < 3; ++i) {
-      sp.workspace_min[i] = mn[i];
-      sp.workspace_max[i] = mx[i];
-    }
-  }
-  if (const YAML::Node fi = s["frozen_image"]) {
-    const Where wf = w.child("frozen_image");
-    if (!(r = checkKeys(fi, wf, {"travel_m", "min_s"}))) return r;
-    if (!(r = read(fi, "travel_m", sp.frozen_image_travel, wf)) || !(r = read(fi, "min_s", sp.frozen_image_s, wf)))
-      return r;
-  }
-  if (const YAML::Node cl = s["contact_loss"]) {
-    const Where wc = w.child("contact_loss");
-    if (!(r = checkKeys(cl, wc, {"mode", "backoff_distance", "search_speed", "search_max_distance"}))) return r;
-    int mode = static_cast<int>(sp.contact_loss);
-    if (!(r = readChoice(cl, "mode", wc, {"hold", "backoff", "search"}, "hold, backoff or search", mode))) return r;
-    sp.contact_loss = static_cast<ContactLossMode>(mode);
-    for (auto rr : {read(cl, "backoff_distance", sp.backoff_distance, wc), read(cl, "search_speed", sp.search_speed, wc),
-                    read(cl, "search_max_distance", sp.search_max_distance, wc)})
-      if (!rr) return rr;
-  }
-  return ConfigResult::success();
-}
-
-ConfigResult readWatchdogs(const YAML::Node& wd, const Where& w, WatchdogParams& wp) {
-  ConfigResult r;
-  if (!(r = checkKeys(wd, w, {"arm_stall", "force_mismatch", "phantom_contact", "unseen_load", "correction_saturated", "correction_drift",
-                              "on_fault", "retreat_m", "surface_too_curved"})))
-    return r;
-  if (!(r = readSensorChecks(wd, w, wp))) return r;
-  if (const YAML::Node sc = wd["surface_too_curved"]) {
-    const Where wc = w.child("surface_too_curved");
-    if (!(r = checkKeys(sc, wc, {"tau_s", "excess_n", "max_extent_m", "max_tactile_share", "lift_n"}))) return r;
-    for (auto rr : {read(sc, "tau_s", wp.curved_tau_s, wc), read(sc, "excess_n", wp.curved_excess_n, wc),
-                    read(sc, "max_extent_m", wp.curved_max_extent_m, wc),
-                    read(sc, "max_tactile_share", wp.curved_max_tactile_share, wc),
-                    read(sc, "lift_n", wp.curved_lift_n, wc)})
-      if (!rr) return rr;
-  }
-  if (const YAML::Node st = wd["arm_stall"]) {
-    const Where ws = w.child("arm_stall");
-    if (!(r = checkKeys(st, ws, {"window_s", "min_distance", "min_angle_deg", "min_fraction"}))) return r;
-    double deg = wp.stall_min_angle * 180.0 / kPi;
-    for (auto rr : {read(st, "window_s", wp.stall_window_s, ws), read(st, "min_distance", wp.stall_min_distance, ws),
-                    read(st, "min_angle_deg", deg, ws), read(st, "min_fraction", wp.stall_min_fraction, ws)})
-      if (!rr) return rr;
-    wp.stall_min_angle = deg * kPi / 180.0;
-  }
-  if (const YAML::Node fm = wd["force_mismatch"]) {
-    const Where wf = w.child("force_mismatch");
-    if (!(r = checkKeys(fm, wf, {"window_s", "tolerance_n", "tolerance_rel"}))) return r;
-    for (auto rr : {read(fm, "window_s", wp.mismatch_window_s, wf), read(fm, "tolerance_n", wp.mismatch_tolerance_n, wf),
-                    read(fm, "tolerance_rel", wp.mismatch_tolerance_rel, wf)})
-      if (!rr) return rr;
-  }
-  return ConfigResult::success();
+  const ConfigResult r = rejectRenamed(s, w, steps, 2);
+  if (!r) return r;
+  return config::readBlock(s, w, safetySchema(), sp);
 }
 
 ConfigResult readForceEstimate(const YAML::Node& fe, const Where& w, ForceEstimateParams& fp) {
-  ConfigResult r;
-  if (!(r = checkKeys(fe, w, {"source", "tau_s", "max_correction_n", "tare_tau_s", "tare_gate_n", "tare_hold_s", "tare_max_n", "image_margin_n", "firing_threshold_n"}))) return r;
-  std::string src;
-  if (fe["source"]) {
-    if (!(r = read(fe, "source", src, w))) return r;
-    if (src == "tactile") fp.fused = false;
-    else if (src == "fused") fp.fused = true;
-    else return fail(w.child("source"), "'" + src + "': must be tactile (Eq. 2, the paper) or fused (with the arm's wrench)");
-  }
-  for (auto rr : {read(fe, "tau_s", fp.tau_s, w), read(fe, "max_correction_n", fp.max_correction_n, w),
-                  read(fe, "tare_tau_s", fp.tare_tau_s, w), read(fe, "tare_gate_n", fp.tare_gate_n, w),
-                  read(fe, "tare_hold_s", fp.tare_hold_s, w), read(fe, "tare_max_n", fp.tare_max_n, w),
-                  read(fe, "image_margin_n", fp.image_margin_n, w), read(fe, "firing_threshold_n", fp.firing_threshold_n, w)})
-    if (!rr) return rr;
+  ConfigResult r = config::readBlock(fe, w, forceEstimateSchema(), fp);
+  if (!r) return r;
   ForceEstimator probe;
-  if (!(r = probe.configure(fp, w.str().c_str()))) return r;
-  return ConfigResult::success();
+  return probe.configure(fp, w.str().c_str());
 }
 
 ConfigResult readPhaseDefaults(const YAML::Node& pd, const Where& w, Defaults& d) {
@@ -557,7 +357,7 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
     if (!(r = readSafety(s, top.child("safety"), p.safety))) return r;
   }
   if (const YAML::Node wd = root["watchdogs"]) {
-    if (!(r = readWatchdogs(wd, top.child("watchdogs"), p.watchdogs))) return r;
+    if (!(r = config::readBlock(wd, top.child("watchdogs"), watchdogSchema(), p.watchdogs))) return r;
   }
   if (const YAML::Node fe = root["force_estimate"]) {
     if (!(r = readForceEstimate(fe, top.child("force_estimate"), p.force_estimate))) return r;
@@ -566,7 +366,8 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
     if (!(r = readSpeedLaw(sl, top.child("speed_law"), p.speed_law))) return r;
   }
   if (const YAML::Node sf = root["slope_feedforward"]) {
-    if (!(r = readSlopeFeedforward(sf, top.child("slope_feedforward"), p.slope_feedforward))) return r;
+    if (!(r = config::readBlock(sf, top.child("slope_feedforward"), slopeFeedforwardSchema(), p.slope_feedforward)))
+      return r;
   }
   Defaults d;
   if (const YAML::Node pd = root["phase_defaults"]) {

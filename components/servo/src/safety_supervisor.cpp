@@ -1,4 +1,5 @@
 #include "tactile_servo/safety_supervisor.hpp"
+#include "tactile_servo/servo_schema.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -12,32 +13,11 @@ using servo_config::err;
 ConfigResult SafetySupervisor::configure(const ServoParams& p) {
   configured_ = false;
   const SafetyParams& s = p.safety;
-  if (!(std::isfinite(s.max_trans_speed) && s.max_trans_speed > 0 && s.max_trans_speed <= 1.0))
-    return err(p, "", "safety.max_trans_speed", s.max_trans_speed, "must be in (0, 1] m/s");
-  if (!(std::isfinite(s.max_rot_speed) && s.max_rot_speed > 0 && s.max_rot_speed <= 10.0))
-    return err(p, "", "safety.max_rot_speed", s.max_rot_speed, "must be in (0, 10] rad/s");
-  if (!(std::isfinite(s.max_step_dt) && s.max_step_dt > 0 && s.max_step_dt <= 1.0))
-    return err(p, "", "safety.max_step_dt", s.max_step_dt, "must be in (0, 1] s");
+  const ConfigResult r = schema::checkRanges(safetySchema(), s, servo_config::where(p, "", "safety"));
+  if (!r) return r;
   for (int i = 0; i < 3; ++i)
-    if (!(std::isfinite(s.workspace_min[i]) && std::isfinite(s.workspace_max[i]) &&
-          s.workspace_min[i] < s.workspace_max[i]))
-      return err(p, "", "safety.workspace", s.workspace_min[i], "min must be finite and < max on every axis");
-  if (!(std::isfinite(s.force_ceiling) && s.force_ceiling > 0))
-    return err(p, "", "safety.force_ceiling", s.force_ceiling, "must be > 0 (N)");
-  if (!(std::isfinite(s.ceiling_retreat) && s.ceiling_retreat >= 0 && s.ceiling_retreat <= 0.2))
-    return err(p, "", "safety.ceiling_retreat", s.ceiling_retreat, "must be in [0, 0.2] m");
-  if (!(std::isfinite(s.stale_timeout) && s.stale_timeout > 0))
-    return err(p, "", "safety.stale_timeout", s.stale_timeout, "must be > 0 (s)");
-  if (!(std::isfinite(s.backoff_distance) && s.backoff_distance >= 0 && s.backoff_distance <= 0.2))
-    return err(p, "", "safety.contact_loss.backoff_distance", s.backoff_distance, "must be in [0, 0.2] m");
-  if (!(std::isfinite(s.search_speed) && s.search_speed >= 0 && s.search_speed <= 0.1))
-    return err(p, "", "safety.contact_loss.search_speed", s.search_speed, "must be in [0, 0.1] m/s");
-  if (!(std::isfinite(s.search_max_distance) && s.search_max_distance >= 0 && s.search_max_distance <= 0.2))
-    return err(p, "", "safety.contact_loss.search_max_distance", s.search_max_distance, "must be in [0, 0.2] m");
-  if (!(std::isfinite(s.frozen_image_travel) && s.frozen_image_travel >= 0 && s.frozen_image_travel <= 0.05))
-    return err(p, "", "safety.frozen_image.travel_m", s.frozen_image_travel, "must be in [0, 0.05] m (0: off)");
-  if (!(std::isfinite(s.frozen_image_s) && s.frozen_image_s > 0 && s.frozen_image_s <= 5.0))
-    return err(p, "", "safety.frozen_image.min_s", s.frozen_image_s, "must be in (0, 5] s");
+    if (!(s.workspace_min[i] < s.workspace_max[i]))
+      return err(p, "", "safety.workspace.min", s.workspace_min[i], "must be < workspace.max on every axis");
   p_ = s;
   configured_ = true;
   reset();

@@ -1,4 +1,5 @@
 #include "tactile_servo/servo.hpp"
+#include "tactile_servo/servo_schema.hpp"
 #include "tactile_types/kdl_pose.hpp"
 
 #include <algorithm>
@@ -40,12 +41,7 @@ ConfigResult TactileServo::configure(const ServoParams& p) {
   if (!(r = slope_ff_.configure(p.slope_feedforward.window_m, p.slope_feedforward.axis,
                                 (p.source + ": slope_feedforward").c_str())))
     return r;
-  if (!(std::isfinite(p.speed_law.rate_tau_s) && p.speed_law.rate_tau_s > 0.0 && p.speed_law.rate_tau_s <= 10.0))
-    return rangeError(p.source + ": speed_law.rate_tau_s", p.speed_law.rate_tau_s, "must be in (0, 10] s");
-  if (p.speed_law.axis < 0 || p.speed_law.axis > 1)
-    return ConfigResult::failure(p.source + ": speed_law.axis: must be x or y");
-  if (!(std::isfinite(p.speed_law.excess_tau_s) && p.speed_law.excess_tau_s >= 0.0 && p.speed_law.excess_tau_s <= 10.0))
-    return rangeError(p.source + ": speed_law.excess_tau_s", p.speed_law.excess_tau_s, "must be in [0, 10] s (0: rate_tau_s)");
+  if (!(r = schema::checkRanges(speedLawServoSchema(), p.speed_law, p.source + ": speed_law"))) return r;
   speed_filter_.configure(p.speed_law.rate_tau_s, p.speed_law.excess_tau_s);
   params_ = p;
   configured_ = true;

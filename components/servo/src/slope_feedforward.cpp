@@ -1,4 +1,5 @@
 #include "tactile_servo/slope_feedforward.hpp"
+#include "tactile_servo/servo_schema.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,9 +9,11 @@ namespace tactile {
 
 ConfigResult SlopeFeedforward::configure(double window_m, int axis, const char* where) {
   window_ = 0.0;
-  if (!(std::isfinite(window_m) && window_m >= 0.0 && window_m <= 0.05))
-    return rangeError(std::string(where) + ".window_m", window_m, "must be in [0, 0.05] m (0: off)");
-  if (axis != 0 && axis != 1) return ConfigResult::failure(std::string(where) + ".axis: must be x or y");
+  SlopeFeedforwardConfig c;
+  c.axis = axis;
+  c.window_m = window_m;
+  const ConfigResult r = schema::checkRanges(slopeFeedforwardSchema(), c, where);
+  if (!r) return r;
   window_ = window_m;
   axis_ = axis;
   reset();

@@ -1,4 +1,5 @@
 #include "tactile_servo/speed_law.hpp"
+#include "tactile_servo/servo_schema.hpp"
 #include "tactile_types/conventions.hpp"
 
 #include <algorithm>
@@ -9,46 +10,13 @@
 namespace tactile {
 
 namespace {
-bool in(double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; }
 double unit(double a) { return std::clamp(a, 0.0, 1.0); }
 }  // namespace
 
 ConfigResult SpeedLaw::configure(const SpeedLawParams& p, const char* where) {
-  const std::string w = std::string(where) + ".";
   configured_ = false;
-  if (!(in(p.v_max, 0.0, 1.0) && p.v_max > 0)) return rangeError(w + "v_max", p.v_max, "must be in (0, 1] m/s");
-  if (!in(p.v_min, 0.0, p.v_max)) return rangeError(w + "v_min", p.v_min, "must be in [0, v_max] m/s");
-  if (!(in(p.accel_mps2, 0.0, 10.0) && p.accel_mps2 > 0))
-    return rangeError(w + "accel_mps2", p.accel_mps2, "must be in (0, 10] m/s^2");
-  if (!(in(p.force_budget_n, 0.0, 50.0) && p.force_budget_n > 0))
-    return rangeError(w + "force_budget_n", p.force_budget_n, "must be in (0, 50] N");
-  if (!(in(p.force_deadband_n, 0.0, p.force_budget_n) && p.force_deadband_n < p.force_budget_n))
-    return rangeError(w + "force_deadband_n", p.force_deadband_n, "must be in [0, force_budget_n) N");
-  if (!in(p.horizon_s, 0.0, 10.0)) return rangeError(w + "horizon_s", p.horizon_s, "must be in [0, 10] s");
-  if (!(in(p.angle_rate_ref, 0.0, 100.0) && p.angle_rate_ref > 0))
-    return rangeError(w + "angle_rate_ref", p.angle_rate_ref, "must be in (0, 100] rad/s");
-  if (!(in(p.curvature_ref, 0.0, 1e4) && p.curvature_ref > 0))
-    return rangeError(w + "curvature_ref", p.curvature_ref, "must be in (0, 1e4] 1/m");
-  if (!(in(p.extent_min_m, 0.0, 1.0) && p.extent_min_m < 1.0))
-    return rangeError(w + "extent_min_m", p.extent_min_m, "must be in [0, 1) m");
-  if (!(in(p.extent_full_m, 0.0, 1.0) && p.extent_full_m > p.extent_min_m))
-    return rangeError(w + "extent_full_m", p.extent_full_m, "must be in (extent_min_m, 1] m");
-  if (!(in(p.excess_ref_n, 0.0, 1e4) && p.excess_ref_n > 0))
-    return rangeError(w + "excess_ref_n", p.excess_ref_n, "must be in (0, 1e4] N");
-  if (!(in(p.excess_deadband_n, 0.0, p.excess_ref_n) && p.excess_deadband_n < p.excess_ref_n))
-    return rangeError(w + "excess_deadband_n", p.excess_deadband_n, "must be in [0, excess_ref_n) N");
-  if (!in(p.excess_deadband_per_m, 0.0, 1e4))
-    return rangeError(w + "excess_deadband_per_m", p.excess_deadband_per_m, "must be in [0, 1e4] N/m");
-  if (!in(p.excess_short_max_m, 0.0, 1.0))
-    return rangeError(w + "excess_short_max_m", p.excess_short_max_m, "must be in [0, 1] m");
-  if (!in(p.drive_fraction, 0.0, 1.0)) return rangeError(w + "drive_fraction", p.drive_fraction, "must be in [0, 1]");
-  if (!(in(p.guard_excess_n, 0.0, 1e4) && p.guard_excess_n > 0))
-    return rangeError(w + "guard_excess_n", p.guard_excess_n, "must be in (0, 1e4] N");
-  if (!(in(p.guard_accel_mps2, 0.0, 10.0) && p.guard_accel_mps2 > 0))
-    return rangeError(w + "guard_accel_mps2", p.guard_accel_mps2, "must be in (0, 10] m/s^2");
-  if (!in(p.crawl_mps, 0.0, p.v_max)) return rangeError(w + "crawl_mps", p.crawl_mps, "must be in [0, v_max] m/s");
-  if (!in(p.crawl_after_s, 0.0, 10.0))
-    return rangeError(w + "crawl_after_s", p.crawl_after_s, "must be in [0, 10] s");
+  const ConfigResult r = schema::checkRanges(speedLawSchema(), p, where);
+  if (!r) return r;
   p_ = p;
   configured_ = true;
   reset();

@@ -1,4 +1,5 @@
 #include "tactile_servo/watchdog.hpp"
+#include "tactile_servo/servo_schema.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -11,55 +12,8 @@ using servo_config::err;
 
 ConfigResult ServoWatchdogs::configure(const ServoParams& p) {
   const WatchdogParams& w = p.watchdogs;
-  auto in = [](double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; };
-  if (!in(w.stall_window_s, 0.0, 60.0))
-    return err(p, "", "watchdogs.arm_stall.window_s", w.stall_window_s, "must be in [0, 60] s (0 = off)");
-  if (!(in(w.stall_min_distance, 0.0, 1.0) && w.stall_min_distance > 0))
-    return err(p, "", "watchdogs.arm_stall.min_distance", w.stall_min_distance, "must be in (0, 1] m");
-  if (!(in(w.stall_min_angle, 0.0, kPi) && w.stall_min_angle > 0))
-    return err(p, "", "watchdogs.arm_stall.min_angle_deg", w.stall_min_angle * 180.0 / kPi, "must be in (0, 180] deg");
-  if (!(in(w.stall_min_fraction, 0.0, 1.0) && w.stall_min_fraction > 0))
-    return err(p, "", "watchdogs.arm_stall.min_fraction", w.stall_min_fraction, "must be in (0, 1]");
-  if (!in(w.mismatch_window_s, 0.0, 60.0))
-    return err(p, "", "watchdogs.force_mismatch.window_s", w.mismatch_window_s, "must be in [0, 60] s (0 = off)");
-  if (!(in(w.mismatch_tolerance_n, 0.0, 1e4) && w.mismatch_tolerance_n > 0))
-    return err(p, "", "watchdogs.force_mismatch.tolerance_n", w.mismatch_tolerance_n, "must be in (0, 1e4] N");
-  if (!in(w.mismatch_tolerance_rel, 0.0, 1.0))
-    return err(p, "", "watchdogs.force_mismatch.tolerance_rel", w.mismatch_tolerance_rel, "must be in [0, 1]");
-  if (!in(w.phantom_window_s, 0.0, 60.0))
-    return err(p, "", "watchdogs.phantom_contact.window_s", w.phantom_window_s, "must be in [0, 60] s (0 = off)");
-  if (!(in(w.phantom_tolerance_n, 0.0, 1e4) && w.phantom_tolerance_n > 0))
-    return err(p, "", "watchdogs.phantom_contact.tolerance_n", w.phantom_tolerance_n, "must be in (0, 1e4] N");
-  if (!in(w.phantom_tolerance_rel, 0.0, 1.0))
-    return err(p, "", "watchdogs.phantom_contact.tolerance_rel", w.phantom_tolerance_rel, "must be in [0, 1]");
-  if (!in(w.unseen_window_s, 0.0, 60.0))
-    return err(p, "", "watchdogs.unseen_load.window_s", w.unseen_window_s, "must be in [0, 60] s (0 = off)");
-  if (!(in(w.unseen_max_n, 0.0, 1e4) && w.unseen_max_n > 0))
-    return err(p, "", "watchdogs.unseen_load.max_n", w.unseen_max_n, "must be in (0, 1e4] N");
-  if (!in(w.correction_window_s, 0.0, 60.0))
-    return err(p, "", "watchdogs.correction_saturated.window_s", w.correction_window_s, "must be in [0, 60] s (0 = off)");
-  if (!in(w.correction_margin_n, 0.0, 50.0))
-    return err(p, "", "watchdogs.correction_saturated.margin_n", w.correction_margin_n, "must be in [0, 50] N");
-  if (!in(w.drift_max_change_n, 0.0, 50.0))
-    return err(p, "", "watchdogs.correction_drift.max_change_n", w.drift_max_change_n, "must be in [0, 50] N (0 = off)");
-  if (!(in(w.drift_tau_s, 0.0, 10.0) && w.drift_tau_s > 0))
-    return err(p, "", "watchdogs.correction_drift.tau_s", w.drift_tau_s, "must be in (0, 10] s");
-  if (!in(w.drift_settle_s, 0.0, 60.0))
-    return err(p, "", "watchdogs.correction_drift.settle_s", w.drift_settle_s, "must be in [0, 60] s");
-  if (!(in(w.drift_min_extent_ratio, 0.0, 1.0) && w.drift_min_extent_ratio > 0))
-    return err(p, "", "watchdogs.correction_drift.min_extent_ratio", w.drift_min_extent_ratio, "must be in (0, 1]");
-  if (!in(w.fault_retreat_m, 0.0, 0.1))
-    return err(p, "", "watchdogs.retreat_m", w.fault_retreat_m, "must be in [0, 0.1] m");
-  if (!in(w.curved_tau_s, 0.0, 10.0))
-    return err(p, "", "watchdogs.surface_too_curved.tau_s", w.curved_tau_s, "must be in [0, 10] s (0 = off)");
-  if (!(in(w.curved_excess_n, 0.0, 1e4) && w.curved_excess_n > 0))
-    return err(p, "", "watchdogs.surface_too_curved.excess_n", w.curved_excess_n, "must be in (0, 1e4] N");
-  if (!(in(w.curved_max_extent_m, 0.0, 1.0) && w.curved_max_extent_m > 0))
-    return err(p, "", "watchdogs.surface_too_curved.max_extent_m", w.curved_max_extent_m, "must be in (0, 1] m");
-  if (!in(w.curved_max_tactile_share, 0.0, 1.0))
-    return err(p, "", "watchdogs.surface_too_curved.max_tactile_share", w.curved_max_tactile_share, "must be in [0, 1]");
-  if (!in(w.curved_lift_n, 0.0, 1e4))
-    return err(p, "", "watchdogs.surface_too_curved.lift_n", w.curved_lift_n, "must be in [0, 1e4] N (0 = off)");
+  const ConfigResult r = schema::checkRanges(watchdogSchema(), w, servo_config::where(p, "", "watchdogs"));
+  if (!r) return r;
   p_ = w;
   reset();
   return ConfigResult::success();
