@@ -7,9 +7,21 @@
 //                         [--wts-rate HZ] [--features-rate HZ] [--subsamples K]
 //                         [--fidelity quasi_static|dynamics] [--through-fri] [--no-plots]
 //                         [--set KEY.PATH=VALUE ...]
+//   tactile_sim program FILE [--check]   the phase program with its `base:` merged (YAML)
+//   tactile_sim schema [program|scene]   the key tables of the declared blocks (Markdown)
 //
 // --set overrides a scene key before the scene is read (repeatable):
-// `--set sensor.noise_counts=30 --set rates.servo=1000`; errors as for the file.
+// `--set sensor.noise_counts=30 --set rates.servo=1000`; a key under
+// `program.` is one of the scene's program (`--set program.speed_law.v_max=0.08`,
+// `--set program.phases.explore.kp_per_s.x=4.8`); errors as for the file.
+//
+// `program` prints the program document as the servo reads it, its `base:`
+// chain merged (exit 2 with the error of a missing file, a key the base lacks,
+// a cycle): the scripts that read or derive programs take it rather than
+// merging `base:` themselves. --check reads it in full as the servo does
+// first (keys, ranges, phases). `schema` prints what
+// docs/formats.md shows for each declared block of a program
+// (tactile_servo/servo_schema.hpp) or of a scene (tactile_sim/sim_schema.hpp).
 //
 // --through-fri sends every 1 kHz command through the FRI protocol: the world
 // state is encoded as a KRC measurement packet, tactile::fri::FriBridge (rate
@@ -38,7 +50,12 @@
 #include <iostream>
 #include <string>
 
+#include <yaml-cpp/yaml.h>
+
+#include "tactile_servo/program_io.hpp"
+#include "tactile_servo/servo_schema.hpp"
 #include "tactile_sim/report_table.hpp"
+#include "tactile_sim/sim_schema.hpp"
 #include "tactile_sim/runner.hpp"
 
 #ifndef TACTILE_SOURCE_DIR
@@ -56,7 +73,9 @@ void usage() {
                "       tactile_sim run SCENE [--controller proposed|baseline|no_rotation] [--out DIR] [--seed N]\n"
                "                         [--duration S] [--servo-rate HZ] [--sim-rate HZ] [--wts-rate HZ]\n"
                "                         [--features-rate HZ] [--subsamples K] [--fidelity quasi_static|dynamics]\n"
-               "                         [--through-fri] [--no-plots] [--set KEY.PATH=VALUE ...]\n";
+               "                         [--through-fri] [--no-plots] [--set KEY.PATH=VALUE ...]\n"
+               "       tactile_sim program FILE [--check]\n"
+               "       tactile_sim schema [program|scene]\n";
 }
 
 bool number(const char* s, double& v) {
@@ -255,8 +274,33 @@ int runOptions(int argc, char** argv, Scene& scene, std::string& out_dir, bool& 
   return -1;
 }
 
+/// `program FILE [--check]`: the merged program as YAML on stdout.
+int printProgram(const std::string& file, bool check) {
+  ServoParams p;
+  YAML::Node doc;
+  ConfigResult r = check ? loadServoProgram(file, p) : ConfigResult::success();
+  if (r) r = loadProgramDocument(file, doc);
+  if (!r) {
+    std::cerr << "tactile_sim: " << r.message() << "\n";
+    return 2;
+  }
+  std::cout << YAML::Dump(doc) << "\n";
+  return 0;
+}
+
 int main(int argc, char** argv) {
   if (argc >= 2 && std::string(argv[1]) == "summarize") return summarize(argc, argv);
+  if ((argc == 3 || (argc == 4 && std::string(argv[3]) == "--check")) && std::string(argv[1]) == "program")
+    return printProgram(argv[2], argc == 4);
+  if ((argc == 2 || argc == 3) && std::string(argv[1]) == "schema") {
+    const std::string which = argc == 3 ? argv[2] : "program";
+    if (which != "program" && which != "scene") {
+      usage();
+      return 2;
+    }
+    std::cout << (which == "program" ? programSchemaMarkdown() : sceneSchemaMarkdown());
+    return 0;
+  }
   if (argc < 3 || std::string(argv[1]) != "run") {
     usage();
     return 2;

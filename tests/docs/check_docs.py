@@ -246,11 +246,12 @@ def yaml_keys(root):
             except OSError:
                 pass
     # the keys the parsers read: the string literals of the sources that read YAML
+    # (a declared key of a nested mapping is one literal, "arm_stall.window_s")
     for p in glob.glob(os.path.join(root, "**", "src", "*.cpp"), recursive=True):
         if "/build" in p:
             continue
-        for m in re.finditer(r'"([a-z][a-z0-9_]*)"', open(p, errors="replace").read()):
-            keys.add(m.group(1))
+        for m in re.finditer(r'"([a-z][a-z0-9_]*(?:\.[a-z][a-z0-9_]*)*)"', open(p, errors="replace").read()):
+            keys.update(m.group(1).split("."))
     return keys
 
 

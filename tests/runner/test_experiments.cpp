@@ -507,7 +507,7 @@ TEST(SceneOverrides, SetKeysBeforeReadingAndAreCheckedLikeTheFile) {
   EXPECT_EQ(sc.world.objects[0].radius, 0.02);
   const ConfigResult past_end = loadScene(with_list, sc, {"objects.1.radius=0.02"});
   ASSERT_FALSE(past_end.ok());
-  EXPECT_NE(past_end.message().find("1 is not an index of a list of 1"), std::string::npos) << past_end.message();
+  EXPECT_NE(past_end.message().find("1 is neither an index nor the name of an element of a list of 1"), std::string::npos) << past_end.message();
   const std::vector<std::pair<std::string, std::string>> bad = {
       {"rates.servo", "key.path=value"},            // no '='
       {"rates..servo=3", "empty key"},              // empty key

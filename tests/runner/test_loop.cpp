@@ -203,6 +203,41 @@ TEST(SceneEffects, RatesAndEffectsAreValidatedWithFileKeyAndRange) {
   EXPECT_EQ(wp.physics_step_s, 1.0 / sc.rates.sim);
 }
 
+// --set program.KEY: a key of the scene's program (its base merged), by name in
+// the phase list; checked as the program file is, the error naming the
+// program, the key and its range.
+TEST(SceneOverrides, ProgramKeysBySceneAndPhaseName) {
+  const std::string file = TACTILE_SOURCE_DIR "/sim/scenes/bent_bar_speed_law.yaml";
+  Scene plain, sc;
+  ASSERT_TRUE(loadScene(file, plain).ok());
+  ConfigResult r = loadScene(file, sc, {"program.speed_law.force_budget_n=0.45", "program.phases.explore.kp_per_s.x=2.5",
+                                        "program.watchdogs.arm_stall.min_angle_deg=10"});
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_EQ(sc.servo.speed_law.law.force_budget_n, 0.45);
+  EXPECT_NE(plain.servo.speed_law.law.force_budget_n, 0.45);
+  EXPECT_NEAR(sc.servo.watchdogs.stall_min_angle, 10.0 * kPi / 180.0, 1e-15);
+  int explore = -1;
+  for (std::size_t i = 0; i < sc.servo.phases.size(); ++i)
+    if (sc.servo.phases[i].name == "explore") explore = static_cast<int>(i);
+  ASSERT_GE(explore, 0);
+  EXPECT_EQ(sc.servo.phases[static_cast<std::size_t>(explore)].kp(0), 2.5);
+  EXPECT_EQ(sc.servo.phases[static_cast<std::size_t>(explore)].kp(2), plain.servo.phases[static_cast<std::size_t>(explore)].kp(2))
+      << "the phase's other gains stay";
+  EXPECT_EQ(sc.program_file, plain.program_file);
+
+  r = loadScene(file, sc, {"program.speed_law.v_max=2"});
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("bent_bar_speed_law.yaml: speed_law.v_max = 2: must be in (0, 1] m/s"), std::string::npos)
+      << r.message();
+  r = loadScene(file, sc, {"program.phases.explorr.kp_per_s.x=2"});
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("explorr is neither an index nor the name of an element"), std::string::npos)
+      << r.message();
+  r = loadScene(file, sc, {"program.speed_law.vmax=0.1"});
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("speed_law.vmax: unknown key"), std::string::npos) << r.message();
+}
+
 // effects.wrench_error: the arm's estimated wrench = (1 + scale) F + bias +
 // drift |p - p_0| + noise, moments exact; the noise a function of (seed, time).
 TEST(EstimatedWrench, ErrorModelIsExactAndTheNoiseDependsOnTimeOnly) {

@@ -1,7 +1,9 @@
-"""ctest program_yaml_py: scripts/tools/program_yaml.py merges `base:` by the
-servo's rules (program_io.hpp "Overlays"; the C++ side: ServoProgramBase.*).
-Each rule on scratch files, then every shipped overlay: the merged program is
-its base with exactly the overlay's changes. Usage: test_program_yaml.py REPO."""
+"""ctest program_yaml_py: scripts/tools/program_yaml.py gives the scripts the
+program as the servo merges it (`tactile_sim program`; the rules are
+program_io.hpp's "Overlays", checked in C++ by ServoProgramBase.*). Each rule
+on scratch files through the tool, then every shipped overlay: the merged
+program is its base with exactly the overlay's changes. Usage:
+test_program_yaml.py REPO (the tool: $TACTILE_SIM)."""
 import copy
 import os
 import sys
@@ -74,7 +76,9 @@ def rules(d):
     check("t.yaml: controller.c_zz: not in the base" in e, "a key the base lacks is an error: " + e)
     e = error_of(write("p.yaml", "base: base.yaml\nphases:\n  - {name: hodl, P: {z: 1}}\n")) or ""
     check("p.yaml: phases[hodl]: no element named 'hodl'" in e, "a phase the base lacks is an error: " + e)
-    a = P.load(write("a.yaml", "base: base.yaml\nadd_phases:\n  - {name: check, P: {z: 1}}\n"))
+    a = P.load(write("a.yaml", "base: base.yaml\nphases:\n  - name: hold\n"
+                               "    transitions: [{on: timeout, to: check, timeout_s: 1}]\n"
+                               "add_phases:\n  - {name: check, P: {z: 1}, terminal: true}\n"))
     check([p["name"] for p in a["phases"]] == ["approach", "hold", "check"] and "add_phases" not in a,
           "add_phases appends whole phases after the base's")
     e = error_of(write("a2.yaml", "base: base.yaml\nadd_phases:\n  - {name: hold, P: {z: 1}}\n")) or ""

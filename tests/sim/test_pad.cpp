@@ -529,12 +529,12 @@ TEST(PadBadInput, ParametersAreValidated) {
   p.subsamples = 0;
   ConfigResult r = pad.configure(p);
   EXPECT_FALSE(r.ok());
-  EXPECT_NE(r.message().find("pad.subsamples"), std::string::npos) << r.message();
+  EXPECT_NE(r.message().find("sensor.subsamples = 0: must be in [1, 32]"), std::string::npos) << r.message();
   p = PadParams();
   p.housing_size_x = 0.03;  // smaller than the 47.6 mm sensing area
   r = pad.configure(p);
   EXPECT_FALSE(r.ok());
-  EXPECT_NE(r.message().find("pad.housing_size_x"), std::string::npos) << r.message();
+  EXPECT_NE(r.message().find("sensor.housing_size_x = 0.03: must be in [cols * pitch"), std::string::npos) << r.message();
   p = PadParams();
   p.response[0] = -1.0;
   EXPECT_FALSE(pad.configure(p).ok());

@@ -1,4 +1,5 @@
 #include "tactile_sim/pad_sensor.hpp"
+#include "tactile_sim/sim_schema.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -17,22 +18,15 @@ ConfigResult PadSensor::configure(const PadParams& p) {
   if (p.rows < 1 || p.rows > kMaxRows) return rangeError("pad.rows", p.rows, "must be in [1, " + std::to_string(kMaxRows) + "]");
   if (p.cols < 1 || p.cols > kMaxCols) return rangeError("pad.cols", p.cols, "must be in [1, " + std::to_string(kMaxCols) + "]");
   if (!positive(p.pitch) || p.pitch > 0.05) return rangeError("pad.pitch", p.pitch, "must be in (0, 0.05] m");
-  if (!positive(p.modulus) || p.modulus > 1e12) return rangeError("pad.modulus", p.modulus, "must be in (0, 1e12] Pa/m");
-  if (!positive(p.layer_thickness) || p.layer_thickness > 0.05)
-    return rangeError("pad.layer_thickness", p.layer_thickness, "must be in (0, 0.05] m");
-  if (p.subsamples < 1 || p.subsamples > 32) return rangeError("pad.subsamples", p.subsamples, "must be in [1, 32]");
-  if (p.physics_subsamples < 1 || p.physics_subsamples > 6)
-    return rangeError("pad.physics_subsamples", p.physics_subsamples, "must be in [1, 6]");
+  const ConfigResult declared = schema::checkRanges(sensorSchema(), p, "sensor");
+  if (!declared) return declared;
   const double ax = p.cols * p.pitch, ay = p.rows * p.pitch;
   if (!(p.housing_size_x >= ax) || !std::isfinite(p.housing_size_x) || p.housing_size_x > 1.0)
-    return rangeError("pad.housing_size_x", p.housing_size_x,
+    return rangeError("sensor.housing_size_x", p.housing_size_x,
                       "must be in [cols * pitch = " + std::to_string(ax) + ", 1] m");
   if (!(p.housing_size_y >= ay) || !std::isfinite(p.housing_size_y) || p.housing_size_y > 1.0)
-    return rangeError("pad.housing_size_y", p.housing_size_y,
+    return rangeError("sensor.housing_size_y", p.housing_size_y,
                       "must be in [rows * pitch = " + std::to_string(ay) + ", 1] m");
-  if (!(p.housing_recess >= 0.0) || p.housing_recess > 0.05) return rangeError("pad.housing_recess", p.housing_recess, "must be in [0, 0.05] m");
-  if (!positive(p.housing_modulus) || p.housing_modulus > 1e13)
-    return rangeError("pad.housing_modulus", p.housing_modulus, "must be in (0, 1e13] Pa/m");
   if (!positive(p.housing_spacing) || p.housing_spacing > 0.05)
     return rangeError("pad.housing_spacing", p.housing_spacing, "must be in (0, 0.05] m");
   if (!(p.depth_limit > p.housing_recess) || p.depth_limit > 1.0)
@@ -43,8 +37,6 @@ ConfigResult PadSensor::configure(const PadParams& p) {
   if (!(p.response[2] >= 0.0) || !std::isfinite(p.response[2])) return rangeError("pad.response[2]", p.response[2], "must be >= 0 (N/count^3)");
   if (!positive(p.border_sensitivity) || p.border_sensitivity > 1.0)
     return rangeError("pad.border_sensitivity", p.border_sensitivity, "must be in (0, 1]");
-  if (!(p.noise_counts >= 0.0) || p.noise_counts > 1000.0) return rangeError("pad.noise_counts", p.noise_counts, "must be in [0, 1000] counts");
-  if (!(p.threshold >= 0.0) || !std::isfinite(p.threshold)) return rangeError("pad.threshold", p.threshold, "must be >= 0 (N)");
 
   // Layer samples (physics sampling), then the housing ring.
   int n = 0;

@@ -1,4 +1,5 @@
 #include "tactile_sim/world.hpp"
+#include "tactile_sim/sim_schema.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -74,12 +75,10 @@ ConfigResult checkParams(const WorldParams& p, long& delay_steps, long& krc_step
     std::snprintf(buf, sizeof buf, "must be in (0, max_step_s = %g] s", p.max_step_s);
     return rangeError("physics_step_s (1 / rates.sim)", p.physics_step_s, buf);
   }
-  if (!(p.friction_mu >= 0.0) || p.friction_mu > 2.0) return rangeError("effects.friction_mu", p.friction_mu, "must be in [0, 2]");
-  if (!(p.friction_stiffness > 0.0) || p.friction_stiffness > 1e7)
-    return rangeError("effects.friction_stiffness", p.friction_stiffness, "must be in (0, 1e7] N/m");
+  const ConfigResult declared = schema::checkRanges(worldEffectsSchema(), p, "effects");
+  if (!declared) return declared;
   // The delay and the KRC cycle in whole physics steps (the loop's time base).
   auto steps = [&p](const char* name, double v, long& n) {
-    if (!(v >= 0.0) || v > 1.0) return rangeError(name, v, "must be in [0, 1] s");
     const double k = v / p.physics_step_s;
     n = std::lround(k);
     if (std::fabs(k - static_cast<double>(n)) > 1e-6) {

@@ -11,7 +11,9 @@
 
 #include "tactile_config/yaml_params.hpp"
 #include "tactile_features/params_io.hpp"
+#include "tactile_config/schema_yaml.hpp"
 #include "tactile_servo/program_io.hpp"
+#include "tactile_sim/sim_schema.hpp"
 #include "tactile_sim/run_log.hpp"
 #include "tactile_sim/sensor_faults_io.hpp"
 
@@ -182,19 +184,28 @@ ConfigResult applyOverride(YAML::Node& root, const std::string& o, const std::st
   }
   // yaml-cpp nodes are handles: reassigning one rebinds it, so descend by copies
   // of the child handles (operator[] on a non-const map creates the key).
-  // A numeric key indexes a list ("objects.0.fidelity=dynamics").
+  // A numeric key indexes a list ("objects.0.fidelity=dynamics"); another key
+  // picks the list's element of that `name` ("phases.explore.kp_per_s.x=4").
   auto child = [&](YAML::Node parent, const std::string& key, YAML::Node& out) -> ConfigResult {
-    if (parent.IsSequence()) {
-      char* end = nullptr;
-      const unsigned long i = std::strtoul(key.c_str(), &end, 10);
-      if (end == key.c_str() || *end != '\0' || i >= parent.size())
-        return ConfigResult::failure(file + ": override '" + o + "': " + key + " is not an index of a list of " +
-                                     std::to_string(parent.size()));
-      out = parent[i];
-    } else {
+    if (!parent.IsSequence()) {
       out = parent[key];
+      return ConfigResult::success();
     }
-    return ConfigResult::success();
+    char* end = nullptr;
+    const unsigned long i = std::strtoul(key.c_str(), &end, 10);
+    if (end != key.c_str() && *end == '\0' && i < parent.size()) {
+      out = parent[i];
+      return ConfigResult::success();
+    }
+    for (std::size_t j = 0; j < parent.size(); ++j)
+      if (parent[j].IsMap() && parent[j]["name"] && parent[j]["name"].IsScalar() &&
+          parent[j]["name"].Scalar() == key) {
+        out = parent[j];
+        return ConfigResult::success();
+      }
+    return ConfigResult::failure(file + ": override '" + o + "': " + key +
+                                 " is neither an index nor the name of an element of a list of " +
+                                 std::to_string(parent.size()));
   };
   std::vector<YAML::Node> path{root};
   for (std::size_t k = 0; k + 1 < keys.size(); ++k) {
@@ -234,14 +245,20 @@ ConfigResult readSceneHeader(const YAML::Node& root, const Where& w, Scene& s) {
 
 // The controller: the phase program (program, required; the same file the RTT
 // servo component loads) and the controller mode.
-ConfigResult readController(const YAML::Node& root, const Where& w, const std::string& file, const std::string& dir, Scene& s) {
+ConfigResult readController(const YAML::Node& root, const Where& w, const std::string& file, const std::string& dir,
+                            const std::vector<std::string>& program_overrides, Scene& s) {
   ConfigResult r = ConfigResult::success();
   // Controller: the phase program (the same file the RTT servo component loads).
   std::string program;
   if (!(r = read(root, "program", program, w))) return r;
   if (program.empty()) return fail(w.child("program"), "required: path of the phase program (relative to the scene)");
   s.program_file = resolve(dir, program);
-  if (!(r = loadServoProgram(s.program_file, s.servo))) return ConfigResult::failure(file + ": program: " + r.message());
+  YAML::Node doc;  // its `base:` merged, then the overrides of its keys
+  if (!(r = loadProgramDocument(s.program_file, doc))) return ConfigResult::failure(file + ": program: " + r.message());
+  for (const std::string& o : program_overrides)
+    if (!(r = applyOverride(doc, o, s.program_file))) return r;
+  if (!(r = loadServoProgram(doc, s.program_file, s.servo)))
+    return ConfigResult::failure(file + ": program: " + r.message());
   std::string mode = "proposed";
   if (!(r = read(root, "controller", mode, w))) return r;
   if (!parseControllerMode(mode, s.controller))
@@ -302,17 +319,7 @@ ConfigResult readSensor(const YAML::Node& root, const Where& w, Scene& s) {
   PadParams& pad = s.world.pad;
   if (const YAML::Node n = root["sensor"]) {
     const Where ws = w.child("sensor");
-    if (!(r = checkKeys(n, ws,
-                        {"subsamples", "physics_subsamples", "noise_counts", "modulus", "layer_thickness",
-                         "housing_size_x", "housing_size_y", "housing_recess", "housing_modulus", "threshold"})))
-      return r;
-    for (auto rr : {read(n, "subsamples", pad.subsamples, ws), read(n, "physics_subsamples", pad.physics_subsamples, ws),
-                    read(n, "noise_counts", pad.noise_counts, ws), read(n, "modulus", pad.modulus, ws),
-                    read(n, "layer_thickness", pad.layer_thickness, ws),
-                    read(n, "housing_size_x", pad.housing_size_x, ws), read(n, "housing_size_y", pad.housing_size_y, ws),
-                    read(n, "housing_recess", pad.housing_recess, ws),
-                    read(n, "housing_modulus", pad.housing_modulus, ws), read(n, "threshold", pad.threshold, ws)})
-      if (!rr) return rr;
+    if (!(r = config::readBlock(n, ws, sensorSchema(), pad))) return r;
   }
   // One mounting transform {e}T{s}: the program's (what the robot uses).
   {
@@ -400,25 +407,14 @@ ConfigResult readEffects(const YAML::Node& root, const Where& w, Scene& s) {
   // sensor's are TaxelResponse's (readSensorEffects).
   if (const YAML::Node n = root["effects"]) {
     const Where we = w.child("effects");
-    if (!(r = checkKeys(n, we,
-                        {"friction_mu", "friction_stiffness", "fri_delay_s", "krc_cycle_s", "wts_transfer_delay_s",
-                         "gain_spread", "dead_taxels", "calibration_error", "crosstalk", "creep", "hysteresis",
-                         "device_noise", "wrench_error"})))
-      return r;
+    // The world's keys (declared: sim_schema.hpp) beside the sensor's effects
+    // and the wrench error, each read by its own reader.
+    const std::vector<std::string> others{"wts_transfer_delay_s", "gain_spread", "dead_taxels", "calibration_error",
+                                          "crosstalk", "creep", "hysteresis", "device_noise", "wrench_error"};
+    if (!(r = config::readBlock(n, we, worldEffectsSchema(), s.world, others))) return r;
     if (!(r = readSensorEffects(n, we, s.sensor_effects))) return r;
     if (!(r = readWrenchError(n["wrench_error"], we.child("wrench_error"), s.wrench_error))) return r;
-    WorldParams& wp = s.world;
-    for (auto rr : {read(n, "friction_mu", wp.friction_mu, we), read(n, "friction_stiffness", wp.friction_stiffness, we),
-                    read(n, "fri_delay_s", wp.fri_delay_s, we), read(n, "krc_cycle_s", wp.krc_cycle_s, we)})
-      if (!rr) return rr;
-    if (!(wp.friction_mu >= 0.0) || wp.friction_mu > 2.0)
-      return rangeError(we.child("friction_mu").str(), wp.friction_mu, "must be in [0, 2] (rubber on metal ~0.5-1)");
-    if (!(wp.friction_stiffness > 0.0) || wp.friction_stiffness > 1e7)
-      return rangeError(we.child("friction_stiffness").str(), wp.friction_stiffness, "must be in (0, 1e7] N/m");
-    if (!(wp.fri_delay_s >= 0.0) || wp.fri_delay_s > 1.0)
-      return rangeError(we.child("fri_delay_s").str(), wp.fri_delay_s, "must be in [0, 1] s");
-    if (!(wp.krc_cycle_s >= 0.0) || wp.krc_cycle_s > 1.0)
-      return rangeError(we.child("krc_cycle_s").str(), wp.krc_cycle_s, "must be in [0, 1] s (0 = every physics step)");
+    if (!(r = schema::checkRanges(worldEffectsSchema(), s.world, we.str()))) return r;
   }
   return ConfigResult::success();
 }
@@ -481,8 +477,12 @@ ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std:
   YAML::Node root;
   ConfigResult r = config::loadFile(file, root);
   if (!r) return r;
-  for (const std::string& o : overrides)
-    if (!(r = applyOverride(root, o, file))) return r;
+  std::vector<std::string> program_overrides;  // "program.KEY.PATH=VALUE": a key of the program
+  for (const std::string& o : overrides) {
+    const bool of_program = o.rfind("program.", 0) == 0 && o.find('=') > 8;
+    if (of_program) program_overrides.push_back(o.substr(8));
+    else if (!(r = applyOverride(root, o, file))) return r;
+  }
   const Where w{file, ""};
   if (!(r = checkKeys(root, w,
                       {"name", "description", "figure", "program", "controller", "features_file", "duration", "seed",
@@ -493,7 +493,7 @@ ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std:
   s.file = file;
   const std::string dir = dirOf(file);
   if (!(r = readSceneHeader(root, w, s))) return r;
-  if (!(r = readController(root, w, file, dir, s))) return r;
+  if (!(r = readController(root, w, file, dir, program_overrides, s))) return r;
   if (!(r = readFeaturesFile(root, w, file, dir, s))) return r;
   if (!(r = readRunKeys(root, w, s))) return r;
   if (!(r = readSensor(root, w, s))) return r;
@@ -540,8 +540,7 @@ ConfigResult validateScene(const Scene& s) {
     if (v > s.rates.sim + 1e-9)
       return rangeError(w.child(std::string("rates.") + name).str(), v,
                         "must be <= rates.sim = " + std::to_string(s.rates.sim) + " Hz (the physics rate)");
-  if (s.world.pad.subsamples < 1 || s.world.pad.subsamples > 32)
-    return rangeError(w.child("sensor.subsamples").str(), s.world.pad.subsamples, "must be in [1, 32]");
+  if (const ConfigResult sr = schema::checkRanges(sensorSchema(), s.world.pad, w.child("sensor").str()); !sr) return sr;
   auto known = [&](const std::string& ph) {
     for (const auto& p : s.servo.phases)
       if (p.name == ph) return true;

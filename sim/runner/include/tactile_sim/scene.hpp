@@ -183,7 +183,11 @@ ConfigResult loadScene(const std::string& file, Scene& out);
 /// The same, with overrides applied to the scene's YAML before it is read:
 /// each "a.b.c=VALUE" sets key c of map b of map a (created if absent) to
 /// VALUE parsed as YAML ("sensor.noise_counts=30", "rates={sim: 500}"); the
-/// result is checked like the file itself (`tactile_sim run --set`).
+/// result is checked like the file itself (`tactile_sim run --set`). A key
+/// under `program.` is one of the scene's program, set in the program with its
+/// `base:` merged ("program.speed_law.force_budget_n=0.4"). In a list, a
+/// number picks an element by index and a name the element of that `name`
+/// ("program.phases.explore.kp_per_s.x=4.8").
 ConfigResult loadScene(const std::string& file, Scene& out, const std::vector<std::string>& overrides);
 
 /// Cross-checks after command-line overrides (rates, sub-samples...).
