@@ -1,0 +1,102 @@
+#!/usr/bin/python3
+"""Benchmark (not a test): the evidence that a change kept the behaviour.
+Runs every experiment of the registry (experiments.yaml, with its controller)
+and every scene of sim/scenes (its own program and controller) headless with
+one tactile_sim, and writes a fingerprint: for each run the SHA-256 of its
+summary.json without the wall-clock fields (wall_time_s, real_time_factor)
+and of its timeseries.csv, contacts.csv and snapshots.csv. Two fingerprints,
+taken with the binaries before and after a change, compare equal when every
+run is bit-identical.
+
+usage: same_results.py run --sim TACTILE_SIM --out DIR [--jobs N]   (writes DIR/fingerprint.json)
+       same_results.py compare A/fingerprint.json B/fingerprint.json   (exit 1 on any difference)
+"""
+import argparse
+import concurrent.futures
+import glob
+import hashlib
+import json
+import os
+import re
+import subprocess
+import sys
+
+ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
+WALL = re.compile(r'^\s*"(wall_time_s|real_time_factor)": .*\n', re.M)
+
+
+def jobs():
+    rows = subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "scripts", "tools", "registry.py"), "rows"],
+                          check=True, capture_output=True, text=True).stdout.split("\n")
+    out = []
+    for row in filter(None, rows):
+        name, scene, controller = row.split()
+        out.append((name, scene, [] if controller == "-" else ["--controller", controller]))
+    for scene in sorted(glob.glob(os.path.join(ROOT, "sim", "scenes", "**", "*.yaml"), recursive=True)):
+        rel = os.path.relpath(scene, ROOT)
+        out.append(("scene_" + rel[len("sim/scenes/"):-5].replace("/", "_"), rel, []))
+    return out
+
+
+def digest(path, strip_wall=False):
+    try:
+        with open(path) as f:
+            text = f.read()
+    except OSError:
+        return None
+    return hashlib.sha256((WALL.sub("", text) if strip_wall else text).encode()).hexdigest()
+
+
+def one(sim, out, job):
+    name, scene, args = job
+    d = os.path.join(out, name)
+    p = subprocess.run([sim, "run", os.path.join(ROOT, scene), "--out", d, "--no-plots"] + args,
+                       capture_output=True, text=True)
+    files = {"summary.json": digest(os.path.join(d, "summary.json"), strip_wall=True)}
+    for f in ("timeseries.csv", "contacts.csv", "snapshots.csv"):
+        files[f] = digest(os.path.join(d, f))
+    return name, {"exit": p.returncode, "files": files}
+
+
+def run(a):
+    os.makedirs(a.out, exist_ok=True)
+    todo = jobs()
+    result = {}
+    with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
+        for k, (name, r) in enumerate(pool.map(lambda j: one(a.sim, a.out, j), todo), 1):
+            result[name] = r
+            print(f"[{k}/{len(todo)}] {name}: exit {r['exit']}", flush=True)
+    with open(os.path.join(a.out, "fingerprint.json"), "w") as f:
+        json.dump(result, f, indent=1, sort_keys=True)
+    return 0
+
+
+def compare(a):
+    with open(a.a) as f:
+        x = json.load(f)
+    with open(a.b) as f:
+        y = json.load(f)
+    bad = [n for n in sorted(set(x) | set(y)) if x.get(n) != y.get(n)]
+    for n in bad:
+        print(f"differs: {n}: {x.get(n)} vs {y.get(n)}")
+    print(f"same_results: {len(set(x) & set(y)) - len([n for n in bad if n in x and n in y])} of {len(set(x) | set(y))} "
+          f"runs identical (summary.json without its wall-clock fields, timeseries, contacts, snapshots)")
+    return 1 if bad else 0
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = ap.add_subparsers(dest="cmd", required=True)
+    r = sub.add_parser("run")
+    r.add_argument("--sim", required=True)
+    r.add_argument("--out", required=True)
+    r.add_argument("--jobs", type=int, default=2)
+    c = sub.add_parser("compare")
+    c.add_argument("a")
+    c.add_argument("b")
+    a = ap.parse_args()
+    return run(a) if a.cmd == "run" else compare(a)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
