@@ -48,14 +48,17 @@ rt_press_wrench="0,0,6.3"
 # rt_press_wrench_tool EXPERIMENT: the same press in the flange's axes for
 # fri_sim_krc --wrench-tool: the contact pushes the pad back toward the
 # flange, along -z_s (z_s from the program's controller.sensor_mount; the
-# servo reads a press as -F . z_s, force_estimator.hpp).
+# servo reads a press as -F . z_s, force_estimator.hpp; the program with its
+# `base:` merged, as `tactile_sim program` prints it).
 rt_press_wrench_tool() {
-  /usr/bin/python3 - "$root" "$1" <<'PY'
-import math, subprocess, sys, yaml
+  TACTILE_SIM="$build/bin/tactile_sim" /usr/bin/python3 - "$root" "$1" <<'PY'
+import math, subprocess, sys
 root, exp = sys.argv[1], sys.argv[2]
+sys.path.insert(0, f"{root}/scripts/tools")
+import program_yaml  # noqa: E402
 prog = subprocess.run(["/usr/bin/python3", f"{root}/scripts/tools/registry.py", "get", exp, "program"],
                       capture_output=True, text=True, check=True).stdout.strip()
-mount = (yaml.safe_load(open(f"{root}/{prog}")).get("controller", {}) or {}).get("sensor_mount", {}) or {}
+mount = (program_yaml.load(f"{root}/{prog}").get("controller", {}) or {}).get("sensor_mount", {}) or {}
 r, p, y = (math.radians(a) for a in mount.get("rpy_deg", [0, 0, 0]))
 # z_s in {e}: the third column of Rz(y) Ry(p) Rx(r)
 z = (math.cos(y) * math.sin(p) * math.cos(r) + math.sin(y) * math.sin(r),

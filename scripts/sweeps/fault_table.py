@@ -154,9 +154,9 @@ def program_limits(scene):
     """(safety.force_ceiling, watchdogs.correction_drift.max_change_n) of the scene's program (N)."""
     sc = ts.load_scene(scene)
     path = os.path.normpath(os.path.join(os.path.dirname(ts.scene_path(scene)), sc["program"]))
-    import yaml
-    with open(path) as f:
-        prog = yaml.safe_load(f)
+    sys.path.insert(0, os.path.join(ts.scenes.ROOT, "scripts", "tools"))
+    import program_yaml  # its `base:` merged, as the servo reads it (tactile_sim program)
+    prog = program_yaml.load(path)
     drift = prog.get("watchdogs", {}).get("correction_drift", {})
     if "max_change_n" not in drift:
         sys.exit(f"fault_table: {path}: watchdogs.correction_drift.max_change_n is not stated (the drift rows need it)")

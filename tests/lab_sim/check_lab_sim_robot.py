@@ -39,10 +39,11 @@ import yaml
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "tools"))
 import plot_lab_truth  # noqa: E402
+import program_yaml  # noqa: E402  (a program as the servo merges it: tactile_sim program)
 
 out, lab_rc, dep_rc = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
 scene = yaml.safe_load(open(sys.argv[4]))
-program = yaml.safe_load(open(sys.argv[5]))
+program = program_yaml.load(sys.argv[5])
 fri = yaml.safe_load(open(sys.argv[6]))["fri"]
 failures = []
 PERIOD = 0.001  # the KRC's cycle in this test (lab_sim's default)

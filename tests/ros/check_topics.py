@@ -46,6 +46,9 @@ from tactile_msgs.srv import SwitchPhase
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import urdf_fk  # noqa: E402
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "tools"))
+import program_yaml  # noqa: E402  (a program as the servo merges it: tactile_sim program)
+
 URDF = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "ros", "tactile_ros", "urdf",
                     "lwr4plus_wts.urdf")
 # The simulated arm's flange pose is its forward kinematics of the joints it
@@ -85,7 +88,7 @@ def close(a, b):
 def main():
     report, done_file, scene_file, program_file = sys.argv[1:5]
     rates = yaml.safe_load(open(scene_file))["rates"]
-    program = yaml.safe_load(open(program_file))
+    program = program_yaml.load(program_file)
     names = [p["name"] for p in program["phases"]]
     expected = {"image": rates["wts"], "features": rates["wts"], "phase": rates["servo"],
                 "pose_command": rates["servo"], "flange_pose": rates["sim"], "wrench": rates["sim"],

@@ -41,6 +41,9 @@ import yaml
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import urdf_fk  # noqa: E402
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "tools"))
+import program_yaml  # noqa: E402  (a program as the servo merges it: tactile_sim program)
+
 # The brief of the model: its forward kinematics within a micrometre and a
 # microradian of the simulator's. The URDF carries the simulator's numbers
 # (pi/2 to 17 digits), so the differences measured are rounding (~1e-16).
@@ -186,8 +189,7 @@ def main():
     check(abs(model.fk("lwr_flange", {})[2, 3] - 1.178) <= FK_POS_TOL, "q = 0: the flange at z = 1.178 m")
 
     # ---- the sensor mount -------------------------------------------------------
-    with open(program) as f:
-        sm = yaml.safe_load(f)["controller"]["sensor_mount"]
+    sm = program_yaml.load(program)["controller"]["sensor_mount"]  # its base merged
     want = urdf_fk.transform(urdf_fk.rot_rpy(*[math.radians(a) for a in sm["rpy_deg"]]), sm["xyz"])
     dp, dr = frame_error(model.relative("lwr_flange", "wts0614", {}), want)
     check(dp <= FK_POS_TOL and dr <= FK_ROT_TOL,

@@ -33,11 +33,15 @@ import sys
 
 import numpy as np
 import yaml
+import os
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "tools"))
+import program_yaml  # noqa: E402  (a program as the servo merges it: tactile_sim program)
 
 run_dir, program_file, mode = sys.argv[1:4]
 summary = json.load(open(f"{run_dir}/summary.json"))
 rows = list(csv.DictReader(open(f"{run_dir}/timeseries.csv")))
-prog = yaml.safe_load(open(program_file))
+prog = program_yaml.load(program_file)
 safety = prog["safety"]
 failures = []
 

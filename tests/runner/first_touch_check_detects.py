@@ -18,6 +18,9 @@ import sys
 
 import yaml
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "tools"))
+import program_yaml  # noqa: E402  (a program as the servo merges it: tactile_sim program)
+
 sim, src, work = sys.argv[1:4]
 check = os.path.join(src, "tests", "runner", "check_first_touch.py")
 program = os.path.join(src, "components", "servo", "programs", "first_touch.yaml")
@@ -35,7 +38,7 @@ def checker(prog, mode):
 
 
 def variant(name, edit):
-    doc = yaml.safe_load(open(program))
+    doc = program_yaml.load(program)  # its base merged: a whole program
     edit(doc)
     path = os.path.join(work, name + ".yaml")
     yaml.safe_dump(doc, open(path, "w"))

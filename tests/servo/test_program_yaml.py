@@ -72,8 +72,11 @@ def rules(d):
     check("y.yaml: base: 'x.yaml' is a cycle of bases" in e, "a cycle is an error: " + e)
     e = error_of(write("m.yaml", "base: none.yaml\n")) or ""
     check("m.yaml: base: 'none.yaml'" in e and "cannot open file" in e, "a missing base is an error: " + e)
-    e = error_of(write("t.yaml", "base: base.yaml\ncontroller: {c_zz: 1}\n")) or ""
-    check("t.yaml: controller.c_zz: not in the base" in e, "a key the base lacks is an error: " + e)
+    t = P.load(write("t.yaml", "base: base.yaml\ncontroller: {c_z: 0.0004, initial_phase: hold}\n"))
+    check(t["controller"] == {"pose_update": "measured", "c_z": 0.0004, "initial_phase": "hold"},
+          "a key the base lacks is added (the reader checks it)")
+    e = error_of(write("t2.yaml", "base: base.yaml\nwatchdogs: ~\n")) or ""
+    check("t2.yaml: watchdogs: not in the base" in e, "~ of a key the base lacks is an error: " + e)
     e = error_of(write("p.yaml", "base: base.yaml\nphases:\n  - {name: hodl, P: {z: 1}}\n")) or ""
     check("p.yaml: phases[hodl]: no element named 'hodl'" in e, "a phase the base lacks is an error: " + e)
     a = P.load(write("a.yaml", "base: base.yaml\nphases:\n  - name: hold\n"

@@ -78,6 +78,17 @@ void expectError(const std::string& file, std::initializer_list<std::string> par
   EXPECT_EQ(s.message(), r.message());
 }
 
+/// Merges, but the servo's reader refuses it.
+void expectReadError(const std::string& file, std::initializer_list<std::string> parts) {
+  YAML::Node n;
+  const ConfigResult r = loadProgramDocument(file, n);
+  ASSERT_TRUE(r.ok()) << r.message();
+  ServoParams p;
+  const ConfigResult s = loadServoProgram(file, p);
+  ASSERT_FALSE(s.ok()) << file << " read without an error";
+  for (const std::string& part : parts) EXPECT_NE(s.message().find(part), std::string::npos) << s.message();
+}
+
 /// Every node of a document by its path: "a.b" for mapping keys,
 /// "phases[hold]" for named list elements, "x[2]" otherwise; scalars by
 /// their text, mappings and lists as "{}" and "[]".
@@ -262,17 +273,30 @@ TEST(ServoProgramBase, MissingBaseIsAnError) {
   expectError(bad, {bad + ": base: must be the path of another program file"});
 }
 
-TEST(ServoProgramBase, KeyTheBaseLacksIsAnError) {
+// A key the base lacks is added (the shared defaults leave out what each
+// program sets); a typo is the reader's error at any level; a phase name
+// the base lacks, a removal of a key it lacks and a phase given twice are
+// errors naming the overlay.
+TEST(ServoProgramBase, KeyTheBaseLacksIsAddedAndATypoIsTheReadersError) {
   Dir d;
-  const std::string base = d.write("base.yaml", kBase);
+  d.write("base.yaml", kBase);
+  const std::string added =
+      d.write("added.yaml", "base: base.yaml\nspeed_law: {phases: [hold], force_budget_n: 0.4}\n"
+                            "phases:\n  - name: hold\n    feedforward: {vx: 0.001}\n");
+  ServoParams p;
+  const ConfigResult r = loadServoProgram(added, p);
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_EQ(p.speed_law.phases, std::vector<std::string>{"hold"});
+  EXPECT_EQ(p.speed_law.law.force_budget_n, 0.4);
+  EXPECT_EQ(p.phases[1].feedforward(0), 0.001);
   const std::string typo = d.write("typo.yaml", "base: base.yaml\ncontroller: {c_zz: 0.0004}\n");
-  expectError(typo, {typo + ": controller.c_zz: not in the base " + base});
+  expectReadError(typo, {typo + ": controller.c_zz: unknown key"});
   const std::string nested = d.write("nested.yaml", "base: base.yaml\nphases:\n  - name: hold\n    s_d: {cop_yy: 0}\n");
-  expectError(nested, {nested + ": phases[hold].s_d.cop_yy: not in the base"});
+  expectReadError(nested, {nested + ": phases.hold.s_d.cop_yy: unknown feature name"});
   const std::string phase = d.write("phase.yaml", "base: base.yaml\nphases:\n  - name: hodl\n    s_d: {cop_y: 0}\n");
   expectError(phase, {phase + ": phases[hodl]: no element named 'hodl' in the base", "names: approach, hold"});
   const std::string removed = d.write("removed.yaml", "base: base.yaml\nwatchdogs: ~\n");
-  expectError(removed, {removed + ": watchdogs: not in the base"});
+  expectError(removed, {removed + ": watchdogs: not in the base", "~ removes a key of the base"});
   const std::string twice =
       d.write("twice.yaml", "base: base.yaml\nphases:\n  - {name: hold, P: {y: 0}}\n  - {name: hold, P: {z: 0}}\n");
   expectError(twice, {twice + ": phases[hold]: given twice"});

@@ -414,12 +414,13 @@ bool namedList(const YAML::Node& n) {
   return true;
 }
 
-const char* const kOverlayRule = "an overlay changes its base's keys, or removes one with ~";
+const char* const kOverlayRule = "an overlay changes its base's phases by name; new phases go under add_phases";
 
 /// Merges `over` into `base` (a private copy, changed in place): a mapping key
-/// by key, recursively; a named list element by element by name; anything else
-/// (scalar, other list, a change of kind) replaces. `~` removes the base's key.
-/// A key or name the base does not have is an error naming it.
+/// by key, recursively (a key the base lacks is added); a named list element
+/// by element by name (a name the base lacks is an error naming it); anything
+/// else (scalar, other list, a change of kind) replaces. `~` removes the
+/// base's key (one the base lacks is an error).
 ConfigResult mergeInto(YAML::Node base, const YAML::Node& over, const Where& w, const std::string& base_file) {
   const YAML::Node& cbase = base;  // const lookups never insert
   if (namedList(cbase) && namedList(over)) {
@@ -449,8 +450,12 @@ ConfigResult mergeInto(YAML::Node base, const YAML::Node& over, const Where& w, 
     const std::string k = kv.first.as<std::string>();
     const Where wk = w.child(k);
     const YAML::Node b = cbase[k];
-    if (!b) return fail(wk, "not in the base " + base_file + " (" + kOverlayRule + ")");
     const YAML::Node& v = kv.second;
+    if (!b) {  // added: the reader rejects a key it does not know, at every level
+      if (v.IsNull()) return fail(wk, "not in the base " + base_file + " (~ removes a key of the base)");
+      base[k] = YAML::Clone(v);
+      continue;
+    }
     if (v.IsNull()) {
       base.remove(k);
     } else if (b.IsMap() && v.IsMap()) {

@@ -38,6 +38,10 @@ import re
 import sys
 
 import yaml
+import os
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "scripts", "tools"))
+import program_yaml  # noqa: E402  (a program as the servo merges it: tactile_sim program)
 
 name, report, fault_ops, program = sys.argv[1:5]
 failures = []
@@ -55,7 +59,7 @@ m_start = re.search(r"Sensor\.fault_start\s*=\s*([0-9.eE+-]+)", ops)
 m_dur = re.search(r"Sensor\.fault_duration\s*=\s*([0-9.eE+-]+)", ops)
 t0 = float(m_start.group(1))
 dur = float(m_dur.group(1))
-prog = yaml.safe_load(open(program))
+prog = program_yaml.load(program)
 safety = prog["safety"]
 v_max = float(safety["max_trans_speed"])
 w_max = math.radians(float(safety["max_rot_speed_deg"]))

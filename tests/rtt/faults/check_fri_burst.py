@@ -26,6 +26,10 @@ import re
 import sys
 
 import yaml
+import os
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "scripts", "tools"))
+import program_yaml  # noqa: E402  (a program as the servo merges it: tactile_sim program)
 
 out, krc_rc, dep_rc, program, fri_file = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), sys.argv[4], sys.argv[5]
 failures = []
@@ -37,7 +41,7 @@ def check(ok, what):
         failures.append(what)
 
 
-v_max = float(yaml.safe_load(open(program))["safety"]["max_trans_speed"])
+v_max = float(program_yaml.load(program)["safety"]["max_trans_speed"])
 fri = yaml.safe_load(open(fri_file))["fri"]
 lin, rot = float(fri["max_lin_speed"]), float(fri["max_rot_speed"])
 period = 0.001

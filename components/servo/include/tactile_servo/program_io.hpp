@@ -10,26 +10,10 @@
 //
 //   base: other.yaml                     # optional: this file is an overlay of that program
 //                                        # (path relative to this file; see "Overlays" below)
-//   controller:
-//     mode: proposed | baseline | no_rotation   # Eq. 8 | Li et al. (RSS 2013, liJinv) | ablation (noRotationJinv)
-//     pose_update: integrated | measured # Eq. 15 | Eq. 12
-//     c_z: 0.000555556                   # m/N (Eq. 2), converts `force` targets to d_z
-//     motion_sign: {x: -1, y: -1, z: 1, wx: 1, wy: -1, wz: -1}   # or a list of 6
-//     sensor_mount: {xyz: [0, 0, 0.03], rpy_deg: [0, 0, 0]}      # {e}T{s}
-//     initial_phase: NAME                # default: the first phase
-//   safety:
-//     max_trans_speed: 0.05              # m/s (norm)
-//     max_rot_speed_deg: 50              # deg/s (norm)
-//     max_step_dt: 0.1                   # s: longest cycle the speed limits integrate over
-//     workspace: {min: [x, y, z], max: [x, y, z]}   # flange position in {g} (m)
-//     force_ceiling: 40                  # N
-//     ceiling_retreat: 0.01              # m
-//     stale_timeout: 0.05                # s
-//     contact_loss: {mode: hold | backoff | search, backoff_distance: 0.005,
-//                    search_speed: 0.005, search_max_distance: 0.01}
-//   watchdogs:                           # fatal statuses (watchdog.hpp); window 0 = off
-//     arm_stall: {window_s: 1.0, min_distance: 0.005, min_angle_deg: 5, min_fraction: 0.2}
-//     force_mismatch: {window_s: 0.5, tolerance_n: 4, tolerance_rel: 0.3, no_contact_n: 10}
+//   controller, safety, watchdogs, force_estimate, speed_law, slope_feedforward:
+//                                        # blocks declared once, each key with its unit, range,
+//                                        # default and meaning (servo_schema.hpp; the tables of
+//                                        # docs/formats.md, "Keys of the program's blocks")
 //   phase_defaults: {kp_per_s: .., ki_per_s2: .., integral_limit_per_s: .., u_max_per_s: ..,   # per-axis maps
 //                    max_duration_s: 0}  # default of every non-terminal phase (0 = no limit)
 //   phases:                              # required, a list
@@ -63,10 +47,13 @@
 //     element by element by name, in the base's order;
 //   * a scalar, any other list (transitions, matrices, 6-lists) or a value of
 //     another kind replaces the base's;
-//   * `~` (null) removes the base's key;
-//   * a key or a phase name that the base does not have is an error (a typo
-//     would otherwise be silently dropped or added): an overlay only changes
-//     or removes what its base has;
+//   * `~` (null) removes the base's key (one the base lacks is an error);
+//   * a key the base does not have is added: the shared defaults
+//     (programs/common/lwr_wts0614.yaml) leave out what each program sets,
+//     and a typo is still an error, the reader's (every block, phase and
+//     vector rejects a key it does not know);
+//   * a phase name that the base does not have is an error: an overlay
+//     changes its base's phases;
 //   * except `add_phases`: a list of whole phases appended after the base's,
 //     each with a name the base's phases do not have (a phase no transition
 //     reaches is an error of the merged program).
