@@ -31,7 +31,10 @@
 #include <thread>
 #include <vector>
 
+#include <yaml-cpp/yaml.h>
+
 #include "alloc_counter.hpp"
+#include "tactile_servo/program_io.hpp"
 #include "support/rtt_environment.hpp"
 #include "tactile_features_rtt/feature_component.hpp"
 #include "tactile_servo_rtt/servo_component.hpp"
@@ -247,15 +250,14 @@ TEST_P(SimLoop, DeploymentIsTheRunnersLoop) {
   ASSERT_TRUE(loaded.ok()) << loaded.message();
   sc.controller = c.mode;
   // The servo component reads the mode from its program file: the scene's
-  // program with the controller overridden (as --controller does).
+  // program (its base merged) with the controller overridden (as --controller does).
   std::string program_file = sc.program_file;
   if (c.mode != ControllerMode::Proposed) {
-    std::ifstream in(sc.program_file);
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    const std::size_t at = text.find("  mode: proposed");
-    ASSERT_NE(at, std::string::npos) << sc.program_file;
-    text.replace(at, 16, std::string("  mode: ") + toString(c.mode));
-    program_file = test::writeTempFile(std::string(toString(c.mode)) + "_" + c.scene, text);
+    YAML::Node doc;
+    const ConfigResult merged = loadProgramDocument(sc.program_file, doc);
+    ASSERT_TRUE(merged.ok()) << merged.message();
+    doc["controller"]["mode"] = toString(c.mode);
+    program_file = test::writeTempFile(std::string(toString(c.mode)) + "_" + c.scene, YAML::Dump(doc) + "\n");
   }
   sim::Runner runner;
   ASSERT_TRUE(runner.configure(sc).ok());
