@@ -8,6 +8,7 @@
 //                         [--fidelity quasi_static|dynamics] [--through-fri] [--no-plots]
 //                         [--set KEY.PATH=VALUE ...]
 //   tactile_sim program FILE [--check]   the phase program with its `base:` merged (YAML)
+//   tactile_sim scene FILE [--set KEY.PATH=VALUE ...]   the scene and its program as read (YAML)
 //   tactile_sim schema [program|scene]   the key tables of the declared blocks (Markdown)
 //
 // --set overrides a scene key before the scene is read (repeatable):
@@ -19,7 +20,9 @@
 // chain merged (exit 2 with the error of a missing file, a key the base lacks,
 // a cycle): the scripts that read or derive programs take it rather than
 // merging `base:` themselves. --check reads it in full as the servo does
-// first (keys, ranges, phases). `schema` prints what
+// first (keys, ranges, phases). `scene` prints the scene with its overrides
+// and then, as a second YAML document, its program as `program` prints it
+// with the `program.` overrides: what `run` would read, checked in full. `schema` prints what
 // docs/formats.md shows for each declared block of a program
 // (tactile_servo/servo_schema.hpp) or of a scene (tactile_sim/sim_schema.hpp).
 //
@@ -75,6 +78,7 @@ void usage() {
                "                         [--features-rate HZ] [--subsamples K] [--fidelity quasi_static|dynamics]\n"
                "                         [--through-fri] [--no-plots] [--set KEY.PATH=VALUE ...]\n"
                "       tactile_sim program FILE [--check]\n"
+               "       tactile_sim scene FILE [--set KEY.PATH=VALUE ...]\n"
                "       tactile_sim schema [program|scene]\n";
 }
 
@@ -288,10 +292,31 @@ int printProgram(const std::string& file, bool check) {
   return 0;
 }
 
+/// `scene FILE [--set ...]`: the scene and its program as read, two YAML documents.
+int printScene(int argc, char** argv) {
+  std::vector<std::string> overrides;
+  for (int i = 3; i < argc; i += 2) {
+    if (std::string(argv[i]) != "--set" || i + 1 >= argc) {
+      usage();
+      return 2;
+    }
+    overrides.push_back(argv[i + 1]);
+  }
+  YAML::Node scene, program;
+  const ConfigResult r = sceneDocuments(argv[2], overrides, scene, program);
+  if (!r) {
+    std::cerr << "tactile_sim: " << r.message() << "\n";
+    return 2;
+  }
+  std::cout << YAML::Dump(scene) << "\n---\n" << YAML::Dump(program) << "\n";
+  return 0;
+}
+
 int main(int argc, char** argv) {
   if (argc >= 2 && std::string(argv[1]) == "summarize") return summarize(argc, argv);
   if ((argc == 3 || (argc == 4 && std::string(argv[3]) == "--check")) && std::string(argv[1]) == "program")
     return printProgram(argv[2], argc == 4);
+  if (argc >= 3 && std::string(argv[1]) == "scene") return printScene(argc, argv);
   if ((argc == 2 || argc == 3) && std::string(argv[1]) == "schema") {
     const std::string which = argc == 3 ? argv[2] : "program";
     if (which != "program" && which != "scene") {

@@ -473,16 +473,41 @@ ConfigResult readMetrics(const YAML::Node& root, const Where& w, Scene& s) {
 
 }  // namespace
 
-ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std::string>& overrides) {
-  YAML::Node root;
+namespace {
+
+/// The scene file with its own overrides applied; `program_overrides` gets
+/// those of its program ("program.KEY.PATH=VALUE", without "program.").
+ConfigResult sceneWithOverrides(const std::string& file, const std::vector<std::string>& overrides, YAML::Node& root,
+                                std::vector<std::string>& program_overrides) {
   ConfigResult r = config::loadFile(file, root);
   if (!r) return r;
-  std::vector<std::string> program_overrides;  // "program.KEY.PATH=VALUE": a key of the program
   for (const std::string& o : overrides) {
     const bool of_program = o.rfind("program.", 0) == 0 && o.find('=') > 8;
     if (of_program) program_overrides.push_back(o.substr(8));
     else if (!(r = applyOverride(root, o, file))) return r;
   }
+  return r;
+}
+
+}  // namespace
+
+ConfigResult sceneDocuments(const std::string& file, const std::vector<std::string>& overrides, YAML::Node& scene,
+                            YAML::Node& program) {
+  Scene s;
+  ConfigResult r = loadScene(file, s, overrides);  // checked in full first
+  std::vector<std::string> program_overrides;
+  if (r) r = sceneWithOverrides(file, overrides, scene, program_overrides);
+  if (r) r = loadProgramDocument(s.program_file, program);
+  for (const std::string& o : program_overrides)
+    if (r) r = applyOverride(program, o, s.program_file);
+  return r;
+}
+
+ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std::string>& overrides) {
+  YAML::Node root;
+  std::vector<std::string> program_overrides;  // "program.KEY.PATH=VALUE": a key of the program
+  ConfigResult r = sceneWithOverrides(file, overrides, root, program_overrides);
+  if (!r) return r;
   const Where w{file, ""};
   if (!(r = checkKeys(root, w,
                       {"name", "description", "figure", "program", "controller", "features_file", "duration", "seed",

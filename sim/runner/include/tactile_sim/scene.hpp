@@ -110,6 +110,10 @@
 #include "tactile_sim/world.hpp"
 #include "tactile_types/config_result.hpp"
 
+namespace YAML {
+class Node;
+}
+
 namespace tactile {
 namespace sim {
 
@@ -189,6 +193,12 @@ ConfigResult loadScene(const std::string& file, Scene& out);
 /// number picks an element by index and a name the element of that `name`
 /// ("program.phases.explore.kp_per_s.x=4.8").
 ConfigResult loadScene(const std::string& file, Scene& out, const std::vector<std::string>& overrides);
+
+/// The scene as read: its document with the overrides applied, and its
+/// program's with its `base:` merged and the `program.` overrides applied,
+/// after loadScene() checked them in full (`tactile_sim scene`).
+ConfigResult sceneDocuments(const std::string& file, const std::vector<std::string>& overrides, YAML::Node& scene,
+                            YAML::Node& program);
 
 /// Cross-checks after command-line overrides (rates, sub-samples...).
 ConfigResult validateScene(const Scene& s);

@@ -45,7 +45,9 @@ enum class Kind : std::uint8_t {
 };
 
 /// The member a field fills, as a function of the struct (a captureless
-/// lambda; TACTILE_SCHEMA_REF writes one). The checks read through it.
+/// lambda; TACTILE_SCHEMA_REF writes one). One accessor serves the reader,
+/// which writes, and the checks and tables, which only read (through a
+/// const_cast of the struct they were given as const).
 template <class S, class T>
 using Ref = T& (*)(S&);
 

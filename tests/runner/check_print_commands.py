@@ -1,0 +1,55 @@
+"""ctest tactile_sim_print_commands: what `tactile_sim program`, `scene` and
+`schema` print, on the shipped files. `program` gives an overlay's program
+with its chain of bases merged (the shared base's keys under a root's own);
+`scene` gives the scene and its program with the --set overrides applied,
+a program key among them, and refuses a bad value with exit 2 and the
+program's file and key; `schema` prints a table row for every declared key.
+Usage: check_print_commands.py TACTILE_SIM REPO."""
+import subprocess
+import sys
+
+import yaml
+
+sim, root = sys.argv[1:3]
+failures = []
+
+
+def check(ok, what):
+    print(("ok   " if ok else "FAIL ") + what)
+    if not ok:
+        failures.append(what)
+
+
+def run(*args):
+    return subprocess.run([sim, *args], capture_output=True, text=True)
+
+
+p = run("program", f"{root}/components/servo/programs/bent_bar_speed_law.yaml")
+prog = yaml.safe_load(p.stdout) if p.returncode == 0 else {}
+check(p.returncode == 0 and prog["safety"]["max_trans_speed"] == 0.12, "program: the overlay's own value")
+check(prog.get("controller", {}).get("c_z") == 0.000555556 and prog["safety"]["workspace"]["max"] == [0.9, 0.9, 1.2],
+      "program: the shared base's keys, two bases down (bent_bar_to_end_cap -> bent_bar -> common)")
+check("base" not in prog and "add_phases" not in prog and [x["name"] for x in prog["phases"]][-1] == "end_check",
+      "program: no base or add_phases left, the added phase last")
+
+s = run("scene", f"{root}/sim/scenes/bent_bar_speed_law.yaml", "--set", "duration=3",
+        "--set", "program.speed_law.force_budget_n=0.45", "--set", "program.phases.explore.kp_per_s.x=2.5")
+docs = list(yaml.safe_load_all(s.stdout)) if s.returncode == 0 else []
+check(len(docs) == 2, f"scene: two documents (exit {s.returncode}: {s.stderr.strip()})")
+if len(docs) == 2:
+    scene, sp = docs
+    check(scene["duration"] == 3, "scene: a scene key set")
+    check(sp["speed_law"]["force_budget_n"] == 0.45, "scene: a program key set")
+    explore = next(x for x in sp["phases"] if x["name"] == "explore")
+    check(explore["kp_per_s"]["x"] == 2.5 and "controller" in sp, "scene: a phase's key set by the phase's name")
+bad = run("scene", f"{root}/sim/scenes/bent_bar_speed_law.yaml", "--set", "program.speed_law.v_max=2")
+check(bad.returncode == 2 and "bent_bar_speed_law.yaml: speed_law.v_max = 2: must be in (0, 1] m/s" in bad.stderr,
+      f"scene: a value out of range refused naming the program, the key and the range ({bad.stderr.strip()})")
+
+t = run("schema", "program")
+check(t.returncode == 0 and "| `contact_loss.mode` |" in t.stdout and "| `crawl_after_s` |" in t.stdout,
+      "schema program: the declared keys")
+t = run("schema", "scene")
+check(t.returncode == 0 and "| `noise_counts` | counts | [0, 1000] | 6 |" in t.stdout, "schema scene: the declared keys")
+check(run("schema", "world").returncode == 2, "schema: an unknown block set refused")
+sys.exit(1 if failures else 0)
