@@ -10,46 +10,14 @@
 #include <string>
 
 #include "tactile_config/schema_yaml.hpp"
+#include "schema_checks.hpp"
 #include "tactile_servo/servo_schema.hpp"
 
 namespace tactile {
 namespace {
 
-using schema::Block;
 using schema::Kind;
-
-/// Every Number with a numeric end: just outside that end (or NaN) is
-/// refused, naming "<where>.<key> = " and the declared range; just inside is
-/// accepted. A range end that names another key is checked at that key's
-/// default value.
-template <class S>
-void expectRangesEnforced(const Block<S>& b) {
-  const S d{};
-  ASSERT_TRUE(schema::checkRanges(b, d, "f.yaml: " + std::string(b.name)).ok())
-      << b.name << ": the defaults lie outside their ranges: "
-      << schema::checkRanges(b, d, "f.yaml: " + std::string(b.name)).message();
-  for (const auto& f : b.fields) {
-    if (f.kind != Kind::Number) continue;
-    schema::Range r;
-    ASSERT_TRUE(schema::parseRange(f.range, r)) << b.name << "." << f.key << ": '" << f.range << "'";
-    const std::string at = "f.yaml: " + std::string(b.name) + "." + f.key + " = ";
-    auto refuse = [&](double v, const char* why) {
-      S s = d;
-      f.store(s, v);
-      const ConfigResult c = schema::checkRanges(b, s, "f.yaml: " + std::string(b.name));
-      ASSERT_FALSE(c.ok()) << b.name << "." << f.key << " = " << v << " (" << why << ") accepted";
-      EXPECT_NE(c.message().find(at), std::string::npos) << c.message();
-      EXPECT_NE(c.message().find(f.range), std::string::npos) << c.message();
-    };
-    refuse(std::nan(""), "NaN");
-    double lo = 0.0, hi = 0.0;
-    if (r.lo.given) lo = r.lo.key.empty() ? r.lo.value : schema::find(b, r.lo.key)->value(d);
-    if (r.hi.given) hi = r.hi.key.empty() ? r.hi.value : schema::find(b, r.hi.key)->value(d);
-    const double step = 1e-9 * std::max(1.0, std::max(std::fabs(lo), std::fabs(hi)));
-    if (r.lo.given) refuse(r.lo.open ? lo : lo - step, "below its lower end");
-    if (r.hi.given) refuse(r.hi.open ? hi : hi + step, "above its upper end");
-  }
-}
+using test::expectRangesEnforced;
 
 TEST(SchemaBlocks, EveryRangeIsReadableAndEnforced) {
   expectRangesEnforced(controllerSchema());
@@ -59,6 +27,16 @@ TEST(SchemaBlocks, EveryRangeIsReadableAndEnforced) {
   expectRangesEnforced(speedLawSchema());
   expectRangesEnforced(speedLawServoSchema());
   expectRangesEnforced(slopeFeedforwardSchema());
+  expectRangesEnforced(phaseDefaultsSchema());
+  expectRangesEnforced(phaseSchema());
+  expectRangesEnforced(transitionSchema());
+}
+
+TEST(SchemaBlocks, TransitionEventNamesAreTheFileNames) {
+  constexpr int kEvents = static_cast<int>(kLastTransitionEvent) + 1;
+  ASSERT_EQ(schema::detail::choiceCount(kTransitionEventNames), kEvents);
+  for (int i = 0; i < kEvents; ++i)
+    EXPECT_EQ(schema::detail::choiceName(kTransitionEventNames, i), toString(static_cast<TransitionEvent>(i)));
 }
 
 TEST(SchemaBlocks, RangeSyntax) {
@@ -78,13 +56,7 @@ TEST(SchemaBlocks, RangeSyntax) {
 }
 
 TEST(SchemaBlocks, KeysAreUniqueAndDocumented) {
-  auto check = [](const auto& b) {
-    for (std::size_t i = 0; i < b.fields.size(); ++i) {
-      EXPECT_GT(std::string(b.fields[i].doc).size(), 8u) << b.name << "." << b.fields[i].key << ": no meaning";
-      for (std::size_t j = i + 1; j < b.fields.size(); ++j)
-        EXPECT_STRNE(b.fields[i].key, b.fields[j].key) << b.name << ": declared twice";
-    }
-  };
+  const auto check = [](const auto& b) { test::expectKeysUniqueAndDocumented(b); };
   check(controllerSchema());
   check(safetySchema());
   check(watchdogSchema());
@@ -92,6 +64,9 @@ TEST(SchemaBlocks, KeysAreUniqueAndDocumented) {
   check(speedLawSchema());
   check(speedLawServoSchema());
   check(slopeFeedforwardSchema());
+  check(phaseDefaultsSchema());
+  check(phaseSchema());
+  check(transitionSchema());
 }
 
 TEST(SchemaReader, NestedKeysDegreesAndChoices) {
@@ -131,6 +106,63 @@ TEST(SchemaReader, NestedKeysDegreesAndChoices) {
       << r.message();
 }
 
+TEST(SchemaReader, VariantsRequireTheirKeysAndRefuseOthers) {
+  const config::Where w{"p.yaml", "phases.hold.transitions[0]"};
+  auto read = [&](const char* yaml, TransitionParams& t) {
+    return config::readBlock(YAML::Load(yaml), w, transitionSchema(), t);
+  };
+  TransitionParams t;
+  ConfigResult r = read("{on: joint_margin, to: a, angle_deg: 12}", t);
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_EQ(t.on, TransitionEvent::JointMargin);
+  EXPECT_DOUBLE_EQ(t.angle_rad, 12.0 * 3.14159265358979323846 / 180.0);
+  t = TransitionParams{};
+  r = read("{on: timeout, to: a}", t);
+  EXPECT_NE(r.message().find("p.yaml: phases.hold.transitions[0].timeout_s: required for 'timeout'"), std::string::npos)
+      << r.message();
+  t = TransitionParams{};
+  r = read("{on: contact, to: a, force_n: 3}", t);
+  EXPECT_NE(r.message().find("transitions[0].force_n: only for 'force_above'"), std::string::npos) << r.message();
+  t = TransitionParams{};
+  r = read("{on: edge, to: a, angle_deg: 3}", t);  // one key, two variants' declarations
+  EXPECT_NE(r.message().find("angle_deg: only for 'wrist_wound', 'wrist_unwound' and 'joint_margin'"),
+            std::string::npos)
+      << r.message();
+  t = TransitionParams{};
+  r = read("{on: edge}", t);
+  EXPECT_NE(r.message().find("transitions[0].to: required"), std::string::npos) << r.message();
+  // The range of a key declared per variant is that variant's.
+  t = TransitionParams{};
+  ASSERT_TRUE(read("{on: wrist_wound, to: a, angle_deg: 200}", t).ok());
+  EXPECT_TRUE(schema::checkRanges(transitionSchema(), t, w.str()).ok());
+  t.on = TransitionEvent::JointMargin;
+  r = schema::checkRanges(transitionSchema(), t, w.str());
+  EXPECT_NE(r.message().find("transitions[0].angle_deg = 200: must be in (0, 30] deg"), std::string::npos)
+      << r.message();
+}
+
+TEST(SchemaReader, VectorsAsListsOrMappings) {
+  const config::Where w{"p.yaml", "phases.hold"};
+  PhaseParams ph;
+  ph.kp.setConstant(7.0);
+  ConfigResult r = config::readBlock(YAML::Load("{name: hold, kp_per_s: {y: 2.5, wz: 1}, ki_per_s2: [1, 2, 3, 4, 5, 6]}"),
+                                     w, phaseSchema(), ph);
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_EQ(ph.kp(1), 2.5);
+  EXPECT_EQ(ph.kp(5), 1.0);
+  EXPECT_EQ(ph.kp(0), 7.0) << "an entry not given keeps its value";
+  EXPECT_EQ(ph.ki(3), 4.0);
+  r = config::readBlock(YAML::Load("{kp_per_s: {q: 1}}"), w, phaseSchema(), ph);
+  EXPECT_NE(r.message().find("phases.hold.kp_per_s.q: unknown name (allowed: x, y, z, wx, wy, wz)"), std::string::npos)
+      << r.message();
+  r = config::readBlock(YAML::Load("{feedforward: [0, 0, 0]}"), w, phaseSchema(), ph);
+  EXPECT_NE(r.message().find("phases.hold.feedforward: must have 6 entries, has 3"), std::string::npos) << r.message();
+  ph.u_max(kWY) = 0.0;
+  r = schema::checkRanges(phaseSchema(), ph, w.str());
+  EXPECT_NE(r.message().find("p.yaml: phases.hold.u_max_per_s.wy = 0: must be > 0 m/s, rad/s"), std::string::npos)
+      << r.message();
+}
+
 TEST(SchemaReader, OneFileBlockOverTwoStructs) {
   const config::Where w{"p.yaml", "speed_law"};
   SpeedLawConfig c;
@@ -153,7 +185,10 @@ TEST(SchemaDocs, TablesListEveryKeyWithItsDefault) {
   const std::string md = programSchemaMarkdown();
   for (const char* k : {"`max_rot_speed_deg` | deg/s | (0, 573] | 50 |", "`arm_stall.min_angle_deg` | deg | (0, 180] | 5 |",
                         "`contact_loss.mode` |  | hold, backoff, search | hold |", "`crawl_mps` | m/s | [0, v_max] | 0 |",
-                        "`phases` |  | a list of names | [] |", "#### `speed_law`", "#### `slope_feedforward`"})
+                        "`phases` |  | a list of names | [] |", "#### `speed_law`", "#### `slope_feedforward`",
+                        "`angle_deg` | deg | (0, 30]; only for 'joint_margin'; required | 0 |",
+                        "`kp_per_s` | 1/s | each >= 0; a list of 6 or a mapping over x, y, z, wx, wy, wz | [0, 0, 0, 0, 0, 0] |",
+                        "#### `phases[]`", "#### `transitions[]`", "#### `phase_defaults`"})
     EXPECT_NE(md.find(k), std::string::npos) << k << "\n" << md;
 }
 

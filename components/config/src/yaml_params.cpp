@@ -101,8 +101,8 @@ ConfigResult readNumber(const YAML::Node& v, const Where& w, double& out) {
 }
 
 ConfigResult readChoiceIndex(const YAML::Node& v, const Where& w, const char* names, int& index) {
-  std::string s;
-  ConfigResult r = readScalar(v, w, s);
+  std::string s;  // a null value (`key:` or `~`) is the empty name
+  ConfigResult r = v.IsNull() ? ConfigResult::success() : readScalar(v, w, s);
   if (!r) return r;
   const std::string all(names);
   std::string allowed;
@@ -114,7 +114,7 @@ ConfigResult readChoiceIndex(const YAML::Node& v, const Where& w, const char* na
       index = i;
       return r;
     }
-    allowed += (i ? ", " : "") + name;
+    allowed += (i ? ", " : "") + (name.empty() ? std::string("''") : name);
     if (bar == std::string::npos) break;
     start = bar + 1;
   }
@@ -133,6 +133,35 @@ ConfigResult readTriple(const YAML::Node& v, const Where& w, std::array<double, 
   if (x.size() != 3) return ConfigResult::failure(w.str() + ": must have 3 entries, has " + std::to_string(x.size()));
   out = {x[0], x[1], x[2]};
   return r;
+}
+
+ConfigResult readVector(const YAML::Node& v, const Where& w, const char* labels, double* out) {
+  const int n = schema::detail::choiceCount(labels);
+  if (v.IsSequence()) {
+    if (static_cast<int>(v.size()) != n)
+      return ConfigResult::failure(w.str() + ": must have " + std::to_string(n) + " entries, has " +
+                                   std::to_string(v.size()));
+    for (int i = 0; i < n; ++i) {
+      ConfigResult r = readNumber(v[static_cast<std::size_t>(i)], w.child(std::to_string(i)), out[i]);
+      if (!r) return r;
+    }
+    return ConfigResult::success();
+  }
+  if (!v.IsMap()) return ConfigResult::failure(w.str() + ": must be a list of " + std::to_string(n) + " numbers or a mapping");
+  for (const auto& kv : v) {
+    const std::string k = kv.first.as<std::string>();
+    int idx = -1;
+    std::string allowed;
+    for (int i = 0; i < n; ++i) {
+      const std::string name = schema::detail::choiceName(labels, i);
+      if (k == name) idx = i;
+      allowed += (i ? ", " : "") + (name.empty() ? std::string("''") : name);
+    }
+    if (idx < 0) return ConfigResult::failure(w.child(k).str() + ": unknown name (allowed: " + allowed + ")");
+    ConfigResult r = readNumber(kv.second, w.child(k), out[idx]);
+    if (!r) return r;
+  }
+  return ConfigResult::success();
 }
 
 }  // namespace detail

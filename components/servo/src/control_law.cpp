@@ -112,16 +112,8 @@ ConfigResult ServoControlLaw::configure(const ServoParams& p) {
     if (!ph.jinv_point.allFinite()) return err(p, nm, "jacobian.point", "non-finite", "must be finite");
     if (!ph.jinv_edge.allFinite()) return err(p, nm, "jacobian.edge", "non-finite", "must be finite");
     if (!ph.P.allFinite()) return err(p, nm, "P", "non-finite", "must be finite");
-    for (int a = 0; a < 6; ++a) {
-      const std::string ax = kAxisNames[a];
-      if (!(std::isfinite(ph.kp(a)) && ph.kp(a) >= 0)) return err(p, nm, "kp_per_s." + ax, ph.kp(a), "must be >= 0 (1/s)");
-      if (!(std::isfinite(ph.ki(a)) && ph.ki(a) >= 0)) return err(p, nm, "ki_per_s2." + ax, ph.ki(a), "must be >= 0 (1/s^2)");
-      if (!(std::isfinite(ph.integral_limit(a)) && ph.integral_limit(a) >= 0))
-        return err(p, nm, "integral_limit_per_s." + ax, ph.integral_limit(a), "must be >= 0 (m/s or rad/s)");
-      if (!(ph.u_max(a) > 0)) return err(p, nm, "u_max_per_s." + ax, ph.u_max(a), "must be > 0 (m/s or rad/s)");
-      if (!std::isfinite(ph.feedforward(a)) || std::fabs(ph.feedforward(a)) > 0.5)
-        return err(p, nm, "feedforward." + ax, ph.feedforward(a), "must be in [-0.5, 0.5] (m/s or rad/s)");
-    }
+    const std::string at = servo_config::where(p, "", "phases.") + nm;  // "<file>: phases.<name>"
+    if (const ConfigResult r = schema::checkRanges(phaseSchema(), ph, at); !r) return r;
   }
   phases_.clear();
   phases_.reserve(p.phases.size());

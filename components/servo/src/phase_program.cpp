@@ -5,11 +5,16 @@
 #include <string>
 
 #include "servo_config.hpp"
+#include "tactile_servo/servo_schema.hpp"
 
 namespace tactile {
 
 using servo_config::err;
 using servo_config::where;
+
+const char* const kTransitionEventNames =
+    "contact|edge|point|aligned|contact_lost|force_above|timeout|wrist_wound|wrist_unwound|loop_closed|multiple|"
+    "joint_margin";
 
 const char* toString(TransitionEvent e) {
   switch (e) {
@@ -45,16 +50,11 @@ ConfigResult PhaseProgram::configure(const ServoParams& p) {
       return err(p, "[" + std::to_string(i) + "]", "name", "'" + nm + "'",
                  "must have 1.." + std::to_string(kPhaseNameLen - 1) + " characters");
     if (indexOfName(nm) != i) return err(p, nm, "name", nm, "duplicate phase name");
-    if (!(std::isfinite(ph.max_duration_s) && ph.max_duration_s >= 0))
-      return err(p, nm, "max_duration_s", ph.max_duration_s, "must be >= 0 (s; 0 = no limit)");
     for (std::size_t t = 0; t < ph.transitions.size(); ++t) {
       const TransitionParams& tr = ph.transitions[t];
       const std::string f = "transitions[" + std::to_string(t) + "]";
       if (indexOfName(tr.to) < 0) return err(p, nm, f + ".to", "'" + tr.to + "'", "unknown phase");
-      if (!(std::isfinite(tr.for_s) && tr.for_s >= 0 && tr.for_s <= 3600))
-        return err(p, nm, f + ".for_s", tr.for_s, "must be in [0, 3600] s");
-      if (!(std::isfinite(tr.filter_s) && tr.filter_s >= 0 && tr.filter_s <= 60))
-        return err(p, nm, f + ".filter_s", tr.filter_s, "must be in [0, 60] s (0 = no filter)");
+      if (const ConfigResult r = schema::checkRanges(transitionSchema(), tr, where(p, nm, f)); !r) return r;
       if (tr.on == TransitionEvent::Aligned) {
         bool any = false;
         for (int k = 0; k < kNumTol; ++k) {
@@ -63,22 +63,6 @@ ConfigResult PhaseProgram::configure(const ServoParams& p) {
           any = any || tr.tolerance[static_cast<std::size_t>(k)] >= 0;
         }
         if (!any) return err(p, nm, f + ".tolerance", "{}", "'aligned' needs at least one tolerance");
-      }
-      if (tr.on == TransitionEvent::Timeout && !(std::isfinite(tr.timeout_s) && tr.timeout_s > 0))
-        return err(p, nm, f + ".timeout_s", tr.timeout_s, "must be > 0 (s)");
-      if (tr.on == TransitionEvent::ForceAbove && !(std::isfinite(tr.force_n) && tr.force_n > 0))
-        return err(p, nm, f + ".force_n", tr.force_n, "must be > 0 (N)");
-      if ((tr.on == TransitionEvent::WristWound || tr.on == TransitionEvent::WristUnwound) &&
-          !(std::isfinite(tr.angle_rad) && tr.angle_rad > 0 && tr.angle_rad <= 4 * 3.14159265358979323846))
-        return err(p, nm, f + ".angle_deg", tr.angle_rad * 180.0 / 3.14159265358979323846, "must be in (0, 720] deg");
-      if (tr.on == TransitionEvent::JointMargin &&
-          !(std::isfinite(tr.angle_rad) && tr.angle_rad > 0 && tr.angle_rad <= 30 * 3.14159265358979323846 / 180.0))
-        return err(p, nm, f + ".angle_deg", tr.angle_rad * 180.0 / 3.14159265358979323846, "must be in (0, 30] deg");
-      if (tr.on == TransitionEvent::LoopClosed) {
-        if (!(std::isfinite(tr.radius_m) && tr.radius_m > 0 && tr.radius_m <= 1))
-          return err(p, nm, f + ".radius_m", tr.radius_m, "must be in (0, 1] m");
-        if (!(std::isfinite(tr.leave_m) && tr.leave_m > tr.radius_m && tr.leave_m <= 10))
-          return err(p, nm, f + ".leave_m", tr.leave_m, "must be in (radius_m, 10] m");
       }
     }
   }

@@ -21,8 +21,6 @@ using config::Where;
 
 namespace {
 
-const char* const kFfNames[6] = {"vx", "vy", "vz", "wx", "wy", "wz"};
-
 ConfigResult fail(const Where& w, const std::string& msg) { return ConfigResult::failure(w.str() + ": " + msg); }
 
 bool number(const YAML::Node& n, double& v) {
@@ -114,173 +112,117 @@ ConfigResult readFrame(const YAML::Node& n, const Where& w, KDL::Frame& f) {
   return ConfigResult::success();
 }
 
-struct Defaults {
-  Vec6 kp = Vec6::Zero(), ki = Vec6::Zero(), ilim = Vec6::Constant(0.1), umax = Vec6::Constant(1e9);
-  double max_duration_s = 0.0;
-};
-
-// Gains and limits in physical units (Eq. 13 as a rate, see servo.hpp UNITS).
-ConfigResult readGains(const YAML::Node& n, const Where& w, Vec6& kp, Vec6& ki, Vec6& ilim, Vec6& umax) {
-  ConfigResult r = rejectRenamed(n, w, kRenamedGains, 4);
-  if (!r) return r;
-  if (!(r = readVec6(n["kp_per_s"], w.child("kp_per_s"), kAxisNames, "axis", kp))) return r;
-  if (!(r = readVec6(n["ki_per_s2"], w.child("ki_per_s2"), kAxisNames, "axis", ki))) return r;
-  if (!(r = readVec6(n["integral_limit_per_s"], w.child("integral_limit_per_s"), kAxisNames, "axis", ilim))) return r;
-  if (!(r = readVec6(n["u_max_per_s"], w.child("u_max_per_s"), kAxisNames, "axis", umax))) return r;
-  return r;
+/// The tolerances of an `aligned` transition: a mapping over
+/// kToleranceNames, each >= 0 (its presence: transitionSchema()).
+ConfigResult readTolerance(const YAML::Node& tol, const Where& w, TransitionParams& t) {
+  if (!tol) return ConfigResult::success();
+  if (!tol.IsMap()) return fail(w, "must be a mapping feature: tolerance");
+  for (const auto& kv : tol) {
+    const std::string k = kv.first.as<std::string>();
+    int idx = -1;
+    for (int i = 0; i < kNumTol; ++i)
+      if (k == kToleranceNames[i]) idx = i;
+    const Where wk = w.child(k);
+    if (idx < 0) return fail(wk, "unknown feature name (allowed: " + list(kToleranceNames, kNumTol) + ")");
+    double v = 0;
+    if (!number(kv.second, v)) return fail(wk, "cannot parse '" + YAML::Dump(kv.second) + "'");
+    if (!(v >= 0)) return rangeError(wk.str(), v, "must be >= 0 (feature units: m, rad or N)");
+    t.tolerance[static_cast<std::size_t>(idx)] = v;
+  }
+  return ConfigResult::success();
 }
 
 ConfigResult readTransition(const YAML::Node& n, const Where& w, TransitionParams& t) {
   const Renamed cyc[] = {{"cycles", "for_s", "s the condition must hold; = cycles / servo rate (cycles 20 at 100 Hz = for_s 0.2)"}};
   ConfigResult r = rejectRenamed(n, w, cyc, 1);
   if (!r) return r;
-  r = checkKeys(n, w, {"on", "to", "for_s", "filter_s", "tolerance", "timeout_s", "force_n", "angle_deg", "radius_m",
-                       "leave_m"});
-  if (!r) return r;
-  std::string on;
-  if (!(r = read(n, "on", on, w))) return r;
-  constexpr int kEvents = static_cast<int>(kLastTransitionEvent) + 1;
-  const char* events[kEvents];  // the program file's names: toString(TransitionEvent)
-  for (int i = 0; i < kEvents; ++i) events[i] = toString(static_cast<TransitionEvent>(i));
-  bool found = false;
-  for (int i = 0; i < kEvents; ++i)
-    if (on == events[i]) {
-      t.on = static_cast<TransitionEvent>(i);
-      found = true;
-    }
-  if (!found) return fail(w.child("on"), "'" + on + "': unknown event (allowed: " + list(events, kEvents) + ")");
-  if (!n["to"]) return fail(w.child("to"), "missing target phase");
-  if (!(r = read(n, "to", t.to, w))) return r;
-  if (!(r = read(n, "for_s", t.for_s, w))) return r;
-  if (!(r = read(n, "filter_s", t.filter_s, w))) return r;
-  if (n["filter_s"] && t.on != TransitionEvent::Aligned) return fail(w.child("filter_s"), "only for 'aligned'");
-  if (!(r = read(n, "timeout_s", t.timeout_s, w))) return r;
-  if (!(r = read(n, "force_n", t.force_n, w))) return r;
-  if (t.on == TransitionEvent::Timeout && !n["timeout_s"]) return fail(w.child("timeout_s"), "required for 'timeout'");
-  if (t.on == TransitionEvent::ForceAbove && !n["force_n"]) return fail(w.child("force_n"), "required for 'force_above'");
-  const bool wrist = t.on == TransitionEvent::WristWound || t.on == TransitionEvent::WristUnwound;
-  const bool joints = t.on == TransitionEvent::JointMargin;
-  if (n["angle_deg"] && !wrist && !joints)
-    return fail(w.child("angle_deg"), "only for 'wrist_wound', 'wrist_unwound' and 'joint_margin'");
-  if ((wrist || joints) && !n["angle_deg"]) return fail(w.child("angle_deg"), "required for '" + on + "' (deg)");
-  double angle_deg = 0.0;  // its range: PhaseProgram::configure (loadImpl's last step)
-  if (!(r = read(n, "angle_deg", angle_deg, w))) return r;
-  t.angle_rad = angle_deg * 3.14159265358979323846 / 180.0;
-  const bool loop = t.on == TransitionEvent::LoopClosed;
-  for (const char* k : {"radius_m", "leave_m"}) {
-    if (n[k] && !loop) return fail(w.child(k), "only for 'loop_closed'");
-    if (loop && !n[k]) return fail(w.child(k), "required for 'loop_closed' (m)");
+  if (!(r = config::readBlock(n, w, transitionSchema(), t))) return r;  // ranges: PhaseProgram::configure
+  return readTolerance(n["tolerance"], w.child("tolerance"), t);
+}
+
+/// s_d: the rows of the feature error; `force` (N) gives the d_z row (Eq. 2:
+/// d_z = C_z f).
+ConfigResult readDesired(const YAML::Node& sd, const Where& w, double c_z, Vec6& s_d) {
+  if (!sd) return ConfigResult::success();
+  if (!(sd.IsMap() && sd["force"])) return readVec6(sd, w, kToleranceNames, "feature name", s_d);
+  if (sd["d_z"]) return fail(w, "give either d_z or force, not both");
+  YAML::Node copy = YAML::Clone(sd);
+  double f = 0;
+  if (!number(sd["force"], f)) return fail(w.child("force"), "cannot parse");
+  copy.remove("force");
+  ConfigResult r = readVec6(copy, w, kToleranceNames, "feature name", s_d);
+  if (r) s_d(kZ) = c_z * f;
+  return r;
+}
+
+/// jacobian (Eq. 8): `touch`, a fixed beta, one matrix, or a point and an
+/// edge matrix chosen by the contact type.
+ConfigResult readJacobian(const YAML::Node& j, const Where& wj, PhaseParams& ph) {
+  if (!j) return ConfigResult::success();
+  if (j.IsScalar()) {
+    if (j.Scalar() != "touch") return fail(wj, "'" + j.Scalar() + "': must be 'touch' or a mapping");
+    ph.jacobian = JacobianMode::Touch;
+    return ConfigResult::success();
   }
-  if (!(r = read(n, "radius_m", t.radius_m, w))) return r;
-  if (!(r = read(n, "leave_m", t.leave_m, w))) return r;
-  if (const YAML::Node tol = n["tolerance"]) {
-    if (t.on != TransitionEvent::Aligned) return fail(w.child("tolerance"), "only for 'aligned'");
-    if (!tol.IsMap()) return fail(w.child("tolerance"), "must be a mapping feature: tolerance");
-    for (const auto& kv : tol) {
-      const std::string k = kv.first.as<std::string>();
-      int idx = -1;
-      for (int i = 0; i < kNumTol; ++i)
-        if (k == kToleranceNames[i]) idx = i;
-      const Where wk = w.child("tolerance").child(k);
-      if (idx < 0) return fail(wk, "unknown feature name (allowed: " + list(kToleranceNames, kNumTol) + ")");
-      double v = 0;
-      if (!number(kv.second, v)) return fail(wk, "cannot parse '" + YAML::Dump(kv.second) + "'");
-      if (!(v >= 0)) return rangeError(wk.str(), v, "must be >= 0 (feature units: m, rad or N)");
-      t.tolerance[static_cast<std::size_t>(idx)] = v;
-    }
-  } else if (t.on == TransitionEvent::Aligned) {
-    return fail(w.child("tolerance"), "required for 'aligned'");
+  ConfigResult r = checkKeys(j, wj, {"beta", "point", "edge", "matrix"});
+  if (!r) return r;
+  if (j["beta"]) {
+    double b = -1;
+    if (!number(j["beta"], b) || (b != 0.0 && b != 1.0)) return fail(wj.child("beta"), "must be 0 (point) or 1 (edge)");
+    ph.jacobian = JacobianMode::Fixed;
+    ph.fixed_edge = b == 1.0;
+  } else if (j["matrix"]) {
+    if (!(r = readMat6(j["matrix"], wj.child("matrix"), ph.jinv_edge))) return r;
+    ph.jinv_point = ph.jinv_edge;
+    ph.jacobian = JacobianMode::Fixed;
+    ph.fixed_edge = true;
+  } else {
+    if (!j["point"] || !j["edge"]) return fail(wj, "give both 'point' and 'edge' 6x6 matrices");
+    if (!(r = readMat6(j["point"], wj.child("point"), ph.jinv_point))) return r;
+    if (!(r = readMat6(j["edge"], wj.child("edge"), ph.jinv_edge))) return r;
+    ph.jacobian = JacobianMode::Touch;
   }
   return ConfigResult::success();
 }
 
-ConfigResult readPhase(const YAML::Node& n, const Where& w0, const Defaults& d, double c_z, PhaseParams& ph) {
+/// P (Eq. 10): the gammas of projection(), or a 6x6 matrix.
+ConfigResult readProjection(const YAML::Node& p, const Where& wp, Mat6& P) {
+  if (!p) return ConfigResult::success();
+  if (p.IsSequence()) return readMat6(p, wp, P);
+  if (!p.IsMap()) return fail(wp, "must be a mapping of gammas or a 6x6 matrix");
+  const char* const g[7] = {"x", "y", "z", "wx", "wy", "wz", "com"};
+  double v[7] = {0, 0, 0, 0, 0, 0, 0};
+  for (const auto& kv : p) {
+    const std::string k = kv.first.as<std::string>();
+    int idx = -1;
+    for (int i = 0; i < 7; ++i)
+      if (k == g[i]) idx = i;
+    if (idx < 0) return fail(wp.child(k), "unknown gamma (allowed: " + list(g, 7) + ")");
+    if (!number(kv.second, v[idx])) return fail(wp.child(k), "cannot parse '" + YAML::Dump(kv.second) + "'");
+  }
+  P = projection(v[0], v[1], v[2], v[3], v[4], v[5], v[6]);
+  return ConfigResult::success();
+}
+
+/// A phase: `defaults` (phase_defaults) gives the gains it does not.
+ConfigResult readPhase(const YAML::Node& n, const Where& w0, const PhaseParams& defaults, double c_z, PhaseParams& ph) {
   if (!n.IsMap()) return fail(w0, "each phase must be a mapping");
-  if (!n["name"]) return fail(w0.child("name"), "missing phase name");
+  if (!n["name"]) return fail(w0.child("name"), "required");
   ConfigResult r = read(n, "name", ph.name, w0);
   if (!r) return r;
   const Where w{w0.file, "phases." + ph.name};
   if (!(r = rejectRenamed(n, w, kRenamedGains, 4))) return r;
-  if (!(r = checkKeys(n, w, {"name", "s_d", "jacobian", "P", "kp_per_s", "ki_per_s2", "integral_limit_per_s",
-                             "u_max_per_s", "feedforward", "unwind_rate", "requires_contact", "reset_integrator", "terminal",
-                             "max_duration_s", "transitions"})))
-    return r;
-  // s_d: rows of Δs, plus `force` (N) for the d_z row.
-  if (const YAML::Node sd = n["s_d"]) {
-    if (sd.IsMap() && sd["force"]) {
-      if (sd["d_z"]) return fail(w.child("s_d"), "give either d_z or force, not both");
-      YAML::Node copy = YAML::Clone(sd);
-      double f = 0;
-      if (!number(sd["force"], f)) return fail(w.child("s_d").child("force"), "cannot parse");
-      copy.remove("force");
-      if (!(r = readVec6(copy, w.child("s_d"), kToleranceNames, "feature name", ph.s_d))) return r;
-      ph.s_d(kZ) = c_z * f;  // Eq. 2: d_z = C_z f
-    } else if (!(r = readVec6(sd, w.child("s_d"), kToleranceNames, "feature name", ph.s_d))) {
-      return r;
-    }
-  }
-  // Jacobian (Eq. 8).
-  if (const YAML::Node j = n["jacobian"]) {
-    const Where wj = w.child("jacobian");
-    if (j.IsScalar()) {
-      if (j.Scalar() != "touch") return fail(wj, "'" + j.Scalar() + "': must be 'touch' or a mapping");
-      ph.jacobian = JacobianMode::Touch;
-    } else {
-      if (!(r = checkKeys(j, wj, {"beta", "point", "edge", "matrix"}))) return r;
-      if (j["beta"]) {
-        double b = -1;
-        if (!number(j["beta"], b) || (b != 0.0 && b != 1.0))
-          return fail(wj.child("beta"), "must be 0 (point) or 1 (edge)");
-        ph.jacobian = JacobianMode::Fixed;
-        ph.fixed_edge = b == 1.0;
-      } else if (j["matrix"]) {
-        if (!(r = readMat6(j["matrix"], wj.child("matrix"), ph.jinv_edge))) return r;
-        ph.jinv_point = ph.jinv_edge;
-        ph.jacobian = JacobianMode::Fixed;
-        ph.fixed_edge = true;
-      } else {
-        if (!j["point"] || !j["edge"]) return fail(wj, "give both 'point' and 'edge' 6x6 matrices");
-        if (!(r = readMat6(j["point"], wj.child("point"), ph.jinv_point))) return r;
-        if (!(r = readMat6(j["edge"], wj.child("edge"), ph.jinv_edge))) return r;
-        ph.jacobian = JacobianMode::Touch;
-      }
-    }
-  }
-  // P (Eq. 10).
-  if (const YAML::Node p = n["P"]) {
-    const Where wp = w.child("P");
-    if (p.IsSequence()) {
-      if (!(r = readMat6(p, wp, ph.P))) return r;
-    } else if (p.IsMap()) {
-      const char* const g[7] = {"x", "y", "z", "wx", "wy", "wz", "com"};
-      double v[7] = {0, 0, 0, 0, 0, 0, 0};
-      for (const auto& kv : p) {
-        const std::string k = kv.first.as<std::string>();
-        int idx = -1;
-        for (int i = 0; i < 7; ++i)
-          if (k == g[i]) idx = i;
-        if (idx < 0) return fail(wp.child(k), "unknown gamma (allowed: " + list(g, 7) + ")");
-        if (!number(kv.second, v[idx])) return fail(wp.child(k), "cannot parse '" + YAML::Dump(kv.second) + "'");
-      }
-      ph.P = projection(v[0], v[1], v[2], v[3], v[4], v[5], v[6]);
-    } else {
-      return fail(wp, "must be a mapping of gammas or a 6x6 matrix");
-    }
-  }
-  ph.kp = d.kp;
-  ph.ki = d.ki;
-  ph.integral_limit = d.ilim;
-  ph.u_max = d.umax;
-  if (!(r = readGains(n, w, ph.kp, ph.ki, ph.integral_limit, ph.u_max))) return r;
-  if (!(r = readVec6(n["feedforward"], w.child("feedforward"), kFfNames, "twist component", ph.feedforward))) return r;
-  if (!(r = read(n, "unwind_rate", ph.unwind_rate, w))) return r;
-  if (!(std::isfinite(ph.unwind_rate) && ph.unwind_rate >= 0.0 && ph.unwind_rate <= 0.87))
-    return rangeError(w.child("unwind_rate").str(), ph.unwind_rate, "must be in [0, 0.87] rad/s");
-  for (auto rr : {read(n, "requires_contact", ph.requires_contact, w), read(n, "reset_integrator", ph.reset_integrator, w),
-                  read(n, "terminal", ph.terminal, w)})
-    if (!rr) return rr;
-  ph.max_duration_s = ph.terminal ? 0.0 : d.max_duration_s;  // a terminal phase is meant to last
-  if (!(r = read(n, "max_duration_s", ph.max_duration_s, w))) return r;
+  ph.kp = defaults.kp;
+  ph.ki = defaults.ki;
+  ph.integral_limit = defaults.integral_limit;
+  ph.u_max = defaults.u_max;
+  bool terminal = false;
+  if (!(r = read(n, "terminal", terminal, w))) return r;
+  ph.max_duration_s = terminal ? 0.0 : defaults.max_duration_s;  // a terminal phase is meant to last
+  if (!(r = config::readBlock(n, w, phaseSchema(), ph))) return r;  // ranges: ControlLaw::configure
+  if (!(r = readDesired(n["s_d"], w.child("s_d"), c_z, ph.s_d))) return r;
+  if (!(r = readJacobian(n["jacobian"], w.child("jacobian"), ph))) return r;
+  if (!(r = readProjection(n["P"], w.child("P"), ph.P))) return r;
   if (const YAML::Node ts = n["transitions"]) {
     if (!ts.IsSequence()) return fail(w.child("transitions"), "must be a list");
     for (std::size_t i = 0; i < ts.size(); ++i) {
@@ -325,22 +267,11 @@ ConfigResult readForceEstimate(const YAML::Node& fe, const Where& w, ForceEstima
   return probe.configure(fp, w.str().c_str());
 }
 
-ConfigResult readPhaseDefaults(const YAML::Node& pd, const Where& w, Defaults& d) {
+ConfigResult readPhaseDefaults(const YAML::Node& pd, const Where& w, PhaseParams& d) {
   ConfigResult r;
   if (!(r = rejectRenamed(pd, w, kRenamedGains, 4))) return r;
-  if (!(r = checkKeys(pd, w, {"kp_per_s", "ki_per_s2", "integral_limit_per_s", "u_max_per_s", "max_duration_s"})))
-    return r;
-  if (!(r = readGains(pd, w, d.kp, d.ki, d.ilim, d.umax))) return r;
-  if (!(r = read(pd, "max_duration_s", d.max_duration_s, w))) return r;
-  const std::pair<const char*, const Vec6*> vs[] = {
-      {"kp_per_s", &d.kp}, {"ki_per_s2", &d.ki}, {"integral_limit_per_s", &d.ilim}};
-  for (const auto& v : vs)
-    for (int i = 0; i < 6; ++i)
-      if (!((*v.second)(i) >= 0))
-        return rangeError(w.child(v.first).child(kAxisNames[i]).str(), (*v.second)(i), "must be >= 0");
-  for (int i = 0; i < 6; ++i)
-    if (!(d.umax(i) > 0)) return rangeError(w.child("u_max_per_s").child(kAxisNames[i]).str(), d.umax(i), "must be > 0");
-  return ConfigResult::success();
+  if (!(r = config::readBlock(pd, w, phaseDefaultsSchema(), d))) return r;
+  return schema::checkRanges(phaseDefaultsSchema(), d, w.str());
 }
 
 ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoParams& out) {
@@ -369,7 +300,7 @@ ConfigResult loadImpl(const YAML::Node& root, const std::string& file, ServoPara
     if (!(r = config::readBlock(sf, top.child("slope_feedforward"), slopeFeedforwardSchema(), p.slope_feedforward)))
       return r;
   }
-  Defaults d;
+  PhaseParams d;  // phase_defaults: the gains and time limit of every phase
   if (const YAML::Node pd = root["phase_defaults"]) {
     if (!(r = readPhaseDefaults(pd, top.child("phase_defaults"), d))) return r;
   }

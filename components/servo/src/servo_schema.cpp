@@ -1,5 +1,7 @@
 #include "tactile_servo/servo_schema.hpp"
 
+#include <vector>
+
 
 namespace tactile {
 
@@ -19,7 +21,7 @@ const schema::Block<ServoParams>& controllerSchema() {
            [](S& s, int i) { s.pose_update = static_cast<PoseUpdate>(i); },
            "the pose the increment is added to: the measured one (Eq. 12) or the last command (Eq. 15)"),
        F::num("c_z", "m/N", "> 0", TACTILE_SCHEMA_REF(S, c_z), "the pad's compliance: d_z = C_z f (Eq. 2)"),
-       F::str("initial_phase", TACTILE_SCHEMA_REF(S, initial_phase), "the phase the program starts in ('': the first)")}};
+       F::str("initial_phase", TACTILE_SCHEMA_REF(S, initial_phase), "the phase the program starts in ('': the first)").form("a phase")}};
   return b;
 }
 
@@ -233,6 +235,115 @@ const schema::Block<SlopeFeedforwardConfig>& slopeFeedforwardSchema() {
 
 namespace {
 
+constexpr const char* kAxes = "x|y|z|wx|wy|wz";
+constexpr const char* kTwist = "vx|vy|vz|wx|wy|wz";
+
+/// The gains and limits of a phase (Eq. 13 as a rate): declared once, for a
+/// phase and for phase_defaults.
+std::vector<schema::Field<PhaseParams>> gainFields() {
+  using S = PhaseParams;
+  using F = schema::Field<S>;
+  return {F::vector("kp_per_s", "1/s", kAxes, ">= 0", TACTILE_SCHEMA_VEC(S, kp),
+                    "K_P: the rate per unit feature error, per task axis"),
+          F::vector("ki_per_s2", "1/s^2", kAxes, ">= 0", TACTILE_SCHEMA_VEC(S, ki), "K_I, per task axis"),
+          F::vector("integral_limit_per_s", "m/s, rad/s", kAxes, ">= 0", TACTILE_SCHEMA_VEC(S, integral_limit),
+                    "the bound of |K_I integral|, per task axis"),
+          F::vector("u_max_per_s", "m/s, rad/s", kAxes, "> 0", TACTILE_SCHEMA_VEC(S, u_max),
+                    "the bound of the PI rate, per task axis"),
+          F::num("max_duration_s", "s", ">= 0", TACTILE_SCHEMA_REF(S, max_duration_s),
+                 "the time in the phase after which the servo stops with PhaseTimeout (0: no limit; a terminal "
+                 "phase's default is 0)")};
+}
+
+}  // namespace
+
+const schema::Block<PhaseParams>& phaseSchema() {
+  using S = PhaseParams;
+  using F = schema::Field<S>;
+  static const schema::Block<S> b = [] {
+    schema::Block<S> blk{"phases[]", "one phase of the program (PhaseProgram, phase_program.hpp; ControlLaw, "
+                                     "control_law.hpp); a gain not given is phase_defaults'",
+                         {}};
+    blk.fields = {
+        F::str("name", TACTILE_SCHEMA_REF(S, name), "the phase's name (1 to 31 characters, unique)").needed(),
+        F::custom("s_d", "m, rad", "a list of 6 or a mapping over cop_x, cop_y, d_z, dzmp_x, dzmp_y, alpha_z; "
+                                   "force (N) for d_z = C_z f (Eq. 2)",
+                  "[0, 0, 0, 0, 0, 0]", "s_d: the desired features, rows of the feature error"),
+        F::custom("jacobian", "", "touch; {beta: 0 or 1}; {point: 6x6, edge: 6x6}; {matrix: 6x6}", "touch",
+                  "the inverse tactile Jacobian (Eq. 8): from the contact type each cycle, or fixed"),
+        F::custom("P", "", "a mapping of gammas over x, y, z, wx, wy, wz, com; or a 6x6 matrix", "0",
+                  "the task projection (Eq. 10)")};
+    for (const F& f : gainFields()) blk.fields.push_back(f);
+    const std::vector<F> rest = {
+        F::vector("feedforward", "m/s, rad/s", kTwist, "[-0.5, 0.5]", TACTILE_SCHEMA_VEC(S, feedforward),
+                  "a twist in {s} added to the PI rate"),
+        F::num("unwind_rate", "rad/s", "[0, 0.87]", TACTILE_SCHEMA_REF(S, unwind_rate),
+               "the rate about z_s against the wrist yaw accumulated when the phase was entered (0: none)"),
+        F::yesNo("requires_contact", TACTILE_SCHEMA_REF(S, requires_contact),
+                 "safety.contact_loss applies in this phase"),
+        F::yesNo("reset_integrator", TACTILE_SCHEMA_REF(S, reset_integrator), "zero the integral on entering"),
+        F::yesNo("terminal", TACTILE_SCHEMA_REF(S, terminal), "entering it ends the program (status Done, hold)"),
+        F::custom("transitions", "", "a list of transitions[] (below)", "[]",
+                  "the events that leave the phase, checked in order")};
+    blk.fields.insert(blk.fields.end(), rest.begin(), rest.end());
+    return blk;
+  }();
+  return b;
+}
+
+const schema::Block<PhaseParams>& phaseDefaultsSchema() {
+  static const schema::Block<PhaseParams> b{
+      "phase_defaults", "the gains and the time limit of every phase that does not give its own", gainFields()};
+  return b;
+}
+
+const schema::Block<TransitionParams>& transitionSchema() {
+  using S = TransitionParams;
+  using F = schema::Field<S>;
+  static const schema::Block<S> b{
+      "transitions[]",
+      "an event that leaves a phase (PhaseProgram, phase_program.hpp); its keys depend on the event `on`",
+      {F::choice(
+           "on", kTransitionEventNames, [](const S& s) { return static_cast<int>(s.on); },
+           [](S& s, int i) { s.on = static_cast<TransitionEvent>(i); }, "the event")
+           .needed(),
+       F::str("to", TACTILE_SCHEMA_REF(S, to), "the phase it leads to").form("a phase").needed(),
+       F::num("for_s", "s", "[0, 3600]", TACTILE_SCHEMA_REF(S, for_s),
+              "how long the event must hold (0: the first cycle it does)"),
+       F::num("filter_s", "s", "[0, 60]", TACTILE_SCHEMA_REF(S, filter_s),
+              "the low-pass of the errors the tolerances test (0: the raw samples)")
+           .only("aligned"),
+       F::custom("tolerance", "m, rad, N",
+                 ">= 0, over cop_x, cop_y, d_z, dzmp_x, dzmp_y, alpha_z, force, coc_x, coc_y; at least one", "{}",
+                 "the errors (s_d - s, the force error, the CoC) whose magnitudes must all be within their tolerance")
+           .only("aligned")
+           .needed(),
+       F::num("timeout_s", "s", "> 0", TACTILE_SCHEMA_REF(S, timeout_s), "the time in the phase").only("timeout").needed(),
+       F::num("force_n", "N", "> 0", TACTILE_SCHEMA_REF(S, force_n), "the force above which it fires")
+           .only("force_above")
+           .needed(),
+       F::deg("angle_deg", "deg", "(0, 720]", TACTILE_SCHEMA_REF(S, angle_rad),
+              "the wrist yaw accumulated (wound) or given back since the phase was entered (unwound)")
+           .only("wrist_wound|wrist_unwound")
+           .needed(),
+       F::deg("angle_deg", "deg", "(0, 30]", TACTILE_SCHEMA_REF(S, angle_rad),
+              "the margin of a measured joint to its limit")
+           .only("joint_margin")
+           .needed(),
+       F::num("radius_m", "m", "(0, 1]", TACTILE_SCHEMA_REF(S, radius_m),
+              "the distance from the loop's anchor within which the loop is closed")
+           .only("loop_closed")
+           .needed(),
+       F::num("leave_m", "m", "(radius_m, 10]", TACTILE_SCHEMA_REF(S, leave_m),
+              "the distance the contact must first go away from the anchor")
+           .only("loop_closed")
+           .needed()},
+      "on"};
+  return b;
+}
+
+namespace {
+
 /// The rows of a table without its two header lines.
 std::string rows(const std::string& table) {
   const std::size_t second = table.find('\n', table.find('\n') + 1);
@@ -243,8 +354,11 @@ std::string rows(const std::string& table) {
 
 std::string programSchemaMarkdown() {
   const std::string speed_law = schema::markdownSection(speedLawServoSchema()) + rows(schema::markdownTable(speedLawSchema()));
-  return schema::markdownSection(controllerSchema()) + "\n" + schema::markdownSection(safetySchema()) + "\n" + schema::markdownSection(watchdogSchema()) + "\n" + schema::markdownSection(forceEstimateSchema()) + "\n" +
-         speed_law + "\n" + schema::markdownSection(slopeFeedforwardSchema());
+  return schema::markdownSection(controllerSchema()) + "\n" + schema::markdownSection(safetySchema()) + "\n" +
+         schema::markdownSection(watchdogSchema()) + "\n" + schema::markdownSection(forceEstimateSchema()) + "\n" +
+         speed_law + "\n" + schema::markdownSection(slopeFeedforwardSchema()) + "\n" +
+         schema::markdownSection(phaseDefaultsSchema()) + "\n" + schema::markdownSection(phaseSchema()) + "\n" +
+         schema::markdownSection(transitionSchema());
 }
 
 }  // namespace tactile

@@ -37,6 +37,9 @@ ConfigResult readNumber(const YAML::Node& v, const Where& w, double& out);
 ConfigResult readChoiceIndex(const YAML::Node& v, const Where& w, const char* names, int& index);
 ConfigResult readNames(const YAML::Node& v, const Where& w, std::vector<std::string>& out);
 ConfigResult readTriple(const YAML::Node& v, const Where& w, std::array<double, 3>& out);
+/// `labels` ("x|y|z") numbers: a list of all of them, or a mapping over some
+/// (the others keep their value).
+ConfigResult readVector(const YAML::Node& v, const Where& w, const char* labels, double* out);
 
 template <class T>
 ConfigResult readScalar(const YAML::Node& v, const Where& w, T& out) {
@@ -69,13 +72,44 @@ ConfigResult readField(const YAML::Node& v, const Where& w, const schema::Field<
     case Kind::Text: return readScalar(v, w, f.text(s));
     case Kind::Names: return readNames(v, w, f.names(s));
     case Kind::Triple: return readTriple(v, w, f.triple(s));
+    case Kind::Vector: return readVector(v, w, f.labels, f.vec(s));
+    case Kind::Custom: return ConfigResult::success();  // the block's own code reads it
+  }
+  return ConfigResult::success();
+}
+
+/// The variants every field of `key` belongs to ("" if one of them belongs
+/// to all).
+template <class S>
+std::string variantsOf(const schema::Block<S>& b, const std::string& key) {
+  std::string all;
+  for (const auto& f : b.fields) {
+    if (key != f.key) continue;
+    if (!*f.when) return "";
+    all += (all.empty() ? "" : "|") + std::string(f.when);
+  }
+  return all;
+}
+
+/// A key given for another variant, or a required key absent for this one.
+template <class S>
+ConfigResult checkPresence(const YAML::Node& node, const Where& where, const schema::Block<S>& b, const S& s) {
+  const std::string var = schema::variant(b, s);
+  for (const auto& f : b.fields) {
+    const bool given = static_cast<bool>(nodeAt(node, f.key));
+    const std::string when = variantsOf(b, f.key);
+    if (given && !when.empty() && !schema::detail::inList(when.c_str(), var))
+      return ConfigResult::failure(where.child(f.key).str() + ": only for " + schema::quotedList(when.c_str()));
+    if (!given && f.required && schema::applies(f, var))
+      return ConfigResult::failure(where.child(f.key).str() + ": required" + (*f.when ? " for '" + var + "'" : ""));
   }
   return ConfigResult::success();
 }
 
 }  // namespace detail
 
-/// Fills `s` from the block `node` at `where` (absent: nothing changes).
+/// Fills `s` from the block `node` at `where` (absent: nothing changes),
+/// then rejects a key of another variant and requires the required ones.
 /// `also`: the keys of another block read from the same mapping (a block
 /// split over two structs, as speed_law's SpeedLawConfig and SpeedLawParams).
 template <class S>
@@ -90,7 +124,7 @@ ConfigResult readBlock(const YAML::Node& node, const Where& where, const schema:
     const YAML::Node v = nodeAt(node, f.key);
     if (v && !(r = detail::readField(v, where.child(f.key), f, s))) return r;
   }
-  return ConfigResult::success();
+  return detail::checkPresence(node, where, b, s);
 }
 
 }  // namespace config

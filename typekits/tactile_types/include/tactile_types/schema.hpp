@@ -41,7 +41,9 @@ enum class Kind : std::uint8_t {
   Choice,  ///< one of the names in `range` ("hold|retreat"), stored as its index
   Text,    ///< a string
   Names,   ///< a list of strings
-  Triple   ///< a list of three finite numbers
+  Triple,  ///< a list of three finite numbers
+  Vector,  ///< numbers named by `labels` ("x|y|z"): a list of all, or a mapping over some
+  Custom   ///< read and checked by the block's own code; declared for its key, its table row
 };
 
 /// The member a field fills, as a function of the struct (a captureless
@@ -53,6 +55,8 @@ using Ref = T& (*)(S&);
 
 /// `[](S& s) -> auto& { return s.member; }`: the accessor of a Field.
 #define TACTILE_SCHEMA_REF(S, member) [](S& s_) -> auto& { return s_.member; }
+/// `[](S& s) { return s.member.data(); }`: the accessor of a Vector Field.
+#define TACTILE_SCHEMA_VEC(S, member) [](S& s_) { return s_.member.data(); }
 
 template <class S>
 struct Field {
@@ -70,6 +74,14 @@ struct Field {
   Ref<S, std::string> text = nullptr;
   Ref<S, std::vector<std::string>> names = nullptr;
   Ref<S, std::array<double, 3>> triple = nullptr;
+  double* (*vec)(S&) = nullptr;  ///< Vector: its first entry
+  const char* labels = "";       ///< Vector: the entries' names, '|'-separated
+  const char* shown = "";        ///< Custom: the default as the table shows it
+  /// The variants of the block (its `selector` Choice) the key belongs to,
+  /// '|'-separated; "" = every variant. A key given for another variant is
+  /// an error, and its range is checked only for its own.
+  const char* when = "";
+  bool required = false;  ///< the key must be given (for its variants)
 
   static Field num(const char* key, const char* unit, const char* range, Ref<S, double> ref, const char* doc) {
     Field f;
@@ -114,6 +126,47 @@ struct Field {
     return f;
   }
 
+  /// Numbers named by `labels`, each in `range` ("x|y|z|wx|wy|wz").
+  static Field vector(const char* key, const char* unit, const char* labels, const char* range, double* (*ref)(S&),
+                      const char* doc) {
+    Field f;
+    f.key = key, f.kind = Kind::Vector, f.unit = unit, f.labels = labels, f.range = range, f.doc = doc, f.vec = ref;
+    return f;
+  }
+  /// A key the block's own code reads and checks: `valid` and `shown` are the
+  /// table's text for its form and its default.
+  static Field custom(const char* key, const char* unit, const char* valid, const char* shown, const char* doc) {
+    Field f;
+    f.key = key, f.kind = Kind::Custom, f.unit = unit, f.range = valid, f.shown = shown, f.doc = doc;
+    return f;
+  }
+  /// This field for the variants `variants` of the block's selector only.
+  Field only(const char* variants) const {
+    Field f = *this;
+    f.when = variants;
+    return f;
+  }
+  /// A Text field's form as the table shows it ("a path, relative to the
+  /// scene"); the default form is "a name".
+  Field form(const char* shown_as) const {
+    Field f = *this;
+    f.range = shown_as;
+    return f;
+  }
+  /// This field must be given (for its variants).
+  Field needed() const {
+    Field f = *this;
+    f.required = true;
+    return f;
+  }
+
+  /// The number of entries of a Vector.
+  int size() const {
+    int n = 1;
+    for (const char* c = labels; *c; ++c) n += *c == '|';
+    return n;
+  }
+
   /// The number in the file's unit (Number and Integer).
   double value(const S& s) const {
     return kind == Kind::Integer ? integer(const_cast<S&>(s)) : number(const_cast<S&>(s)) * div / mul;
@@ -130,6 +183,9 @@ struct Block {
   const char* name = "";  ///< its key in the file ("speed_law")
   const char* doc = "";   ///< one line: what the block is, where it is defined
   std::vector<Field<S>> fields;
+  /// The key of the Choice that selects the block's variant (a transition's
+  /// `on`); "" = one variant. Fields name theirs in Field::when.
+  const char* selector = "";
 };
 
 // ---- ranges --------------------------------------------------------------
@@ -167,7 +223,7 @@ inline bool parseEnd(const std::string& token, bool open, Limit& out) {
     return true;
   }
   for (char c : t)
-    if (!(c == '_' || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9'))) return false;
+    if (!(c == '_' || c == '.' || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9'))) return false;
   out.given = true;
   out.key = t;
   return true;
@@ -239,16 +295,69 @@ inline int choiceCount(const char* names) {
 
 inline std::string rangeText(Kind k, const char* range);
 
+/// The name at `index` of a '|'-separated list ("?" past its end).
+inline std::string choiceName(const char* names, int index) {
+  const std::string all(names);
+  std::size_t start = 0;
+  for (int i = 0;; ++i) {
+    const std::size_t bar = all.find('|', start);
+    if (i == index) return all.substr(start, bar == std::string::npos ? std::string::npos : bar - start);
+    if (bar == std::string::npos) return "?";
+    start = bar + 1;
+  }
+}
+
+inline bool inList(const char* names, const std::string& name) {
+  for (int i = 0; i < choiceCount(names); ++i)
+    if (choiceName(names, i) == name) return true;
+  return false;
+}
+
 }  // namespace detail
 
-/// Every Number, Integer, Triple and Choice of `s` against its declaration: the first one out
-/// of range fails with "<where>.<key> = <value>: must be in <range> <unit>"
-/// (the value in the file's unit). `where` is "<file>: <block>".
+/// The name of the block's current variant (its selector's choice); "" for
+/// a block of one variant.
+template <class S>
+std::string variant(const Block<S>& b, const S& s) {
+  const Field<S>* sel = *b.selector ? find(b, b.selector) : nullptr;
+  return sel && sel->kind == Kind::Choice ? detail::choiceName(sel->range, sel->get(s)) : std::string();
+}
+
+/// Whether the field belongs to the variant `name` (every field of a block
+/// of one variant does).
+template <class S>
+bool applies(const Field<S>& f, const std::string& name) {
+  return !*f.when || detail::inList(f.when, name);
+}
+
+/// "'a', 'b' and 'c'": the variants of a '|'-list, for messages.
+inline std::string quotedList(const char* names) {
+  std::string out;
+  const int n = detail::choiceCount(names);
+  for (int i = 0; i < n; ++i)
+    out += (i == 0 ? "" : i + 1 == n ? " and " : ", ") + ("'" + detail::choiceName(names, i) + "'");
+  return out;
+}
+
+/// Every Number, Integer, Vector, Triple and Choice of `s` against its
+/// declaration (a field of another variant is skipped): the first one out of
+/// range fails with "<where>.<key> = <value>: must be in <range> <unit>" (the
+/// value in the file's unit; "<key>.<label>" for a Vector's entry). `where`
+/// is "<file>: <block>", or "<file>: " for the keys of a file's top level.
 template <class S>
 ConfigResult checkRanges(const Block<S>& b, const S& s, const std::string& where) {
+  const std::string var = variant(b, s);
+  const bool top = where.empty() || where.back() == ' ';  // "<file>: ": a file's top level
   for (const Field<S>& f : b.fields) {
-    const std::string at = where + "." + f.key;
-    if (f.kind == Kind::Number || f.kind == Kind::Integer) {
+    if (!applies(f, var)) continue;
+    const std::string at = top ? where + f.key : where + "." + f.key;
+    if (f.kind == Kind::Vector) {
+      const double* v = f.vec(const_cast<S&>(s));
+      for (int i = 0; i < f.size(); ++i) {
+        const ConfigResult r = detail::checkNumber(b, f, v[i], s, at + "." + detail::choiceName(f.labels, i));
+        if (!r) return r;
+      }
+    } else if (f.kind == Kind::Number || f.kind == Kind::Integer) {
       const ConfigResult r = detail::checkNumber(b, f, f.value(s), s, at);
       if (!r) return r;
     } else if (f.kind == Kind::Triple) {
@@ -273,17 +382,6 @@ inline std::string number(double v) {
   return os.str();
 }
 
-inline std::string choiceName(const char* names, int index) {
-  const std::string all(names);
-  std::size_t start = 0;
-  for (int i = 0;; ++i) {
-    const std::size_t bar = all.find('|', start);
-    if (i == index) return all.substr(start, bar == std::string::npos ? std::string::npos : bar - start);
-    if (bar == std::string::npos) return "?";
-    start = bar + 1;
-  }
-}
-
 template <class S>
 std::string defaultText(const Field<S>& f, const S& d) {
   S& m = const_cast<S&>(d);
@@ -291,7 +389,10 @@ std::string defaultText(const Field<S>& f, const S& d) {
     case Kind::Number:
     case Kind::Integer: return number(f.value(d));
     case Kind::Flag: return f.flag(m) ? "true" : "false";
-    case Kind::Choice: return choiceName(f.range, f.get(d));
+    case Kind::Choice: {
+      const std::string n = choiceName(f.range, f.get(d));
+      return n.empty() ? "''" : n;
+    }
     case Kind::Text: return f.text(m).empty() ? "''" : f.text(m);
     case Kind::Names: {
       std::string s = "[";
@@ -302,6 +403,13 @@ std::string defaultText(const Field<S>& f, const S& d) {
       const auto& t = f.triple(m);
       return "[" + number(t[0]) + ", " + number(t[1]) + ", " + number(t[2]) + "]";
     }
+    case Kind::Vector: {
+      const double* v = f.vec(m);
+      std::string s = "[";
+      for (int i = 0; i < f.size(); ++i) s += (i ? ", " : "") + number(v[i]);
+      return s + "]";
+    }
+    case Kind::Custom: return f.shown;
   }
   return "";
 }
@@ -311,16 +419,40 @@ inline std::string rangeText(Kind k, const char* range) {
     case Kind::Number:
     case Kind::Integer: return *range ? range : "finite";
     case Kind::Flag: return "true, false";
-    case Kind::Choice: {
+    case Kind::Choice: {  // an empty name (a choice of "nothing given") shows as ''
       std::string out;
-      for (const char* c = range; *c; ++c) out += *c == '|' ? std::string(", ") : std::string(1, *c);
+      for (int i = 0; i < choiceCount(range); ++i) {
+        const std::string n = choiceName(range, i);
+        out += (i ? ", " : "") + (n.empty() ? std::string("''") : n);
+      }
       return out;
     }
-    case Kind::Text: return "a name";
+    case Kind::Text: return *range ? range : "a name";
     case Kind::Names: return "a list of names";
     case Kind::Triple: return "3 finite numbers";
+    case Kind::Vector: return "";  // vectorText
+    case Kind::Custom: return range;
   }
   return "";
+}
+
+template <class S>
+std::string validText(const Field<S>& f) {
+  if (f.kind != Kind::Vector) return rangeText(f.kind, f.range);
+  std::string names;
+  for (int i = 0; i < f.size(); ++i) names += (i ? ", " : "") + choiceName(f.labels, i);
+  return "each " + rangeText(Kind::Number, f.range) + "; a list of " + std::to_string(f.size()) +
+         " or a mapping over " + names;
+}
+
+/// The table's "valid" cell: the range, then the variants and whether the
+/// key must be given.
+template <class S>
+std::string validCell(const Field<S>& f) {
+  std::string v = validText(f);
+  if (*f.when) v += (v.empty() ? "" : "; ") + std::string("only for ") + quotedList(f.when);
+  if (f.required) v += (v.empty() ? "" : "; ") + std::string("required");
+  return v;
 }
 
 }  // namespace detail
@@ -332,7 +464,7 @@ std::string markdownTable(const Block<S>& b, const std::string& prefix = "") {
   const S d{};
   std::string t = "| key | unit | valid | default | what it does |\n|---|---|---|---|---|\n";
   for (const Field<S>& f : b.fields)
-    t += "| `" + prefix + f.key + "` | " + (*f.unit ? f.unit : "") + " | " + detail::rangeText(f.kind, f.range) +
+    t += "| `" + prefix + f.key + "` | " + (*f.unit ? f.unit : "") + " | " + detail::validCell(f) +
          " | " + detail::defaultText(f, d) + " | " + f.doc + " |\n";
   return t;
 }
