@@ -424,16 +424,16 @@ TEST(SceneErrors, NameTheFileAndTheField) {
   };
   const std::vector<Case> cases = {
       {"unknown_key.yaml", "name: x\nspeed_of_light: 3\n", "speed_of_light: unknown key"},
-      {"zero_rate.yaml", "name: x\nrates: {servo: 0}\n", "rates.servo = 0: must be > 0 (Hz)"},
-      {"servo_above_sim.yaml", "name: x\nrates: {sim: 100, servo: 200}\n", "rates.servo = 200: must be <= rates.sim"},
+      {"zero_rate.yaml", "name: x\nrates: {servo: 0}\n", "rates.servo = 0: must be in (0, rates.sim] Hz"},
+      {"servo_above_sim.yaml", "name: x\nrates: {sim: 100, servo: 200}\n", "rates.servo = 200: must be in (0, rates.sim] Hz"},
       {"unknown_object.yaml", "name: x\nobjects: [{type: teapot}]\n", "objects[0].type: unknown object type 'teapot'"},
       {"inside.yaml",
        "name: x\ninitial_flange: {xyz: [0.72, 0.0, 0.40], rpy_deg: [180, 0, 180]}\n"
        "objects: [{name: ball, type: sphere, center: [0.72, 0.0, 0.36], radius: 0.03}]\n",
        "ball"},
-      {"bad_fidelity.yaml", "name: x\nfidelity: magic\n", "fidelity: 'magic' must be quasi_static | dynamics"},
+      {"bad_fidelity.yaml", "name: x\nfidelity: magic\n", "fidelity: 'magic': must be one of quasi_static, dynamics"},
       {"no_name.yaml", "duration: 3\n", "name: required"},
-      {"bad_controller.yaml", "name: x\ncontroller: li\n", "controller: 'li' must be proposed, baseline or no_rotation"},
+      {"bad_controller.yaml", "name: x\ncontroller: li\n", "controller: 'li': must be one of proposed, baseline, no_rotation"},
   };
   for (const auto& c : cases) {
     const std::string path = writeScene(c.file, c.body);
@@ -513,7 +513,7 @@ TEST(SceneOverrides, SetKeysBeforeReadingAndAreCheckedLikeTheFile) {
       {"rates..servo=3", "empty key"},              // empty key
       {"name.first=3", "name is not a map"},        // descends into a scalar
       {"speed_of_light=3", "speed_of_light: unknown key"},  // checked like the file
-      {"rates.servo=0", "rates.servo = 0: must be > 0 (Hz)"},
+      {"rates.servo=0", "rates.servo = 0: must be in (0, rates.sim] Hz"},
   };
   for (const auto& b : bad) {
     const ConfigResult r = loadScene(path, sc, {b.first});

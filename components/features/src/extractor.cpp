@@ -1,4 +1,5 @@
 #include "tactile_features/extractor.hpp"
+#include "tactile_features/features_schema.hpp"
 #include "tactile_features/edge_line.hpp"
 
 #include <algorithm>
@@ -31,45 +32,11 @@ double probit(double p) {
 
 ConfigResult FeatureExtractor::configure(const FeatureParams& p) {
   configured_ = false;
-  if (p.rows < 1 || p.rows > kMaxRows)
-    return rangeError("features.rows", p.rows, "must be in [1, " + std::to_string(kMaxRows) + "]");
-  if (p.cols < 1 || p.cols > kMaxCols)
-    return rangeError("features.cols", p.cols, "must be in [1, " + std::to_string(kMaxCols) + "]");
-  if (!(p.pitch > 0.0) || !std::isfinite(p.pitch))
-    return rangeError("features.pitch", p.pitch, "must be finite and > 0 (m)");
-  if (!(p.c_z >= 0.0) || !std::isfinite(p.c_z))
-    return rangeError("features.c_z", p.c_z, "must be finite and >= 0 (m/N)");
+  if (const ConfigResult r = schema::checkRanges(featuresSchema(), p, "features"); !r) return r;
   if (!(p.threshold >= 0.0) || !std::isfinite(p.threshold))
     return rangeError("features.threshold", p.threshold, "must be finite and >= 0 (N)");
-  if (!(p.contact_threshold >= 0.0) || !std::isfinite(p.contact_threshold))
-    return rangeError("features.contact_threshold", p.contact_threshold, "must be finite and >= 0 (N)");
-  if (!(p.edge_ratio >= 1.0) || !std::isfinite(p.edge_ratio))
-    return rangeError("features.edge_ratio", p.edge_ratio, "must be finite and >= 1 (lambda1/lambda2)");
-  if (!(p.edge_ratio_exit >= 1.0) || !(p.edge_ratio_exit <= p.edge_ratio))
-    return rangeError("features.edge_ratio_exit", p.edge_ratio_exit,
-                      "must be in [1, edge_ratio = " + std::to_string(p.edge_ratio) + "]");
-  if (!(p.edge_min_length >= 0.0) || !std::isfinite(p.edge_min_length))
-    return rangeError("features.edge_min_length", p.edge_min_length, "must be finite and >= 0 (m)");
-  if (!(p.alpha_hysteresis >= 0.0) || !(p.alpha_hysteresis <= kPi / 4))
-    return rangeError("features.alpha_hysteresis", p.alpha_hysteresis, "must be in [0, pi/4] (rad)");
-  if (!(p.isotropy_tol >= 0.0) || !(p.isotropy_tol < 1.0))
-    return rangeError("features.isotropy_tol", p.isotropy_tol, "must be in [0, 1)");
-  if (!(p.taxel_noise >= 0.0) || !std::isfinite(p.taxel_noise))
+  if (!(p.taxel_noise >= 0.0) || !std::isfinite(p.taxel_noise))  // set from calibration.noise_counts
     return rangeError("features.taxel_noise", p.taxel_noise, "must be finite and >= 0 (N, 1 sigma)");
-  if (!(p.alpha_max_sigma > 0.0) || !std::isfinite(p.alpha_max_sigma))
-    return rangeError("features.alpha_max_sigma", p.alpha_max_sigma, "must be finite and > 0 (rad)");
-  if (!(p.censor_tau >= 0.0) || !std::isfinite(p.censor_tau))
-    return rangeError("features.censor_tau", p.censor_tau, "must be finite and >= 0 (s)");
-  if (!(p.censor_min_rate >= 0.01) || !(p.censor_min_rate <= 0.99))
-    return rangeError("features.censor_min_rate", p.censor_min_rate, "must be in [0.01, 0.99]");
-  if (p.region_gap < 0 || p.region_gap > 4)
-    return rangeError("features.region_gap", p.region_gap, "must be in [0, 4] (taxels)");
-  if (!(p.region_min_force > 0.0) || !std::isfinite(p.region_min_force))
-    return rangeError("features.region_min_force", p.region_min_force, "must be finite and > 0 (N)");
-  if (!(p.region_min_rate >= kMinRate) || !(p.region_min_rate <= 0.99))
-    return rangeError("features.region_min_rate", p.region_min_rate, "must be in [0.00135, 0.99]");
-  if (!(p.max_taxel_force > 0.0) || !std::isfinite(p.max_taxel_force))
-    return rangeError("features.max_taxel_force", p.max_taxel_force, "must be finite and > 0 (N)");
 
   params_ = p;
   est_min_ = std::max(0.0, p.contact_threshold + p.taxel_noise * probit(p.censor_min_rate));

@@ -1,5 +1,8 @@
 #include "tactile_features/params_io.hpp"
 
+#include "tactile_config/schema_yaml.hpp"
+#include "tactile_features/features_schema.hpp"
+
 namespace tactile {
 
 using config::checkKeys;
@@ -8,30 +11,8 @@ using config::Where;
 
 ConfigResult loadFeatureParams(const YAML::Node& node, const Where& where, FeatureParams& p) {
   if (!node) return ConfigResult::success();
-  ConfigResult r = checkKeys(node, where,
-                             {"rows", "cols", "pitch", "c_z", "threshold", "contact_threshold", "edge_ratio",
-                              "edge_ratio_exit", "edge_min_length", "alpha_hysteresis_deg", "isotropy_tol",
-                              "alpha_max_sigma", "censor_tau", "censor_min_rate", "region_gap", "region_min_force",
-                              "region_min_rate", "max_taxel_force"});
+  ConfigResult r = config::readBlock(node, where, featuresSchema(), p);
   if (!r) return r;
-  for (auto rr : {read(node, "rows", p.rows, where), read(node, "cols", p.cols, where),
-                  read(node, "pitch", p.pitch, where), read(node, "c_z", p.c_z, where),
-                  read(node, "contact_threshold", p.contact_threshold, where),
-                  read(node, "edge_ratio", p.edge_ratio, where), read(node, "edge_ratio_exit", p.edge_ratio_exit, where),
-                  read(node, "edge_min_length", p.edge_min_length, where),
-                  read(node, "isotropy_tol", p.isotropy_tol, where),
-                  read(node, "alpha_max_sigma", p.alpha_max_sigma, where),
-                  read(node, "censor_tau", p.censor_tau, where), read(node, "censor_min_rate", p.censor_min_rate, where),
-                  read(node, "region_gap", p.region_gap, where),
-                  read(node, "region_min_force", p.region_min_force, where),
-                  read(node, "region_min_rate", p.region_min_rate, where),
-                  read(node, "max_taxel_force", p.max_taxel_force, where)})
-    if (!rr) return rr;
-  if (node["alpha_hysteresis_deg"]) {
-    double deg = 0;
-    if (!(r = read(node, "alpha_hysteresis_deg", deg, where))) return r;
-    p.alpha_hysteresis = deg * kPi / 180.0;
-  }
   if (const YAML::Node t = node["threshold"]) {
     if (t.IsScalar() && t.Scalar() == "otsu") {
       p.threshold_mode = ThresholdMode::Otsu;

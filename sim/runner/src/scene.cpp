@@ -13,6 +13,7 @@
 #include "tactile_features/params_io.hpp"
 #include "tactile_config/schema_yaml.hpp"
 #include "tactile_servo/program_io.hpp"
+#include "tactile_sim/scene_schema.hpp"
 #include "tactile_sim/sim_schema.hpp"
 #include "tactile_sim/run_log.hpp"
 #include "tactile_sim/sensor_faults_io.hpp"
@@ -233,18 +234,8 @@ ConfigResult loadScene(const std::string& file, Scene& s) { return loadScene(fil
 
 namespace {
 
-// name (required), description, figure.
-ConfigResult readSceneHeader(const YAML::Node& root, const Where& w, Scene& s) {
-  ConfigResult r = ConfigResult::success();
-  if (!(r = read(root, "name", s.name, w)) || !(r = read(root, "description", s.description, w)) ||
-      !(r = read(root, "figure", s.figure, w)))
-    return r;
-  if (s.name.empty()) return fail(w.child("name"), "required");
-  return ConfigResult::success();
-}
-
-// The controller: the phase program (program, required; the same file the RTT
-// servo component loads) and the controller mode.
+// The phase program (program, required; the same file the RTT servo
+// component loads), its base merged and the `program.` overrides applied.
 ConfigResult readController(const YAML::Node& root, const Where& w, const std::string& file, const std::string& dir,
                             const std::vector<std::string>& program_overrides, Scene& s) {
   ConfigResult r = ConfigResult::success();
@@ -259,10 +250,6 @@ ConfigResult readController(const YAML::Node& root, const Where& w, const std::s
     if (!(r = applyOverride(doc, o, s.program_file))) return r;
   if (!(r = loadServoProgram(doc, s.program_file, s.servo)))
     return ConfigResult::failure(file + ": program: " + r.message());
-  std::string mode = "proposed";
-  if (!(r = read(root, "controller", mode, w))) return r;
-  if (!parseControllerMode(mode, s.controller))
-    return fail(w.child("controller"), "'" + mode + "' must be " + kControllerModeNames);
   return ConfigResult::success();
 }
 
@@ -287,29 +274,12 @@ ConfigResult readFeaturesFile(const YAML::Node& root, const Where& w, const std:
   return ConfigResult::success();
 }
 
-// duration, seed, fidelity, start_in_equilibrium and rates.
-ConfigResult readRunKeys(const YAML::Node& root, const Where& w, Scene& s) {
-  ConfigResult r = ConfigResult::success();
-  if (!(r = read(root, "duration", s.duration, w))) return r;
-  if (!(s.duration > 0.0) || !std::isfinite(s.duration)) return rangeError(w.child("duration").str(), s.duration, "must be > 0 (s)");
+// seed (a whole number; the rest of the run's keys: sceneSchema()).
+ConfigResult readSeed(const YAML::Node& root, const Where& w, Scene& s) {
   int seed = 1;
-  if (!(r = read(root, "seed", seed, w))) return r;
-  s.seed = static_cast<uint64_t>(seed);
-
-  std::string fidelity = "quasi_static";
-  if (!(r = read(root, "fidelity", fidelity, w))) return r;
-  if (!parseFidelity(fidelity, s.world.fidelity))
-    return fail(w.child("fidelity"), "'" + fidelity + "' must be quasi_static | dynamics");
-  if (!(r = read(root, "start_in_equilibrium", s.world.start_in_equilibrium, w))) return r;
-
-  if (const YAML::Node n = root["rates"]) {
-    const Where wr = w.child("rates");
-    if (!(r = checkKeys(n, wr, {"sim", "servo", "wts", "features"}))) return r;
-    for (auto rr : {read(n, "sim", s.rates.sim, wr), read(n, "servo", s.rates.servo, wr), read(n, "wts", s.rates.wts, wr),
-                    read(n, "features", s.rates.features, wr)})
-      if (!rr) return rr;
-  }
-  return ConfigResult::success();
+  const ConfigResult r = read(root, "seed", seed, w);
+  if (r) s.seed = static_cast<uint64_t>(seed);
+  return r;
 }
 
 // The pad (sensor), mounted as the program says, sized as the features read
@@ -419,14 +389,12 @@ ConfigResult readEffects(const YAML::Node& root, const Where& w, Scene& s) {
   return ConfigResult::success();
 }
 
-// through_fri, fri_file and the KRC's script (krc), parsed to check it.
+// fri_file, and the KRC's script (krc) parsed to check it.
 ConfigResult readFriKeys(const YAML::Node& root, const Where& w, const std::string& file, const std::string& dir, Scene& s) {
   ConfigResult r = ConfigResult::success();
-  if (!(r = read(root, "through_fri", s.through_fri, w))) return r;
   std::string fri_file;
   if (!(r = read(root, "fri_file", fri_file, w))) return r;
   s.fri_file = fri_file.empty() ? std::string() : resolve(dir, fri_file);
-  if (!(r = read(root, "krc", s.krc, w))) return r;
   {
     fri::KrcScript krc;
     if (!(r = krc.parse(s.krc, file + ": krc"))) return r;
@@ -434,41 +402,26 @@ ConfigResult readFriKeys(const YAML::Node& root, const Where& w, const std::stri
   return ConfigResult::success();
 }
 
-// metrics: transient, scored phases, alignment, force band and criteria.
-ConfigResult readMetrics(const YAML::Node& root, const Where& w, Scene& s) {
+// metrics.criteria (the rest of metrics: sceneSchema()).
+ConfigResult readCriteria(const YAML::Node& c, const Where& wc, Scene& s) {
+  if (!c) return ConfigResult::success();
+  if (!c.IsMap()) return fail(wc, "must be a map: metric: {min: .., max: ..}");
   ConfigResult r = ConfigResult::success();
-  if (const YAML::Node n = root["metrics"]) {
-    const Where wm = w.child("metrics");
-    if (!(r = checkKeys(n, wm, {"transient_s", "force_phases", "alignment", "force_band_n", "criteria"}))) return r;
-    if (const YAML::Node c = n["criteria"]) {
-      const Where wc = wm.child("criteria");
-      if (!c.IsMap()) return fail(wc, "must be a map: metric: {min: .., max: ..}");
-      for (const auto& kv : c) {
-        Criterion cr;
-        cr.metric = kv.first.as<std::string>();
-        const Where wk = wc.child(cr.metric);
-        double probe = 0;
-        if (!summaryMetric(Summary{}, cr.metric, probe)) return fail(wk, "not a summary.json metric");
-        if (!kv.second.IsMap() || (!kv.second["min"] && !kv.second["max"]))
-          return fail(wk, "must be {min: .., max: ..} (at least one bound)");
-        if (!(r = checkKeys(kv.second, wk, {"min", "max"})) || !(r = read(kv.second, "min", cr.min, wk)) ||
-            !(r = read(kv.second, "max", cr.max, wk)))
-          return r;
-        if (!(cr.min <= cr.max)) return fail(wk, "min must be <= max");
-        s.metrics.criteria.push_back(cr);
-      }
-    }
-    for (auto rr : {read(n, "transient_s", s.metrics.transient_s, wm), read(n, "force_phases", s.metrics.force_phases, wm),
-                    read(n, "force_band_n", s.metrics.force_band_n, wm)})
-      if (!rr) return rr;
-    if (const YAML::Node a = n["alignment"]) {
-      const Where wa = wm.child("alignment");
-      if (!(r = checkKeys(a, wa, {"from", "to"})) || !(r = read(a, "from", s.metrics.align_from, wa)) ||
-          !(r = read(a, "to", s.metrics.align_to, wa)))
-        return r;
-    }
+  for (const auto& kv : c) {
+    Criterion cr;
+    cr.metric = kv.first.as<std::string>();
+    const Where wk = wc.child(cr.metric);
+    double probe = 0;
+    if (!summaryMetric(Summary{}, cr.metric, probe)) return fail(wk, "not a summary.json metric");
+    if (!kv.second.IsMap() || (!kv.second["min"] && !kv.second["max"]))
+      return fail(wk, "must be {min: .., max: ..} (at least one bound)");
+    if (!(r = checkKeys(kv.second, wk, {"min", "max"})) || !(r = read(kv.second, "min", cr.min, wk)) ||
+        !(r = read(kv.second, "max", cr.max, wk)))
+      return r;
+    if (!(cr.min <= cr.max)) return fail(wk, "min must be <= max");
+    s.metrics.criteria.push_back(cr);
   }
-  return ConfigResult::success();
+  return r;
 }
 
 }  // namespace
@@ -509,25 +462,20 @@ ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std:
   ConfigResult r = sceneWithOverrides(file, overrides, root, program_overrides);
   if (!r) return r;
   const Where w{file, ""};
-  if (!(r = checkKeys(root, w,
-                      {"name", "description", "figure", "program", "controller", "features_file", "duration", "seed",
-                       "fidelity", "start_in_equilibrium", "rates", "sensor", "arm", "initial_flange", "objects",
-                       "metrics", "through_fri", "fri_file", "krc", "effects", "faults"})))
-    return r;
   s = Scene{};
   s.file = file;
   const std::string dir = dirOf(file);
-  if (!(r = readSceneHeader(root, w, s))) return r;
+  if (!(r = config::readBlock(root, w, sceneSchema(), s))) return r;  // ranges: validateScene
   if (!(r = readController(root, w, file, dir, program_overrides, s))) return r;
   if (!(r = readFeaturesFile(root, w, file, dir, s))) return r;
-  if (!(r = readRunKeys(root, w, s))) return r;
+  if (!(r = readSeed(root, w, s))) return r;
   if (!(r = readSensor(root, w, s))) return r;
   if (!(r = readArm(root, w, s))) return r;
   if (!(r = readObjects(root, w, s))) return r;
   if (!(r = readEffects(root, w, s))) return r;
   if (!(r = readFaults(root, w, s))) return r;
   if (!(r = readFriKeys(root, w, file, dir, s))) return r;
-  if (!(r = readMetrics(root, w, s))) return r;
+  if (!(r = readCriteria(config::nodeAt(root, "metrics.criteria"), w.child("metrics").child("criteria"), s))) return r;
   return validateScene(s);
 }
 
@@ -545,13 +493,6 @@ TaxelResponseParams responseParams(const Scene& s) {
 
 ConfigResult validateScene(const Scene& s) {
   const Where w{s.file, ""};
-  auto rate = [&](const char* name, double v) {
-    if (!(v > 0.0) || !std::isfinite(v)) return rangeError(w.child(std::string("rates.") + name).str(), v, "must be > 0 (Hz)");
-    return ConfigResult::success();
-  };
-  for (auto rr : {rate("sim", s.rates.sim), rate("servo", s.rates.servo), rate("wts", s.rates.wts),
-                  rate("features", s.rates.features)})
-    if (!rr) return rr;
   // The physics step 1 / rates.sim must be one the world takes (a larger one
   // would be refused on every cycle, the arm never moving).
   if (1.0 / s.rates.sim > s.world.max_step_s + 1e-12) {
@@ -560,11 +501,7 @@ ConfigResult validateScene(const Scene& s) {
                   s.world.max_step_s);
     return rangeError(w.child("rates.sim").str(), s.rates.sim, req);
   }
-  for (auto [name, v] : {std::pair<const char*, double>{"servo", s.rates.servo}, {"wts", s.rates.wts},
-                         {"features", s.rates.features}})
-    if (v > s.rates.sim + 1e-9)
-      return rangeError(w.child(std::string("rates.") + name).str(), v,
-                        "must be <= rates.sim = " + std::to_string(s.rates.sim) + " Hz (the physics rate)");
+  if (const ConfigResult r = schema::checkRanges(sceneSchema(), s, s.file + ": "); !r) return r;
   if (const ConfigResult sr = schema::checkRanges(sensorSchema(), s.world.pad, w.child("sensor").str()); !sr) return sr;
   auto known = [&](const std::string& ph) {
     for (const auto& p : s.servo.phases)
