@@ -1,7 +1,9 @@
 """The key tables of docs/formats.md ("Keys of the program's blocks", "Keys
-of the scene's blocks") are generated from the declarations
-(components/servo/src/servo_schema.cpp, sim/lwr/src/sim_schema.cpp) by
-`tactile_sim schema program|scene`. This script writes them into the page or
+of the scene's blocks", "Keys of the sensor's blocks", the registry's) are generated from the
+declarations (components/servo/src/servo_schema.cpp, sim/runner/src/scene_schema.cpp,
+sim/lwr/src/sim_schema.cpp, components/features/src/features_schema.cpp,
+components/config/src/registry.cpp) by
+`tactile_sim schema program|scene|sensor|registry`. This script writes them into the page or
 checks that the page shows what the declarations say.
 
 usage: parameter_tables.py ROOT [--tool TACTILE_SIM] (--update | --check [--mutate])
@@ -18,7 +20,7 @@ import re
 import subprocess
 import sys
 
-WHICH = ("program", "scene")
+WHICH = ("program", "scene", "sensor", "registry")
 END = "<!-- END generated -->"
 
 

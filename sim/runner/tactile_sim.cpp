@@ -9,7 +9,7 @@
 //                         [--set KEY.PATH=VALUE ...]
 //   tactile_sim program FILE [--check]   the phase program with its `base:` merged (YAML)
 //   tactile_sim scene FILE [--set KEY.PATH=VALUE ...]   the scene and its program as read (YAML)
-//   tactile_sim schema [program|scene]   the key tables of the declared blocks (Markdown)
+//   tactile_sim schema [program|scene|sensor|registry]   the key tables of the declared blocks (Markdown)
 //
 // --set overrides a scene key before the scene is read (repeatable):
 // `--set sensor.noise_counts=30 --set rates.servo=1000`; a key under
@@ -24,7 +24,9 @@
 // and then, as a second YAML document, its program as `program` prints it
 // with the `program.` overrides: what `run` would read, checked in full. `schema` prints what
 // docs/formats.md shows for each declared block of a program
-// (tactile_servo/servo_schema.hpp) or of a scene (tactile_sim/sim_schema.hpp).
+// (tactile_servo/servo_schema.hpp), of a scene (tactile_sim/scene_schema.hpp), of a
+// sensor's parameter file (tactile_features/features_schema.hpp) or of the
+// experiment registry (tactile_config/registry.hpp).
 //
 // --through-fri sends every 1 kHz command through the FRI protocol: the world
 // state is encoded as a KRC measurement packet, tactile::fri::FriBridge (rate
@@ -56,9 +58,11 @@
 #include <yaml-cpp/yaml.h>
 
 #include "tactile_servo/program_io.hpp"
+#include "tactile_config/registry.hpp"
+#include "tactile_features/features_schema.hpp"
 #include "tactile_servo/servo_schema.hpp"
 #include "tactile_sim/report_table.hpp"
-#include "tactile_sim/sim_schema.hpp"
+#include "tactile_sim/scene_schema.hpp"
 #include "tactile_sim/runner.hpp"
 
 #ifndef TACTILE_SOURCE_DIR
@@ -79,7 +83,7 @@ void usage() {
                "                         [--through-fri] [--no-plots] [--set KEY.PATH=VALUE ...]\n"
                "       tactile_sim program FILE [--check]\n"
                "       tactile_sim scene FILE [--set KEY.PATH=VALUE ...]\n"
-               "       tactile_sim schema [program|scene]\n";
+               "       tactile_sim schema [program|scene|sensor|registry]\n";
 }
 
 bool number(const char* s, double& v) {
@@ -319,11 +323,14 @@ int main(int argc, char** argv) {
   if (argc >= 3 && std::string(argv[1]) == "scene") return printScene(argc, argv);
   if ((argc == 2 || argc == 3) && std::string(argv[1]) == "schema") {
     const std::string which = argc == 3 ? argv[2] : "program";
-    if (which != "program" && which != "scene") {
+    if (which != "program" && which != "scene" && which != "sensor" && which != "registry") {
       usage();
       return 2;
     }
-    std::cout << (which == "program" ? programSchemaMarkdown() : sceneSchemaMarkdown());
+    std::cout << (which == "program"    ? programSchemaMarkdown()
+                  : which == "scene"    ? sceneFileSchemaMarkdown()
+                  : which == "registry" ? config::registrySchemaMarkdown()
+                                        : sensorSchemaMarkdown());
     return 0;
   }
   if (argc < 3 || std::string(argv[1]) != "run") {

@@ -54,6 +54,9 @@
 #include <rtt/os/fosi.h>
 #include <yaml-cpp/yaml.h>
 
+#include "tactile_config/registry.hpp"
+
+#include <climits>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -68,12 +71,6 @@ namespace tactile {
 namespace {
 
 // The keys of an experiment entry (experiments.yaml's header documents them).
-const std::vector<std::string> kEntryKeys = {"title",     "scene",    "program", "controller", "state_machine",
-                                             "timeout_s", "robot",    "metrics"};
-const std::vector<std::string> kStateMachineKeys = {"file", "name", "params"};
-// ServoComponent's controller_mode values ('' = the program's controller.mode).
-const std::vector<std::string> kControllerModes = {"", "proposed", "baseline", "no_rotation"};
-
 std::string joined(const std::vector<std::string>& v) {
   std::string out;
   for (const auto& s : v) out += (out.empty() ? "" : ", ") + (s.empty() ? std::string("''") : s);
@@ -420,24 +417,37 @@ class DeployGuard : public RTT::TaskContext {
     return "";
   }
 
+  // The scene names the program its headless run (tactile_sim run) reads;
+  // the deployment must run that same program. "" or the error.
+  static std::string sceneProgramAgrees(const std::string& key, const std::string& scene_file,
+                                        const std::string& program_file) {
+    std::string named;
+    try {
+      const YAML::Node p = YAML::LoadFile(scene_file)["program"];
+      if (!p) return key + "scene: " + scene_file + " names no `program` (the headless run's)";
+      named = p.as<std::string>();
+    } catch (const YAML::Exception& ex) {
+      return key + "scene: " + scene_file + ": program: " + ex.what();
+    }
+    const auto slash = scene_file.find_last_of('/');
+    const std::string scene_dir = slash == std::string::npos ? std::string() : scene_file.substr(0, slash + 1);
+    const std::string from_scene = !named.empty() && named[0] == '/' ? named : scene_dir + named;
+    if (canonical(from_scene) == canonical(program_file)) return "";
+    return key + "program: " + program_file + " is not the scene's program " + from_scene + " (" + scene_file +
+           ": program): the deployment would run another program than the headless run";
+  }
+
+  static std::string canonical(const std::string& path) {
+    char buf[PATH_MAX];
+    return ::realpath(path.c_str(), buf) ? std::string(buf) : path;
+  }
+
   // Registry paths are relative to the registry's directory; the deployer's
   // working directory is deployments/: prefix the registry's directory.
   std::string resolved(const std::string& path) const {
     if (path.empty() || path[0] == '/') return path;
     const auto slash = registry_file_.find_last_of('/');
     return slash == std::string::npos ? path : registry_file_.substr(0, slash + 1) + path;
-  }
-
-  // "" when every key of map `m` is in `valid`, else the first unknown key
-  // as an error under `prefix` (e.g. "file: experiments.x.state_machine.").
-  static std::string unknownKey(const YAML::Node& m, const std::string& prefix, const std::vector<std::string>& valid) {
-    for (const auto& kv : m) {
-      const std::string k = kv.first.as<std::string>();
-      bool known = false;
-      for (const auto& v : valid) known = known || v == k;
-      if (!known) return prefix + k + ": unknown key (valid: " + joined(valid) + ")";
-    }
-    return "";
   }
 
   // The entry's state_machine.params, each a declared param of the machine
@@ -508,25 +518,17 @@ class DeployGuard : public RTT::TaskContext {
     if (!entry_err.empty()) return entry_err;
     const std::string key = registry_file_ + ": experiments." + name + ".";
     try {
-      if (std::string err = unknownKey(e, key, kEntryKeys); !err.empty()) return err;
-      for (const char* k : {"scene", "program", "controller", "state_machine", "timeout_s"})
-        if (!e[k]) return key + k + ": missing (keys: " + joined(kEntryKeys) + ")";
-      const std::string scene = e["scene"].as<std::string>();
-      const std::string program = e["program"].as<std::string>();
-      const std::string controller = e["controller"].IsNull() ? "" : e["controller"].as<std::string>();
-      bool mode_ok = false;
-      for (const auto& v : kControllerModes) mode_ok = mode_ok || v == controller;
-      if (!mode_ok) return key + "controller: '" + controller + "' (valid: " + joined(kControllerModes) + ")";
-      const double timeout = e["timeout_s"].as<double>();
-      if (!(timeout > 0.0)) return key + "timeout_s: " + std::to_string(timeout) + " (valid: > 0)";
-      const bool robot = e["robot"] ? e["robot"].as<bool>() : false;
+      config::ExperimentEntry entry;
+      const ConfigResult read = config::readExperimentEntry(e, config::Where{registry_file_, "experiments." + name}, entry);
+      if (!read) return read.message();
+      const std::string& scene = entry.scene;
+      const std::string& program = entry.program;
+      const std::string& controller = entry.controller;
+      const double timeout = entry.timeout_s;
+      const bool robot = entry.robot;
       const YAML::Node sm = e["state_machine"];
-      if (!sm.IsMap()) return key + "state_machine: not a map (keys: " + joined(kStateMachineKeys) + ")";
-      if (std::string err = unknownKey(sm, key + "state_machine.", kStateMachineKeys); !err.empty()) return err;
-      for (const char* k : {"file", "name"})
-        if (!sm[k]) return key + "state_machine." + k + ": missing (keys: " + joined(kStateMachineKeys) + ")";
-      const std::string osd = resolved(sm["file"].as<std::string>());
-      const std::string instance = sm["name"].as<std::string>();
+      const std::string osd = resolved(entry.sm_file);
+      const std::string instance = entry.sm_name;
       const std::vector<std::pair<std::string, std::string>> files = {
           {"scene", resolved(scene)}, {"program", resolved(program)}, {"state_machine.file", osd}};
       for (const auto& [k, path] : files)
@@ -542,6 +544,7 @@ class DeployGuard : public RTT::TaskContext {
       if (std::string err = entryParams(sm, key, type, osd, declared, params); !err.empty()) return err;
       const std::string derived = sceneDurationParam(key, resolved(scene), declared, params);
       if (!derived.empty()) return derived;
+      if (std::string err = sceneProgramAgrees(key, resolved(scene), resolved(program)); !err.empty()) return err;
       // Checked: take it.
       experiment_ = name;
       scene_file_ = resolved(scene);
@@ -554,7 +557,7 @@ class DeployGuard : public RTT::TaskContext {
       report_file_ = name + report_suffix_;
       params_ = params;
     } catch (const YAML::Exception& ex) {
-      return key.substr(0, key.size() - 1) + ": " + ex.what() + " (keys: " + joined(kEntryKeys) + ")";
+      return key.substr(0, key.size() - 1) + ": " + ex.what();
     }
     return "";
   }
