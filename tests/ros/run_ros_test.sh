@@ -3,7 +3,7 @@
 # its own on the loopback address): the simulated edge exploration with ROS
 # streams (tests/ros/ops/edge_exploration_ros.ops, run from deployments/) and
 # tests/ros/check_topics.py subscribing meanwhile.
-# With BAG_OUT, rosbag records /tactile/image and /tactile/features meanwhile
+# With BAG_OUT, record_bag.py records /tactile/image and /tactile/features meanwhile
 # into that file (for ctest ros_bag_replay: tests/ros/check_bag.py).
 #   run_ros_test.sh SOURCE_DIR BUILD_DIR OROCOS_PREFIX ROS_PREFIX [BAG_OUT]
 set -o pipefail
@@ -29,11 +29,10 @@ rm -f "$report"
   "$src/components/servo/programs/edge_exploration.yaml" > "$tmp/check.log" 2>&1 &
 checker=$!
 if [ -n "$bag_out" ]; then
-  # rosbag's recorder (subscribed before the deployment advertises); SIGINT closes the bag.
+  # The recorder (subscribed before the deployment advertises; record_bag.py:
+  # rosbag's recorder drops messages under load); SIGINT writes the bag.
   rm -f "$bag_out" "$tmp/run.bag"
-  recorder_bin=/usr/lib/rosbag/record
-  [ -x "$recorder_bin" ] || recorder_bin="$(command -v rosbag) record"
-  setsid $recorder_bin -O "$tmp/run.bag" /tactile/image /tactile/features __name:=tactile_test_bag \
+  setsid /usr/bin/python3 "$src/tests/ros/record_bag.py" "$tmp/run.bag" __name:=tactile_test_bag \
     > "$tmp/rosbag.log" 2>&1 &
   recorder=$!
   for _ in $(seq 100); do
@@ -48,7 +47,7 @@ touch "$done_file"
 if [ -n "$recorder" ]; then
   sleep 1  # the last messages in flight
   kill -INT -- "-$recorder" 2>/dev/null
-  for _ in $(seq 100); do kill -0 "$recorder" 2>/dev/null || break; sleep 0.1; done
+  for _ in $(seq 300); do kill -0 "$recorder" 2>/dev/null || break; sleep 0.1; done  # it writes the bag
   recorder=""
   if [ -f "$tmp/run.bag" ]; then
     mkdir -p "$(dirname "$bag_out")" && cp "$tmp/run.bag" "$bag_out" && echo "run_ros_test: bag $bag_out"
