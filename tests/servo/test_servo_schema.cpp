@@ -34,9 +34,9 @@ TEST(SchemaBlocks, EveryRangeIsReadableAndEnforced) {
 
 TEST(SchemaBlocks, TransitionEventNamesAreTheFileNames) {
   constexpr int kEvents = static_cast<int>(kLastTransitionEvent) + 1;
-  ASSERT_EQ(schema::detail::choiceCount(kTransitionEventNames), kEvents);
+  ASSERT_EQ(schema::detail::choiceCount(transitionEventNames()), kEvents);
   for (int i = 0; i < kEvents; ++i)
-    EXPECT_EQ(schema::detail::choiceName(kTransitionEventNames, i), toString(static_cast<TransitionEvent>(i)));
+    EXPECT_EQ(schema::detail::choiceName(transitionEventNames(), i), toString(static_cast<TransitionEvent>(i)));
 }
 
 TEST(SchemaBlocks, RangeSyntax) {

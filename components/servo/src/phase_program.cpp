@@ -12,10 +12,6 @@ namespace tactile {
 using servo_config::err;
 using servo_config::where;
 
-const char* const kTransitionEventNames =
-    "contact|edge|point|aligned|contact_lost|force_above|timeout|wrist_wound|wrist_unwound|loop_closed|multiple|"
-    "joint_margin";
-
 const char* toString(TransitionEvent e) {
   switch (e) {
     case TransitionEvent::Contact: return "contact";
@@ -32,6 +28,16 @@ const char* toString(TransitionEvent e) {
     case TransitionEvent::JointMargin: return "joint_margin";
   }
   return "unknown";
+}
+
+const char* transitionEventNames() {
+  static const std::string names = [] {  // toString's names, in the enum's order
+    std::string all;
+    for (int i = 0; i <= static_cast<int>(kLastTransitionEvent); ++i)
+      all += (i ? "|" : "") + std::string(toString(static_cast<TransitionEvent>(i)));
+    return all;
+  }();
+  return names.c_str();
 }
 
 ConfigResult PhaseProgram::configure(const ServoParams& p) {

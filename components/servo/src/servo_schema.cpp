@@ -304,7 +304,7 @@ const schema::Block<TransitionParams>& transitionSchema() {
       "transitions[]",
       "an event that leaves a phase (PhaseProgram, phase_program.hpp); its keys depend on the event `on`",
       {F::choice(
-           "on", kTransitionEventNames, [](const S& s) { return static_cast<int>(s.on); },
+           "on", transitionEventNames(), [](const S& s) { return static_cast<int>(s.on); },
            [](S& s, int i) { s.on = static_cast<TransitionEvent>(i); }, "the event")
            .needed(),
        F::str("to", TACTILE_SCHEMA_REF(S, to), "the phase it leads to").form("a phase").needed(),

@@ -30,8 +30,9 @@ const schema::Block<PhaseParams>& phaseSchema();
 /// A transition: its keys depend on its event (`on`, the block's selector);
 /// tolerance (Custom) is read by program_io.cpp.
 const schema::Block<TransitionParams>& transitionSchema();
-/// The events' names in a file, in TransitionEvent's order ("contact|edge|...").
-extern const char* const kTransitionEventNames;
+/// The events' names in a file, in TransitionEvent's order ("contact|edge|..."):
+/// toString(TransitionEvent)'s, joined once.
+const char* transitionEventNames();
 
 }  // namespace tactile
 
