@@ -45,6 +45,7 @@ esac
 # it keeps its configuration), and the full configuration later reuses the
 # simulator's objects.
 bash "$root/scripts/setup/setup_deps.sh"
+bash "$root/scripts/setup/realtime_host.sh"
 first_rtt=OFF
 if grep -qs '^TACTILE_WITH_RTT:STRING=ON$' "$root/build/CMakeCache.txt" && [ "${TACTILE_WITH_RTT:-ON}" != OFF ]; then first_rtt=ON; fi
 if [ "$first_rtt" = OFF ]; then

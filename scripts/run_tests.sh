@@ -6,6 +6,7 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 t0=$SECONDS
 bash "$root/scripts/setup/setup_deps.sh"
+bash "$root/scripts/setup/realtime_host.sh"
 bash "$root/scripts/setup/setup_orocos.sh"
 echo "run_tests: set-up took $((SECONDS - t0)) s"
 bash "$root/scripts/setup/build.sh"

@@ -13,14 +13,22 @@
 //    users"); this check then logs, per activity, one warning saying so and
 //    how to grant the rights, and counts it in `fallbacks`. The deployment
 //    goes on (best effort) unless require_realtime is set.
+//  * check() also reads kernel.sched_autogroup_enabled. The sensor's bytes
+//    (USB-serial or PTY) reach the Sensor thread through a SCHED_OTHER kernel
+//    worker (the tty's flip-buffer work); with autogroup on, a CPU-bound load
+//    held that worker off its CPU for seconds (docs/realtime.md, "The
+//    sensor's tty under CPU load"). On: one warning naming the setting and
+//    scripts/setup/realtime_host.sh; a failure with require_realtime.
 //
 // Interface (documented with .doc() in the constructor):
 //   property lock_memory (bool)      mlockall at configure (default true)
 //   property scheduler (string)      ORO_SCHED_RT or ORO_SCHED_OTHER: what every expected activity asked for
 //   property expected (string)       "Robot:90 Servo:80 ...": peers and the priorities they asked for
-//   property require_realtime (bool) a fallback fails check() (default false: warn and go on)
+//   property require_realtime (bool) a fallback or autogroup on fails check() (default false: warn and go on)
+//   property autogroup_path (string) where the autogroup setting is read (default /proc/sys/kernel/sched_autogroup_enabled)
 //   attr memory_locked (bool), memory_lock_skipped (bool: sanitizer build), realtime (bool: every activity as asked), rt_permitted (bool: RTT's
-//        own verdict on the scheduler for this process), fallbacks (int), report (string)
+//        own verdict on the scheduler for this process), fallbacks (int), report (string),
+//        autogroup (int: 1 on, 0 off, -1 unreadable)
 //   op   bool check(), string actual(string name) ("SCHED_FIFO 90", "SCHED_OTHER 0", "none")
 //
 // Not on any real-time path: the deployer's thread calls it while setting up.
@@ -37,6 +45,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <fstream>
 #include <sstream>
 #include <string>
 
@@ -61,17 +70,23 @@ class RealtimeCheck : public RTT::TaskContext {
         .doc("Space-separated Name:priority of the peers to check, e.g. \"Robot:90 Servo:80 Features:70 Sensor:60\".");
     addProperty("require_realtime", require_realtime_)
         .doc("When true, an activity that runs below what it asked for fails check() (and start()); "
-             "when false (default) it is a warning and the deployment goes on best effort.");
+             "when false (default) it is a warning and the deployment goes on best effort. The same "
+             "for kernel.sched_autogroup_enabled = 1.");
+    addProperty("autogroup_path", autogroup_path_)
+        .doc("File holding kernel.sched_autogroup_enabled, read by check(); 1 is a warning (the sensor's tty "
+             "worker can be starved by a CPU-bound load).");
     addAttribute("memory_locked", memory_locked_);
     addAttribute("memory_lock_skipped", memory_lock_skipped_);
     addAttribute("realtime", realtime_);
     addAttribute("rt_permitted", rt_permitted_);
     addAttribute("fallbacks", fallbacks_);
     addAttribute("report", report_);
+    addAttribute("autogroup", autogroup_);
     addOperation("check", &RealtimeCheck::check, this, RTT::ClientThread)
         .doc("Checks each expected peer's activity (scheduler, priority, CPU affinity), logs one line each "
-             "(a warning for a fallback) and fills realtime, fallbacks, report. False when a peer or its "
-             "thread is missing, or on a fallback with require_realtime.");
+             "(a warning for a fallback) and fills realtime, fallbacks, report; reads autogroup (a warning "
+             "when on). False when a peer or its thread is missing, or on a fallback or autogroup on with "
+             "require_realtime.");
     addOperation("actual", &RealtimeCheck::actual, this, RTT::ClientThread)
         .doc("Scheduler and priority the peer's activity thread runs with: \"SCHED_FIFO 90\", "
              "\"SCHED_OTHER 0\", or \"none\" (no such peer, or no thread).")
@@ -183,10 +198,29 @@ class RealtimeCheck : public RTT::TaskContext {
       ok = false;
     }
     report_ = rep.str();
-    return ok;
+    return checkAutogroup() && ok;
   }
 
  private:
+  /// kernel.sched_autogroup_enabled into autogroup_; false when on and require_realtime.
+  bool checkAutogroup() {
+    std::ifstream f(autogroup_path_);
+    int v = -1;
+    if (!(f >> v) || (v != 0 && v != 1)) v = -1;
+    autogroup_ = v;
+    if (v == -1) {
+      RTT::log(RTT::Info) << getName() << ": " << autogroup_path_ << ": unreadable (a kernel without autogroup)"
+                          << RTT::endlog();
+      return true;
+    }
+    if (v == 0) return true;
+    RTT::log(RTT::Warning) << getName() << ": kernel.sched_autogroup_enabled = 1 (" << autogroup_path_
+                           << "): the sensor's bytes reach the Sensor thread through a SCHED_OTHER kernel "
+                              "worker, which a CPU-bound load can hold off for seconds while autogroup is on; set it "
+                              "to 0 (scripts/setup/realtime_host.sh, or `sysctl kernel.sched_autogroup_enabled=0`)"
+                           << RTT::endlog();
+    return !require_realtime_;
+  }
   static bool parseInt(const std::string& s, int& v) {
     if (s.empty() || s.size() > 3) return false;
     v = 0;
@@ -218,6 +252,8 @@ class RealtimeCheck : public RTT::TaskContext {
   bool rt_permitted_ = false;
   int fallbacks_ = 0;
   std::string report_;
+  std::string autogroup_path_ = "/proc/sys/kernel/sched_autogroup_enabled";
+  int autogroup_ = -1;
 };
 
 }  // namespace tactile
