@@ -77,10 +77,12 @@ class WtsPty : public ::testing::Test {
     int frames = 0;
     const double t_end = nowS() + max_s;
     while (frames < n && nowS() < t_end) {
-      const ReadStatus st = d.poll(nowS(), 20, f);
+      const double now = nowS();
+      const ReadStatus st = d.poll(now, 20, f);
       if (seen && (seen->empty() || seen->back() != st)) seen->push_back(st);
       if (st == ReadStatus::NewFrame) {
         ++frames;
+        if (!(f.time_s <= now)) ++stamped_after_poll;  // taken before it was read (device_clock.hpp)
         if (!matchesPattern(f) && bad) ++*bad;
       } else if (st == ReadStatus::Disconnected) {
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -92,6 +94,7 @@ class WtsPty : public ::testing::Test {
   TempDir dir;
   SimulatedWts sim;
   WtsParams params;
+  int stamped_after_poll = 0;
 };
 
 }  // namespace
@@ -108,6 +111,8 @@ TEST_F(WtsPty, StreamsPeriodicFramesExactlyPlainAndRle) {
     int bad = 0;
     EXPECT_EQ(collect(d, 100, 5.0, &bad), 100) << "rle " << rle;
     EXPECT_EQ(bad, 0);
+    EXPECT_EQ(stamped_after_poll, 0);
+    EXPECT_EQ(d.clockStats().restarts, 0u) << "the simulated device's stamps advance";
     EXPECT_EQ(d.parserStats().crc_errors, 0u);
     d.close();
     EXPECT_FALSE(sim.streaming()) << "close() stops periodic acquisition";

@@ -72,6 +72,7 @@ CmdStatus WtsDriver::open(std::string* why) {
     return CmdStatus::NotOpen;
   }
   parser_.reset();
+  clock_.reset();
   if (p_.check_matrix_info) {
     MatrixInfo mi;
     const CmdStatus s = matrixInfo(mi);
@@ -258,6 +259,7 @@ ReadStatus WtsDriver::poll(double now_s, int timeout_ms, RawTactileFrame& out) {
     last_attempt_s_ = now_s;
     if (port_.reopen() != IoStatus::Ok) return ReadStatus::Disconnected;
     parser_.reset();
+    clock_.reset();
     request_outstanding_ = false;
     frame_clock_started_ = false;
     if (p_.periodic_ms > 0 && !kickPeriodic()) {
@@ -308,7 +310,7 @@ ReadStatus WtsDriver::poll(double now_s, int timeout_ms, RawTactileFrame& out) {
   if (got_frame && have_latest_) {
     have_latest_ = false;
     last_frame_s_ = now_s;
-    latest_.time_s = now_s;
+    latest_.time_s = clock_.capture(latest_.device_time_ms, now_s);  // when taken, not when read
     latest_.seq = seq_++;
     out = latest_;
     return ReadStatus::NewFrame;

@@ -26,6 +26,7 @@
 
 #include "tactile_types/config_result.hpp"
 #include "tactile_types/types.hpp"
+#include "tactile_wts/device_clock.hpp"
 #include "tactile_wts/protocol.hpp"
 #include "tactile_wts/serial_port.hpp"
 
@@ -46,7 +47,7 @@ struct WtsParams {
 };
 
 enum class ReadStatus : uint8_t {
-  NewFrame = 0,      ///< `out` holds the newest valid frame received in this call
+  NewFrame = 0,      ///< `out` holds the newest valid frame received in this call; its time_s is when the device took it (device_clock.hpp)
   NoData = 1,        ///< nothing complete arrived within the timeout
   LinkErrors = 2,    ///< bytes arrived but only malformed ones (CRC, size, RLE); no frame
   DeviceError = 3,   ///< the device answered a frame request with status != E_SUCCESS
@@ -99,6 +100,9 @@ class WtsDriver {
   StatusCode lastDeviceStatus() const { return last_status_; }
 
   const DriverStats& stats() const { return stats_; }
+  /// The frames' delay from the device's clock (device_clock.hpp): a frame's
+  /// time_s is when it was taken, in now_s's base.
+  const DeviceClockStats& clockStats() const { return clock_.stats(); }
   const ParserStats& parserStats() const { return parser_.stats(); }
   IoStatus lastIo() const { return last_io_; }
   int lastErrno() const { return port_.lastErrno(); }
@@ -118,6 +122,7 @@ class WtsDriver {
   SerialPort port_;
   Parser parser_{Direction::FromDevice};
   FrameDecoder decoder_;
+  DeviceClock clock_;
   RawTactileFrame latest_{};
   bool have_latest_ = false;
   bool device_error_ = false;

@@ -30,7 +30,11 @@ WtsComponent::WtsComponent(const std::string& name) : Component(name, PreOperati
   addAtomicAttribute(*provides(), "frames", frames_);
   addAtomicAttribute(*provides(), "timeouts", timeouts_);
   addAtomicAttribute(*provides(), "fd_activity", fd_activity_attr_);
-  addPort(raw_out_).doc("Raw WTS frame (12-bit counts, {s} layout), stamped with RTT's TimeService (s).");
+  addAtomicAttribute(*provides(), "frame_delay", frame_delay_);
+  addAtomicAttribute(*provides(), "frame_delay_max", frame_delay_max_);
+  addPort(raw_out_).doc("Raw WTS frame (12-bit counts, {s} layout); time_s is when the device took it, on RTT's "
+                        "TimeService (s): its arrival minus its delay (attribute frame_delay) in the link and the "
+                        "tty, from the device's own clock.");
   addOperation("lastError", &WtsComponent::lastError, this, RTT::ClientThread)
       .doc("Message of the last failed configure() or start().");
   addOperation("statusName", &WtsComponent::statusName, this, RTT::ClientThread)
@@ -126,10 +130,11 @@ void WtsComponent::updateHook() {
   // Never waits: what arrived is read, decoded; reconnection is due by `now`.
   const wts::ReadStatus st = driver_.poll(now, 0, raw_);
   record(read_status_, static_cast<int>(st));
-  if (st == wts::ReadStatus::NewFrame) {
-    raw_.time_s = now;
+  if (st == wts::ReadStatus::NewFrame) {  // time_s: when taken, from the device's clock (device_clock.hpp)
     raw_out_.write(raw_);
     bump(frames_);
+    record(frame_delay_, driver_.clockStats().delay_last_s);
+    record(frame_delay_max_, driver_.clockStats().delay_max_s);
   }
   // The driver closes the port on unplug and re-opens it later: watch the
   // descriptor it has now (never a closed one: select() would fail on it).

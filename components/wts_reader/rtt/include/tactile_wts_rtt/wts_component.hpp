@@ -10,11 +10,14 @@
 //   property stop_timeout (double) s, [1, 60], default 5: the longest wait of stop() for the
 //                                  FileDescriptorActivity's thread (its select() on a tty can wait
 //                                  in the kernel for the tty's worker thread)
-//   out  raw_frame (/tactile/RawTactileFrame)  each new frame, stamped with RTT's TimeService
+//   out  raw_frame (/tactile/RawTactileFrame)  each new frame; time_s is when the device took it, on RTT's
+//                                  TimeService: its arrival minus its delay (tactile_wts/device_clock.hpp)
 //   attr read_status (int)   wts::ReadStatus of the last poll (0 new frame, 1 no data, 5 disconnected...)
 //   attr frames (int)        frames written since start
 //   attr timeouts (int)      FileDescriptorActivity wake-ups by poll_timeout (no byte for poll_timeout s)
 //   attr fd_activity (bool)  the activity is a FileDescriptorActivity (set by configure/start)
+//   attr frame_delay (double), frame_delay_max (double)  s: the last frame's delay in the link and the
+//                            tty (arrival minus when taken, from the device's clock), and the largest
 //   op   string lastError(), string statusName()
 //
 // Execution: no hook waits. Each updateHook polls the driver once with a zero
@@ -80,6 +83,8 @@ class WtsComponent : public Component {
   std::atomic<int> frames_{0};
   std::atomic<int> timeouts_{0};
   std::atomic<bool> fd_activity_attr_{false};
+  std::atomic<double> frame_delay_{0.0};
+  std::atomic<double> frame_delay_max_{0.0};
   RTT::extras::FileDescriptorActivityInterface* fd_activity_ = nullptr;  // set by startHook while running
   int watched_fd_ = -1;
 
