@@ -12,8 +12,25 @@ namespace {
 TEST(SimSchema, EveryRangeIsReadableAndEnforced) {
   test::expectRangesEnforced(sim::sensorSchema());
   test::expectRangesEnforced(sim::worldEffectsSchema());
+  test::expectRangesEnforced(sim::armSchema());
   test::expectKeysUniqueAndDocumented(sim::sensorSchema());
   test::expectKeysUniqueAndDocumented(sim::worldEffectsSchema());
+  test::expectKeysUniqueAndDocumented(sim::armSchema());
+}
+
+// LwrArm::configure checks the scene's arm keys against the declaration (the
+// same message as the scene reader's), the others on its own.
+TEST(SimSchema, TheArmChecksItsDeclaredRanges) {
+  sim::LwrArm arm;
+  sim::ArmParams p;
+  ASSERT_TRUE(arm.configure(p).ok());
+  p.damping_ratio = 10.5;
+  const ConfigResult r = arm.configure(p);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.message(), "arm.damping_ratio = 10.5: must be in [0, 10]");
+  p = sim::ArmParams();
+  p.dyn_refresh_qd = -0.1;
+  EXPECT_FALSE(arm.configure(p).ok());
 }
 
 }  // namespace

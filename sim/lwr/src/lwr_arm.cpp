@@ -1,5 +1,7 @@
 #include "tactile_sim/lwr_arm.hpp"
 
+#include "tactile_sim/sim_schema.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -64,10 +66,7 @@ ConfigResult LwrArm::configure(const ArmParams& p) {
   configured_ = false;
   auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
   auto nonneg = [](double v) { return std::isfinite(v) && v >= 0.0; };
-  if (!positive(p.k_trans)) return rangeError("arm.k_trans", p.k_trans, "must be > 0 (N/m)");
-  if (!positive(p.k_rot)) return rangeError("arm.k_rot", p.k_rot, "must be > 0 (N m/rad)");
-  if (!nonneg(p.damping_ratio) || p.damping_ratio > 10.0)
-    return rangeError("arm.damping_ratio", p.damping_ratio, "must be in [0, 10]");
+  if (const ConfigResult declared = schema::checkRanges(armSchema(), p, "arm"); !declared) return declared;
   if (!nonneg(p.null_stiffness)) return rangeError("arm.null_stiffness", p.null_stiffness, "must be >= 0 (N m/rad)");
   if (!nonneg(p.null_damping)) return rangeError("arm.null_damping", p.null_damping, "must be >= 0 (N m s/rad)");
   if (!nonneg(p.joint_damping)) return rangeError("arm.joint_damping", p.joint_damping, "must be >= 0 (N m s/rad)");
@@ -78,10 +77,6 @@ ConfigResult LwrArm::configure(const ArmParams& p) {
   if (p.ik_iterations < 1 || p.ik_iterations > 100)
     return rangeError("arm.ik_iterations", p.ik_iterations, "must be in [1, 100]");
   if (!positive(p.ik_damping) || p.ik_damping > 1.0) return rangeError("arm.ik_damping", p.ik_damping, "must be in (0, 1]");
-  if (!nonneg(p.dyn_refresh_q) || p.dyn_refresh_q > 0.1)
-    return rangeError("arm.dyn_refresh_q", p.dyn_refresh_q, "must be in [0, 0.1] rad");
-  if (!nonneg(p.dyn_refresh_qd) || p.dyn_refresh_qd > 1.0)
-    return rangeError("arm.dyn_refresh_qd", p.dyn_refresh_qd, "must be in [0, 1] rad/s");
   if (!nonneg(p.tool_mass)) return rangeError("arm.tool_mass", p.tool_mass, "must be >= 0 (kg)");
   if (!finite3(p.tool_com)) return ConfigResult::failure("arm.tool_com: must be finite (m)");
   for (int i = 0; i < kLwrJoints; ++i) {

@@ -32,6 +32,25 @@ const schema::Block<PadParams>& sensorSchema() {
   return b;
 }
 
+const schema::Block<ArmParams>& armSchema() {
+  using S = ArmParams;
+  using F = schema::Field<S>;
+  static const schema::Block<S> b{
+      "arm",
+      "the simulated LWR 4+ (LwrArm, lwr_arm.hpp): its start and the KRC's Cartesian impedance (Eq. 11)",
+      {F::custom("q_init_deg", "deg", "7 values, each within its joint's range (+-170, +-120 deg)",
+                 "0, -34.4, 0, 80.2, 0, -65.4, 0", "the start joints; also the null space's rest posture"),
+       F::num("k_trans", "N/m", "> 0", TACTILE_SCHEMA_REF(S, k_trans), "the translational stiffness"),
+       F::num("k_rot", "N m/rad", "> 0", TACTILE_SCHEMA_REF(S, k_rot), "the rotational stiffness"),
+       F::num("damping_ratio", "", "[0, 10]", TACTILE_SCHEMA_REF(S, damping_ratio),
+              "zeta of the impedance's damping"),
+       F::num("dyn_refresh_q", "rad", "[0, 0.1]", TACTILE_SCHEMA_REF(S, dyn_refresh_q),
+              "dynamics: M(q) and C(q, qd) qd re-evaluated when a joint moved more than this (0: every step)"),
+       F::num("dyn_refresh_qd", "rad/s", "[0, 1]", TACTILE_SCHEMA_REF(S, dyn_refresh_qd),
+              "... or a joint speed changed more than this")}};
+  return b;
+}
+
 const schema::Block<WorldParams>& worldEffectsSchema() {
   using S = WorldParams;
   using F = schema::Field<S>;
@@ -49,7 +68,10 @@ const schema::Block<WorldParams>& worldEffectsSchema() {
   return b;
 }
 
-std::string sceneSchemaMarkdown() { return schema::markdownSection(sensorSchema()) + "\n" + schema::markdownSection(worldEffectsSchema()); }
+std::string sceneSchemaMarkdown() {
+  return schema::markdownSection(sensorSchema()) + "\n" + schema::markdownSection(armSchema()) + "\n" +
+         schema::markdownSection(worldEffectsSchema());
+}
 
 }  // namespace sim
 }  // namespace tactile

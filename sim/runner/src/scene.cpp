@@ -314,19 +314,14 @@ ConfigResult readArm(const YAML::Node& root, const Where& w, Scene& s) {
   ConfigResult r = ConfigResult::success();
   if (const YAML::Node n = root["arm"]) {
     const Where wa = w.child("arm");
-    if (!(r = checkKeys(n, wa, {"q_init_deg", "k_trans", "k_rot", "damping_ratio", "dyn_refresh_q", "dyn_refresh_qd"})))
-      return r;
+    if (!(r = config::readBlock(n, wa, armSchema(), s.world.arm))) return r;  // q_init_deg: below
     std::vector<double> q;
     if (!(r = read(n, "q_init_deg", q, wa))) return r;
     if (n["q_init_deg"]) {
       if (q.size() != 7) return fail(wa.child("q_init_deg"), "must have 7 entries (deg)");
       for (std::size_t i = 0; i < 7; ++i) s.world.arm.q_init[i] = q[i] * kDeg;
     }
-    for (auto rr : {read(n, "k_trans", s.world.arm.k_trans, wa), read(n, "k_rot", s.world.arm.k_rot, wa),
-                    read(n, "damping_ratio", s.world.arm.damping_ratio, wa),
-                    read(n, "dyn_refresh_q", s.world.arm.dyn_refresh_q, wa),
-                    read(n, "dyn_refresh_qd", s.world.arm.dyn_refresh_qd, wa)})
-      if (!rr) return rr;
+    if (!(r = schema::checkRanges(armSchema(), s.world.arm, wa.str()))) return r;
   }
   if (const YAML::Node n = root["initial_flange"]) {
     const Where wi = w.child("initial_flange");

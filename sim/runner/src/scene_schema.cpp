@@ -39,7 +39,7 @@ const schema::Block<Scene>& sceneSchema() {
        F::num("rates.features", "Hz", "(0, rates.sim]", TACTILE_SCHEMA_REF(S, rates.features),
               "the feature extraction"),
        F::custom("sensor", "", "the block below", "", "the simulated pad: sampling, noise, threshold, layer, housing"),
-       F::custom("arm", "", "q_init_deg (7, deg), k_trans, k_rot, damping_ratio, dyn_refresh_q, dyn_refresh_qd", "",
+       F::custom("arm", "", "the block below", "",
                  "the arm's start joints and impedance"),
        F::custom("initial_flange", "", "xyz (m), rpy_deg (deg)", "none: from q_init_deg",
                  "the flange's start pose {g}T{e}"),

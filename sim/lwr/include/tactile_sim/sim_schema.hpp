@@ -1,12 +1,14 @@
 // The declared blocks of a scene (tactile_types/schema.hpp): `sensor` (the
-// simulated pad, PadParams) and the world's physics and timing effects under
-// `effects` (WorldParams). The scene reader (sim/runner/src/scene.cpp), the
-// range checks of PadSensor::configure and World::configure and the key tables
+// simulated pad, PadParams), `arm` (ArmParams) and the world's physics and
+// timing effects under `effects` (WorldParams). The scene reader
+// (sim/runner/src/scene.cpp), the range checks of PadSensor::configure,
+// LwrArm::configure and World::configure and the key tables
 // of docs/formats.md (`tactile_sim schema scene`) come from these.
 #pragma once
 
 #include <string>
 
+#include "tactile_sim/lwr_arm.hpp"
 #include "tactile_sim/pad_sensor.hpp"
 #include "tactile_sim/world.hpp"
 #include "tactile_types/schema.hpp"
@@ -15,6 +17,9 @@ namespace tactile {
 namespace sim {
 
 const schema::Block<PadParams>& sensorSchema();
+/// The arm's start and impedance; q_init_deg (degrees, stored in radians in
+/// q_init) is read by the scene reader.
+const schema::Block<ArmParams>& armSchema();
 /// `effects`' physics and timing keys; the sensor's effects and the wrench
 /// error share the block (sensor_faults_io.hpp, scene.hpp).
 const schema::Block<WorldParams>& worldEffectsSchema();
