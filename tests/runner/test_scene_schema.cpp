@@ -16,6 +16,8 @@ namespace {
 TEST(SceneSchema, EveryRangeIsReadableAndEnforced) {
   test::expectRangesEnforced(sceneSchema());
   test::expectKeysUniqueAndDocumented(sceneSchema());
+  test::expectRangesEnforced(initialFlangeSchema());
+  test::expectKeysUniqueAndDocumented(initialFlangeSchema());
 }
 
 TEST(SceneSchema, TopLevelKeysAreNamedWithoutABlock) {

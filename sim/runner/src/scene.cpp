@@ -324,10 +324,12 @@ ConfigResult readArm(const YAML::Node& root, const Where& w, Scene& s) {
     if (!(r = schema::checkRanges(armSchema(), s.world.arm, wa.str()))) return r;
   }
   if (const YAML::Node n = root["initial_flange"]) {
+    InitialFlange f;
     const Where wi = w.child("initial_flange");
-    if (!(r = checkKeys(n, wi, {"xyz", "rpy_deg"}))) return r;
-    Vec3 xyz{0, 0, 0}, rpy{0, 0, 0};
-    if (!(r = readVec3(n, "xyz", xyz, wi)) || !(r = readVec3(n, "rpy_deg", rpy, wi))) return r;
+    if (!(r = config::readBlock(n, wi, initialFlangeSchema(), f))) return r;
+    if (!(r = schema::checkRanges(initialFlangeSchema(), f, wi.str()))) return r;
+    const Vec3& xyz = f.xyz;
+    const Vec3& rpy = f.rpy_deg;
     const KDL::Rotation R = KDL::Rotation::RPY(rpy[0] * kDeg, rpy[1] * kDeg, rpy[2] * kDeg);
     double x, y, z, qw;
     R.GetQuaternion(x, y, z, qw);

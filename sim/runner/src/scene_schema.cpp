@@ -41,7 +41,7 @@ const schema::Block<Scene>& sceneSchema() {
        F::custom("sensor", "", "the block below", "", "the simulated pad: sampling, noise, threshold, layer, housing"),
        F::custom("arm", "", "the block below", "",
                  "the arm's start joints and impedance"),
-       F::custom("initial_flange", "", "xyz (m), rpy_deg (deg)", "none: from q_init_deg",
+       F::custom("initial_flange", "", "the block below", "none: from q_init_deg",
                  "the flange's start pose {g}T{e}"),
        F::custom("objects", "", "a list of plane, sphere, bar, bent_bar, tray", "[]", "the objects in the world"),
        F::custom("effects", "", "the block below; the sensor's effects: docs/simulator.md", "",
@@ -71,7 +71,21 @@ const schema::Block<Scene>& sceneSchema() {
   return b;
 }
 
-std::string sceneFileSchemaMarkdown() { return schema::markdownSection(sceneSchema()) + "\n" + sceneSchemaMarkdown(); }
+const schema::Block<InitialFlange>& initialFlangeSchema() {
+  using S = InitialFlange;
+  using F = schema::Field<S>;
+  static const schema::Block<S> b{
+      "initial_flange",
+      "the flange's start pose {g}T{e}, reached by IK from q_init_deg; given, it replaces the arm's start",
+      {F::xyz("xyz", "m", TACTILE_SCHEMA_REF(S, xyz), "the flange's origin in {g}"),
+       F::xyz("rpy_deg", "deg", TACTILE_SCHEMA_REF(S, rpy_deg), "roll, pitch, yaw of {e} in {g} (KDL's RPY)")}};
+  return b;
+}
+
+std::string sceneFileSchemaMarkdown() {
+  return schema::markdownSection(sceneSchema()) + "\n" + schema::markdownSection(initialFlangeSchema()) + "\n" +
+         sceneSchemaMarkdown();
+}
 
 }  // namespace sim
 }  // namespace tactile
