@@ -1,5 +1,7 @@
 #include "tactile_features/calibration.hpp"
 
+#include "tactile_features/features_schema.hpp"
+
 #include <cmath>
 #include <string>
 
@@ -19,8 +21,8 @@ ConfigResult Calibration::configure(const CalibrationParams& p) {
     return rangeError("calibration.rows", p.rows, "must be in [1, " + std::to_string(kMaxRows) + "]");
   if (p.cols < 1 || p.cols > kMaxCols)
     return rangeError("calibration.cols", p.cols, "must be in [1, " + std::to_string(kMaxCols) + "]");
-  if (p.full_scale < 1 || p.full_scale > 4095)
-    return rangeError("calibration.full_scale", p.full_scale, "must be in [1, 4095] (12-bit counts)");
+  const ConfigResult declared = schema::checkRanges(calibrationSchema(), CalibrationFile::of(p), "calibration");
+  if (!declared) return declared;
   if (!finiteCoeffs(p.coeffs)) return ConfigResult::failure("calibration.coeffs: must be finite");
   if (p.use_border && !finiteCoeffs(p.border_coeffs))
     return ConfigResult::failure("calibration.border_coeffs: must be finite");
@@ -31,11 +33,6 @@ ConfigResult Calibration::configure(const CalibrationParams& p) {
   for (std::size_t i = 0; i < p.taxels.size(); ++i)
     if (!finiteCoeffs(p.taxels[i]))
       return ConfigResult::failure("calibration.taxels[" + std::to_string(i) + "]: must be finite");
-  if (p.max_tare > p.full_scale)
-    return rangeError("calibration.max_tare", p.max_tare,
-                      "must be in [0, full_scale = " + std::to_string(p.full_scale) + "] (counts)");
-  if (!(p.noise_counts >= 0.0) || !(p.noise_counts <= 1000.0))
-    return rangeError("calibration.noise_counts", p.noise_counts, "must be in [0, 1000] (counts, 1 sigma)");
 
   for (int r = 0; r < p.rows; ++r) {
     for (int c = 0; c < p.cols; ++c) {

@@ -43,6 +43,30 @@ const schema::Block<FeatureParams>& featuresSchema() {
   return b;
 }
 
-std::string sensorSchemaMarkdown() { return schema::markdownSection(featuresSchema()); }
+const schema::Block<CalibrationFile>& calibrationSchema() {
+  using S = CalibrationFile;
+  using F = schema::Field<S>;
+  static const schema::Block<S> b{
+      "calibration",
+      "counts to newtons per taxel (Calibration, calibration.hpp; App. A): f = c0 + c1 n + c2 n^2 + c3 n^3 of "
+      "the tared count n; written by tactile_calibrate",
+      {F::whole("full_scale", "counts", "[1, 4095]", TACTILE_SCHEMA_REF(S, full_scale),
+                "the count at which a taxel saturates (12-bit)"),
+       F::whole("max_tare", "counts", "[0, full_scale]", TACTILE_SCHEMA_REF(S, max_tare),
+                "the largest tare offset accepted; a larger one is refused and the previous tare kept"),
+       F::num("noise_counts", "counts", "[0, 1000]", TACTILE_SCHEMA_REF(S, noise_counts),
+              "the sensor's count noise, 1 sigma (the features' alpha_z test, the sub-threshold estimate)"),
+       F::custom("coeffs", "N per count^k", "1 to 4 finite numbers (c0 ... c3)", "0, 0.002, 0, 0",
+                 "the polynomial of every taxel not given otherwise"),
+       F::custom("border_coeffs", "N per count^k", "1 to 4 finite numbers", "none: coeffs",
+                 "the polynomial of the outer ring's taxels"),
+       F::custom("taxels", "N per count^k", "rows x cols lists of 1 to 4 finite numbers, row-major",
+                 "none", "one polynomial per taxel; replaces coeffs and border_coeffs")}};
+  return b;
+}
+
+std::string sensorSchemaMarkdown() {
+  return schema::markdownSection(featuresSchema()) + "\n" + schema::markdownSection(calibrationSchema());
+}
 
 }  // namespace tactile

@@ -5,7 +5,6 @@
 
 namespace tactile {
 
-using config::checkKeys;
 using config::read;
 using config::Where;
 
@@ -32,19 +31,12 @@ ConfigResult loadCalibrationParams(const YAML::Node& node, const Where& where, i
   p.rows = rows;
   p.cols = cols;
   if (node) {
-    ConfigResult r =
-        checkKeys(node, where, {"full_scale", "coeffs", "border_coeffs", "taxels", "max_tare", "noise_counts"});
-    if (!r) return r;
-    int fs = p.full_scale;
-    if (!(r = read(node, "full_scale", fs, where))) return r;
-    if (fs < 1 || fs > 4095) return rangeError(where.child("full_scale").str(), fs, "must be in [1, 4095]");
-    p.full_scale = static_cast<uint16_t>(fs);
-    int mt = p.max_tare;
-    if (!(r = read(node, "max_tare", mt, where))) return r;
-    if (mt < 0 || mt > fs)
-      return rangeError(where.child("max_tare").str(), mt, "must be in [0, full_scale = " + std::to_string(fs) + "] (counts)");
-    p.max_tare = static_cast<uint16_t>(mt);
-    if (!(r = read(node, "noise_counts", p.noise_counts, where))) return r;
+    CalibrationFile f = CalibrationFile::of(p);
+    ConfigResult r = config::readBlock(node, where, calibrationSchema(), f);  // the lists: below
+    if (!r || !(r = schema::checkRanges(calibrationSchema(), f, where.str()))) return r;
+    p.full_scale = static_cast<uint16_t>(f.full_scale);
+    p.max_tare = static_cast<uint16_t>(f.max_tare);
+    p.noise_counts = f.noise_counts;
     std::vector<double> v;
     if (node["coeffs"]) {
       if (!(r = read(node, "coeffs", v, where))) return r;
