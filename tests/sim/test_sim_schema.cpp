@@ -13,9 +13,11 @@ TEST(SimSchema, EveryRangeIsReadableAndEnforced) {
   test::expectRangesEnforced(sim::sensorSchema());
   test::expectRangesEnforced(sim::worldEffectsSchema());
   test::expectRangesEnforced(sim::armSchema());
+  test::expectRangesEnforced(sim::sensorEffectsSchema());
   test::expectKeysUniqueAndDocumented(sim::sensorSchema());
   test::expectKeysUniqueAndDocumented(sim::worldEffectsSchema());
   test::expectKeysUniqueAndDocumented(sim::armSchema());
+  test::expectKeysUniqueAndDocumented(sim::sensorEffectsSchema());
 }
 
 // LwrArm::configure checks the scene's arm keys against the declaration (the

@@ -68,9 +68,38 @@ const schema::Block<WorldParams>& worldEffectsSchema() {
   return b;
 }
 
+const schema::Block<SensorEffects>& sensorEffectsSchema() {
+  using S = SensorEffects;
+  using F = schema::Field<S>;
+  static const schema::Block<S> b{
+      "effects",
+      "the sensor's effects, each off by default (TaxelResponse, taxel_response.hpp; docs/simulator.md)",
+      {F::num("wts_transfer_delay_s", "s", "[0, 1]", TACTILE_SCHEMA_REF(S, wts_transfer_delay_s),
+              "the frame sampled at t reaches the reader at t + d (the serial transfer)"),
+       F::num("gain_spread", "", "[0, 0.5]", TACTILE_SCHEMA_REF(S, gain_spread),
+              "1-sigma relative per-taxel sensitivity spread (seeded)"),
+       F::custom("dead_taxels", "", "a count in [0, rows x cols], or a list of [row, col]", "0",
+                 "dead taxels: that many at seeded positions, or those listed"),
+       F::num("calibration_error", "", "[0, 0.5]", TACTILE_SCHEMA_REF(S, calibration_error),
+              "1-sigma relative error of the reader's calibration per taxel (seeded)"),
+       F::num("crosstalk", "", "[0, 0.25]", TACTILE_SCHEMA_REF(S, crosstalk),
+              "the fraction of a taxel's load spread to each 4-neighbour"),
+       F::num("creep.fraction", "", "[0, 1]", TACTILE_SCHEMA_REF(S, creep_fraction),
+              "under a constant load the signal tends to (1 + fraction) x its instant value"),
+       F::num("creep.tau_s", "s", "(0, 1000]", TACTILE_SCHEMA_REF(S, creep_tau_s), "... with this time constant"),
+       F::num("hysteresis", "", "[0, 0.5]", TACTILE_SCHEMA_REF(S, hysteresis),
+              "relative half-width of the loading/unloading band"),
+       F::yesNo("device_noise", TACTILE_SCHEMA_REF(S, device_noise),
+                "the sensor's noise at the WTS's level (the bound the firing threshold implies), not noise_counts")}};
+  return b;
+}
+
 std::string sceneSchemaMarkdown() {
   return schema::markdownSection(sensorSchema()) + "\n" + schema::markdownSection(armSchema()) + "\n" +
-         schema::markdownSection(worldEffectsSchema());
+         schema::markdownSection(worldEffectsSchema()) +
+         "\nIn the same `effects` map, the sensor's effects, each off by default (TaxelResponse, taxel_response.hpp; "
+         "docs/simulator.md).\n\n" +
+         schema::markdownTable(sensorEffectsSchema());
 }
 
 }  // namespace sim

@@ -1,5 +1,7 @@
 #include "tactile_sim/taxel_response.hpp"
 
+#include "tactile_sim/sim_schema.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -35,10 +37,7 @@ ConfigResult checkParams(const TaxelResponseParams& p) {
     if (!(r = checkMonotone(c.taxels[i], "calibration.taxels[" + std::to_string(i) + "]"))) return r;
   const SensorEffects& e = p.effects;
   const int n = c.rows * c.cols;
-  auto inRange = [](double v, double lo, double hi) { return v >= lo && v <= hi; };
-  if (!inRange(e.wts_transfer_delay_s, 0.0, 1.0))
-    return rangeError("effects.wts_transfer_delay_s", e.wts_transfer_delay_s, "must be in [0, 1] s");
-  if (!inRange(e.gain_spread, 0.0, 0.5)) return rangeError("effects.gain_spread", e.gain_spread, "must be in [0, 0.5]");
+  if (!(r = schema::checkRanges(sensorEffectsSchema(), e, "effects"))) return r;
   if (e.dead_taxels < 0 || e.dead_taxels > n)
     return rangeError("effects.dead_taxels", e.dead_taxels, "must be in [0, " + std::to_string(n) + "] (rows x cols)");
   for (std::size_t j = 0; j < e.dead_list.size(); ++j) {
@@ -48,14 +47,6 @@ ConfigResult checkParams(const TaxelResponseParams& p) {
                                    std::to_string(rc[1]) + "] out of range: row in [0, " + std::to_string(c.rows - 1) +
                                    "], col in [0, " + std::to_string(c.cols - 1) + "]");
   }
-  if (!inRange(e.calibration_error, 0.0, 0.5))
-    return rangeError("effects.calibration_error", e.calibration_error, "must be in [0, 0.5]");
-  if (!inRange(e.crosstalk, 0.0, 0.25)) return rangeError("effects.crosstalk", e.crosstalk, "must be in [0, 0.25]");
-  if (!inRange(e.creep_fraction, 0.0, 1.0))
-    return rangeError("effects.creep.fraction", e.creep_fraction, "must be in [0, 1]");
-  if (!(e.creep_tau_s > 0.0) || e.creep_tau_s > 1000.0)
-    return rangeError("effects.creep.tau_s", e.creep_tau_s, "must be in (0, 1000] s");
-  if (!inRange(e.hysteresis, 0.0, 0.5)) return rangeError("effects.hysteresis", e.hysteresis, "must be in [0, 0.5]");
   if (!(e.max_frame_rate_hz > 0.0) || e.max_frame_rate_hz > 1e5)
     return rangeError("effects.max_frame_rate_hz", e.max_frame_rate_hz, "must be in (0, 1e5] Hz");
   return ConfigResult::success();

@@ -98,8 +98,6 @@ ConfigResult readObject(const YAML::Node& n, const Where& w, ObjectParams& o) {
   return ConfigResult::success();
 }
 
-// The sensor's keys of the `effects:` map (ranges: TaxelResponse::configure,
-// through validateScene).
 // effects.wrench_error (scene.hpp).
 ConfigResult readWrenchError(const YAML::Node& n, const Where& w, WrenchErrorParams& e) {
   if (!n) return ConfigResult::success();
@@ -123,12 +121,13 @@ ConfigResult readWrenchError(const YAML::Node& n, const Where& w, WrenchErrorPar
   return ConfigResult::success();
 }
 
+// The sensor's keys of `effects` (declared: sensorEffectsSchema) beside the
+// world's and the wrench error; dead_taxels read here.
 ConfigResult readSensorEffects(const YAML::Node& n, const Where& w, SensorEffects& e) {
-  ConfigResult r;
-  for (auto rr : {read(n, "wts_transfer_delay_s", e.wts_transfer_delay_s, w), read(n, "gain_spread", e.gain_spread, w),
-                  read(n, "calibration_error", e.calibration_error, w), read(n, "crosstalk", e.crosstalk, w),
-                  read(n, "hysteresis", e.hysteresis, w), read(n, "device_noise", e.device_noise, w)})
-    if (!rr) return rr;
+  std::vector<std::string> others = config::keysOf(worldEffectsSchema());
+  others.push_back("wrench_error");
+  ConfigResult r = config::readBlock(n, w, sensorEffectsSchema(), e, others);
+  if (!r) return r;
   if (const YAML::Node d = n["dead_taxels"]) {
     if (d.IsSequence()) {
       std::vector<std::vector<int>> list;
@@ -141,14 +140,7 @@ ConfigResult readSensorEffects(const YAML::Node& n, const Where& w, SensorEffect
       return fail(w.child("dead_taxels"), "must be a count or a list of [row, col]");
     }
   }
-  if (const YAML::Node c = n["creep"]) {
-    const Where wc = w.child("creep");
-    if (!c.IsMap()) return fail(wc, "must be a map {fraction: [0, 1], tau_s: (0, 1000] s}");
-    if (!(r = checkKeys(c, wc, {"fraction", "tau_s"})) || !(r = read(c, "fraction", e.creep_fraction, wc)) ||
-        !(r = read(c, "tau_s", e.creep_tau_s, wc)))
-      return r;
-  }
-  return ConfigResult::success();
+  return schema::checkRanges(sensorEffectsSchema(), e, w.str());
 }
 
 ConfigResult readFaults(const YAML::Node& root, const Where& w, Scene& s) {
@@ -376,8 +368,8 @@ ConfigResult readEffects(const YAML::Node& root, const Where& w, Scene& s) {
     const Where we = w.child("effects");
     // The world's keys (declared: sim_schema.hpp) beside the sensor's effects
     // and the wrench error, each read by its own reader.
-    const std::vector<std::string> others{"wts_transfer_delay_s", "gain_spread", "dead_taxels", "calibration_error",
-                                          "crosstalk", "creep", "hysteresis", "device_noise", "wrench_error"};
+    std::vector<std::string> others = config::keysOf(sensorEffectsSchema());
+    others.push_back("wrench_error");
     if (!(r = config::readBlock(n, we, worldEffectsSchema(), s.world, others))) return r;
     if (!(r = readSensorEffects(n, we, s.sensor_effects))) return r;
     if (!(r = readWrenchError(n["wrench_error"], we.child("wrench_error"), s.wrench_error))) return r;
