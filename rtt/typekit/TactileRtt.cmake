@@ -1,4 +1,4 @@
-# Shared CMake of the RTT layer (included by every */rtt/CMakeLists.txt).
+# Shared CMake of the RTT layer (included by every CMakeLists.txt under rtt/).
 #
 # Layout, in the build tree and installed alike (RTT's component search layout):
 #   <root>/lib/orocos/<OROCOS_TARGET>/tactile/lib<name>-<target>.so         components
@@ -29,7 +29,7 @@ function(tactile_rtt_library target kind)
   add_library(${target} SHARED ${ARGN})
   target_include_directories(${target} SYSTEM PUBLIC ${OROCOS-RTT_INCLUDE_DIRS})
   # tactile_types_rtt/ (atomic_attribute.hpp) for every RTT library.
-  target_include_directories(${target} PUBLIC $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/typekits/tactile_types/rtt/include>)
+  target_include_directories(${target} PUBLIC $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/rtt/typekit/include>)
   target_compile_definitions(${target} PUBLIC OROCOS_TARGET=${OROCOS_TARGET})
   target_link_libraries(${target} PUBLIC ${OROCOS-RTT_LIBRARIES})
   tactile_warnings(${target})
@@ -56,7 +56,7 @@ function(tactile_rtt_library target kind)
     INSTALL_RPATH_USE_LINK_PATH TRUE)  # liborocos-rtt etc. from their install dirs
   if(inst)
     install(TARGETS ${target} LIBRARY DESTINATION ${inst})
-    # Its headers (rtt/include/), for code that links or extends it.
+    # Its headers (include/), for code that links or extends it.
     if(IS_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include)
       install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ DESTINATION include)
     endif()
