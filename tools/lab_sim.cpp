@@ -99,7 +99,7 @@ int usage(const std::string& msg) {
                "               [--krc-cycle-ms C] [--msr-sample-ms M] [--cmd-sample-ms M] [--control cart|joint|position] [--cart-offset F]\n"
                "               [--quality-rule on|off] [--krl FILE.src] [--wrench-frame base|tool]\n"
                "               [--duration S] [--truth-out FILE.csv] [--truth-period-ms T] [--set KEY.PATH=VALUE ...]\n"
-               "(see the header of sim/lab/lab_sim.cpp or docs/lab_sim.md)\n",
+               "(see the header of tools/lab_sim.cpp or docs/lab_sim.md)\n",
                msg.c_str());
   return 2;
 }

@@ -7,7 +7,7 @@
 //                     [--unconstrained] --out CALIB.yaml
 //
 // --params: the sensor's parameter file (features.rows/cols, calibration.
-// full_scale, max_tare, noise_counts; default components/features/params/
+// full_scale, max_tare, noise_counts; default params/sensors/
 // wts0614.yaml of the source tree, else the installed copy). The output is that
 // file with its `calibration:` section replaced by the fitted one (features and
 // comments kept as written), so it serves wherever the input did: the feature

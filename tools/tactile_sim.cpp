@@ -263,7 +263,7 @@ int runOptions(int argc, char** argv, Scene& scene, std::string& out_dir, bool& 
       if (scene.world.fidelity == Fidelity::Dynamics) scene.world.tray_dynamics = false;
     } else if (a == "--through-fri") {
       scene.through_fri = true;
-      if (scene.fri_file.empty()) scene.fri_file = std::string(TACTILE_SOURCE_DIR) + "/components/fri_bridge/params/fri.yaml";
+      if (scene.fri_file.empty()) scene.fri_file = std::string(TACTILE_SOURCE_DIR) + "/params/sensors/fri.yaml";
     } else if (a == "--no-plots") {
       plots = false;
     } else if (a == "--set" && i + 1 < argc) {

@@ -25,7 +25,7 @@
 //     The pad must not be touched: stages c and d use these frames.
 //  c. no-load noise: per taxel the standard deviation of the raw counts, as a
 //     rows x cols grid, against the sensor's stated noise, calibration.noise_counts
-//     (components/features/params/wts0614.yaml, or the `calibration:` section
+//     (params/sensors/wts0614.yaml, or the `calibration:` section
 //     of --params): a taxel above k x stated (--k, default 3: 3 sigma of the
 //     stated noise; with >= 50 frames the sample std of a healthy taxel is
 //     within +-20 % of its true value) FAILs. A taxel whose no-load mean is

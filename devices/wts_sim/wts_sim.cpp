@@ -13,7 +13,7 @@
 // ramp: counts (r*cols+c)*40 + t; zero: all zero;
 // idle: the pad at no load: each taxel a fixed offset (--offset, default 30
 //   counts, +-10 over the pad) plus Gaussian noise of --noise counts (1 sigma,
-//   default 6: calibration.noise_counts of components/features/params/wts0614.yaml);
+//   default 6: calibration.noise_counts of params/sensors/wts0614.yaml);
 // press: idle, then a whole-pad load (--press-counts added to every taxel,
 //   default 1500) from --press-after seconds of device time on (default 5;
 //   0 = never by time), or at once on SIGUSR1; SIGUSR2 releases it. The

@@ -90,7 +90,7 @@ Recording runDeployment(const std::string& scene_file, const std::string& progra
   sensor.properties()->getPropertyType<std::string>("scene_file")->set(scene_file);
   clock.properties()->getPropertyType<std::string>("scene_file")->set(scene_file);
   features.properties()->getPropertyType<std::string>("param_file")->set(TACTILE_SOURCE_DIR
-                                                                          "/components/features/params/wts0614.yaml");
+                                                                          "/params/sensors/wts0614.yaml");
   servo.properties()->getPropertyType<std::string>("program_file")->set(program_file);
   servo.properties()->getPropertyType<double>("period")->set(servo_period);
 
@@ -408,9 +408,9 @@ class ClockedEdgeExploration : public ::testing::Test {
     sensor.properties()->getPropertyType<std::string>("scene_file")->set(scene);
     clock.properties()->getPropertyType<std::string>("scene_file")->set(scene);
     features.properties()->getPropertyType<std::string>("param_file")->set(
-        TACTILE_SOURCE_DIR "/components/features/params/wts0614.yaml");
+        TACTILE_SOURCE_DIR "/params/sensors/wts0614.yaml");
     servo.properties()->getPropertyType<std::string>("program_file")->set(
-        TACTILE_SOURCE_DIR "/components/servo/programs/edge_exploration.yaml");
+        TACTILE_SOURCE_DIR "/params/programs/edge_exploration.yaml");
     servo.properties()->getPropertyType<double>("period")->set(0.01);
     connect(robot, "taxel_forces", sensor, "taxel_forces");
     connect(sensor, "raw_frame", features, "raw_frame");

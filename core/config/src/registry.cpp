@@ -19,7 +19,7 @@ const schema::Block<ExperimentEntry>& registryEntrySchema() {
       "one experiment of the registry (experiments.yaml; tactile::DeployGuard, the run scripts); paths relative "
       "to the registry's directory",
       {F::str("title", TACTILE_SCHEMA_REF(S, title), "what it is, with the paper's section and figure").form("text"),
-       F::str("scene", TACTILE_SCHEMA_REF(S, scene), "the simulated world (sim/scenes/*.yaml)").form("a path").needed(),
+       F::str("scene", TACTILE_SCHEMA_REF(S, scene), "the simulated world (params/scenes/*.yaml)").form("a path").needed(),
        F::str("program", TACTILE_SCHEMA_REF(S, program),
               "the servo's phase program: the scene's own (DeployGuard refuses another)")
            .form("a path")

@@ -50,7 +50,7 @@ void WorldPlant::reset(const KDL::Frame& /*initial_pose: the scene's*/) {
 }
 
 void WorldPlant::acquireIfDue() {
-  // The loop's rule (sim/runner loop.hpp, as the runner): the acquisition of
+  // The loop's rule (core/sim/runner loop.hpp, as the runner): the acquisition of
   // tick i images the state after the step that led to it; with a transfer
   // delay the frame reaches the reader when its transfer has ended.
   const double t = schedule_.time();

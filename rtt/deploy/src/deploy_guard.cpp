@@ -145,7 +145,7 @@ class DeployGuard : public RTT::TaskContext {
         .doc("The Servo's controller_mode from the registry's `controller`: '' (the program's), proposed, "
              "baseline, no_rotation (select()).");
     addProperty("scene_file", scene_file_)
-        .doc("The simulated world (sim/scenes/*.yaml) from the registry's `scene` (select()); the simulated "
+        .doc("The simulated world (params/scenes/*.yaml) from the registry's `scene` (select()); the simulated "
              "arm, sensor and clock read it (sim_loop.ops; sim.xml: configure() gives it to its peers).");
     addProperty("servo_cpf", servo_cpf_)
         .doc("Optional: a Servo property file read after the registry's program and controller, replacing "

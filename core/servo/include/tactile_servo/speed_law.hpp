@@ -17,7 +17,7 @@
 //                   points, tactile_features/edge_line.hpp): a wave or a dip
 //                   under the pad before the force shows it; a_k = 1 - |k| / curvature_ref
 //                   (curvature_ref: the tightest curvature the program follows,
-//                   1 / 0.182 m for bent_bar_fused, sim/scenes/curved/README.md);
+//                   1 / 0.182 m for bent_bar_fused, params/scenes/curved/README.md);
 //   extent_m        the image's extent along the edge (sqrt(12 lambda1)):
 //                   a_e = (extent - extent_min) / (extent_full - extent_min);
 //   wrench_excess_n the arm's wrench along z_s less the force the taxels

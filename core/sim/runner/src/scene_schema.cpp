@@ -23,7 +23,7 @@ const schema::Block<Scene>& sceneSchema() {
            [](S& s, int i) { s.controller = static_cast<ControllerMode>(i); },
            "Eq. 8 (proposed), Li et al., RSS 2013 (baseline) or the ablation; --controller overrides"),
        F::custom("features_file", "", "a path, relative to the scene", "none: the defaults",
-                 "the sensor's features and calibration (components/features/params/wts0614.yaml, below)"),
+                 "the sensor's features and calibration (params/sensors/wts0614.yaml, below)"),
        F::num("duration", "s", "> 0", TACTILE_SCHEMA_REF(S, duration), "simulated seconds"),
        F::custom("seed", "", "a whole number", "1", "the seed of every random effect"),
        F::choice(

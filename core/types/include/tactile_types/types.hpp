@@ -1,7 +1,7 @@
 // Plain data types shared by the cores, the simulator, the RTT components and
 // the typekit. No RTT, no heap: every type here is a fixed-size aggregate, so it
 // can travel through an RTT data port without allocation (the typekit in
-// typekits/tactile_types/rtt serialises exactly these fields).
+// rtt/typekit serialises exactly these fields).
 // See conventions.hpp for units and frames.
 #pragma once
 

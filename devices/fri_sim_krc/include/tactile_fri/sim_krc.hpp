@@ -42,7 +42,7 @@ namespace fri {
 
 /// The robot behind the simulated KRC (Cartesian impedance strategy): given the
 /// commanded flange pose and dt, produce the measured state. Keep it small so
-/// the LWR simulator (sim/lwr) can be adapted to it.
+/// the LWR simulator (core/sim/lwr) can be adapted to it.
 class Plant {
  public:
   virtual ~Plant() = default;

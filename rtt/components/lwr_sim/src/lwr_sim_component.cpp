@@ -21,7 +21,7 @@ LwrSimComponent::LwrSimComponent(const std::string& name)
       truth_out_("truth"),
       robot_out_("robot_state") {
   addProperty("scene_file", scene_file_)
-      .doc("Scene YAML (sim/scenes/*.yaml, the headless runner's files): arm, pad, objects, initial flange "
+      .doc("Scene YAML (params/scenes/*.yaml, the headless runner's files): arm, pad, objects, initial flange "
            "pose, rates (physics step, WTS schedule). Read by configure().");
   addAtomicAttribute(*provides(), "sim_period", sim_period_);
   addAtomicAttribute(*provides(), "sim_time", sim_time_);
@@ -46,7 +46,7 @@ LwrSimComponent::LwrSimComponent(const std::string& name)
 
 bool LwrSimComponent::configureHook() {
   sim::Scene scene;
-  ConfigResult r = scene_file_.empty() ? ConfigResult::failure("scene_file is empty: set it to a scene YAML (sim/scenes/*.yaml)")
+  ConfigResult r = scene_file_.empty() ? ConfigResult::failure("scene_file is empty: set it to a scene YAML (params/scenes/*.yaml)")
                                        : sim::loadScene(scene_file_, scene);
   if (r) {
     world_params_ = sim::worldParams(scene);  // seed and physics step (the KRC cycle's and FRI delay's unit)

@@ -19,7 +19,7 @@ namespace tactile {
 
 SimClock::SimClock(const std::string& name) : Component(name, PreOperational) {
   addProperty("scene_file", scene_file_)
-      .doc("Scene YAML (sim/scenes/*.yaml): rates (Table 2) and duration of the run; the stages load the same file.");
+      .doc("Scene YAML (params/scenes/*.yaml): rates (Table 2) and duration of the run; the stages load the same file.");
   addProperty("realtime_factor", realtime_factor_)
       .doc("Simulated seconds per wall-clock second: 0 = as fast as possible (default), else in (0, 100].");
   addProperty("robot", robot_name_).doc("Peer name of the simulated arm (tactile::LwrSimComponent), a slave of this clock.");
@@ -53,7 +53,7 @@ bool SimClock::configureHook() {
     detached_ = nullptr;
   }
   sim::Scene scene;
-  ConfigResult r = scene_file_.empty() ? ConfigResult::failure("scene_file is empty: set it to a scene YAML (sim/scenes/*.yaml)")
+  ConfigResult r = scene_file_.empty() ? ConfigResult::failure("scene_file is empty: set it to a scene YAML (params/scenes/*.yaml)")
                                        : sim::loadScene(scene_file_, scene);
   if (r) {
     r = schedule_.configure(scene.rates, scene.duration);

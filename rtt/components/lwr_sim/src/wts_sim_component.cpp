@@ -17,7 +17,7 @@ WtsSimComponent::WtsSimComponent(const std::string& name)
       raw_out_("raw_frame"),
       fault_frame_out_("fault_frame") {
   addProperty("scene_file", scene_file_)
-      .doc("Scene YAML (sim/scenes/*.yaml): its features_file's `calibration:` block (the real reader's "
+      .doc("Scene YAML (params/scenes/*.yaml): its features_file's `calibration:` block (the real reader's "
            "calibration, inverted), sensor.noise_counts, sensor.threshold, seed and the sensor's `effects:` "
            "(transfer delay, gains, dead taxels, calibration error, crosstalk, creep, hysteresis, device noise) "
            "and the pad's scheduled `faults:` (tactile_sim/sensor_faults.hpp). Read by configure().");
@@ -45,7 +45,7 @@ WtsSimComponent::WtsSimComponent(const std::string& name)
 
 bool WtsSimComponent::configureHook() {
   sim::Scene scene;
-  ConfigResult r = scene_file_.empty() ? ConfigResult::failure("scene_file is empty: set it to a scene YAML (sim/scenes/*.yaml)")
+  ConfigResult r = scene_file_.empty() ? ConfigResult::failure("scene_file is empty: set it to a scene YAML (params/scenes/*.yaml)")
                                        : sim::loadScene(scene_file_, scene);
   sim::TaxelResponseParams rp;
   if (r) {  // the scene's faults, and the property's one after them

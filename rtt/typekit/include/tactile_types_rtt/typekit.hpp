@@ -1,4 +1,4 @@
-// RTT typekit for the shared plain types of typekits/tactile_types/types.hpp.
+// RTT typekit for the shared plain types of tactile_types/types.hpp (core/types).
 //
 // Registered RTT type names (the ones to use in deployment scripts):
 //   /tactile/RawTactileFrame   /tactile/TactileFrame   /tactile/ContactFeatures

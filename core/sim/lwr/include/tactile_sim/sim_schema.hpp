@@ -1,6 +1,6 @@
 // The declared blocks of a scene (tactile_types/schema.hpp): `sensor` (the
 // simulated pad, PadParams) and the world's physics and timing effects under
-// `effects` (WorldParams). The scene reader (sim/runner/src/scene.cpp), the
+// `effects` (WorldParams). The scene reader (core/sim/runner/src/scene.cpp), the
 // range checks of PadSensor::configure and World::configure and the key tables
 // of docs/formats.md (`tactile_sim schema scene`) come from these.
 #pragma once

@@ -1,7 +1,7 @@
 // The simulated WTS0614's electronics: true taxel forces (N) -> raw 12-bit
 // counts, by inverting the calibration the real sensor is read with (App. A,
 // Fig. A.15: the per-taxel polynomial f(n) = c0 + c1 n + c2 n^2 + c3 n^3 of
-// components/features/params/wts0614.yaml's `calibration:` block, border and
+// params/sensors/wts0614.yaml's `calibration:` block, border and
 // per-taxel coefficients included). So tactile::Calibration configured from
 // the same file maps the counts back to the forces (up to noise and
 // quantisation), exactly as on the robot.
@@ -14,7 +14,7 @@
 //
 // SENSOR EFFECTS (SensorEffects, the scene's `effects:` map; each off by
 // default, and off costs nothing per frame: the path above is unchanged).
-// Per acquisition, in this order (sim/lwr/README.md, "Sensor effects"):
+// Per acquisition, in this order (core/sim/lwr/README.md, "Sensor effects"):
 //  1. crosstalk c: load spreading in the rubber; each taxel passes c of its
 //     load to each existing 4-neighbour (total conserved).
 //  2. hysteresis h: rate-independent play on the layer's load x, relative

@@ -1,14 +1,14 @@
 // Scene files: what the headless runner simulates and how.
 //
-// A scene is a YAML file (sim/scenes/*.yaml). Paths inside it are relative to
+// A scene is a YAML file (params/scenes/*.yaml). Paths inside it are relative to
 // the scene file. Every key is optional unless marked; unknown keys are errors.
 //
 //   name: edge_exploration            # required
 //   description: "..."
 //   figure: fig10                     # which paper figure the plots mirror (fig10 | fig12 | fig14 | none)
-//   program: ../../components/servo/programs/edge_exploration.yaml   # required: the phase program
+//   program: ../programs/edge_exploration.yaml   # required: the phase program
 //   controller: proposed              # proposed | baseline (Li et al.) | no_rotation (ablation); --controller overrides
-//   features_file: ../../components/features/params/wts0614.yaml     # `features:` and `calibration:` maps (same
+//   features_file: ../sensors/wts0614.yaml   # `features:` and `calibration:` maps (same
 //                                     # file as on the robot): the features, the reader's calibration and,
 //                                     # inverted, the simulated sensor's response (no response keys here)
 //   duration: 60                      # s of simulated time
@@ -42,7 +42,7 @@
 //   coarser step would be refused by the world on every cycle.
 //   through_fri: false                # route every physics-rate command through the FRI
 //                                     # protocol and tactile::fri::FriBridge (bytes on the wire)
-//   fri_file: ../../components/fri_bridge/params/fri.yaml             # bridge parameters (rate limiter...)
+//   fri_file: ../sensors/fri.yaml                # bridge parameters (rate limiter...)
 //   krc: "0:friOpen,1:friStart"       # the KRC's script (tactile::fri::KrcScript: friOpen, friStart,
 //                                     # friStop, friClose, quality=.., power=.. at times in s); while the
 //                                     # arm is not commandable it holds still and the servo waits.
@@ -50,7 +50,7 @@
 //   effects:                          # each off by default; off costs nothing per frame
 //     wts_transfer_delay_s: 0         # s, [0, 1]: the frame sampled at t reaches the reader at t + d
 //                                     # (serial transfer; WTS0614 plain periodic frame 181 B at 115200
-//                                     # baud 8N1 = 15.7 ms, sim/lwr/README.md "Sensor effects")
+//                                     # baud 8N1 = 15.7 ms, core/sim/lwr/README.md "Sensor effects")
 //     gain_spread: 0                  # [0, 0.5]: 1-sigma relative per-taxel sensitivity spread (seeded)
 //     dead_taxels: 0                  # [0, rows*cols] dead taxels at seeded positions, or a list [[row, col], ...]
 //     calibration_error: 0            # [0, 0.5]: 1-sigma relative error of the reader's calibration per

@@ -6,7 +6,7 @@
 // swaps the simulator for the robot by changing one loadComponent line.
 //
 // Interface (documented with .doc() in the constructor):
-//   property param_file (string)   YAML with a `fri:` map (components/fri_bridge/params/fri.yaml)
+//   property param_file (string)   YAML with a `fri:` map (params/sensors/fri.yaml)
 //   property port (int)            UDP port override: -1 = the file's fri.udp.port, 0 = ephemeral
 //   property receive_timeout (double)  s, (0, 1]: longest silence of the KRC before `krc_silent`
 //                                  (FileDescriptorActivity timeout; the bounded wait otherwise)

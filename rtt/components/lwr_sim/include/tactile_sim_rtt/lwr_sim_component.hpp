@@ -1,7 +1,7 @@
 // tactile::LwrSimComponent: the simulated ARM (KUKA LWR 4+ under Cartesian
 // impedance, Eq. 11, with the WTS0614 pad's elastic layer on its flange):
 // thin RTT wrapper around tactile::sim::World, loaded from the headless
-// runner's scene files (sim/scenes/*.yaml, tactile::sim::loadScene).
+// runner's scene files (params/scenes/*.yaml, tactile::sim::loadScene).
 //
 // It stands in for the robot: the controller-facing ports are those of the
 // FRI bridge (tactile::FriBridgeComponent), so a deployment swaps the two by

@@ -2,7 +2,7 @@
 // thin RTT wrapper around tactile::sim::TaxelResponse. It turns the simulated
 // arm's true taxel forces into raw 12-bit counts on `raw_frame`, the port of
 // the real reader (tactile::WtsComponent), by inverting the calibration the
-// reader uses (the scene's features_file, components/features/params/wts0614.yaml's
+// reader uses (the scene's features_file, params/sensors/wts0614.yaml's
 // `calibration:` block), with the scene's noise (seeded by the scene's seed),
 // firing threshold, 12-bit quantisation and saturation.
 //

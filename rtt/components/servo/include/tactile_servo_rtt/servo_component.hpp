@@ -4,7 +4,7 @@
 // control law, the phase program and the safety logic are in the core.
 //
 // Interface (documented with .doc() in the constructor):
-//   property program_file (string)  YAML phase program (components/servo/programs/*.yaml)
+//   property program_file (string)  YAML phase program (params/programs/*.yaml)
 //   property controller_mode (string) '' = the program's controller.mode, or
 //            proposed | baseline (Li et al., RSS 2013) | no_rotation (ablation): the deployment picks
 //            the controller by its .cpf, as the runner's scene key `controller`
