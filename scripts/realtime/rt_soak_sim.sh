@@ -42,7 +42,7 @@ mkdir -p "$out/deployments"
 # Staged copies with absolute paths; the scene's duration is the soak's.
 cp "$root"/deployments/*.ops "$root"/deployments/*.cpf "$out/deployments/"
 sed -i "s#\.\./#$root/#g" "$out"/deployments/*.cpf
-sed -e "s#^duration: .*#duration: $secs#" -e "s#\.\./\.\./#$root/#g" "$root/params/scenes/bar_loop.yaml" >"$out/bar_loop.yaml"
+sed -e "s#^duration: .*#duration: $secs#" -e "s#\.\./#$root/params/#g" "$root/params/scenes/bar_loop.yaml" >"$out/bar_loop.yaml"
 cat > "$out/deployments/lwr_sim_bar_loop.cpf" <<XML
 <?xml version="1.0" encoding="UTF-8"?>
 <!DOCTYPE properties SYSTEM "cpf.dtd">

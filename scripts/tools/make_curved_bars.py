@@ -83,15 +83,15 @@ FOLLOWED = """    force_true_max_n: {max: 7.0}
     force_true_in_band_fraction: {min: 0.95}"""
 
 
-def scene_text(name, header, description, verts, rounding=0.005, program="bent_bar_to_end_cap.yaml", up="../../..",
+def scene_text(name, header, description, verts, rounding=0.005, program="bent_bar_to_end_cap.yaml", up="../..",
                duration=22, criteria=FOLLOWED):
     """A scene of the family: the bent bar's start, pose, program and criteria."""
     v = ", ".join(f"[{x[0]}, {x[1]}, {x[2]}]" for x in verts)
     return f"""{header}
 name: {name}
 description: "{description}"
-program: {up}/params/programs/{program}
-features_file: {up}/params/sensors/wts0614.yaml
+program: {up}/programs/{program}
+features_file: {up}/sensors/wts0614.yaml
 controller: proposed
 duration: {duration}
 seed: 1
@@ -155,7 +155,7 @@ def main():
     with open(os.path.join(a.out, "..", "wave_speed_law.yaml"), "w") as fh:
         fh.write(scene_text("wave_speed_law", header, f"A wave in height (A {amp * 1e3:g} mm, L {l * 1e3:g} mm, R "
                             f"{radius(amp, l) * 1e3:.1f} mm), the careful speed law", vertices(amp, l),
-                            program="bent_bar_speed_law_careful.yaml", up="../..", duration=40))
+                            program="bent_bar_speed_law_careful.yaml", up="..", duration=40))
     print("wave_speed_law: the careful speed law on the A 2 mm, L 90 mm wave")
     # The registry's experiment of the stop (experiments.yaml tight_wave): a
     # wave tighter than the pad follows, with the same program; the servo's
@@ -169,7 +169,7 @@ def main():
     with open(os.path.join(a.out, "..", "tight_wave.yaml"), "w") as fh:
         fh.write(scene_text("tight_wave", header, f"A wave tighter than the pad (A {amp * 1e3:g} mm, L {l * 1e3:g} mm, R "
                             f"{radius(amp, l) * 1e3:.1f} mm): the stop", vertices(amp, l),
-                            program="bent_bar_speed_law_careful.yaml", up="../..", duration=40,
+                            program="bent_bar_speed_law_careful.yaml", up="..", duration=40,
                             criteria="    force_true_max_n: {max: 7.0}"))
     print("tight_wave: the careful speed law on the A 3 mm, L 60 mm wave, stopped")
 

@@ -233,8 +233,8 @@ std::string sceneWithEffects(const Case& c) {
   if (!c.effects && !c.faults) return kScenes + c.scene;
   std::ifstream in(kScenes + c.scene);
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  for (std::size_t at = text.find("../../"); at != std::string::npos; at = text.find("../../", at))
-    text.replace(at, 6, TACTILE_SOURCE_DIR "/");
+  for (std::size_t at = text.find("../"); at != std::string::npos; at = text.find("../", at))
+    text.replace(at, 3, TACTILE_SOURCE_DIR "/params/");
   if (c.effects) text += std::string("\neffects: ") + c.effects + "\n";
   if (c.faults) text += std::string("\nfaults: ") + c.faults + "\n";
   return test::writeTempFile(std::string("effects") + c.name + "_" + c.scene, text);
