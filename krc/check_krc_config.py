@@ -1,9 +1,9 @@
 #!/usr/bin/python3
 """The KRC side (krc/TactileServo.src, .dat, krc/dlrrc.ini) against the RT PC's
-FRI bridge parameters (components/fri_bridge/params/fri.yaml) and protocol
-(components/fri_bridge/include/tactile_fri/protocol.hpp, bridge.hpp), the
-sensor's parameter file (components/features/params/wts0614.yaml: the pad's
-load) and the first day's servo program (components/servo/programs/first_touch.yaml).
+FRI bridge parameters (params/sensors/fri.yaml) and protocol
+(core/fri/include/tactile_fri/protocol.hpp, bridge.hpp), the
+sensor's parameter file (params/sensors/wts0614.yaml: the pad's
+load) and the first day's servo program (params/programs/first_touch.yaml).
 
 usage: check_krc_config.py [--krc DIR] [--fri-yaml FILE] [--protocol FILE] [--bridge FILE]
                            [--sensor-params FILE] [--program FILE]
@@ -245,7 +245,7 @@ def check_more(a, src, dat, krl, compare, oks, failures, fri):
         else:
             fields[f] = b[-1]
     servo_reads = ("the servo reads estimated_wrench (estExtTcpFT, in $STIFFNESS.TASKFRAME) in the base frame {g} "
-                   "and flange_pose (msrCartPos) at the flange: components/servo/include/tactile_servo/servo.hpp")
+                   "and flange_pose (msrCartPos) at the flange: core/servo/include/tactile_servo/servo.hpp")
     frame = fri.get("wrench_frame")
     if frame not in ("base", "tool"):
         failures.append(f"{a.fri_yaml}: fri.wrench_frame = {frame}: expected base or tool (the axes the bridge reads "
@@ -355,12 +355,12 @@ def check_more(a, src, dat, krl, compare, oks, failures, fri):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--krc", default=os.path.join(ROOT, "krc"), help="folder with TactileServo.src and dlrrc.ini")
-    ap.add_argument("--fri-yaml", default=os.path.join(ROOT, "components/fri_bridge/params/fri.yaml"))
-    ap.add_argument("--protocol", default=os.path.join(ROOT, "components/fri_bridge/include/tactile_fri/protocol.hpp"))
-    ap.add_argument("--bridge", default=os.path.join(ROOT, "components/fri_bridge/include/tactile_fri/bridge.hpp"))
-    ap.add_argument("--sensor-params", default=os.path.join(ROOT, "components/features/params/wts0614.yaml"),
+    ap.add_argument("--fri-yaml", default=os.path.join(ROOT, "params/sensors/fri.yaml"))
+    ap.add_argument("--protocol", default=os.path.join(ROOT, "core/fri/include/tactile_fri/protocol.hpp"))
+    ap.add_argument("--bridge", default=os.path.join(ROOT, "core/fri/include/tactile_fri/bridge.hpp"))
+    ap.add_argument("--sensor-params", default=os.path.join(ROOT, "params/sensors/wts0614.yaml"),
                     help="the sensor's parameter file with pad: pad_mass_kg, pad_com_m")
-    ap.add_argument("--program", default=os.path.join(ROOT, "components/servo/programs/first_touch.yaml"),
+    ap.add_argument("--program", default=os.path.join(ROOT, "params/programs/first_touch.yaml"),
                     help="the first day's servo program (safety.force_ceiling)")
     a = ap.parse_args()
     # paths as given, relative to the working directory when inside it (messages)

@@ -20,7 +20,7 @@
 # Steps 3-6 run the UNCHANGED robot deployment (deployments/robot.ops, the registry's experiment)
 # on a copy of deployments/ whose only changes are the bridge's UDP port, the
 # WTS reader's device (the PTY) and, after step 2, the features' parameter
-# file (the fitted calibration). lab_sim (sim/lab) is the KRC over UDP and the
+# file (the fitted calibration). lab_sim (devices/lab) is the KRC over UDP and the
 # WTS on a PTY, both backed by one simulated world; its ground truth (never
 # seen by the controller) checks each step (scripts/tools/rehearsal_report.py).
 #
@@ -75,7 +75,7 @@ grep -q "<value>$port</value>" "$dep/fri_bridge.cpf" || { echo "$name: could not
 fri_yaml="$out/fri.yaml"
 krl="$out/krc/TactileServo.src"
 cycle_s=$(printf '0.%03d' "$cycle_ms")
-sed -E "s#^( *cycle_time_s:) *[0-9.eE+-]+#\1 $cycle_s#" "$root/components/fri_bridge/params/fri.yaml" > "$fri_yaml"
+sed -E "s#^( *cycle_time_s:) *[0-9.eE+-]+#\1 $cycle_s#" "$root/params/sensors/fri.yaml" > "$fri_yaml"
 mkdir -p "$out/krc" && cp "$root"/krc/TactileServo.dat "$root"/krc/dlrrc.ini "$out/krc/"
 sed -E "s#friOpen\( *1 *\)#friOpen($cycle_ms)#" "$root/krc/TactileServo.src" > "$krl"
 grep -qE "^ *cycle_time_s: $cycle_s" "$fri_yaml" && grep -q "friOpen($cycle_ms)" "$krl" ||
@@ -129,7 +129,7 @@ if want 1; then
   sim=$!; pids+=($sim)
   for _ in $(seq 100); do [ -e "$out/wts0" ] && break; sleep 0.05; done
   rc=0
-  "$build/bin/wts_check" --device "$out/wts0" --params "$root/components/features/params/wts0614.yaml" \
+  "$build/bin/wts_check" --device "$out/wts0" --params "$root/params/sensors/wts0614.yaml" \
     --seconds 3 --press --no-prompt --json "$d/wts_check.json" > "$d/wts_check.log" 2>&1 || rc=$?
   kill "$sim" 2>/dev/null; wait "$sim" 2>/dev/null
   grep -E "PASS|FAIL|WARN" "$d/wts_check.log" | sed 's/^/   /'
@@ -137,12 +137,12 @@ if want 1; then
 fi
 
 # ---- 2 calibration ----------------------------------------------------------
-calib="$root/components/features/params/wts0614.yaml"
+calib="$root/params/sensors/wts0614.yaml"
 if want 2; then
   d="$out/2_calibration"; mkdir -p "$d"
   echo "== step 2 calibration: a recording under known loads, fitted"
   rc=0
-  "$build/bin/tactile_calibration_record" --params "$root/components/features/params/wts0614.yaml" --ref-noise 0.01 \
+  "$build/bin/tactile_calibration_record" --params "$root/params/sensors/wts0614.yaml" --ref-noise 0.01 \
     --out "$d/recording.csv" > "$d/record.log" 2>&1 || rc=$?
   if [ "$rc" -eq 0 ]; then
     "$build/bin/tactile_calibrate" --recording "$d/recording.csv" --params "$calib" \
@@ -168,7 +168,7 @@ if want 3; then
   # missed or late, PERFECT in 80 %: 14 % of the answers late at 2 ms with
   # the test suite running beside it); on the arm keep fri_check's defaults.
   rc=0
-  if start_lab "$root/sim/scenes/edge_exploration.yaml" "0:friOpen" "$d"; then
+  if start_lab "$root/params/scenes/edge_exploration.yaml" "0:friOpen" "$d"; then
     "${bridge_prio[@]}" "$build/bin/fri_check" --monitor --port $port --params "$fri_yaml" \
       --seconds 3 --max-jitter-ms 5 --period-tolerance 1.0 --max-late-share 0.3 --min-perfect-share 0.8 \
       --json "$d/fri_check.json" > "$d/fri_check.log" 2>&1 || rc=$?
@@ -202,7 +202,7 @@ run_step() {
 if want 4; then
   echo "== step 4 dry run: the pad pressed, the servo computes and records, the bridge holds the arm"
   rc=0
-  run_step 4_dry_run "dry run" "$root/sim/lab/scenes/bringup_press.yaml" "0:friOpen,$start_after:friStart" \
+  run_step 4_dry_run "dry run" "$root/params/lab_scenes/bringup_press.yaml" "0:friOpen,$start_after:friStart" \
     first_touch --dry-run || rc=$?
   [ "$rc" -eq 0 ] && { "$py" "$root/scripts/tools/rehearsal_report.py" check "$out/4_dry_run" --fri-yaml "$fri_yaml" --dry-run --start "$start_after" || rc=$?; }
   verdict 4 "dry run" "$rc" "$out/4_dry_run/run_robot.log; the arm must not move and the commands must"
@@ -212,7 +212,7 @@ fi
 if want 5; then
   echo "== step 5 first touch: friOpen, friStart after ${start_after} s, the gentle program to its end"
   rc=0
-  run_step 5_first_touch "first touch" "$root/sim/scenes/first_touch.yaml" "0:friOpen,$start_after:friStart" \
+  run_step 5_first_touch "first touch" "$root/params/scenes/first_touch.yaml" "0:friOpen,$start_after:friStart" \
     first_touch || rc=$?
   [ "$rc" -eq 0 ] && { "$py" "$root/scripts/tools/rehearsal_report.py" check "$out/5_first_touch" --fri-yaml "$fri_yaml" --start "$start_after" --max-force 5.0 || rc=$?; }
   verdict 5 "first touch" "$rc" "$out/5_first_touch/run_robot.log"
@@ -224,7 +224,7 @@ if want 6; then
   krc="0:friOpen,$t0:friStart,$((t0 + 8)):quality=BAD,$((t0 + 8)).3:quality=PERFECT,$((t0 + 14)):friStop,$((t0 + 14)).5:friStart"
   echo "== step 6 edge exploration: the KRC $krc"
   rc=0
-  run_step 6_edge_exploration "edge exploration" "$root/sim/scenes/edge_exploration.yaml" "$krc" edge_exploration || rc=$?
+  run_step 6_edge_exploration "edge exploration" "$root/params/scenes/edge_exploration.yaml" "$krc" edge_exploration || rc=$?
   [ "$rc" -eq 0 ] && { "$py" "$root/scripts/tools/rehearsal_report.py" check "$out/6_edge_exploration" --fri-yaml "$fri_yaml" --start "$t0" --target-force 5.0 || rc=$?; }
   # The same verdict as a run started in command mode (ctest lab_sim_robot_edge_exploration): the bar's end.
   if [ "$rc" -eq 0 ]; then

@@ -97,7 +97,7 @@ src=0
 [ "$src" -le 8 ] || { echo "run_deployment: tactile_sim summarize failed ($src)" >&2; exit 1; }
 "$py" "$root/scripts/tools/plot_run.py" "$out"
 # Another controller on the bent bar's scene: compared with the proposed one's run.
-if [ "$run" != bent_bar ] && [ "$scene" = "$root/sim/scenes/bent_bar.yaml" ] && [ -f "$root/out/deploy/bent_bar/summary.json" ]; then
+if [ "$run" != bent_bar ] && [ "$scene" = "$root/params/scenes/bent_bar.yaml" ] && [ -f "$root/out/deploy/bent_bar/summary.json" ]; then
   "$py" "$root/scripts/tools/plot_run.py" "$root/out/deploy/bent_bar" --compare "$out"
 fi
 echo "run_deployment: deployer exit $rc, run status $status; $out/{timeseries.csv,summary.json,*.png}"

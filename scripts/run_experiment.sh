@@ -11,7 +11,7 @@
 # force (sweep_force.py -> out/force/), its bound against the image
 # (sweep_correction.py -> out/correction/), the true force on every scene
 # (force_targets.py -> out/force_targets/), the slide speed on the bent bar
-# (sweep_speed.py -> out/speed/) and on the family of bars of sim/scenes/curved
+# (sweep_speed.py -> out/speed/) and on the family of bars of params/scenes/curved
 # (sweep_family.py -> out/family/), and the whole closed contours
 # (run_contours.py -> out/contours/, out/contours_sensor_effects/). Then every
 # registry experiment again as Orocos components under the OCL deployer

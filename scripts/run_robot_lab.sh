@@ -9,8 +9,8 @@
 #                            [--port P] [--timeout S] [-- LAB_SIM_ARGS ...]
 #     EXPERIMENT  a robot: true entry of experiments.yaml; none: all of them
 #     --scene F   the world lab_sim simulates (default: the experiment's own
-#                 scene, sim/scenes/*.yaml); any scene file, e.g. one with a
-#                 `faults:` list (sim/scenes/faults/*.yaml); one experiment only
+#                 scene, params/scenes/*.yaml); any scene file, e.g. one with a
+#                 `faults:` list (params/scenes/faults/*.yaml); one experiment only
 #     --out DIR   where the runs go (default out/robot_lab): DIR/<experiment>/
 #     --port P    the FRI bridge's UDP port on loopback (default 49975)
 #     --timeout S longest wall-clock wait for the state machine (default 240 s)

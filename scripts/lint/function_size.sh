@@ -2,7 +2,7 @@
 # The function-length limit, enforced: clang-tidy's readability-function-size
 # (scripts/lint/function_size.yaml: no function body over 100 lines) over
 # every non-test C++ source of a build tree's compile_commands.json
-# (components/, sim/, typekits/; tests and generated code excluded), and the
+# (core/, rtt/, devices/, tools/; tests and generated code excluded), and the
 # project headers they include. Exits 1 and lists the functions when one is
 # over the limit.
 #
@@ -16,7 +16,7 @@ command -v clang-tidy > /dev/null || { echo "function_size: clang-tidy not found
 files="$(/usr/bin/python3 - "$db" "$root" <<'PY'
 import json, re, sys
 db, root = sys.argv[1], sys.argv[2]
-keep = re.compile(re.escape(root) + r"/(components|sim|typekits)/(?!(.*/)?tests?/).*\.cpp$")
+keep = re.compile(re.escape(root) + r"/(core|rtt|devices|tools)/(?!(.*/)?tests?/).*\.cpp$")
 print("\n".join(sorted({e["file"] for e in json.load(open(db)) if keep.match(e["file"])})))
 PY
 )"

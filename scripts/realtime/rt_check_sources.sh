@@ -2,7 +2,7 @@
 # Component sources use RTT's OS abstractions only, so the same code builds
 # for Xenomai's POSIX skin and no hook blocks behind RTT's back: this check
 # fails on standard or POSIX threads, sleeps and direct clock reads in the
-# RTT layer (components/*/rtt, sim/*/rtt). Use instead: an RTT activity
+# RTT layer (rtt/components/*, rtt/deploy). Use instead: an RTT activity
 # (threads), RTT::os::TimeService / rtos_get_time_ns (time), a
 # FileDescriptorActivity timeout or a periodic activity (waiting),
 # rtos_nanosleep (non-hook waits of deployment helpers).
@@ -15,7 +15,7 @@
 set -u
 here=$(cd "$(dirname "$0")/../.." && pwd)
 if [ $# -eq 0 ]; then
-  set -- "$here"/components/*/rtt "$here"/sim/*/rtt
+  set -- "$here"/rtt/components/* "$here"/rtt/deploy
 fi
 # One alternative per forbidden call (extended regex; `_` counts as a word
 # character, so rtos_nanosleep is not nanosleep).

@@ -6,9 +6,9 @@
 #
 # Runs the simulated deployment (deployments/sim_loop.ops: tactile::SimClock,
 # LwrSimComponent, WtsSimComponent, FeatureComponent, ServoComponent,
-# OCL::FileReporting) on sim/scenes/bar_loop.yaml: the bent bar slid back and
+# OCL::FileReporting) on params/scenes/bar_loop.yaml: the bent bar slid back and
 # forth between flange x = 0.72 and 0.62 m (program
-# components/servo/programs/bar_loop.yaml; the deployment script below turns
+# params/programs/bar_loop.yaml; the deployment script below turns
 # it on the measured flange position), at wall-clock speed (Clock.realtime_factor
 # = 1) for MINUTES (the staged scene's duration). Output in
 # out/rt_soak/sim_<MINUTES>min/:
@@ -42,7 +42,7 @@ mkdir -p "$out/deployments"
 # Staged copies with absolute paths; the scene's duration is the soak's.
 cp "$root"/deployments/*.ops "$root"/deployments/*.cpf "$out/deployments/"
 sed -i "s#\.\./#$root/#g" "$out"/deployments/*.cpf
-sed -e "s#^duration: .*#duration: $secs#" -e "s#\.\./\.\./#$root/#g" "$root/sim/scenes/bar_loop.yaml" >"$out/bar_loop.yaml"
+sed -e "s#^duration: .*#duration: $secs#" -e "s#\.\./#$root/params/#g" "$root/params/scenes/bar_loop.yaml" >"$out/bar_loop.yaml"
 cat > "$out/deployments/lwr_sim_bar_loop.cpf" <<XML
 <?xml version="1.0" encoding="UTF-8"?>
 <!DOCTYPE properties SYSTEM "cpf.dtd">
@@ -54,7 +54,7 @@ cat > "$out/deployments/servo_bar_loop.cpf" <<XML
 <?xml version="1.0" encoding="UTF-8"?>
 <!DOCTYPE properties SYSTEM "cpf.dtd">
 <properties>
-  <simple name="program_file" type="string"><description>YAML phase program</description><value>$root/components/servo/programs/bar_loop.yaml</value></simple>
+  <simple name="program_file" type="string"><description>YAML phase program</description><value>$root/params/programs/bar_loop.yaml</value></simple>
   <simple name="controller_mode" type="string"><description>the program's</description><value></value></simple>
   <simple name="period" type="double"><description>servo period (s)</description><value>0.01</value></simple>
 </properties>

@@ -109,7 +109,7 @@ with open(out + "/rss.txt") as f:
         if len(a) == 2 and a[1] != "nan":
             rss[int(a[0])] = int(a[1])
 
-# Phase indices of components/servo/programs/bar_loop.yaml: slide_out 0, slide_back 1.
+# Phase indices of params/programs/bar_loop.yaml: slide_out 0, slide_back 1.
 sliding = (phase == 0) | (phase == 1)
 # Legs: runs of one sliding phase; the first (after the approach) is a transient.
 change = np.flatnonzero(np.diff(phase) != 0) + 1

@@ -6,7 +6,7 @@ usage: compare_controllers.py [--sim build/bin/tactile_sim] [--out out/compare]
                               [--paper]
 
 Runs `tactile_sim run SCENE --controller C` for every shipped scene
-(sim/scenes/*.yaml) and every controller:
+(params/scenes/*.yaml) and every controller:
   proposed     the touch-dependent J^-1 with the DZMP rows (Eq. 8);
   baseline     Li et al. (RSS 2013): constant J^-1 on CoP, force, alpha_z with
                the CoP -> rotation rows, no DZMP (tactile::liJinv);
@@ -70,7 +70,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--sim", default=os.path.join(ROOT, "build", "bin", "tactile_sim"))
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "compare"))
-    ap.add_argument("--scenes", default="", help="comma-separated scene names (default: the experiment scenes of sim/scenes)")
+    ap.add_argument("--scenes", default="", help="comma-separated scene names (default: the experiment scenes of params/scenes)")
     ap.add_argument("--controllers", default=",".join(CONTROLLERS))
     ap.add_argument("--paper", action="store_true", help="the paper's programs (*_paper.yaml) where there are")
     a = ap.parse_args()

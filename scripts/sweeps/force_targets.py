@@ -3,7 +3,7 @@
 
 usage: force_targets.py [--out out/force_targets] [--jobs N] [--seeds N] [--sim PATH]
 
-Runs each shipped scene (sim/scenes/*.yaml, the soak's bar loop for its first
+Runs each shipped scene (params/scenes/*.yaml, the soak's bar loop for its first
 120 s) as shipped for seeds 1..N with the band at +-0.5 N
 (metrics.force_band_n), and where the scene's program has a `*_paper.yaml`
 beside it (the paper's program: Eq. 2's force alone, CoP_y 0) that too, on

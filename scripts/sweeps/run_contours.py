@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Runs the whole-contour scenes (sim/scenes/ring, rounded_square, s_curve,
+"""Runs the whole-contour scenes (params/scenes/ring, rounded_square, s_curve,
 gap_bars: scripts/tools/make_contour_scenes.py) through the headless runner, checks
 each with scripts/tools/contour_check.py and writes OUT/contours.md (the table of
 docs/results.md, "Closed contours") and OUT/contours.png (the four

@@ -47,7 +47,7 @@ EXPERIMENTS = ["edge_exploration", "bent_bar"]  # registry entries (experiments.
 
 
 def program_name(experiment):
-    """The experiment's program (its registry entry's), as a name of components/servo/programs."""
+    """The experiment's program (its registry entry's), as a name of params/programs."""
     return os.path.splitext(os.path.basename(ts.registry.load()[experiment]["program"]))[0]
 
 

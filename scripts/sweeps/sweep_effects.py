@@ -4,7 +4,7 @@
 usage: sweep_effects.py [--sim build/bin/tactile_sim] [--out out/effects] [--reps 3]
                         [--scenes a,b] [--effects a,b] [--seed N]
 
-For each scene of sim/scenes/ it runs
+For each scene of params/scenes/ it runs
   * `none`: the scene with every effect off (`--set effects={}`),
   * each effect of EFFECTS alone, at its realistic level, on top of `none`,
   * `all`: every effect at once (the realistic simulator),
@@ -30,7 +30,7 @@ from tactile_sweeps.plot import plt  # noqa: E402
 # skipped on scenes without a tray).
 EFFECTS = {
     "wts_delay": (["--set", "effects.wts_transfer_delay_s=0.0157"],
-                  "a 181-byte WTS frame at 115200 Bd 8N1 (components/wts_reader protocol)"),
+                  "a 181-byte WTS frame at 115200 Bd 8N1 (core/wts protocol)"),
     "krc_fri": (["--set", "effects.krc_cycle_s=0.002", "--set", "effects.fri_delay_s=0.002"],
                 "FRI at 500 Hz, one cycle of transport delay"),
     "friction": (["--set", "effects.friction_mu=0.5"], "rubber on metal, low end of the usual 0.5-1"),

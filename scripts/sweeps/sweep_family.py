@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The family of bars (sim/scenes/curved, scripts/tools/make_curved_bars.py):
+"""The family of bars (params/scenes/curved, scripts/tools/make_curved_bars.py):
 per bar, fixed slide gains against the speed law (a Pareto front per bar).
 
 usage: sweep_family.py [--out out/family] [--jobs N] [--seeds N] [--pool-seeds M] [--sim PATH]
@@ -60,7 +60,7 @@ LAW_DURATION_S = 90.0  # s: a law sliding at its v_min (5 mm/s) the whole bar st
 
 
 def bars():
-    """The family's scene names, relative to sim/scenes."""
+    """The family's scene names, relative to params/scenes."""
     d = os.path.join(ts.scenes.SCENE_DIR, "curved")
     return sorted("curved/" + os.path.basename(p)[:-5] for p in glob.glob(os.path.join(d, "*.yaml")))
 
@@ -243,7 +243,7 @@ def main():
     ts.write_csv(os.path.join(a.out, "family_bars.csv"), csv_rows)
 
     with open(os.path.join(a.out, "family.md"), "w") as f:
-        f.write(f"The family of bars (sim/scenes/curved), seeds 1..{a.seeds}. Targets: to the bar's end, true-force "
+        f.write(f"The family of bars (params/scenes/curved), seeds 1..{a.seeds}. Targets: to the bar's end, true-force "
                 "RMS error <= 0.5 N, >= 95 % within 5 +- 0.5 N, no contact loss (every seed). Speeds are the "
                 "seeds' mean; RMS the worst seed, in band the worst seed. 'not slower': the law meets the "
                 "targets and is at least as fast as the fastest fixed gain that does.\n\n")

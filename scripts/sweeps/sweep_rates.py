@@ -4,7 +4,7 @@
 usage: sweep_rates.py [--sim build/bin/tactile_sim] [--out out/rates] [--jobs N]
                       [--seeds N] [--set KEY.PATH=VALUE ...]
 
-Runs every scene in sim/scenes/ at servo rates of 50, 100, 200, 500 and 1000 Hz
+Runs every scene in params/scenes/ at servo rates of 50, 100, 200, 500 and 1000 Hz
 (`tactile_sim run SCENE --servo-rate HZ --no-plots`) and compares each scene's
 key metrics (scripts/sweeps/sweep_tradeoff.py SCENES; the others: force_true_mean_n)
 with the 100 Hz run (the paper's Table 2). The servo's gains, limits and

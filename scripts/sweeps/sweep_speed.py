@@ -10,7 +10,7 @@ For each gain this writes a variant of the program with that gain and the
 translation limits raised to 0.12 m/s (safety.max_trans_speed and
 u_max_per_s.x/y; the shipped 0.05 m/s would cap the sweep at 50 mm/s; 0.12 m/s
 is the speed law's own ceiling, bent_bar_speed_law.yaml), and runs
-the bent bar (sim/scenes/bent_bar_fused.yaml: the bent bar, started 10 mm
+the bent bar (params/scenes/bent_bar_fused.yaml: the bent bar, started 10 mm
 higher, the arm's estimated wrench with its error) with four controllers:
   proposed, force estimate     bent_bar_to_end_cap.yaml (the tactile force corrected
                                by the arm's wrench, edge on a taxel row)
@@ -50,7 +50,7 @@ from tactile_sweeps.plot import plt, save  # noqa: E402
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
 import program_yaml  # noqa: E402
 
-PROGRAMS = os.path.join(ts.ROOT, "components", "servo", "programs")
+PROGRAMS = os.path.join(ts.ROOT, "params", "programs")
 GAINS = [0.2, 0.4, 0.8, 1.2, 1.6, 2.0, 2.4, 3.0, 4.0, 4.8]  # 1/s: 5 .. 120 mm/s commanded at a 25 mm CoP_x error
 # m/s: the speed law's ceiling, read from its program, so that the fixed gains
 # always share it

@@ -26,7 +26,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import program_yaml  # noqa: E402
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
-# The servo's defaults for a program without the key (components/servo/include/tactile_servo/servo_params.hpp).
+# The servo's defaults for a program without the key (core/servo/include/tactile_servo/servo_params.hpp).
 DEFAULT_TRANS_MPS = 0.05
 DEFAULT_ROT_DEG_S = 50.0
 
@@ -58,7 +58,7 @@ def check(registry_file, fri_file, names):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--registry", default=os.path.join(ROOT, "experiments.yaml"))
-    ap.add_argument("--fri-yaml", default=os.path.join(ROOT, "components/fri_bridge/params/fri.yaml"))
+    ap.add_argument("--fri-yaml", default=os.path.join(ROOT, "params/sensors/fri.yaml"))
     ap.add_argument("experiments", nargs="*")
     a = ap.parse_args()
     try:

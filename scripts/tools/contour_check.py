@@ -2,7 +2,7 @@
 """Checks a closed-contour run (tactile_sim run SCENE --out RUN) and plots it.
 
 Reads RUN/contacts.csv (the controller's contact points: the measured flange
-pose, the sensor mount and the tactile image; see sim/runner/src/runner.cpp)
+pose, the sensor mount and the tactile image; see core/sim/runner/src/runner.cpp)
 and RUN/summary.json (phases), and the scene's geometry independently: each
 `bent_bar`'s ridge, its axis polyline raised by its radius along +z_g (the
 contours here lie in horizontal planes, touched from above).

@@ -3,12 +3,12 @@
 (deployments/experiment_start.ops: the servo's `phase` and `pose_command`,
 the robot's `flange_pose`, the features) into the headless runner's run
 directory format, so that scripts/tools/plot_run.py and scripts/tools/experiment_report.py
-read it: timeseries.csv (the columns of sim/runner/src/output.cpp, same
+read it: timeseries.csv (the columns of core/sim/runner/src/output.cpp, same
 order) and summary.json.
 
-usage: deployment_to_run.py REPORT.dat OUT_DIR (--program components/servo/programs/x.yaml
+usage: deployment_to_run.py REPORT.dat OUT_DIR (--program params/programs/x.yaml
                             [--controller-mode MODE] | --servo-cpf x.cpf)
-                            [--scene sim/scenes/x.yaml] [--experiment NAME]
+                            [--scene params/scenes/x.yaml] [--experiment NAME]
                             [--source sim|robot] [--deployer-exit N] [--robot-status S]
                             [--verdict TEXT] [--wall-time S]
 
@@ -289,7 +289,7 @@ def write_timeseries(out_dir, out_rows):
 
 
 def scored_as(names, t, is_scored, transient):
-    """Per row, the phase it is scored as (the runner's rule, sim/runner/src/metrics.cpp): its own, or for the
+    """Per row, the phase it is scored as (the runner's rule, core/sim/runner/src/metrics.cpp): its own, or for the
     rows of a detour (the run leaving a scored phase and back in it within `transient` s) the phase it left."""
     out = list(names)
     i = 1
@@ -378,7 +378,7 @@ def run_status(out_rows, phases, a):
 
 
 def measured_figures(out_rows, prog, scene):
-    """Measured counterparts of the runner's metrics (sim/runner/src/metrics.cpp) from what a deployment sees:
+    """Measured counterparts of the runner's metrics (core/sim/runner/src/metrics.cpp) from what a deployment sees:
     the slide and the scored window (the scene's metrics.force_phases, default the phases that need contact and
     are not terminal; metrics.transient_s) give the measured force and the sensor's path (the runner uses the true
     contact point); the final DZMP_y and, with a tray, its recovery time and the translation along x_s follow the

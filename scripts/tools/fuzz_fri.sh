@@ -44,7 +44,7 @@ for k, v in seeds.items():
     open(os.path.join(out, 'seed_' + k), 'wb').write(v)
 PY
 # Past findings stay in the corpus as regression inputs.
-cp "$ROOT"/components/fri_bridge/fuzz/regressions/* "$CORPUS"/ 2>/dev/null || true
+cp "$ROOT"/core/fri/fuzz/regressions/* "$CORPUS"/ 2>/dev/null || true
 FUZZER=$(find "$BUILD" -type f -name fuzz_fri_decode -perm -u+x | head -1)
 echo "== fuzz_fri_decode: -runs=$RUNS"
 cd "$BUILD"

@@ -4,7 +4,7 @@
 #
 #   scripts/tools/fuzz_wts.sh [RUNS] [MAX_SECONDS]      defaults: 10000000 runs, 1800 s guard
 #
-# Targets (components/wts_reader/fuzz/):
+# Targets (core/wts/fuzz/):
 #   fuzz_wts_parser  arbitrary bytes in arbitrary chunks -> Parser -> FrameDecoder
 #   fuzz_wts_frame   arbitrary payloads straight into FrameDecoder + packet round trip
 # The seed corpus (valid plain/RLE frames and commands) is written by this script.
@@ -67,7 +67,7 @@ PY
 status=0
 for t in parser frame; do
   echo "== fuzz_wts_$t: -runs=$RUNS -max_total_time=$MAXT"
-  (cd "$BUILD" && ./components/wts_reader/fuzz_wts_$t -runs="$RUNS" -max_total_time="$MAXT" -max_len=${MAXLEN:-2048} \
+  (cd "$BUILD" && ./core/wts/fuzz_wts_$t -runs="$RUNS" -max_total_time="$MAXT" -max_len=${MAXLEN:-2048} \
       -print_final_stats=1 "$CORPUS/$t" 2>&1 | tee "$BUILD/fuzz_wts_$t.log" | grep -E "^(INFO: seed|#[0-9]+ *DONE|Done|stat::number_of_executed_units|==[0-9]+==ERROR|SUMMARY)" ) || status=1
   grep -q "stat::number_of_executed_units" "$BUILD/fuzz_wts_$t.log" || status=1
 done

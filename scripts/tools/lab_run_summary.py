@@ -20,7 +20,7 @@ or of rise); each truth row takes the
 servo's phase and force set point of the reporter's row at that time. The
 true force and the flange's path then go through the headless runner's two
 windows (the slide and the scored window: deployment_to_run.windows, the
-rule of sim/runner/src/metrics.cpp), so force_true_*, slide_* and
+rule of core/sim/runner/src/metrics.cpp), so force_true_*, slide_* and
 path_length_m mean what they mean in a headless summary.json; the path is the
 flange's while the world says the pad touches (the runner's is the true
 contact point's). force_true_run_max_n is the true force's maximum over the

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Writes the family of bars of sim/scenes/curved/*.yaml, each starting as the
+"""Writes the family of bars of params/scenes/curved/*.yaml, each starting as the
 bent bar does (the start pose and program of bent_bar_fused, 110 mm of
 straight bar under the pad), then:
   wavy_*      the top edge a sine in height along the slide,
@@ -14,7 +14,7 @@ straight bar under the pad), then:
   bend_*      the bent bar's parabolic bend (30 mm sideways, 25 mm in height
               over 247 mm), mirrored: to the right, or down (away from the pad);
   sharp_*     a straight bar with a top edge rounded at 2 mm instead of 5 mm.
-Usage: make_curved_bars.py [--out sim/scenes/curved]
+Usage: make_curved_bars.py [--out params/scenes/curved]
 """
 import argparse
 import math
@@ -58,7 +58,7 @@ def step_shape(height, width):
     return lambda u: (0.0, 0.5 * height * (1.0 - math.cos(math.pi * min(u, width) / width)))
 
 
-BEND_LEN, BEND_Y, BEND_Z = 0.2475, 0.03, 0.025  # the bent bar's bend (sim/scenes/bent_bar.yaml): parabolic
+BEND_LEN, BEND_Y, BEND_Z = 0.2475, 0.03, 0.025  # the bent bar's bend (params/scenes/bent_bar.yaml): parabolic
 
 
 def bend(sy, sz):
@@ -83,15 +83,15 @@ FOLLOWED = """    force_true_max_n: {max: 7.0}
     force_true_in_band_fraction: {min: 0.95}"""
 
 
-def scene_text(name, header, description, verts, rounding=0.005, program="bent_bar_to_end_cap.yaml", up="../../..",
+def scene_text(name, header, description, verts, rounding=0.005, program="bent_bar_to_end_cap.yaml", up="../..",
                duration=22, criteria=FOLLOWED):
     """A scene of the family: the bent bar's start, pose, program and criteria."""
     v = ", ".join(f"[{x[0]}, {x[1]}, {x[2]}]" for x in verts)
     return f"""{header}
 name: {name}
 description: "{description}"
-program: {up}/components/servo/programs/{program}
-features_file: {up}/components/features/params/wts0614.yaml
+program: {up}/programs/{program}
+features_file: {up}/sensors/wts0614.yaml
 controller: proposed
 duration: {duration}
 seed: 1
@@ -133,7 +133,7 @@ def shape_scene(name, what, offset, rounding):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", default=os.path.join(os.path.dirname(__file__), "..", "..", "sim", "scenes", "curved"))
+    ap.add_argument("--out", default=os.path.join(os.path.dirname(__file__), "..", "..", "params", "scenes", "curved"))
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     for amp, l in FAMILY:
@@ -150,26 +150,26 @@ def main():
     # long enough for its slide, beside the other experiments' scenes.
     amp, l = 0.002, 0.090
     header = f"""# The careful speed law on a wave (scripts/tools/make_curved_bars.py; experiments.yaml
-# wave_speed_law): sim/scenes/curved/wavy_a{amp * 1e3:g}mm_l{l * 1e3:g}mm.yaml (R {radius(amp, l) * 1e3:.1f} mm) with
+# wave_speed_law): params/scenes/curved/wavy_a{amp * 1e3:g}mm_l{l * 1e3:g}mm.yaml (R {radius(amp, l) * 1e3:.1f} mm) with
 # bent_bar_speed_law_careful.yaml, 40 s. docs/design.md, "The speed law"."""
     with open(os.path.join(a.out, "..", "wave_speed_law.yaml"), "w") as fh:
         fh.write(scene_text("wave_speed_law", header, f"A wave in height (A {amp * 1e3:g} mm, L {l * 1e3:g} mm, R "
                             f"{radius(amp, l) * 1e3:.1f} mm), the careful speed law", vertices(amp, l),
-                            program="bent_bar_speed_law_careful.yaml", up="../..", duration=40))
+                            program="bent_bar_speed_law_careful.yaml", up="..", duration=40))
     print("wave_speed_law: the careful speed law on the A 2 mm, L 90 mm wave")
     # The registry's experiment of the stop (experiments.yaml tight_wave): a
     # wave tighter than the pad follows, with the same program; the servo's
     # surface_too_curved watchdog must end it before the true force reaches 7 N.
     amp, l = 0.003, 0.060
     header = f"""# A wave tighter than the pad follows (scripts/tools/make_curved_bars.py; experiments.yaml
-# tight_wave): sim/scenes/curved/wavy_a{amp * 1e3:g}mm_l{l * 1e3:g}mm.yaml (R {radius(amp, l) * 1e3:.1f} mm) with
+# tight_wave): params/scenes/curved/wavy_a{amp * 1e3:g}mm_l{l * 1e3:g}mm.yaml (R {radius(amp, l) * 1e3:.1f} mm) with
 # bent_bar_speed_law_careful.yaml, 40 s. The run must end with the servo's
 # surface_too_curved watchdog before the true force reaches 7 N. docs/design.md,
 # "Safety"."""
     with open(os.path.join(a.out, "..", "tight_wave.yaml"), "w") as fh:
         fh.write(scene_text("tight_wave", header, f"A wave tighter than the pad (A {amp * 1e3:g} mm, L {l * 1e3:g} mm, R "
                             f"{radius(amp, l) * 1e3:.1f} mm): the stop", vertices(amp, l),
-                            program="bent_bar_speed_law_careful.yaml", up="../..", duration=40,
+                            program="bent_bar_speed_law_careful.yaml", up="..", duration=40,
                             criteria="    force_true_max_n: {max: 7.0}"))
     print("tight_wave: the careful speed law on the A 3 mm, L 60 mm wave, stopped")
 

@@ -1,8 +1,8 @@
 """The key tables of docs/formats.md ("Keys of the program's blocks", "Keys
 of the scene's blocks", "Keys of the sensor's blocks", the registry's) are generated from the
-declarations (components/servo/src/servo_schema.cpp, sim/runner/src/scene_schema.cpp,
-sim/lwr/src/sim_schema.cpp, components/features/src/features_schema.cpp,
-components/config/src/registry.cpp) by
+declarations (core/servo/src/servo_schema.cpp, core/sim/runner/src/scene_schema.cpp,
+core/sim/lwr/src/sim_schema.cpp, core/features/src/features_schema.cpp,
+core/config/src/registry.cpp) by
 `tactile_sim schema program|scene|sensor|registry`. This script writes them into the page or
 checks that the page shows what the declarations say.
 

@@ -1,7 +1,7 @@
-"""Servo phase programs (components/servo/programs/*.yaml) as the servo reads
+"""Servo phase programs (params/programs/*.yaml) as the servo reads
 them, for the scripts that read or derive programs: load(path) returns the
 program with its `base:` chain merged, as printed by `tactile_sim program
-PATH` (the servo's own reader, components/servo/include/tactile_servo/
+PATH` (the servo's own reader, core/servo/include/tactile_servo/
 program_io.hpp, "Overlays"). The overlay rules live in that one place; this
 module only runs the tool.
 

@@ -135,7 +135,7 @@ def check(args):
     # The KRC's largest applied step.
     log = open(os.path.join(d, "lab_sim.log")).read()
     m = re.search(r"KRC max_step ([0-9.eE+-]+) m", log)
-    limit = fri_step_limit(args.fri_yaml or os.path.join(root, "components/fri_bridge/params/fri.yaml"))
+    limit = fri_step_limit(args.fri_yaml or os.path.join(root, "params/sensors/fri.yaml"))
     verdict(m is not None and float(m.group(1)) <= limit,
             f"the KRC's largest step between applied commands {m.group(1) if m else '?'} m (<= {limit:.7f} m)")
     # The KRC's own stop and its rating of the link.

@@ -540,7 +540,7 @@ def render_results_md(res):
         "",
         "## Sliding speed on the family of bars, seeds 1-3 (out/family/family_bars.csv)",
         "",
-        "Every bar of `sim/scenes/curved` (`scripts/tools/make_curved_bars.py`: waves in height, dips,",
+        "Every bar of `params/scenes/curved` (`scripts/tools/make_curved_bars.py`: waves in height, dips,",
         "steps, the bend both ways, a 2 mm edge) with `bent_bar_speed_law.yaml`: fixed slide gains",
         "(the law off, the slope feed-forward on, the law's 0.12 m/s ceiling) against the law as shipped",
         "(0.5 N budget, the slope feed-forward on) and `bent_bar_speed_law_careful.yaml` (0.35 N, a",

@@ -52,7 +52,7 @@ rosparam set --textfile "$root/ros/tactile_ros/urdf/lwr4plus_wts.urdf" /robot_de
   || { echo "ros_screenshot: rosparam set failed (logs in $tmp)" >&2; exit 1; }
 setsid rosrun robot_state_publisher robot_state_publisher joint_states:=/tactile/joint_states _publish_frequency:=200 \
   > "$tmp/robot_state_publisher.log" 2>&1 & pids+=($!)
-setsid /usr/bin/python3 "$root/ros/tactile_ros/scripts/scene_markers.py" "$root/sim/scenes/edge_exploration.yaml" \
+setsid /usr/bin/python3 "$root/ros/tactile_ros/scripts/scene_markers.py" "$root/params/scenes/edge_exploration.yaml" \
   > "$tmp/markers.log" 2>&1 & pids+=($!)
 setsid rviz -d "$root/ros/tactile_ros/rviz/tactile.rviz" > "$tmp/rviz.log" 2>&1 & pids+=($!)
 sleep 8   # rviz up before the run starts

@@ -12,5 +12,5 @@ rm -rf "$headless"; mkdir -p "$headless"
 BUILD="$build" DEPLOY_OUT="$build/deploy_out" bash "$src/scripts/run_deployment.sh" "$exp" --controller "$controller"
 rc=$?
 [ "$rc" -eq 0 ] || { echo "run_deployment.sh exit $rc"; exit 1; }
-"$build/bin/tactile_sim" run "$src/sim/scenes/$exp.yaml" --controller "$controller" --out "$headless" --no-plots
+"$build/bin/tactile_sim" run "$src/params/scenes/$exp.yaml" --controller "$controller" --out "$headless" --no-plots
 /usr/bin/python3 "$src/tests/deploy/check_deployment.py" "$exp" "$controller" "$build/deploy_out/$run" "$headless"

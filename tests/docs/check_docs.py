@@ -233,8 +233,8 @@ def is_test(name, tests):
 
 def yaml_keys(root):
     keys = set()
-    for pat in ("experiments.yaml", "sim/scenes/*.yaml", "components/*/programs/*.yaml", "components/*/config/*.yaml",
-                "components/*/calibration/*.yaml", "deployments/*.yaml", "deployments/*/*.yaml", "**/*.yaml"):
+    for pat in ("experiments.yaml", "params/scenes/*.yaml", "params/programs/*.yaml", "params/sensors/*.yaml",
+                "deployments/*.yaml", "deployments/*/*.yaml", "**/*.yaml"):
         for p in glob.glob(os.path.join(root, pat), recursive=True):
             if "/build/" in p or "/out/" in p:
                 continue
@@ -413,7 +413,7 @@ def copy_tree(root):
     shutil.copytree(os.path.join(root, "docs"), os.path.join(tmp, "docs"))
     os.makedirs(os.path.join(tmp, "scripts"))
     shutil.copytree(os.path.join(root, "scripts", "tools"), os.path.join(tmp, "scripts", "tools"))
-    for rel in ("sim/lwr/README.md",):  # the hand-written pages outside docs/ the checks read
+    for rel in ("core/sim/lwr/README.md",):  # the hand-written pages outside docs/ the checks read
         if os.path.exists(os.path.join(root, rel)):
             os.makedirs(os.path.dirname(os.path.join(tmp, rel)), exist_ok=True)
             shutil.copy(os.path.join(root, rel), os.path.join(tmp, rel))
@@ -489,7 +489,7 @@ def main():
             head = subprocess.run(["git", "-C", root, "rev-parse", "--short=7", "HEAD"],
                                   capture_output=True, text=True).stdout.strip()
             add = {"commit": f"\nThese figures are of commit {head}.\n",
-                   "path": "\n    $ tactile_sim run /work/checkout/sim/scenes/bent_bar.yaml\n",
+                   "path": "\n    $ tactile_sim run /work/checkout/params/scenes/bent_bar.yaml\n",
                    "length": "\nx\n" * (DESIGN_MAX_LINES // 2)}.get(a.mutate)
             if add is None:
                 sys.exit(f"--mutate {a.mutate}: commit | path | length")

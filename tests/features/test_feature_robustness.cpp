@@ -52,7 +52,7 @@ CalibrationParams linearCalibration(double noise_counts = 0.0) {
   return c;
 }
 
-// The device's electronics as in sim/lwr TaxelResponse: counts of `force`
+// The device's electronics as in core/sim/lwr TaxelResponse: counts of `force`
 // plus Gaussian noise, rounded, 0 below the firing threshold's count.
 void acquire(const TactileFrame& truth, double noise_counts, double threshold, std::mt19937_64& rng,
              RawTactileFrame& raw) {

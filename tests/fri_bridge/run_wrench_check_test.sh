@@ -23,8 +23,8 @@ source "$root/tests/lab_sim/lab_record_common.sh"  # fri_check_port
 out="$build/fri_check_wrench"
 check="$build/bin/fri_check"
 sim="$build/bin/fri_sim_krc"
-params="$root/components/fri_bridge/params/fri.yaml"
-sensor="$root/components/features/params/wts0614.yaml"
+params="$root/params/sensors/fri.yaml"
+sensor="$root/params/sensors/wts0614.yaml"
 for t in "$check" "$sim"; do [ -x "$t" ] || { echo "$name: $t missing" >&2; exit 1; }; done
 rm -rf "$out"
 mkdir -p "$out/krl_tool"

@@ -41,11 +41,11 @@ import subprocess
 import sys
 
 src_dir, work = sys.argv[1], sys.argv[2]
-sensor = os.path.join(src_dir, "components", "features", "params", "wts0614.yaml")
+sensor = os.path.join(src_dir, "params", "sensors", "wts0614.yaml")
 checker = os.path.join(src_dir, "krc", "check_krc_config.py")
 krc_dir = os.path.join(src_dir, "krc")
-fri_yaml = os.path.join(src_dir, "components", "fri_bridge", "params", "fri.yaml")
-protocol = os.path.join(src_dir, "components", "fri_bridge", "include", "tactile_fri", "protocol.hpp")
+fri_yaml = os.path.join(src_dir, "params", "sensors", "fri.yaml")
+protocol = os.path.join(src_dir, "core", "fri", "include", "tactile_fri", "protocol.hpp")
 failures = []
 
 

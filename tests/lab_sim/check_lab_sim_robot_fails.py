@@ -25,7 +25,7 @@ import sys
 
 run, robot_log, rc = sys.argv[1], sys.argv[2], int(sys.argv[3])
 failures = []
-# The approach's own timeout (components/servo/programs/first_touch.yaml): 12 s
+# The approach's own timeout (params/programs/first_touch.yaml): 12 s
 # of commandable time after the servo's start; the reporter's time starts with
 # the servo, within a few cycles. Asserted within 1 s.
 APPROACH_TIMEOUT_S = 12.0

@@ -43,7 +43,7 @@ def check(ok, what):
 
 
 scene = yaml.safe_load(open(scene_file))
-k_trans = float(scene.get("arm", {}).get("k_trans", 1000.0))  # N/m, sim/lwr ArmParams default
+k_trans = float(scene.get("arm", {}).get("k_trans", 1000.0))  # N/m, core/sim/lwr ArmParams default
 BAR_ROW = 3
 
 # --- fri_check ---------------------------------------------------------------

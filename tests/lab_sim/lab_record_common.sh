@@ -42,13 +42,13 @@ lab_record() {
   local tag="$1" cycles="$2" krl="$3"
   shift 3
   local rec="$out/$tag.csv"
-  "$build/bin/fri_check" --monitor --params "$root/components/fri_bridge/params/fri.yaml" --port 0 --bind 127.0.0.1 \
+  "$build/bin/fri_check" --monitor --params "$root/params/sensors/fri.yaml" --port 0 --bind 127.0.0.1 \
     --cycles "$cycles" --seconds 60 --idle-timeout 10 --period-tolerance 0.9 --max-jitter-ms 1000 --record "$rec" \
     >"$rec.log" 2>&1 &
   local pid=$! port
   port=$(fri_check_port "$rec.log" "$pid")
   [ -n "$port" ] || return 1
-  "$build/bin/lab_sim" "$root/sim/lab/scenes/bringup_press.yaml" --fri-port "$port" --wts-link "$out/wts_$tag" \
+  "$build/bin/lab_sim" "$root/params/lab_scenes/bringup_press.yaml" --fri-port "$port" --wts-link "$out/wts_$tag" \
     --krc "0:friOpen" --krl "$krl" "$@" >"$out/$tag.lab.log" 2>&1 &
   local lab=$!
   wait "$pid"

@@ -21,7 +21,7 @@ build="$2"
 source "$root/tests/lab_sim/lab_record_common.sh"  # lab_record_init
 lab_record_init faults lab_sim wts_read
 faults='faults=[{kind: disconnect, start_s: 1.0, duration_s: 1.0}, {kind: stuck, start_s: 2.5, rows: [0, 0], cols: [0, 1], counts: 3000}, {kind: stale, start_s: 3.5, duration_s: 0.5}]'
-"$build/bin/lab_sim" "$root/sim/lab/scenes/bringup_press.yaml" --fri-port 49972 --wts-link "$out/wts0" \
+"$build/bin/lab_sim" "$root/params/lab_scenes/bringup_press.yaml" --fri-port 49972 --wts-link "$out/wts0" \
   --duration 6 --set "$faults" >"$out/lab_sim.log" 2>&1 &
 lab=$!
 trap 'kill $lab 2>/dev/null || true' EXIT

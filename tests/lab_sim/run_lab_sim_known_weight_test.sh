@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # ctest lab_sim_known_weight: the known-weight check (fri_check
 # --wrench-check, docs/bringup.md step 3c) on lab_sim's KRC, the weight and
-# the KRC's errors made by the world's own wrench faults (sim/lwr
+# the KRC's errors made by the world's own wrench faults (core/sim/lwr
 # sensor_faults.hpp), with 0.5 N of wrench noise per axis. The bring-up scene
 # without its bar rests in monitor mode with the pad facing sideways
 # (initial_flange.rpy_deg [90, 0, 180]: the flange's z horizontal); fri_check
@@ -20,7 +20,7 @@ root="$1"
 build="$2"
 source "$root/tests/lab_sim/lab_record_common.sh"  # lab_record_init, lab_record
 lab_record_init known_weight
-params="$root/components/fri_bridge/params/fri.yaml"
+params="$root/params/sensors/fri.yaml"
 
 # rest NAME FAULTS: lab_sim at rest, the pad sideways, with these faults, recorded
 rest() {

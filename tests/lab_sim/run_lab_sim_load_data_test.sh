@@ -19,7 +19,7 @@ root="$1"
 build="$2"
 source "$root/tests/lab_sim/lab_record_common.sh"  # lab_record_init, lab_record
 lab_record_init load_data
-params="$root/components/fri_bridge/params/fri.yaml"
+params="$root/params/sensors/fri.yaml"
 
 # rest NAME RPY [LAB_SIM ARGS...]: lab_sim at rest in that orientation, recorded
 rest() {
@@ -35,7 +35,7 @@ for i in 0 1 2; do
   rest "heavy_$i" "${orient[$i]}" --set "$fault" || exit 1
 done
 check() {
-  "$build/bin/fri_check" --load-data --params "$params" --sensor-params "$root/components/features/params/wts0614.yaml" \
+  "$build/bin/fri_check" --load-data --params "$params" --sensor-params "$root/params/sensors/wts0614.yaml" \
     "$out/$1_0.csv" "$out/$1_1.csv" "$out/$1_2.csv"
 }
 ok_out=$(check ok)

@@ -23,6 +23,6 @@ source "$1/tests/lab_sim/lab_robot_common.sh"  # lab_robot_stage, lab_robot_star
 exp=first_touch
 out="$build/lab_sim_test/robot_${exp}_fails"
 lab_robot_stage "$out" 49972
-lab_robot_start "$out" 49972 "$root/sim/scenes/$exp.yaml" --set 'objects=[]'
+lab_robot_start "$out" 49972 "$root/params/scenes/$exp.yaml" --set 'objects=[]'
 lab_robot_run $exp "$out" 60
 /usr/bin/python3 "$root/tests/lab_sim/check_lab_sim_robot_fails.py" "$out/run" "$out/run_robot.log" "$dep_rc"

@@ -3,7 +3,7 @@
 # experiment (scripts/run_robot.sh, the unattended run) against lab_sim on a
 # scene whose pad is faulty, the KRC in command mode from its first packet;
 # the run must end FAILED with the servo's named stop, and the arm must not
-# have travelled. Here: sim/scenes/faults/phantom_contact.yaml (the pad reads
+# have travelled. Here: params/scenes/faults/phantom_contact.yaml (the pad reads
 # a steady 8 N press, nothing touches it, the KRC's wrench says so) under the
 # edge exploration. Before the sensor checks compared the taxels' own force
 # with the wrench, this run chased the press for 30 s and more than 0.5 m.

@@ -3,7 +3,7 @@
 # (deployments/robot.ops with TACTILE_EXPERIMENT=edge_exploration: the FRI bridge on its
 # FileDescriptorActivity, the WTS reader, features, servo, the experiment's
 # state machine, the reporter) against lab_sim on the edge exploration scene
-# (sim/scenes/edge_exploration.yaml), the KRC in command mode from its first
+# (params/scenes/edge_exploration.yaml), the KRC in command mode from its first
 # packet, to the experiment's end: scripts/run_robot.sh (the unattended
 # robot run: the entry script, then deployments/experiment_finish.ops, which
 # waits for the state machine to reach FINISHED, here at most 240 s, and
@@ -28,9 +28,9 @@ out="$build/lab_sim_test/robot_$exp"
 py=/usr/bin/python3
 lab_robot_stage "$out" $port
 grep -q "<value>$out/wts0</value>" "$out/deployments/wts_reader.cpf" || { echo "$name: could not set the WTS device"; exit 1; }
-lab_robot_start "$out" $port "$root/sim/scenes/$exp.yaml" --truth-out "$out/truth.csv"
+lab_robot_start "$out" $port "$root/params/scenes/$exp.yaml" --truth-out "$out/truth.csv"
 lab_robot_run $exp "$out" 240
 cat "$out/lab_sim.log"
 [ -s "$out/run/timeseries.csv" ] || { echo "$name: no converted report in $out/run (run_robot.sh exit $dep_rc)" >&2; exit 1; }
-"$py" "$root/tests/lab_sim/check_lab_sim_robot.py" "$out" "$lab_rc" "$dep_rc" "$root/sim/scenes/$exp.yaml" \
-  "$root/components/servo/programs/$exp.yaml" "$root/components/fri_bridge/params/fri.yaml"
+"$py" "$root/tests/lab_sim/check_lab_sim_robot.py" "$out" "$lab_rc" "$dep_rc" "$root/params/scenes/$exp.yaml" \
+  "$root/params/programs/$exp.yaml" "$root/params/sensors/fri.yaml"

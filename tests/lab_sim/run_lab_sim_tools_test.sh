@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # ctest lab_sim_tools: lab_sim alone against the bench tools, over loopback
-# UDP and a PTY. lab_sim runs the bring-up scene (sim/lab/scenes/
+# UDP and a PTY. lab_sim runs the bring-up scene (params/lab_scenes/
 # bringup_press.yaml: the pad pressed on a bar from the start) with the KRC
 # script "0:friOpen,1.0:friStart" (MON for 1 s, then CMD); fri_check (the FRI
 # bridge core over UDP) holds the pose where CMD is entered until it has
@@ -36,7 +36,7 @@ trap cleanup EXIT
 fri=$!
 pids+=($fri)
 for _ in $(seq 100); do grep -q "listening" "$out/fri_check.log" 2>/dev/null && break; sleep 0.05; done
-"$build/bin/lab_sim" "$root/sim/lab/scenes/bringup_press.yaml" --fri-port $port --wts-link "$out/wts0" \
+"$build/bin/lab_sim" "$root/params/lab_scenes/bringup_press.yaml" --fri-port $port --wts-link "$out/wts0" \
   --krc "0:friOpen,1.0:friStart" --quality-rule off --truth-out "$out/truth.csv" --truth-period-ms 1 \
   >"$out/lab_sim.log" 2>&1 &
 lab=$!
@@ -53,4 +53,4 @@ wait "$lab" || lab_rc=$?
 cat "$out/lab_sim.log"
 grep -E "state|summary" "$out/fri_check.log"
 "$py" "$root/tests/lab_sim/check_lab_sim_tools.py" "$out" "$lab_rc" "$fri_rc" "$wts_rc" \
-  "$root/sim/lab/scenes/bringup_press.yaml"
+  "$root/params/lab_scenes/bringup_press.yaml"

@@ -26,8 +26,8 @@ using namespace tactile;
 namespace {
 
 const std::string kSource = TACTILE_SOURCE_DIR;
-const std::string kPressScene = kSource + "/sim/lab/scenes/bringup_press.yaml";
-const std::string kEdgeScene = kSource + "/sim/scenes/edge_exploration.yaml";
+const std::string kPressScene = kSource + "/params/lab_scenes/bringup_press.yaml";
+const std::string kEdgeScene = kSource + "/params/scenes/edge_exploration.yaml";
 
 sim::Scene loadOrFail(const std::string& file) {
   sim::Scene s;

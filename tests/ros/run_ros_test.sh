@@ -25,8 +25,8 @@ rosparam set /Guard/report_file "$report_name" || { echo "run_ros_test: rosparam
 report="$src/deployments/$report_name"
 done_file="$tmp/deployer.done"
 rm -f "$report"
-/usr/bin/python3 "$src/tests/ros/check_topics.py" "$report" "$done_file" "$src/sim/scenes/edge_exploration.yaml" \
-  "$src/components/servo/programs/edge_exploration.yaml" > "$tmp/check.log" 2>&1 &
+/usr/bin/python3 "$src/tests/ros/check_topics.py" "$report" "$done_file" "$src/params/scenes/edge_exploration.yaml" \
+  "$src/params/programs/edge_exploration.yaml" > "$tmp/check.log" 2>&1 &
 checker=$!
 if [ -n "$bag_out" ]; then
   # The recorder (subscribed before the deployment advertises; record_bag.py:

@@ -35,7 +35,7 @@ const auto* const env =
     ::testing::AddGlobalTestEnvironment(new tactile::test::RttEnvironment(tactile::test::Clock::System));
 
 // The one sensor parameter file (the headless runner reads it too).
-const std::string kParamFile = TACTILE_DEPLOYMENTS_DIR "/../components/features/params/wts0614.yaml";
+const std::string kParamFile = TACTILE_DEPLOYMENTS_DIR "/../params/sensors/wts0614.yaml";
 
 std::string writeTemp(const std::string& name, const std::string& text) {
   return tactile::test::writeTempFile(name, text);

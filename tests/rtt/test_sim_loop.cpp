@@ -90,7 +90,7 @@ Recording runDeployment(const std::string& scene_file, const std::string& progra
   sensor.properties()->getPropertyType<std::string>("scene_file")->set(scene_file);
   clock.properties()->getPropertyType<std::string>("scene_file")->set(scene_file);
   features.properties()->getPropertyType<std::string>("param_file")->set(TACTILE_SOURCE_DIR
-                                                                          "/components/features/params/wts0614.yaml");
+                                                                          "/params/sensors/wts0614.yaml");
   servo.properties()->getPropertyType<std::string>("program_file")->set(program_file);
   servo.properties()->getPropertyType<double>("period")->set(servo_period);
 
@@ -233,8 +233,8 @@ std::string sceneWithEffects(const Case& c) {
   if (!c.effects && !c.faults) return kScenes + c.scene;
   std::ifstream in(kScenes + c.scene);
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  for (std::size_t at = text.find("../../"); at != std::string::npos; at = text.find("../../", at))
-    text.replace(at, 6, TACTILE_SOURCE_DIR "/");
+  for (std::size_t at = text.find("../"); at != std::string::npos; at = text.find("../", at))
+    text.replace(at, 3, TACTILE_SOURCE_DIR "/params/");
   if (c.effects) text += std::string("\neffects: ") + c.effects + "\n";
   if (c.faults) text += std::string("\nfaults: ") + c.faults + "\n";
   return test::writeTempFile(std::string("effects") + c.name + "_" + c.scene, text);
@@ -408,9 +408,9 @@ class ClockedEdgeExploration : public ::testing::Test {
     sensor.properties()->getPropertyType<std::string>("scene_file")->set(scene);
     clock.properties()->getPropertyType<std::string>("scene_file")->set(scene);
     features.properties()->getPropertyType<std::string>("param_file")->set(
-        TACTILE_SOURCE_DIR "/components/features/params/wts0614.yaml");
+        TACTILE_SOURCE_DIR "/params/sensors/wts0614.yaml");
     servo.properties()->getPropertyType<std::string>("program_file")->set(
-        TACTILE_SOURCE_DIR "/components/servo/programs/edge_exploration.yaml");
+        TACTILE_SOURCE_DIR "/params/programs/edge_exploration.yaml");
     servo.properties()->getPropertyType<double>("period")->set(0.01);
     connect(robot, "taxel_forces", sensor, "taxel_forces");
     connect(sensor, "raw_frame", features, "raw_frame");

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""One wavy-bar run (sim/scenes/curved, scripts/tools/make_curved_bars.py): its
+"""One wavy-bar run (params/scenes/curved, scripts/tools/make_curved_bars.py): its
 status is the expected one and the true force (timeseries.csv, every cycle of
 the run) never exceeded --max-force; with --criteria its scene's criteria
 passed (summary.json). Exits 1 otherwise. Usage:

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
-"""ctests FirstTouch_*: a `tactile_sim run` of sim/scenes/first_touch.yaml
-(components/servo/programs/first_touch.yaml) against what the first touch on
+"""ctests FirstTouch_*: a `tactile_sim run` of params/scenes/first_touch.yaml
+(params/programs/first_touch.yaml) against what the first touch on
 the real arm promises (docs/bringup.md, step 5).
 
 usage: check_first_touch.py RUN_DIR PROGRAM_YAML touch|no_object

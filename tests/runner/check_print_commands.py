@@ -24,7 +24,7 @@ def run(*args):
     return subprocess.run([sim, *args], capture_output=True, text=True)
 
 
-p = run("program", f"{root}/components/servo/programs/bent_bar_speed_law.yaml")
+p = run("program", f"{root}/params/programs/bent_bar_speed_law.yaml")
 prog = yaml.safe_load(p.stdout) if p.returncode == 0 else {}
 check(p.returncode == 0 and prog["safety"]["max_trans_speed"] == 0.12, "program: the overlay's own value")
 check(prog.get("controller", {}).get("c_z") == 0.000555556 and prog["safety"]["workspace"]["max"] == [0.9, 0.9, 1.2],
@@ -32,7 +32,7 @@ check(prog.get("controller", {}).get("c_z") == 0.000555556 and prog["safety"]["w
 check("base" not in prog and "add_phases" not in prog and [x["name"] for x in prog["phases"]][-1] == "end_check",
       "program: no base or add_phases left, the added phase last")
 
-s = run("scene", f"{root}/sim/scenes/bent_bar_speed_law.yaml", "--set", "duration=3",
+s = run("scene", f"{root}/params/scenes/bent_bar_speed_law.yaml", "--set", "duration=3",
         "--set", "program.speed_law.force_budget_n=0.45", "--set", "program.phases.explore.kp_per_s.x=2.5")
 docs = list(yaml.safe_load_all(s.stdout)) if s.returncode == 0 else []
 check(len(docs) == 2, f"scene: two documents (exit {s.returncode}: {s.stderr.strip()})")
@@ -42,7 +42,7 @@ if len(docs) == 2:
     check(sp["speed_law"]["force_budget_n"] == 0.45, "scene: a program key set")
     explore = next(x for x in sp["phases"] if x["name"] == "explore")
     check(explore["kp_per_s"]["x"] == 2.5 and "controller" in sp, "scene: a phase's key set by the phase's name")
-bad = run("scene", f"{root}/sim/scenes/bent_bar_speed_law.yaml", "--set", "program.speed_law.v_max=2")
+bad = run("scene", f"{root}/params/scenes/bent_bar_speed_law.yaml", "--set", "program.speed_law.v_max=2")
 check(bad.returncode == 2 and "bent_bar_speed_law.yaml: speed_law.v_max = 2: must be in (0, 1] m/s" in bad.stderr,
       f"scene: a value out of range refused naming the program, the key and the range ({bad.stderr.strip()})")
 

@@ -23,11 +23,11 @@ import program_yaml  # noqa: E402  (a program as the servo merges it: tactile_si
 
 sim, src, work = sys.argv[1:4]
 check = os.path.join(src, "tests", "runner", "check_first_touch.py")
-program = os.path.join(src, "components", "servo", "programs", "first_touch.yaml")
+program = os.path.join(src, "params", "programs", "first_touch.yaml")
 shutil.rmtree(work, ignore_errors=True)
 os.makedirs(work)
 run = os.path.join(work, "run")
-subprocess.run([sim, "run", os.path.join(src, "sim", "scenes", "first_touch.yaml"), "--out", run, "--no-plots"],
+subprocess.run([sim, "run", os.path.join(src, "params", "scenes", "first_touch.yaml"), "--out", run, "--no-plots"],
                check=True, stdout=subprocess.DEVNULL)
 failures = []
 

@@ -1,4 +1,4 @@
-// Shared by the runner tests: load a shipped scene (sim/scenes/) with
+// Shared by the runner tests: load a shipped scene (params/scenes/) with
 // `--set`-style overrides and run it through tactile::sim::Runner, failing the
 // calling test (EXPECT) on a load or configure error.
 #pragma once
@@ -15,7 +15,7 @@ namespace tactile {
 namespace sim {
 namespace test {
 
-inline const std::string kScenes = std::string(TACTILE_SOURCE_DIR) + "/sim/scenes/";
+inline const std::string kScenes = std::string(TACTILE_SOURCE_DIR) + "/params/scenes/";
 
 inline Scene loadShipped(const std::string& name, const std::vector<std::string>& overrides = {}) {
   Scene sc;

@@ -101,7 +101,7 @@ TEST(Experiments, EdgeExplorationThroughFri) {
   Scene sc;
   ASSERT_TRUE(loadScene(kScenes + "edge_exploration.yaml", sc).ok());
   sc.through_fri = true;
-  sc.fri_file = std::string(TACTILE_SOURCE_DIR) + "/components/fri_bridge/params/fri.yaml";
+  sc.fri_file = std::string(TACTILE_SOURCE_DIR) + "/params/sensors/fri.yaml";
   Runner runner;
   const ConfigResult c = runner.configure(sc);
   ASSERT_TRUE(c.ok()) << c.message();
@@ -410,7 +410,7 @@ namespace {
 std::string writeScene(const std::string& name, const std::string& body) {
   const std::string dir = testing::TempDir();
   const std::string path = dir + name;
-  std::ofstream(path) << "program: " << TACTILE_SOURCE_DIR << "/components/servo/programs/edge_exploration.yaml\n"
+  std::ofstream(path) << "program: " << TACTILE_SOURCE_DIR << "/params/programs/edge_exploration.yaml\n"
                       << body;
   return path;
 }
@@ -563,7 +563,7 @@ TEST(Experiments, ForceEstimatePutsTheTrueForceOnTarget) {
   EXPECT_GE(f.summary.force_true_in_band_fraction, 0.95);
   EXPECT_GE(f.summary.path_length_m, 0.2);
   EXPECT_EQ(f.summary.contact_lost_count, 0);
-  Scene sc = test::loadShipped("bent_bar_fused.yaml", {"program=../../components/servo/programs/bent_bar_paper.yaml"});
+  Scene sc = test::loadShipped("bent_bar_fused.yaml", {"program=../programs/bent_bar_paper.yaml"});
   const Summary t = test::run(sc);
   EXPECT_EQ(t.status, "ok");
   EXPECT_GT(t.force_true_rms_error_n, 0.5);       // measured 0.66 N: the true force ~0.6 N above 5 N
@@ -585,7 +585,7 @@ TEST(Experiments, ForceEstimatePutsTheTrueForceOnTarget) {
     EXPECT_GE(e.summary.path_length_m, 0.15) << "seed " << seed;
   }
   Scene se = test::loadShipped("edge_exploration.yaml",
-                               {"program=../../components/servo/programs/edge_exploration_paper.yaml"});
+                               {"program=../programs/edge_exploration_paper.yaml"});
   const Summary te = test::run(se);
   EXPECT_GT(te.force_true_rms_error_n, 0.6);
   EXPECT_LT(te.force_true_in_band_fraction, 0.5);
@@ -713,7 +713,7 @@ TEST(ShippedPrograms, EdgeAcrossTheRowsKeepsTheLoadOnTheImage) {
     return m;
   };
   const Scene paper_sc = test::loadShipped("edge_exploration.yaml",
-                                           {"program=../../components/servo/programs/edge_exploration_paper.yaml"});
+                                           {"program=../programs/edge_exploration_paper.yaml"});
   const Scene shipped_sc = test::loadShipped("edge_exploration.yaml");
   EXPECT_DOUBLE_EQ(shipped_sc.servo.force_estimate.max_correction_n, 4.5);
   Scene rows_sc = shipped_sc;  // the edge along the rows
@@ -795,7 +795,7 @@ static void useFixedGain(Scene& sc, double kp) {
 // (no slope feed-forward, the force estimate's 0.08 s; with the shipped law's
 // loop a fixed gain holds the wave: docs/design.md, "The speed law").
 TEST(Experiments, CarefulSpeedLawAdaptsWhereNoSingleFixedGainDoes) {
-  const std::string careful = std::string(TACTILE_SOURCE_DIR) + "/components/servo/programs/bent_bar_speed_law_careful.yaml";
+  const std::string careful = std::string(TACTILE_SOURCE_DIR) + "/params/programs/bent_bar_speed_law_careful.yaml";
   // kp = 0: the careful law; kp > 0: the same program with the law off and that slide gain.
   auto runBar = [&](const std::string& bar, int seed, double kp) {
     Scene sc = test::loadShipped("curved/" + bar + ".yaml",
@@ -826,7 +826,7 @@ TEST(Experiments, CarefulSpeedLawAdaptsWhereNoSingleFixedGainDoes) {
 // within 10 mm of the wave's) (measured: 98-100 % within 5 +- 0.5 N,
 // 65-82 mm/s) and misses them without it (77-83 %, 52-59 mm/s).
 TEST(Experiments, SlopeFeedforwardLetsTheSpeedLawHoldTheForceOnAWave) {
-  const std::string program = std::string(TACTILE_SOURCE_DIR) + "/components/servo/programs/bent_bar_speed_law.yaml";
+  const std::string program = std::string(TACTILE_SOURCE_DIR) + "/params/programs/bent_bar_speed_law.yaml";
   for (int seed = 1; seed <= 3; ++seed) {
     RunResult r[2];
     for (int ff = 0; ff < 2; ++ff) {
@@ -859,7 +859,7 @@ TEST(Experiments, SlopeFeedforwardLetsTheSpeedLawHoldTheForceOnAWave) {
 // bar's end cap the image stays a point and the check ends the run, ok,
 // within the force targets.
 TEST(Experiments, TheEndRulesCheckTellsATightCrestFromTheBarsEnd) {
-  const std::string program = std::string(TACTILE_SOURCE_DIR) + "/components/servo/programs/bent_bar_speed_law.yaml";
+  const std::string program = std::string(TACTILE_SOURCE_DIR) + "/params/programs/bent_bar_speed_law.yaml";
   enum Variant { kShipped, kEndRuleAlone, kNoJointMargin, kNoLossReturn };
   auto run = [&](const std::string& scene, int seed, Variant v) {
     Scene sc = test::loadShipped(scene, {"program=" + program, "seed=" + std::to_string(seed), "duration=60"});
@@ -937,7 +937,7 @@ TEST(Experiments, SpeedLawSlowsWhereThePadStartsToBridgeATrough) {
     auto runWith = [&](int variant) {
       Scene sc = test::loadShipped("curved/wavy_a3mm_l120mm.yaml",
                                    {"program=" + std::string(TACTILE_SOURCE_DIR) +
-                                        "/components/servo/programs/bent_bar_speed_law.yaml",
+                                        "/params/programs/bent_bar_speed_law.yaml",
                                     "seed=" + std::to_string(seed), "duration=60"});
       EXPECT_TRUE(sc.servo.speed_law.excess_against_tactile);
       if (variant == 1) {  // the excess against f_hat
@@ -970,7 +970,7 @@ TEST(Experiments, SpeedLawSlowsWhereThePadStartsToBridgeATrough) {
 // 69.2 against 67.1 mm/s. With the dead band fixed at 1.8 N it slowed there
 // to under 0.95 times the fixed gain (measured 0.93 and 0.93).
 TEST(Experiments, SpeedLawKeepsTheFixedGainsPaceWhereABarBendsDown) {
-  const std::string program = std::string(TACTILE_SOURCE_DIR) + "/components/servo/programs/bent_bar_speed_law.yaml";
+  const std::string program = std::string(TACTILE_SOURCE_DIR) + "/params/programs/bent_bar_speed_law.yaml";
   for (const std::string bar : {"bend_down", "bend_right_down"}) {
     double speed[3] = {0.0, 0.0, 0.0};  // the law, the fixed gain, the law with a fixed dead band
     for (int seed = 1; seed <= 3; ++seed) {

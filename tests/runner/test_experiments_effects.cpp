@@ -1,6 +1,6 @@
 // The paper's experiments with the physics and timing effects on at
 // realistic levels (Coulomb friction mu 0.5 at the pad, FRI delay 2 ms, KRC
-// cycle 2 ms; sim/lwr/README.md "Physics and timing effects"): every shipped
+// cycle 2 ms; core/sim/lwr/README.md "Physics and timing effects"): every shipped
 // scene keeps the criteria of test_experiments.cpp, and the effects do reach
 // the runner (the co-manipulation's pad drags on the tray's bar).
 #include <gtest/gtest.h>

@@ -23,7 +23,7 @@ using namespace tactile::sim;
 
 namespace {
 
-const std::string kScenes = std::string(TACTILE_SOURCE_DIR) + "/sim/scenes/";
+const std::string kScenes = std::string(TACTILE_SOURCE_DIR) + "/params/scenes/";
 
 ConfigResult load(const std::string& faults, Scene& sc, const std::string& scene = "edge_exploration.yaml") {
   return loadScene(kScenes + scene, sc, {"faults=" + faults});

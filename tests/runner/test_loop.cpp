@@ -71,7 +71,7 @@ TEST(EndRule, CeilingAtOnceDoneAfterOneSecondFatalSim) {
 // within half a count), saturate at full scale, and read 0 below the firing threshold.
 TEST(TaxelResponse, InvertsTheCalibrationFile) {
   Scene sc;
-  ASSERT_TRUE(loadScene(TACTILE_SOURCE_DIR "/sim/scenes/edge_exploration.yaml", sc).ok());
+  ASSERT_TRUE(loadScene(TACTILE_SOURCE_DIR "/params/scenes/edge_exploration.yaml", sc).ok());
   EXPECT_TRUE(sc.world.pad.use_calibration) << "the scene's pad response comes from features_file";
   EXPECT_EQ(sc.calibration.border_coeffs[1], 0.000667) << "wts0614.yaml's border coefficient";
   TaxelResponseParams p;
@@ -149,7 +149,7 @@ TEST(EndRule, RefusedStepsAndCommandsEndTheRunWithANamedStatus) {
   EXPECT_EQ(s.exit_code, 3);
   // The world does refuse such a step (the 2 s physics step).
   Scene sc;
-  ASSERT_TRUE(loadScene(TACTILE_SOURCE_DIR "/sim/scenes/sphere_table.yaml", sc).ok());
+  ASSERT_TRUE(loadScene(TACTILE_SOURCE_DIR "/params/scenes/sphere_table.yaml", sc).ok());
   World w;
   ASSERT_TRUE(w.configure(worldParams(sc)).ok());
   SimState st;
@@ -163,7 +163,7 @@ TEST(EndRule, RefusedStepsAndCommandsEndTheRunWithANamedStatus) {
 // Rates that make no sense are a configuration error naming the file, the
 // key and the valid range: a 2 s physics step would be refused on every cycle.
 TEST(SceneEffects, RatesAndEffectsAreValidatedWithFileKeyAndRange) {
-  const std::string file = TACTILE_SOURCE_DIR "/sim/scenes/edge_exploration.yaml";
+  const std::string file = TACTILE_SOURCE_DIR "/params/scenes/edge_exploration.yaml";
   Scene sc;
   ConfigResult r = loadScene(file, sc, {"rates.sim=0.5"});
   ASSERT_FALSE(r.ok());
@@ -191,7 +191,7 @@ TEST(SceneEffects, RatesAndEffectsAreValidatedWithFileKeyAndRange) {
   EXPECT_FALSE(r.ok());
   // Off by default (a scene without an effects: map); set, they reach the
   // world's parameters (runner and RTT arm alike).
-  ASSERT_TRUE(loadScene(TACTILE_SOURCE_DIR "/sim/scenes/sphere_table.yaml", sc).ok());
+  ASSERT_TRUE(loadScene(TACTILE_SOURCE_DIR "/params/scenes/sphere_table.yaml", sc).ok());
   EXPECT_EQ(sc.world.friction_mu, 0.0);
   EXPECT_EQ(sc.world.fri_delay_s, 0.0);
   EXPECT_EQ(sc.world.krc_cycle_s, 0.0);
@@ -207,7 +207,7 @@ TEST(SceneEffects, RatesAndEffectsAreValidatedWithFileKeyAndRange) {
 // the phase list; checked as the program file is, the error naming the
 // program, the key and its range.
 TEST(SceneOverrides, ProgramKeysBySceneAndPhaseName) {
-  const std::string file = TACTILE_SOURCE_DIR "/sim/scenes/bent_bar_speed_law.yaml";
+  const std::string file = TACTILE_SOURCE_DIR "/params/scenes/bent_bar_speed_law.yaml";
   Scene plain, sc;
   ASSERT_TRUE(loadScene(file, plain).ok());
   ConfigResult r = loadScene(file, sc, {"program.speed_law.force_budget_n=0.45", "program.phases.explore.kp_per_s.x=2.5",
@@ -297,7 +297,7 @@ TEST(EstimatedWrench, ErrorModelIsExactAndTheNoiseDependsOnTimeOnly) {
 }
 
 TEST(EstimatedWrench, SceneKeysAreValidatedWithFileKeyAndRange) {
-  const std::string file = TACTILE_SOURCE_DIR "/sim/scenes/co_manipulation.yaml";
+  const std::string file = TACTILE_SOURCE_DIR "/params/scenes/co_manipulation.yaml";
   Scene sc;
   ASSERT_TRUE(loadScene(file, sc, {"effects={friction_mu: 0.5}"}).ok());
   EXPECT_FALSE(sc.wrench_error.any());
@@ -324,7 +324,7 @@ TEST(EstimatedWrench, SceneKeysAreValidatedWithFileKeyAndRange) {
 // segments (chord error 0.07 mm) loads; one vertex more is refused, naming
 // the object, the key and the range.
 TEST(SceneObjects, AClosedRingOf64SegmentsLoadsOneMoreIsRefused) {
-  const std::string file = TACTILE_SOURCE_DIR "/sim/scenes/bent_bar.yaml";
+  const std::string file = TACTILE_SOURCE_DIR "/params/scenes/bent_bar.yaml";
   auto ring = [](int n) {
     std::string v = "[";
     for (int k = 0; k <= n; ++k) {

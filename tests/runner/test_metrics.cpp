@@ -1,4 +1,4 @@
-// The run's summary metrics (sim/runner/src/metrics.cpp, computeSummary): the
+// The run's summary metrics (core/sim/runner/src/metrics.cpp, computeSummary): the
 // whole slide beside the scored window, on synthetic logs whose figures are
 // known exactly; the criteria that name either; the fault's time.
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // Robustness to sensor noise (the features' noise-free reconstruction,
-// components/features extractor.hpp): with 5x the simulated sensor noise
+// core/features extractor.hpp): with 5x the simulated sensor noise
 // (sensor.noise_counts = 30, 1 sigma) the true force stays within 5 +- 1 N
 // for >= 95 % of the sliding time on the bent bar and the edge exploration,
 // exactly as `tactile_sim run SCENE --set sensor.noise_counts=30` runs them.

@@ -31,7 +31,7 @@ using namespace tactile::sim;
 
 namespace {
 
-const std::string kScenes = std::string(TACTILE_SOURCE_DIR) + "/sim/scenes/";
+const std::string kScenes = std::string(TACTILE_SOURCE_DIR) + "/params/scenes/";
 
 // The shipped calibration (wts0614.yaml), noise-free unless set.
 TaxelResponseParams fileParams(double noise = 0.0) {

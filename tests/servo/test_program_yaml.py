@@ -13,7 +13,7 @@ ROOT = os.path.abspath(sys.argv[1]) if len(sys.argv) > 1 else os.path.join(os.pa
 sys.path.insert(0, os.path.join(ROOT, "scripts", "tools"))
 import program_yaml as P  # noqa: E402
 
-PROGRAMS = os.path.join(ROOT, "components", "servo", "programs")
+PROGRAMS = os.path.join(ROOT, "params", "programs")
 BASE = """controller: {pose_update: measured, c_z: 0.0005}
 force_estimate: {source: fused, tau_s: 0.3}
 phases:

@@ -233,7 +233,7 @@ void BM_Acquire(benchmark::State& state) {
 }
 BENCHMARK(BM_Acquire)->ArgNames({"Kimg", "repeat"})->Args({1, 0})->Args({4, 0})->Args({8, 0})->Args({4, 1})->Unit(benchmark::kMicrosecond);
 
-// The sensor effects at the levels of sim/lwr/README.md ("Sensor effects").
+// The sensor effects at the levels of core/sim/lwr/README.md ("Sensor effects").
 const char* const kEffectNames[] = {"off", "delay", "gain", "dead", "calib", "crosstalk", "creep", "hysteresis",
                                     "device_noise", "all"};
 SensorEffects effectsFor(int which) {

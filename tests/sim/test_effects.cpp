@@ -1,4 +1,4 @@
-// Physics and timing effects of the world (WorldParams, sim/lwr/README.md
+// Physics and timing effects of the world (WorldParams, core/sim/lwr/README.md
 // "Physics and timing effects"), each against a computed expectation:
 // Coulomb friction at the pad (mu N while sliding, zero at rest, the drag
 // moment's sign on the pressure centre and hence DZMP_y = CoP_x - CoC_x),

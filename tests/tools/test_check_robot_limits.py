@@ -34,12 +34,12 @@ with tempfile.TemporaryDirectory() as d:
         f.write("fri:\n  max_lin_speed: 0.05\n  max_rot_speed: 0.25\n")
     rc, out, _ = run("--fri-yaml", fri, "bent_bar_speed_law", "first_touch")
     check(f"the former limits: the speed law's 0.12 m/s refused (exit {rc})", rc == 1 and
-          "FAIL bent_bar_speed_law: components/servo/programs/bent_bar_speed_law.yaml safety.max_trans_speed = "
+          "FAIL bent_bar_speed_law: params/programs/bent_bar_speed_law.yaml safety.max_trans_speed = "
           f"0.12 m/s > {fri} fri.max_lin_speed = 0.05 m/s" in out)
     check("the former limits: 50 deg/s > 0.25 rad/s refused, named",
           "safety.max_rot_speed_deg = 50 deg/s (0.8727 rad/s) > " + fri + " fri.max_rot_speed = 0.25 rad/s" in out)
     check("the first touch (10 mm/s, 5 deg/s) within them",
-          "ok   first_touch: components/servo/programs/first_touch.yaml safety.max_trans_speed = 0.01 m/s" in out)
+          "ok   first_touch: params/programs/first_touch.yaml safety.max_trans_speed = 0.01 m/s" in out)
     # A registry of its own: a program without safety limits takes the servo's defaults.
     prog = os.path.join(d, "p.yaml")
     with open(prog, "w") as f:

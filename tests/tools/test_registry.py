@@ -27,8 +27,8 @@ with tempfile.TemporaryDirectory() as d:
     reg = os.path.join(d, "experiments.yaml")
     with open(reg, "w") as f:
         f.write("experiments:\n"
-                "  sim_only: {scene: sim/scenes/a.yaml, controller: baseline}\n"
-                "  on_arm: {scene: sim/scenes/b.yaml, controller: ~, robot: true, program: p.yaml}\n")
+                "  sim_only: {scene: params/scenes/a.yaml, controller: baseline}\n"
+                "  on_arm: {scene: params/scenes/b.yaml, controller: ~, robot: true, program: p.yaml}\n")
     check("names: every entry, in the file's order", run("--file", reg, "names") == (0, "sim_only on_arm\n", ""))
     check("names --robot: only robot: true", run("--file", reg, "names", "--robot") == (0, "on_arm\n", ""))
     check("get: one field", run("--file", reg, "get", "sim_only", "controller") == (0, "baseline\n", ""))
@@ -38,7 +38,7 @@ with tempfile.TemporaryDirectory() as d:
     check("get: an unknown name exits 2 and names the file and the entries",
           rc == 2 and out == "" and reg in err and "'nope'" in err and "sim_only on_arm" in err)
     check("rows: NAME SCENE CONTROLLER, '-' for the program's own",
-          run("--file", reg, "rows") == (0, "sim_only sim/scenes/a.yaml baseline\non_arm sim/scenes/b.yaml -\n", ""))
+          run("--file", reg, "rows") == (0, "sim_only params/scenes/a.yaml baseline\non_arm params/scenes/b.yaml -\n", ""))
     with open(os.path.join(d, "bad.yaml"), "w") as f:
         f.write("other: 1\n")
     rc, out, err = run("--file", os.path.join(d, "bad.yaml"), "names")

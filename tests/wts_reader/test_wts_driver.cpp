@@ -119,7 +119,7 @@ TEST_F(WtsPty, StreamsPeriodicFramesExactlyPlainAndRle) {
   }
 }
 
-// The elastic pad simulator (sim/contact) behind the simulated device: a
+// The elastic pad simulator (core/sim/contact) behind the simulated device: a
 // sphere pressed off-centre; its taxel forces are turned into 12-bit counts at
 // the inverse of the default calibration, sent over the PTY, decoded and
 // calibrated back to newtons.

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Publishes the objects of a simulator scene (sim/scenes/*.yaml) as a latched
+"""Publishes the objects of a simulator scene (params/scenes/*.yaml) as a latched
 visualization_msgs/MarkerArray on /tactile/scene_markers, in the base frame
 {g} (lwr_base), for rviz: a bar as a line of its diameter between its two
 vertices. roslaunch's own arguments (name:=value) are ignored.

@@ -26,7 +26,7 @@ def experiments(path=PATH, robot=None):
 
 
 def scene_name(entry):
-    """The name of an entry's scene (sim/scenes/<name>.yaml)."""
+    """The name of an entry's scene (params/scenes/<name>.yaml)."""
     return os.path.splitext(os.path.basename(entry["scene"]))[0]
 
 

@@ -9,7 +9,7 @@ SIM = scenes.SIM  # set by cli.parse_args(--sim)
 
 
 def run(scene, out_dir, args=(), sim=None):
-    """Runs the scene (a name of sim/scenes) into out_dir; returns its
+    """Runs the scene (a name of params/scenes) into out_dir; returns its
     summary.json as a dict with 'returncode' added (a run that wrote no
     summary gives {'status': 'no_summary', 'error': <stderr>, ...}). A run that
     ends at a safety limit (exit 3 or 4) is a result, not an error."""

@@ -1,13 +1,13 @@
 """The repository's paths and what the sweeps read from the scenes
-(sim/scenes/*.yaml)."""
+(params/scenes/*.yaml)."""
 import glob
 import os
 
 import yaml
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
-SCENE_DIR = os.path.join(ROOT, "sim", "scenes")
-PROGRAMS = os.path.join(ROOT, "components", "servo", "programs")
+SCENE_DIR = os.path.join(ROOT, "params", "scenes")
+PROGRAMS = os.path.join(ROOT, "params", "programs")
 TOOLS = os.path.join(ROOT, "scripts", "tools")  # contour_check.py, plot_run.py, ...
 SIM = os.path.join(ROOT, "build", "bin", "tactile_sim")
 
@@ -20,7 +20,7 @@ FORCE_BAND_N = 0.5
 FORCE_RMS_MAX_N = 0.4
 FORCE_IN_BAND_MIN = 0.95
 
-# The runner's band where a scene sets none (sim/runner/include/tactile_sim/scene.hpp).
+# The runner's band where a scene sets none (core/sim/runner/include/tactile_sim/scene.hpp).
 RUNNER_FORCE_BAND_N = 1.0
 
 # Scene -> its key metrics (summary.json keys); scenes not listed use FORCE_METRICS.
@@ -53,7 +53,7 @@ def load_scene(name):
 
 
 def shipped_scenes():
-    """Names of the shipped experiment scenes (sim/scenes/*.yaml), sorted."""
+    """Names of the shipped experiment scenes (params/scenes/*.yaml), sorted."""
     names = (os.path.splitext(os.path.basename(p))[0] for p in glob.glob(os.path.join(SCENE_DIR, "*.yaml")))
     return sorted(n for n in names if n not in NOT_EXPERIMENTS)
 

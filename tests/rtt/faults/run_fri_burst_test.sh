@@ -95,4 +95,4 @@ wait "$dep" || dep_rc=$?
 grep -E "fri_burst|deployment step failed" "$out/deployer.log" | sed 's/^.*\] //'
 cat "$out/krc.log"
 /usr/bin/python3 "$root/tests/rtt/faults/check_fri_burst.py" "$out" "$krc_rc" "$dep_rc" \
-  "$root/tests/rtt/faults/free_slide.yaml" "$root/components/fri_bridge/params/fri.yaml"
+  "$root/tests/rtt/faults/free_slide.yaml" "$root/params/sensors/fri.yaml"

@@ -16,7 +16,7 @@
 
 namespace bench_rig {
 
-inline const std::string kParamFile = TACTILE_DEPLOYMENTS_DIR "/../components/features/params/wts0614.yaml";
+inline const std::string kParamFile = TACTILE_DEPLOYMENTS_DIR "/../params/sensors/wts0614.yaml";
 
 /// An edge across the pad, as raw counts (up to 600 counts: 0.25 N with the file's calibration).
 inline tactile::RawTactileFrame edgeFrame() {

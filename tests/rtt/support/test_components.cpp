@@ -2,7 +2,7 @@
 // "tactile_test", not installed):
 //
 //   tactile::SyntheticTouch  a stand-in sensor: an indenter pressed on the
-//       elastic pad model (sim/contact), quantised to raw counts and written on
+//       elastic pad model (core/sim/contact), quantised to raw counts and written on
 //       `raw_frame` (and the forces on `frame`) at every update(). Properties
 //       place the contact: a disc (length = 0) or an edge of `length` at `angle`.
 //       Frames are stamped with RTT's TimeService (seconds).
@@ -67,7 +67,7 @@ class SyntheticTouch : public Component {
     addProperty("counts_per_newton", counts_per_newton_)
         .doc("Raw counts per newton (inverse of a linear calibration gain); used when param_file is empty.");
     addProperty("param_file", param_file_)
-        .doc("Sensor parameter file (`calibration:` map, e.g. components/features/params/wts0614.yaml): raw counts are "
+        .doc("Sensor parameter file (`calibration:` map, e.g. params/sensors/wts0614.yaml): raw counts are "
              "the inverse of that calibration, so a FeatureComponent reading the same file recovers the forces.");
     addProperty("full_scale", full_scale_).doc("Raw value at which a taxel saturates.");
     addPort(raw_out_).doc("Raw frame (counts).");

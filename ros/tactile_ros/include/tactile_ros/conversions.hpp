@@ -1,4 +1,4 @@
-// Conversions from the project's port types (typekits/tactile_types) to ROS 1
+// Conversions from the project's port types (core/types) to ROS 1
 // messages: plain functions, no RTT, no ROS node, tested on their own
 // (test/test_conversions.cpp). Units SI; frames {g} base, {e} flange,
 // {s} sensor, {c} contact (tactile_types/conventions.hpp).
