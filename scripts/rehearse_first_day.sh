@@ -166,11 +166,15 @@ if want 3; then
   # kernel: its packet timing is not the KRC's. The jitter and period
   # bands are widened here (5 ms, 100 %), and the cycle's (at most 30 %
   # missed or late, PERFECT in 80 %: 14 % of the answers late at 2 ms with
-  # the test suite running beside it); on the arm keep fri_check's defaults.
+  # the test suite running beside it); a quality drop that recovers is a
+  # WARN (such a host's wake-up latency reaches 5 ms, five cycles:
+  # docs/realtime.md), [cycle] judging the link; on the arm keep
+  # fri_check's defaults.
   rc=0
   if start_lab "$root/params/scenes/edge_exploration.yaml" "0:friOpen" "$d"; then
     "${bridge_prio[@]}" "$build/bin/fri_check" --monitor --port $port --params "$fri_yaml" \
       --seconds 3 --max-jitter-ms 5 --period-tolerance 1.0 --max-late-share 0.3 --min-perfect-share 0.8 \
+      --quality-drop warn \
       --json "$d/fri_check.json" > "$d/fri_check.log" 2>&1 || rc=$?
     stop_lab
   else

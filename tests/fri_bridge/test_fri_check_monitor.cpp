@@ -120,6 +120,21 @@ TEST(FriCheckMonitor, CmdIsHeldWhereItWasEnteredAndAQualityDropFails) {
   EXPECT_TRUE(contains(o.check, "state CMD quality BAD")) << o.check;  // the timeline
 }
 
+// A drop below OK that recovers (in MON): FAIL by default, a WARN with
+// --quality-drop warn (the rehearsal on a host without a real-time kernel);
+// the message names the worst quality either way.
+TEST(FriCheckMonitor, AQualityDropThatRecoversFailsUnlessWarned) {
+  const std::string krc = "--cycles 560 --schedule 0:MON:PERFECT,200:MON:BAD,260:MON:PERFECT";
+  const Outcome fails = monitor(49961, "--params " + kParams + " --cycles 500" + kBands, krc);
+  EXPECT_EQ(fails.check_exit, 3) << fails.check;
+  EXPECT_TRUE(fails.verdict("[quality]", "FAIL")) << fails.check;
+  EXPECT_TRUE(contains(fails.check, "the quality dropped to BAD")) << fails.check;
+  const Outcome warns = monitor(49966, "--params " + kParams + " --cycles 500 --quality-drop warn" + kBands, krc);
+  EXPECT_TRUE(warns.verdict("[quality]", "WARN")) << warns.check;
+  EXPECT_TRUE(contains(warns.check, "the quality dropped to BAD and recovered (a WARN by --quality-drop warn)"))
+      << warns.check;
+}
+
 TEST(FriCheckMonitor, TwoMillisecondKrcAgainstOneMillisecondYamlFailsTheCycleTime) {
   const Outcome o = monitor(49962, "--params " + kParams + " --cycles 300" + kBands, "--cycles 340 --period-ms 2");
   EXPECT_EQ(o.check_exit, 3) << o.check;
