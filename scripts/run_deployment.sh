@@ -60,8 +60,8 @@ case " $names " in
   *) echo "$0: no experiment $run in $registry (experiments: $names)" >&2; exit 2 ;;
 esac
 scene="$root/$(registry_get "$run" scene)"
-controller="$(registry_get "$run" controller)"
-[ -n "$controller" ] || controller=proposed  # '' = the program's controller.mode (proposed in every shipped program)
+program="$root/$(registry_get "$run" program)"
+controller="$(registry_get "$run" controller)"  # '': the program's controller.mode
 
 deployer="${DEPLOYER:-$orocos/bin/deployer-gnulinux}"
 [ -x "$deployer" ] || { echo "$0: no OCL deployer at $deployer" >&2; exit 1; }
@@ -92,7 +92,7 @@ else
   status=deployment_failed; exit_code=8  # 3-7: the loop's own end statuses (tactile_sim)
 fi
 src=0
-"$build/bin/tactile_sim" summarize "$scene" "$out/report.dat" --out "$out" --controller "$controller" \
+"$build/bin/tactile_sim" summarize "$scene" "$out/report.dat" --out "$out" --program "$program" ${controller:+--controller "$controller"} \
   --status "$status" --exit-code "$exit_code" "${extra[@]}" --no-plots || src=$?
 [ "$src" -le 8 ] || { echo "run_deployment: tactile_sim summarize failed ($src)" >&2; exit 1; }
 "$py" "$root/scripts/tools/plot_run.py" "$out"

@@ -96,13 +96,14 @@ stage() {
 
 # Every experiment of the registry (experiments.yaml): its scene with its
 # controller, into out/<experiment>/.
-registry() {  # one line per registry entry: NAME SCENE CONTROLLER ('-' for the program's own)
+registry() {  # one line per registry entry: NAME SCENE PROGRAM CONTROLLER ('-' for the program's own)
   /usr/bin/python3 "$root/scripts/tools/registry.py" rows
 }
 experiments="$(registry)"
 echo "main job: the registry's experiments headless (tactile_sim -> $out/<experiment>/)"
-while read -r name scene controller; do
-  if [ "$controller" = "-" ]; then run "$name" "$scene"; else run "$name" "$scene" --controller "$controller"; fi
+while read -r name scene program controller; do
+  if [ "$controller" = "-" ]; then run "$name" "$scene" --program "$root/$program"
+  else run "$name" "$scene" --program "$root/$program" --controller "$controller"; fi
 done <<< "$experiments"
 /usr/bin/python3 "$root/scripts/tools/plot_run.py" "$out/bent_bar" --compare "$out/bent_bar_baseline" "$out/bent_bar_no_rotation"
 /usr/bin/python3 "$root/scripts/tools/experiment_report.py" "$out"

@@ -77,7 +77,7 @@ run_one() {
   echo "$name: [$2/$3] $exp on $(basename "$scene") -> $dir"
   t0=$(date +%s)
   lab_robot_stage "$dir" "$port"
-  lab_robot_start "$dir" "$port" "$scene" --truth-out "$dir/truth.csv" "${lab_args[@]}"
+  lab_robot_start "$dir" "$port" "$scene" --program "$program" --truth-out "$dir/truth.csv" "${lab_args[@]}"
   lab_robot_run "$exp" "$dir" "$timeout" > "$dir/run_robot.out"
   pids=()  # lab_sim has been waited for: no pid of this run left to clean up
   if [ ! -s "$dir/run/summary.json" ]; then

@@ -8,7 +8,7 @@
 //           [--period-ms T] [--krc-cycle-ms C] [--msr-sample-ms M] [--cmd-sample-ms M]
 //           [--control cart|joint|position] [--cart-offset F] [--quality-rule on|off]
 //           [--krl FILE.src] [--wrench-frame F] [--duration S] [--truth-out FILE.csv] [--truth-period-ms T]
-//           [--set KEY.PATH=VALUE ...]
+//           [--program FILE | --registry FILE] [--set KEY.PATH=VALUE ...]
 //
 //   --fri-port P        the FRI bridge's UDP port on 127.0.0.1 (default 49938, fri.yaml's);
 //                       measurements go there and only there (loopback)
@@ -58,6 +58,9 @@
 //                       the KRC reported; never seen by the controller
 //   --truth-period-ms T one truth row every T ms, a whole number of KRC cycles (default 10)
 //   --set K=V           override a scene key before it is read (as tactile_sim run --set)
+//   --program FILE      the robot's phase program: its controller.sensor_mount mounts the
+//                       pad on the flange (default: the program the registry binds to the
+//                       scene, --registry FILE, default this tree's experiments.yaml)
 //
 // Prints one line per KRC state change and, at the end (duration, SIGINT or
 // SIGTERM), a summary: cycles, replies, lost, the largest step between
@@ -77,6 +80,7 @@
 #include <string>
 #include <vector>
 
+#include "tactile_config/registry.hpp"
 #include "tactile_fri/krc_model.hpp"
 #include "tactile_fri/krl_settings.hpp"
 #include "tactile_fri/sim_krc.hpp"
@@ -99,6 +103,7 @@ int usage(const std::string& msg) {
                "               [--krc-cycle-ms C] [--msr-sample-ms M] [--cmd-sample-ms M] [--control cart|joint|position] [--cart-offset F]\n"
                "               [--quality-rule on|off] [--krl FILE.src] [--wrench-frame base|tool]\n"
                "               [--duration S] [--truth-out FILE.csv] [--truth-period-ms T] [--set KEY.PATH=VALUE ...]\n"
+               "               [--program FILE | --registry FILE]\n"
                "(see the header of tools/lab_sim.cpp or docs/lab_sim.md)\n",
                msg.c_str());
   return 2;
@@ -173,7 +178,8 @@ void printForce(const char* label, const Stat& s, double cycle_s) {
 
 /// lab_sim's command line (parseArgs).
 struct LabArgs {
-  std::string scene_file, wts_link, truth_out, krc_spec, control = "cart", krl_file;
+  std::string scene_file, wts_link, truth_out, krc_spec, control = "cart", krl_file, program_file;
+  std::string registry = TACTILE_SOURCE_DIR "/experiments.yaml";  // --program's default: its binding
   bool quality_rule = true;
   fri::CartOffset cart_offset = fri::CartOffset::None;
   fri::WrenchFrame frame_override = fri::WrenchFrame::Base;
@@ -250,6 +256,10 @@ int parseArgs(int argc, char** argv, LabArgs& args) {
       if (!num(0.1, 1000, truth_period_ms)) return usage("--truth-period-ms must be in [0.1, 1000] (ms)");
     } else if (a == "--set" && has) {
       overrides.emplace_back(argv[++i]);
+    } else if (a == "--program" && has) {
+      args.program_file = argv[++i];
+    } else if (a == "--registry" && has) {
+      args.registry = argv[++i];
     } else if (!a.empty() && a[0] != '-' && scene_file.empty()) {
       scene_file = a;
     } else {
@@ -502,8 +512,12 @@ int main(int argc, char** argv) {
   const double krc_cycle_ms = args.krc_cycle_ms, truth_period_ms = args.truth_period_ms;
   const bool krc_given = args.krc_given;
 
+  sim::RunFiles files{args.scene_file, args.program_file, ""};
+  ConfigResult bound = files.program.empty()
+                           ? config::programForScene(args.registry, files.scene, files.program)
+                           : ConfigResult::success();
   sim::Scene scene;
-  if (ConfigResult r = sim::loadScene(args.scene_file, scene, overrides); !r) {
+  if (ConfigResult r = bound ? sim::loadRun(files, scene, overrides) : bound; !r) {
     std::fprintf(stderr, "lab_sim: %s\n", r.message().c_str());
     return 2;
   }

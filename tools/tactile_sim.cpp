@@ -1,19 +1,26 @@
 // tactile_sim: the headless experiment runner.
 //
-//   tactile_sim summarize SCENE REPORT --out DIR [--controller proposed|baseline|no_rotation]
+//   tactile_sim summarize SCENE REPORT --out DIR [--program FILE] [--controller proposed|baseline|no_rotation]
 //                         [--status S --exit-code N --sim-time T] [--no-plots]
-//   tactile_sim run SCENE [--controller proposed|baseline|no_rotation] [--out DIR] [--seed N]
+//   tactile_sim run SCENE [--program FILE] [--controller proposed|baseline|no_rotation] [--out DIR] [--seed N]
 //                         [--duration S] [--servo-rate HZ] [--sim-rate HZ]
 //                         [--wts-rate HZ] [--features-rate HZ] [--subsamples K]
 //                         [--fidelity quasi_static|dynamics] [--through-fri] [--no-plots]
 //                         [--set KEY.PATH=VALUE ...]
 //   tactile_sim program FILE [--check]   the phase program with its `base:` merged (YAML)
-//   tactile_sim scene FILE [--set KEY.PATH=VALUE ...]   the scene and its program as read (YAML)
+//   tactile_sim scene FILE [--program FILE] [--set KEY.PATH=VALUE ...]   the scene and its program as read (YAML)
 //   tactile_sim schema [program|scene|sensor|registry]   the key tables of the declared blocks (Markdown)
+//   tactile_sim binding SCENE [--registry FILE]   the path of the program the registry binds to the scene
+//
+// A run is a scene with a phase program (tactile::sim::RunFiles): --program
+// names it; without it, the experiment registry (--registry FILE, default
+// this tree's experiments.yaml) gives the program of the experiments that run
+// the scene, or of its `scenes:` entry (tactile::config::programForScene).
+// The controller is the program's controller.mode unless --controller names one.
 //
 // --set overrides a scene key before the scene is read (repeatable):
 // `--set sensor.noise_counts=30 --set rates.servo=1000`; a key under
-// `program.` is one of the scene's program (`--set program.speed_law.v_max=0.08`,
+// `program.` is one of the run's program (`--set program.speed_law.v_max=0.08`,
 // `--set program.phases.explore.kp_per_s.x=4.8`); errors as for the file.
 //
 // `program` prints the program document as the servo reads it, its `base:`
@@ -75,15 +82,18 @@ using namespace tactile::sim;
 namespace {
 
 void usage() {
-  std::cerr << "usage: tactile_sim summarize SCENE REPORT --out DIR [--controller proposed|baseline|no_rotation]\n"
+  std::cerr << "usage: tactile_sim summarize SCENE REPORT --out DIR [--program FILE | --registry FILE]\n"
+               "                         [--controller proposed|baseline|no_rotation]\n"
                "                         [--status S --exit-code N --sim-time T] [--no-plots]\n"
-               "       tactile_sim run SCENE [--controller proposed|baseline|no_rotation] [--out DIR] [--seed N]\n"
+               "       tactile_sim run SCENE [--program FILE | --registry FILE]\n"
+               "                         [--controller proposed|baseline|no_rotation] [--out DIR] [--seed N]\n"
                "                         [--duration S] [--servo-rate HZ] [--sim-rate HZ] [--wts-rate HZ]\n"
                "                         [--features-rate HZ] [--subsamples K] [--fidelity quasi_static|dynamics]\n"
                "                         [--through-fri] [--no-plots] [--set KEY.PATH=VALUE ...]\n"
                "       tactile_sim program FILE [--check]\n"
-               "       tactile_sim scene FILE [--set KEY.PATH=VALUE ...]\n"
-               "       tactile_sim schema [program|scene|sensor|registry]\n";
+               "       tactile_sim scene FILE [--program FILE | --registry FILE] [--set KEY.PATH=VALUE ...]\n"
+               "       tactile_sim schema [program|scene|sensor|registry]\n"
+               "       tactile_sim binding SCENE [--registry FILE]\n";
 }
 
 bool number(const char* s, double& v) {
@@ -97,6 +107,26 @@ bool parseController(const std::string& m, ControllerMode& mode) {
   std::cerr << "tactile_sim: --controller '" << m << "' must be " << kControllerModeNames << "\n";
   return false;
 }
+
+// The run's files: the scene argv[2]; the program from --program, or from
+// the registry (--registry, default this tree's experiments.yaml). false
+// (after the error) when neither gives one.
+bool runFiles(int argc, char** argv, RunFiles& files) {
+  files.scene = argv[2];
+  std::string registry = std::string(TACTILE_SOURCE_DIR) + "/experiments.yaml";
+  for (int i = 3; i + 1 < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--program") files.program = argv[++i];
+    else if (a == "--registry") registry = argv[++i];
+  }
+  if (!files.program.empty()) return true;
+  const ConfigResult r = config::programForScene(registry, files.scene, files.program);
+  if (!r) std::cerr << "tactile_sim: " << r.message() << "\n";
+  return r.ok();
+}
+
+// An option the run's files took (runFiles); skipped by the other parsers.
+bool isFileOption(const std::string& a) { return a == "--program" || a == "--registry"; }
 
 void printCriteria(const Summary& s) {
   if (s.criteria_failed.empty()) {
@@ -142,8 +172,10 @@ int summarize(int argc, char** argv) {
     usage();
     return 2;
   }
+  RunFiles files;
+  if (!runFiles(argc, argv, files)) return 2;
   Scene scene;
-  ConfigResult r = loadScene(argv[2], scene);
+  ConfigResult r = loadRun(files, scene);
   if (!r) {
     std::cerr << "tactile_sim: " << r.message() << "\n";
     return 2;
@@ -175,8 +207,8 @@ int summarize(int argc, char** argv) {
       }
     } else if (a == "--no-plots") {
       plots = false;
-    } else if (a == "--set" && i + 1 < argc) {
-      ++i;  // applied when the scene was read
+    } else if ((a == "--set" || isFileOption(a)) && i + 1 < argc) {
+      ++i;  // applied when the run was read
     } else {
       std::cerr << "tactile_sim: unknown argument " << a << "\n";
       usage();
@@ -266,8 +298,8 @@ int runOptions(int argc, char** argv, Scene& scene, std::string& out_dir, bool& 
       if (scene.fri_file.empty()) scene.fri_file = std::string(TACTILE_SOURCE_DIR) + "/params/sensors/fri.yaml";
     } else if (a == "--no-plots") {
       plots = false;
-    } else if (a == "--set" && i + 1 < argc) {
-      ++i;  // applied when the scene was read
+    } else if ((a == "--set" || isFileOption(a)) && i + 1 < argc) {
+      ++i;  // applied when the run was read
     } else {
       std::cerr << "tactile_sim: unknown argument " << a << "\n";
       usage();
@@ -296,18 +328,22 @@ int printProgram(const std::string& file, bool check) {
   return 0;
 }
 
-/// `scene FILE [--set ...]`: the scene and its program as read, two YAML documents.
+/// `scene FILE [--program FILE] [--set ...]`: the scene and its run's program
+/// as read, two YAML documents.
 int printScene(int argc, char** argv) {
   std::vector<std::string> overrides;
   for (int i = 3; i < argc; i += 2) {
-    if (std::string(argv[i]) != "--set" || i + 1 >= argc) {
+    const std::string a = argv[i];
+    if ((a != "--set" && !isFileOption(a)) || i + 1 >= argc) {
       usage();
       return 2;
     }
-    overrides.push_back(argv[i + 1]);
+    if (a == "--set") overrides.push_back(argv[i + 1]);
   }
+  RunFiles files;
+  if (!runFiles(argc, argv, files)) return 2;
   YAML::Node scene, program;
-  const ConfigResult r = sceneDocuments(argv[2], overrides, scene, program);
+  const ConfigResult r = runDocuments(files, overrides, scene, program);
   if (!r) {
     std::cerr << "tactile_sim: " << r.message() << "\n";
     return 2;
@@ -321,6 +357,12 @@ int main(int argc, char** argv) {
   if ((argc == 3 || (argc == 4 && std::string(argv[3]) == "--check")) && std::string(argv[1]) == "program")
     return printProgram(argv[2], argc == 4);
   if (argc >= 3 && std::string(argv[1]) == "scene") return printScene(argc, argv);
+  if ((argc == 3 || (argc == 5 && std::string(argv[3]) == "--registry")) && std::string(argv[1]) == "binding") {
+    RunFiles files;
+    if (!runFiles(argc, argv, files)) return 2;
+    std::cout << files.program << "\n";
+    return 0;
+  }
   if ((argc == 2 || argc == 3) && std::string(argv[1]) == "schema") {
     const std::string which = argc == 3 ? argv[2] : "program";
     if (which != "program" && which != "scene" && which != "sensor" && which != "registry") {
@@ -337,12 +379,13 @@ int main(int argc, char** argv) {
     usage();
     return 2;
   }
-  const std::string scene_file = argv[2];
   std::vector<std::string> overrides;  // --set, applied to the scene file before it is read
   for (int i = 3; i + 1 < argc; ++i)
     if (std::string(argv[i]) == "--set") overrides.push_back(argv[++i]);
+  RunFiles files;
+  if (!runFiles(argc, argv, files)) return 2;
   Scene scene;
-  ConfigResult r = loadScene(scene_file, scene, overrides);
+  ConfigResult r = loadRun(files, scene, overrides);
   if (!r) {
     std::cerr << "tactile_sim: " << r.message() << "\n";
     return 2;

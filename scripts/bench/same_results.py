@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Benchmark (not a test): the evidence that a change kept the behaviour.
 Runs every experiment of the registry (experiments.yaml, with its controller)
-and every scene of params/scenes (its own program and controller) headless with
+and every scene of params/scenes (with the program the registry binds to it) headless with
 one tactile_sim, and writes a fingerprint: for each run the SHA-256 of its
 summary.json without the wall-clock fields (wall_time_s, real_time_factor)
 and of its timeseries.csv, contacts.csv and snapshots.csv. Two fingerprints,
@@ -30,8 +30,9 @@ def jobs():
                           check=True, capture_output=True, text=True).stdout.split("\n")
     out = []
     for row in filter(None, rows):
-        name, scene, controller = row.split()
-        out.append((name, scene, [] if controller == "-" else ["--controller", controller]))
+        name, scene, program, controller = row.split()
+        args = ["--program", os.path.join(ROOT, program)]
+        out.append((name, scene, args if controller == "-" else args + ["--controller", controller]))
     for scene in sorted(glob.glob(os.path.join(ROOT, "params", "scenes", "**", "*.yaml"), recursive=True)):
         rel = os.path.relpath(scene, ROOT)
         out.append(("scene_" + rel[len("params/scenes/"):-5].replace("/", "_"), rel, []))

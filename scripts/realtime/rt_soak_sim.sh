@@ -48,6 +48,7 @@ cat > "$out/deployments/lwr_sim_bar_loop.cpf" <<XML
 <!DOCTYPE properties SYSTEM "cpf.dtd">
 <properties>
   <simple name="scene_file" type="string"><description>scene YAML</description><value>$out/bar_loop.yaml</value></simple>
+  <simple name="program_file" type="string"><description>the servo's program (the pad's mount)</description><value>$root/params/programs/bar_loop.yaml</value></simple>
 </properties>
 XML
 cat > "$out/deployments/servo_bar_loop.cpf" <<XML

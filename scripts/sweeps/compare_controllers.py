@@ -88,7 +88,7 @@ def main():
         extra = ["--set", f"metrics.force_band_n={BAND_N}"]
         paper = ts.paper_program(scene) if a.paper else None
         if paper:
-            extra += ["--set", "program=" + paper]
+            extra += ["--program", paper]
         for c in controllers:
             d = os.path.join(a.out, scene, c)
             s = ts.run.run(scene, d, ["--controller", c, *extra], sim=a.sim)

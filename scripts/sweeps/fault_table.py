@@ -152,8 +152,7 @@ def expected_text(e, reach_n):
 
 def program_limits(scene):
     """(safety.force_ceiling, watchdogs.correction_drift.max_change_n) of the scene's program (N)."""
-    sc = ts.load_scene(scene)
-    path = os.path.normpath(os.path.join(os.path.dirname(ts.scene_path(scene)), sc["program"]))
+    path = ts.scenes.program_of(scene)
     sys.path.insert(0, os.path.join(ts.scenes.ROOT, "scripts", "tools"))
     import program_yaml  # its `base:` merged, as the servo reads it (tactile_sim program)
     prog = program_yaml.load(path)

@@ -39,7 +39,7 @@ def one(job):
     if scene in DURATION_S:
         args += ["--duration", str(DURATION_S[scene])]
     if label == "paper":
-        args += ["--set", "program=" + ts.paper_program(scene)]
+        args += ["--program", ts.paper_program(scene)]
     return scene, label, seed, ts.run.run(scene, d, args)
 
 

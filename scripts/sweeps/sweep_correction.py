@@ -137,7 +137,7 @@ def rms(v):
 def one(job):
     scene, label, program, setting, seed, out = job
     d = os.path.join(out, "runs", f"{scene}_{label}_{setting}_{seed}")
-    args = ["--seed", str(seed), "--set", "program=" + program]
+    args = ["--seed", str(seed), "--program", program]
     if setting == "all":
         args = sweep_effects.effect_args(scene, sweep_effects.ALL) + args  # the wrench error among them
     s = ts.run.run(scene, d, args + ["--set", f"metrics.force_band_n={ts.FORCE_BAND_N}"])

@@ -69,7 +69,7 @@ def one(job):
     bar, label, program, kp, seed, out = job
     d = os.path.join(out, "runs", bar.split("/")[-1], f"{label.replace(' ', '_').replace(',', '')}_{kp:g}_{seed}")
     duration = 3.0 + 1.5 * 0.36 / (0.025 * kp) if label == FIXED else LAW_DURATION_S
-    s = ts.run.run(bar, d, ["--seed", str(seed), "--set", "program=" + program, "--set", f"duration={duration:.1f}"])
+    s = ts.run.run(bar, d, ["--seed", str(seed), "--program", program, "--set", f"duration={duration:.1f}"])
     s["end_distance_m"] = sweep_speed.end_distance(d, bar)
     return bar, label, kp, seed, s
 

@@ -95,8 +95,8 @@ def one(job):
     # the wrench in free motion; a bar of 8 mm radius would start inside the
     # housing at the bent bar's shipped start).
     start = ts.load_scene(after_scene)["initial_flange"]
-    paper = "program=../programs/" + PAPER_PROGRAM[after_scene]
-    for tag, scene, extra in (("before", before_scene, ["--set", paper]), ("after", after_scene, [])):
+    paper = os.path.join(ts.scenes.PROGRAMS, PAPER_PROGRAM[after_scene])
+    for tag, scene, extra in (("before", before_scene, ["--program", paper]), ("after", after_scene, [])):
         d = os.path.join(out, "runs", f"{label.replace(' ', '_').replace('=', '')}_{tag}_{seed}")
         args = ["--seed", str(seed), "--set", "objects=" + json.dumps([obj]),
                 "--set", f"metrics.force_band_n={BAND}", "--set", "initial_flange=" + json.dumps(start)] + extra

@@ -133,7 +133,7 @@ def one(job):
     # the law: at least its v_min, 5 mm/s, and in practice above 25 mm/s).
     duration = 3.0 + 1.5 * 0.32 / (0.025 * kp) if label != LAW else 30.0
     s = ts.run.run("bent_bar_fused", d, ["--seed", str(seed), "--controller", controller,
-                                           "--set", "program=" + program_path, "--set", f"duration={duration:.1f}"])
+                                           "--program", program_path, "--set", f"duration={duration:.1f}"])
     s["end_distance_m"] = end_distance(d)
     return label, kp, seed, s
 

@@ -83,16 +83,14 @@ FOLLOWED = """    force_true_max_n: {max: 7.0}
     force_true_in_band_fraction: {min: 0.95}"""
 
 
-def scene_text(name, header, description, verts, rounding=0.005, program="bent_bar_to_end_cap.yaml", up="../..",
+def scene_text(name, header, description, verts, rounding=0.005, up="../..",
                duration=22, criteria=FOLLOWED):
-    """A scene of the family: the bent bar's start, pose, program and criteria."""
+    """A scene of the family: the bent bar's start, pose and criteria (its program: experiments.yaml)."""
     v = ", ".join(f"[{x[0]}, {x[1]}, {x[2]}]" for x in verts)
     return f"""{header}
 name: {name}
 description: "{description}"
-program: {up}/programs/{program}
 features_file: {up}/sensors/wts0614.yaml
-controller: proposed
 duration: {duration}
 seed: 1
 fidelity: quasi_static
@@ -110,7 +108,7 @@ metrics:
   transient_s: 2.0
   force_phases: [explore]
   force_band_n: 0.5
-  criteria:
+  criteria:                       # the force: the scored window (explore after its 2 s transient)
 {criteria}
 """
 
@@ -120,14 +118,14 @@ def scene(a, l):
     header = f"""# Wavy bar (scripts/tools/make_curved_bars.py): the bent bar's start, its top edge
 # a sine in height after {FLAT * 1e3:g} mm of straight bar: amplitude {a * 1e3:g} mm, wavelength
 # {l * 1e3:g} mm, smallest radius of curvature along the edge {radius(a, l) * 1e3:.1f} mm (the pad
-# reaches 47.6 mm). Shipped program bent_bar_to_end_cap.yaml."""
+# reaches 47.6 mm). Its program: experiments.yaml, scenes:."""
     return name, scene_text(name, header, f"Wavy bar, A {a * 1e3:g} mm, L {l * 1e3:g} mm, R {radius(a, l) * 1e3:.1f} mm",
                             vertices(a, l))
 
 
 def shape_scene(name, what, offset, rounding):
     header = f"""# Bar of the family (scripts/tools/make_curved_bars.py): the bent bar's start, then
-# after {FLAT * 1e3:g} mm of straight bar {what}. Shipped program bent_bar_to_end_cap.yaml."""
+# after {FLAT * 1e3:g} mm of straight bar {what}. Its program: experiments.yaml, scenes:."""
     return scene_text(name, header, f"Bar: {what}", polyline(offset), rounding)
 
 
@@ -155,7 +153,7 @@ def main():
     with open(os.path.join(a.out, "..", "wave_speed_law.yaml"), "w") as fh:
         fh.write(scene_text("wave_speed_law", header, f"A wave in height (A {amp * 1e3:g} mm, L {l * 1e3:g} mm, R "
                             f"{radius(amp, l) * 1e3:.1f} mm), the careful speed law", vertices(amp, l),
-                            program="bent_bar_speed_law_careful.yaml", up="..", duration=40))
+                            up="..", duration=40))
     print("wave_speed_law: the careful speed law on the A 2 mm, L 90 mm wave")
     # The registry's experiment of the stop (experiments.yaml tight_wave): a
     # wave tighter than the pad follows, with the same program; the servo's
@@ -169,7 +167,7 @@ def main():
     with open(os.path.join(a.out, "..", "tight_wave.yaml"), "w") as fh:
         fh.write(scene_text("tight_wave", header, f"A wave tighter than the pad (A {amp * 1e3:g} mm, L {l * 1e3:g} mm, R "
                             f"{radius(amp, l) * 1e3:.1f} mm): the stop", vertices(amp, l),
-                            program="bent_bar_speed_law_careful.yaml", up="..", duration=40,
+                            up="..", duration=40,
                             criteria="    force_true_max_n: {max: 7.0}"))
     print("tight_wave: the careful speed law on the A 3 mm, L 60 mm wave, stopped")
 

@@ -50,3 +50,12 @@ def load(path, sim=None):
     if not isinstance(doc, dict):
         raise ProgramError(f"{path}: top level must be a mapping")
     return doc
+
+
+def program_of(scene, sim=None):
+    """The path of the program a run of the scene file takes: the one the
+    experiment registry binds to it (`tactile_sim binding SCENE`)."""
+    p = subprocess.run([tool(sim), "binding", scene], capture_output=True, text=True)
+    if p.returncode != 0:
+        raise ProgramError(p.stderr.strip() or f"tactile_sim binding {scene}: exit {p.returncode}")
+    return p.stdout.strip()

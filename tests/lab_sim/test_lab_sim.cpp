@@ -17,6 +17,7 @@
 #include "tactile_fri/udp.hpp"
 #include "tactile_lab/krc_schedule.hpp"
 #include "tactile_lab/world_plant.hpp"
+#include "tactile_config/registry.hpp"
 #include "tactile_sim/loop.hpp"
 #include "tactile_sim/scene.hpp"
 #include "tactile_types/kdl_pose.hpp"
@@ -29,9 +30,12 @@ const std::string kSource = TACTILE_SOURCE_DIR;
 const std::string kPressScene = kSource + "/params/lab_scenes/bringup_press.yaml";
 const std::string kEdgeScene = kSource + "/params/scenes/edge_exploration.yaml";
 
+// The scene with the program the registry binds to it (lab_sim's default).
 sim::Scene loadOrFail(const std::string& file) {
   sim::Scene s;
-  const ConfigResult r = sim::loadScene(file, s);
+  sim::RunFiles files{file, "", ""};
+  ConfigResult r = config::programForScene(kSource + "/experiments.yaml", file, files.program);
+  if (r) r = sim::loadRun(files, s);
   EXPECT_TRUE(r.ok()) << r.message();
   return s;
 }

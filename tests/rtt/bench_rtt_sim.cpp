@@ -22,6 +22,7 @@
 namespace {
 
 const std::string kScene = TACTILE_SCENE_DIR "/edge_exploration.yaml";
+const std::string kProgram = TACTILE_SCENE_DIR "/../programs/edge_exploration.yaml";  // the registry's for kScene
 
 // Flange command k: pressed 3 mm into the bar below the start pose (the bar is
 // about 27 mm below the sensor), sliding +-0.1 mm along x with a 200-step period.
@@ -34,7 +35,7 @@ tactile::Pose command(const tactile::Pose& start, long k) {
 
 void BM_WorldDirect(benchmark::State& state) {
   tactile::sim::Scene scene;
-  if (!tactile::sim::loadScene(kScene, scene).ok()) {
+  if (!tactile::sim::loadRun({kScene, kProgram, ""}, scene).ok()) {
     state.SkipWithError("scene");
     return;
   }
@@ -69,6 +70,7 @@ void BM_LwrSimComponentCycle(benchmark::State& state) {
   tactile::LwrSimComponent comp("sim");
   comp.setActivity(new RTT::extras::SlaveActivity(0.001));
   comp.properties()->getPropertyType<std::string>("scene_file")->set(kScene);
+  comp.properties()->getPropertyType<std::string>("program_file")->set(kProgram);
   RTT::OutputPort<tactile::PoseCommand> cmd_out("cmd_out");
   RTT::InputPort<tactile::Pose> pose_in("pose_in");
   RTT::InputPort<tactile::TactileFrame> frame_in("frame_in");

@@ -38,6 +38,7 @@ const auto* const env =
     ::testing::AddGlobalTestEnvironment(new tactile::test::RttEnvironment(tactile::test::Clock::Manual));
 
 const std::string kScene = TACTILE_SCENE_DIR "/edge_exploration.yaml";
+const std::string kProgram = TACTILE_PROGRAM_DIR "/edge_exploration.yaml";  // the registry's for kScene
 
 struct Rig {
   tactile::LwrSimComponent comp{"sim"};
@@ -50,7 +51,7 @@ struct Rig {
   RTT::InputPort<RawTactileFrame> raw_in{"raw_in"};
   RTT::TaskContext io{"io"};  // declared last: destroyed before the ports it holds
 
-  explicit Rig(const std::string& scene) {
+  explicit Rig(const std::string& scene, const std::string& program = kProgram) {
     comp.setActivity(new RTT::extras::SlaveActivity(0.001));
     sensor.setActivity(new RTT::extras::SlaveActivity(0.0));
     io.ports()->addPort(command_out);
@@ -60,6 +61,7 @@ struct Rig {
     io.ports()->addPort(wrench_in);
     io.ports()->addPort(raw_in);
     comp.properties()->getPropertyType<std::string>("scene_file")->set(scene);
+    comp.properties()->getPropertyType<std::string>("program_file")->set(program);
     sensor.properties()->getPropertyType<std::string>("scene_file")->set(scene);
     EXPECT_TRUE(command_out.connectTo(comp.ports()->getPort("pose_command")));
     EXPECT_TRUE(comp.ports()->getPort("flange_pose")->connectTo(&pose_in));
@@ -87,7 +89,7 @@ TEST(LwrSimComponent, InterfaceIsDeclaredAndDocumented) {
     EXPECT_FALSE(c.ports()->getPort(port)->getDescription().empty()) << port;
   }
   EXPECT_EQ(c.ports()->getPort("raw_frame"), nullptr) << "the sensor is a separate component";
-  for (const char* prop : {"scene_file"}) {
+  for (const char* prop : {"scene_file", "program_file"}) {
     ASSERT_NE(c.properties()->getProperty(prop), nullptr) << prop;
     EXPECT_FALSE(c.properties()->getProperty(prop)->getDescription().empty()) << prop;
   }
@@ -116,17 +118,25 @@ TEST(LwrSimComponent, ConfigureErrorsNameTheProblem) {
   }
   {
     tactile::LwrSimComponent c("s");
+    c.properties()->getPropertyType<std::string>("scene_file")->set(TACTILE_SCENE_DIR "/edge_exploration.yaml");
+    EXPECT_FALSE(c.configure());
+    EXPECT_NE(c.lastError().find("program_file is empty"), std::string::npos) << c.lastError();
+  }
+  {
+    tactile::LwrSimComponent c("s");
     c.properties()->getPropertyType<std::string>("scene_file")->set("/nonexistent/scene.yaml");
+    c.properties()->getPropertyType<std::string>("program_file")->set(TACTILE_PROGRAM_DIR "/edge_exploration.yaml");
     EXPECT_FALSE(c.configure());
     EXPECT_NE(c.lastError().find("/nonexistent/scene.yaml"), std::string::npos) << c.lastError();
   }
   {
     // An invalid scene value: the scene loader's message (file and field) comes through.
     const std::string bad = writeTemp("bad_scene.yaml",
-                                      "name: bad\nprogram: " TACTILE_PROGRAM_DIR "/edge_exploration.yaml\n"
+                                      "name: bad\n"
                                       "rates: {sim: -5}\n");
     tactile::LwrSimComponent c("s");
     c.properties()->getPropertyType<std::string>("scene_file")->set(bad);
+    c.properties()->getPropertyType<std::string>("program_file")->set(TACTILE_PROGRAM_DIR "/edge_exploration.yaml");
     EXPECT_FALSE(c.configure());
     EXPECT_NE(c.lastError().find("rates.sim"), std::string::npos) << c.lastError();
     tactile::WtsSimComponent w("w");
@@ -137,10 +147,11 @@ TEST(LwrSimComponent, ConfigureErrorsNameTheProblem) {
   {
     // A KRC script that does not begin with friOpen: the scene's key named.
     const std::string bad = writeTemp("bad_krc_scene.yaml",
-                                      "name: bad\nprogram: " TACTILE_PROGRAM_DIR "/edge_exploration.yaml\n"
+                                      "name: bad\n"
                                       "krc: \"1:friStart\"\n");
     tactile::LwrSimComponent c("s");
     c.properties()->getPropertyType<std::string>("scene_file")->set(bad);
+    c.properties()->getPropertyType<std::string>("program_file")->set(TACTILE_PROGRAM_DIR "/edge_exploration.yaml");
     EXPECT_FALSE(c.configure());
     EXPECT_NE(c.lastError().find("krc"), std::string::npos) << c.lastError();
     EXPECT_NE(c.lastError().find("friOpen"), std::string::npos) << c.lastError();
@@ -181,7 +192,7 @@ TEST(LwrSimComponent, OutputsMatchTheWorldAndTheResponseDrivenDirectly) {
   EXPECT_DOUBLE_EQ(rig.attr<double>("sim_period"), 0.001);
 
   tactile::sim::Scene scene;
-  ASSERT_TRUE(tactile::sim::loadScene(kScene, scene).ok());
+  ASSERT_TRUE(tactile::sim::loadRun({kScene, kProgram, ""}, scene).ok());
   tactile::sim::WorldParams wp = scene.world;
   wp.seed = scene.seed;
   tactile::sim::World world;

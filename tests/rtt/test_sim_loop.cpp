@@ -34,6 +34,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "alloc_counter.hpp"
+#include "tactile_config/registry.hpp"
 #include "tactile_servo/program_io.hpp"
 #include "support/rtt_environment.hpp"
 #include "tactile_features_rtt/feature_component.hpp"
@@ -87,6 +88,7 @@ Recording runDeployment(const std::string& scene_file, const std::string& progra
     clock.addPeer(s);
   }
   robot.properties()->getPropertyType<std::string>("scene_file")->set(scene_file);
+  robot.properties()->getPropertyType<std::string>("program_file")->set(program_file);
   sensor.properties()->getPropertyType<std::string>("scene_file")->set(scene_file);
   clock.properties()->getPropertyType<std::string>("scene_file")->set(scene_file);
   features.properties()->getPropertyType<std::string>("param_file")->set(TACTILE_SOURCE_DIR
@@ -246,7 +248,11 @@ TEST_P(SimLoop, DeploymentIsTheRunnersLoop) {
   const Case c = GetParam();
   sim::Scene sc;
   const std::string scene_file = sceneWithEffects(c);
-  const ConfigResult loaded = sim::loadScene(scene_file, sc);
+  sim::RunFiles files{scene_file, "", ""};  // the program the registry binds to the shipped scene
+  const ConfigResult bound =
+      config::programForScene(TACTILE_SOURCE_DIR "/experiments.yaml", kScenes + c.scene, files.program);
+  ASSERT_TRUE(bound.ok()) << bound.message();
+  const ConfigResult loaded = sim::loadRun(files, sc);
   ASSERT_TRUE(loaded.ok()) << loaded.message();
   sc.controller = c.mode;
   // The servo component reads the mode from its program file: the scene's
@@ -405,6 +411,8 @@ class ClockedEdgeExploration : public ::testing::Test {
       clock.addPeer(s);
     }
     robot.properties()->getPropertyType<std::string>("scene_file")->set(scene);
+    robot.properties()->getPropertyType<std::string>("program_file")->set(
+        TACTILE_SOURCE_DIR "/params/programs/edge_exploration.yaml");
     sensor.properties()->getPropertyType<std::string>("scene_file")->set(scene);
     clock.properties()->getPropertyType<std::string>("scene_file")->set(scene);
     features.properties()->getPropertyType<std::string>("param_file")->set(

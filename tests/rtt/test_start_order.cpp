@@ -161,6 +161,7 @@ std::unique_ptr<SimLoop> makeSimLoop() {
   auto loop = std::make_unique<SimLoop>();
   auto arm = std::make_unique<tactile::LwrSimComponent>("arm");
   arm->properties()->getPropertyType<std::string>("scene_file")->set(kScene);
+  arm->properties()->getPropertyType<std::string>("program_file")->set(kProgram);
   auto sensor = std::make_unique<tactile::WtsSimComponent>("sensor");
   sensor->properties()->getPropertyType<std::string>("scene_file")->set(kScene);
   auto features = std::make_unique<tactile::FeatureComponent>("features");

@@ -46,6 +46,15 @@ bad = run("scene", f"{root}/params/scenes/bent_bar_speed_law.yaml", "--set", "pr
 check(bad.returncode == 2 and "bent_bar_speed_law.yaml: speed_law.v_max = 2: must be in (0, 1] m/s" in bad.stderr,
       f"scene: a value out of range refused naming the program, the key and the range ({bad.stderr.strip()})")
 
+# The run's program: the registry's for the scene, or the one --program names.
+own = run("scene", f"{root}/params/scenes/short_bar.yaml", "--program", f"{root}/params/programs/hold_edge_paper.yaml")
+named = run("program", f"{root}/params/programs/hold_edge_paper.yaml")
+check(own.returncode == 0 and list(yaml.safe_load_all(own.stdout))[1] == yaml.safe_load(named.stdout),
+      f"scene --program: the program named, not the registry's ({own.stderr.strip()})")
+reg = run("scene", f"{root}/params/scenes/short_bar.yaml", "--registry", f"{root}/tests/rtt/deploy/bad_registry.yaml")
+check(reg.returncode == 2 and "no program for the scene" in reg.stderr,
+      f"scene --registry: a registry that binds no program to the scene is an error ({reg.stderr.strip()})")
+
 t = run("schema", "program")
 check(t.returncode == 0 and "| `contact_loss.mode` |" in t.stdout and "| `crawl_after_s` |" in t.stdout,
       "schema program: the declared keys")

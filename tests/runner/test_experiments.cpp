@@ -99,7 +99,7 @@ TEST(Experiments, EdgeExploration) {
 // the bridge: the full headless loop can run through FRI.
 TEST(Experiments, EdgeExplorationThroughFri) {
   Scene sc;
-  ASSERT_TRUE(loadScene(kScenes + "edge_exploration.yaml", sc).ok());
+  ASSERT_TRUE(loadRun(test::shippedRun("edge_exploration.yaml"), sc).ok());
   sc.through_fri = true;
   sc.fri_file = std::string(TACTILE_SOURCE_DIR) + "/params/sensors/fri.yaml";
   Runner runner;
@@ -379,7 +379,7 @@ TEST(Runner, DeterministicForASeedAndSeedSensitive) {
     ASSERT_EQ(a.rows[i].act, b.rows[i].act) << i;
   }
   Scene sc;
-  ASSERT_TRUE(loadScene(kScenes + "co_manipulation.yaml", sc).ok());
+  ASSERT_TRUE(loadRun(test::shippedRun("co_manipulation.yaml"), sc).ok());
   sc.seed = 7;
   Runner runner;
   ASSERT_TRUE(runner.configure(sc).ok());
@@ -410,9 +410,13 @@ namespace {
 std::string writeScene(const std::string& name, const std::string& body) {
   const std::string dir = testing::TempDir();
   const std::string path = dir + name;
-  std::ofstream(path) << "program: " << TACTILE_SOURCE_DIR << "/params/programs/edge_exploration.yaml\n"
-                      << body;
+  std::ofstream(path) << body;
   return path;
+}
+
+// A run of a scene of the test's own with the edge-exploration program.
+RunFiles withProgram(const std::string& scene, const std::string& controller = "") {
+  return RunFiles{scene, std::string(TACTILE_SOURCE_DIR) + "/params/programs/edge_exploration.yaml", controller};
 }
 }  // namespace
 
@@ -433,7 +437,9 @@ TEST(SceneErrors, NameTheFileAndTheField) {
        "ball"},
       {"bad_fidelity.yaml", "name: x\nfidelity: magic\n", "fidelity: 'magic': must be one of quasi_static, dynamics"},
       {"no_name.yaml", "duration: 3\n", "name: required"},
-      {"bad_controller.yaml", "name: x\ncontroller: li\n", "controller: 'li': must be one of proposed, baseline, no_rotation"},
+      {"names_program.yaml", "name: x\nprogram: ../programs/edge_exploration.yaml\n",
+       "program: a scene does not name its run's program: the experiment registry (experiments.yaml) binds"},
+      {"names_controller.yaml", "name: x\ncontroller: baseline\n", "controller: a scene does not name its run's controller"},
   };
   for (const auto& c : cases) {
     const std::string path = writeScene(c.file, c.body);
@@ -444,10 +450,21 @@ TEST(SceneErrors, NameTheFileAndTheField) {
     EXPECT_NE(r.message().find(c.expect), std::string::npos) << c.file << ": " << r.message();
   }
   Scene sc;
-  for (const char* m : {"proposed", "baseline", "no_rotation"}) {  // every controller name is accepted
-    ASSERT_TRUE(loadScene(writeScene("controller.yaml", std::string("name: x\ncontroller: ") + m + "\n"), sc).ok()) << m;
+  const std::string plain = writeScene("plain.yaml", "name: x\n");
+  for (const char* m : {"proposed", "baseline", "no_rotation"}) {  // the run names any controller
+    ASSERT_TRUE(loadRun(withProgram(plain, m), sc).ok()) << m;
     EXPECT_STREQ(toString(sc.controller), m);
   }
+  ASSERT_TRUE(loadRun(withProgram(plain), sc).ok());  // none: the program's controller.mode
+  EXPECT_EQ(sc.controller, sc.servo.mode);
+  const ConfigResult li = loadRun(withProgram(plain, "li"), sc);
+  ASSERT_FALSE(li.ok());
+  EXPECT_NE(li.message().find("controller 'li' must be proposed"), std::string::npos) << li.message();
+  ASSERT_TRUE(loadScene(plain, sc).ok());  // a scene alone: no program, and no run
+  EXPECT_TRUE(sc.program_file.empty());
+  const ConfigResult no_program = Runner().configure(sc);
+  ASSERT_FALSE(no_program.ok());
+  EXPECT_NE(no_program.message().find("no phase program"), std::string::npos) << no_program.message();
   const ConfigResult missing = loadScene("/nonexistent/scene.yaml", sc);
   ASSERT_FALSE(missing.ok());
   EXPECT_NE(missing.message().find("/nonexistent/scene.yaml: cannot open file"), std::string::npos);
@@ -531,7 +548,7 @@ TEST(Runner, AnUnstableRunStopsWithAStatusAndANonZeroExitCode) {
       "name: crash\nduration: 20\ninitial_flange: {xyz: [0.72, 0.0, 0.40], rpy_deg: [180, 0, 180]}\n"
       "objects: [{name: table, type: plane, point: [0, 0, 0.36], normal: [0, 0, 1]}]\n");
   Scene sc;
-  ASSERT_TRUE(loadScene(path, sc).ok());
+  ASSERT_TRUE(loadRun(withProgram(path), sc).ok());
   // A huge feed-forward towards the table in the free-motion phase, and no
   // contact detection (threshold above any taxel force): nothing stops it but safety.
   sc.servo.phases[0].feedforward(2) = 0.05;
@@ -563,7 +580,7 @@ TEST(Experiments, ForceEstimatePutsTheTrueForceOnTarget) {
   EXPECT_GE(f.summary.force_true_in_band_fraction, 0.95);
   EXPECT_GE(f.summary.path_length_m, 0.2);
   EXPECT_EQ(f.summary.contact_lost_count, 0);
-  Scene sc = test::loadShipped("bent_bar_fused.yaml", {"program=../programs/bent_bar_paper.yaml"});
+  Scene sc = test::loadShippedWith("bent_bar_fused.yaml", test::kPrograms + "bent_bar_paper.yaml");
   const Summary t = test::run(sc);
   EXPECT_EQ(t.status, "ok");
   EXPECT_GT(t.force_true_rms_error_n, 0.5);       // measured 0.66 N: the true force ~0.6 N above 5 N
@@ -584,8 +601,7 @@ TEST(Experiments, ForceEstimatePutsTheTrueForceOnTarget) {
     EXPECT_LT(e.summary.alignment_time_s, 5.0) << "seed " << seed;
     EXPECT_GE(e.summary.path_length_m, 0.15) << "seed " << seed;
   }
-  Scene se = test::loadShipped("edge_exploration.yaml",
-                               {"program=../programs/edge_exploration_paper.yaml"});
+  Scene se = test::loadShippedWith("edge_exploration.yaml", test::kPrograms + "edge_exploration_paper.yaml");
   const Summary te = test::run(se);
   EXPECT_GT(te.force_true_rms_error_n, 0.6);
   EXPECT_LT(te.force_true_in_band_fraction, 0.5);
@@ -712,8 +728,8 @@ TEST(ShippedPrograms, EdgeAcrossTheRowsKeepsTheLoadOnTheImage) {
     }
     return m;
   };
-  const Scene paper_sc = test::loadShipped("edge_exploration.yaml",
-                                           {"program=../programs/edge_exploration_paper.yaml"});
+  const Scene paper_sc = test::loadShippedWith("edge_exploration.yaml",
+                                               test::kPrograms + "edge_exploration_paper.yaml");
   const Scene shipped_sc = test::loadShipped("edge_exploration.yaml");
   EXPECT_DOUBLE_EQ(shipped_sc.servo.force_estimate.max_correction_n, 4.5);
   Scene rows_sc = shipped_sc;  // the edge along the rows
@@ -798,8 +814,7 @@ TEST(Experiments, CarefulSpeedLawAdaptsWhereNoSingleFixedGainDoes) {
   const std::string careful = std::string(TACTILE_SOURCE_DIR) + "/params/programs/bent_bar_speed_law_careful.yaml";
   // kp = 0: the careful law; kp > 0: the same program with the law off and that slide gain.
   auto runBar = [&](const std::string& bar, int seed, double kp) {
-    Scene sc = test::loadShipped("curved/" + bar + ".yaml",
-                                 {"program=" + careful, "seed=" + std::to_string(seed), "duration=60"});
+    Scene sc = test::loadShippedWith("curved/" + bar + ".yaml", careful, {"seed=" + std::to_string(seed), "duration=60"});
     if (kp > 0.0) useFixedGain(sc, kp);
     return test::runFull(sc);
   };
@@ -830,8 +845,7 @@ TEST(Experiments, SlopeFeedforwardLetsTheSpeedLawHoldTheForceOnAWave) {
   for (int seed = 1; seed <= 3; ++seed) {
     RunResult r[2];
     for (int ff = 0; ff < 2; ++ff) {
-      Scene sc = test::loadShipped("curved/wavy_a1.5mm_l70mm.yaml",
-                                   {"program=" + program, "seed=" + std::to_string(seed), "duration=60"});
+      Scene sc = test::loadShippedWith("curved/wavy_a1.5mm_l70mm.yaml", program, {"seed=" + std::to_string(seed), "duration=60"});
       ASSERT_EQ(sc.servo.slope_feedforward.phases.size(), 1u);  // shipped on
       if (!ff) sc.servo.slope_feedforward.phases.clear();
       r[ff] = test::runFull(sc);
@@ -862,7 +876,7 @@ TEST(Experiments, TheEndRulesCheckTellsATightCrestFromTheBarsEnd) {
   const std::string program = std::string(TACTILE_SOURCE_DIR) + "/params/programs/bent_bar_speed_law.yaml";
   enum Variant { kShipped, kEndRuleAlone, kNoJointMargin, kNoLossReturn };
   auto run = [&](const std::string& scene, int seed, Variant v) {
-    Scene sc = test::loadShipped(scene, {"program=" + program, "seed=" + std::to_string(seed), "duration=60"});
+    Scene sc = test::loadShippedWith(scene, program, {"seed=" + std::to_string(seed), "duration=60"});
     PhaseParams& check = sc.servo.phases.back();
     EXPECT_EQ(check.name, "end_check");
     if (v == kEndRuleAlone) {
@@ -935,9 +949,8 @@ TEST(Experiments, SpeedLawSlowsWhereThePadStartsToBridgeATrough) {
   int met_against_estimate = 0, met_fixed = 0;
   for (int seed = 1; seed <= 3; ++seed) {
     auto runWith = [&](int variant) {
-      Scene sc = test::loadShipped("curved/wavy_a3mm_l120mm.yaml",
-                                   {"program=" + std::string(TACTILE_SOURCE_DIR) +
-                                        "/params/programs/bent_bar_speed_law.yaml",
+      Scene sc = test::loadShippedWith("curved/wavy_a3mm_l120mm.yaml", test::kPrograms + "bent_bar_speed_law.yaml",
+                                   {
                                     "seed=" + std::to_string(seed), "duration=60"});
       EXPECT_TRUE(sc.servo.speed_law.excess_against_tactile);
       if (variant == 1) {  // the excess against f_hat
@@ -975,8 +988,7 @@ TEST(Experiments, SpeedLawKeepsTheFixedGainsPaceWhereABarBendsDown) {
     double speed[3] = {0.0, 0.0, 0.0};  // the law, the fixed gain, the law with a fixed dead band
     for (int seed = 1; seed <= 3; ++seed) {
       for (int v = 0; v < 3; ++v) {
-        Scene sc = test::loadShipped("curved/" + bar + ".yaml",
-                                     {"program=" + program, "seed=" + std::to_string(seed), "duration=60"});
+        Scene sc = test::loadShippedWith("curved/" + bar + ".yaml", program, {"seed=" + std::to_string(seed), "duration=60"});
         ASSERT_DOUBLE_EQ(sc.servo.speed_law.law.excess_deadband_per_m, 40.0);
         if (v == 1) useFixedGain(sc, 4.8);
         if (v == 2) sc.servo.speed_law.law.excess_deadband_per_m = 0.0;

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "scene_run.hpp"
 #include "alloc_counter.hpp"
 #include "tactile_sim/loop.hpp"
 #include "tactile_sim/runner.hpp"
@@ -26,7 +27,7 @@ namespace {
 const std::string kScenes = std::string(TACTILE_SOURCE_DIR) + "/params/scenes/";
 
 ConfigResult load(const std::string& faults, Scene& sc, const std::string& scene = "edge_exploration.yaml") {
-  return loadScene(kScenes + scene, sc, {"faults=" + faults});
+  return loadRun(sim::test::shippedRun(scene), sc, {"faults=" + faults});
 }
 
 // A state with the sensor facing down (z_s = -z_g) pressed with 5 N, or turned by `pitch` about y_g.
@@ -82,7 +83,7 @@ TEST(SceneFaults, EveryKindFromTheSetList) {
   EXPECT_EQ(responseParams(sc).faults.size(), 8u) << "the sensor's schedule gets the list";
   // One element of a list the scene has: --set faults.0.start_s=...
   Scene ph;
-  ASSERT_TRUE(loadScene(kScenes + "faults/phantom_contact.yaml", ph, {"faults.0.start_s=3.5"}).ok());
+  ASSERT_TRUE(loadRun(sim::test::shippedRun("faults/phantom_contact.yaml"), ph, {"faults.0.start_s=3.5"}).ok());
   ASSERT_EQ(ph.faults.size(), 1u);
   EXPECT_EQ(ph.faults[0].start_s, 3.5);
   EXPECT_EQ(ph.faults[0].force_n, 8.0);
@@ -216,7 +217,7 @@ TEST(WrenchFaults, FillDoesNotAllocate) {
   ASSERT_TRUE(e.configure(p, 3, all).ok());
   Wrench w;
   SimState st = pressed(0.0);
-  test::AllocationScope scope;
+  tactile::test::AllocationScope scope;
   for (int k = 0; k < 1000; ++k) {
     st.time_s = k * 1e-3;
     e.fill(st, w);
@@ -228,7 +229,7 @@ TEST(WrenchFaults, FillDoesNotAllocate) {
 // 8 N while the true force is 0 (nothing within reach).
 TEST(SceneFaults, PhantomPressReachesTheRunnersSensor) {
   Scene sc;
-  ASSERT_TRUE(loadScene(kScenes + "faults/phantom_contact.yaml", sc, {"duration=1.0"}).ok());
+  ASSERT_TRUE(loadRun(sim::test::shippedRun("faults/phantom_contact.yaml"), sc, {"duration=1.0"}).ok());
   Runner runner;
   ASSERT_TRUE(runner.configure(sc).ok());
   RunResult out;

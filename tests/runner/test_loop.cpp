@@ -203,14 +203,15 @@ TEST(SceneEffects, RatesAndEffectsAreValidatedWithFileKeyAndRange) {
   EXPECT_EQ(wp.physics_step_s, 1.0 / sc.rates.sim);
 }
 
-// --set program.KEY: a key of the scene's program (its base merged), by name in
+// --set program.KEY: a key of the run's program (its base merged), by name in
 // the phase list; checked as the program file is, the error naming the
 // program, the key and its range.
 TEST(SceneOverrides, ProgramKeysBySceneAndPhaseName) {
-  const std::string file = TACTILE_SOURCE_DIR "/params/scenes/bent_bar_speed_law.yaml";
+  const RunFiles file{TACTILE_SOURCE_DIR "/params/scenes/bent_bar_speed_law.yaml",
+                      TACTILE_SOURCE_DIR "/params/programs/bent_bar_speed_law.yaml", ""};
   Scene plain, sc;
-  ASSERT_TRUE(loadScene(file, plain).ok());
-  ConfigResult r = loadScene(file, sc, {"program.speed_law.force_budget_n=0.45", "program.phases.explore.kp_per_s.x=2.5",
+  ASSERT_TRUE(loadRun(file, plain).ok());
+  ConfigResult r = loadRun(file, sc, {"program.speed_law.force_budget_n=0.45", "program.phases.explore.kp_per_s.x=2.5",
                                         "program.watchdogs.arm_stall.min_angle_deg=10"});
   ASSERT_TRUE(r.ok()) << r.message();
   EXPECT_EQ(sc.servo.speed_law.law.force_budget_n, 0.45);
@@ -225,17 +226,21 @@ TEST(SceneOverrides, ProgramKeysBySceneAndPhaseName) {
       << "the phase's other gains stay";
   EXPECT_EQ(sc.program_file, plain.program_file);
 
-  r = loadScene(file, sc, {"program.speed_law.v_max=2"});
+  r = loadRun(file, sc, {"program.speed_law.v_max=2"});
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.message().find("bent_bar_speed_law.yaml: speed_law.v_max = 2: must be in (0, 1] m/s"), std::string::npos)
       << r.message();
-  r = loadScene(file, sc, {"program.phases.explorr.kp_per_s.x=2"});
+  r = loadRun(file, sc, {"program.phases.explorr.kp_per_s.x=2"});
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.message().find("explorr is neither an index nor the name of an element"), std::string::npos)
       << r.message();
-  r = loadScene(file, sc, {"program.speed_law.vmax=0.1"});
+  r = loadRun(file, sc, {"program.speed_law.vmax=0.1"});
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.message().find("speed_law.vmax: unknown key"), std::string::npos) << r.message();
+  // A scene alone has no program to set a key of.
+  r = loadScene(file.scene, sc, {"program.speed_law.v_max=0.05"});
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("a scene has no program"), std::string::npos) << r.message();
 }
 
 // effects.wrench_error: the arm's estimated wrench = (1 + scale) F + bias +

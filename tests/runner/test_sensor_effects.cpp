@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "scene_run.hpp"
 #include "alloc_counter.hpp"
 #include "tactile_features/calibration.hpp"
 #include "tactile_sim/runner.hpp"
@@ -138,7 +139,7 @@ TEST(SensorEffects, TransferDelayIsSampleExact) {
 TEST(SensorEffects, TransferDelayInTheRunnerTimeSeries) {
   const double d = 0.0157;
   Scene sc;
-  ASSERT_TRUE(loadScene(kScenes + "edge_exploration.yaml", sc,
+  ASSERT_TRUE(loadRun(sim::test::shippedRun("edge_exploration.yaml"), sc,
                         {"duration=4", "effects.wts_transfer_delay_s=" + std::to_string(d)})
                   .ok());
   ASSERT_EQ(sc.sensor_effects.wts_transfer_delay_s, d);

@@ -1,5 +1,9 @@
 #include "tactile_config/registry.hpp"
 
+#include <algorithm>
+#include <filesystem>
+#include <optional>
+
 #include "tactile_config/schema_yaml.hpp"
 
 namespace tactile {
@@ -21,7 +25,7 @@ const schema::Block<ExperimentEntry>& registryEntrySchema() {
       {F::str("title", TACTILE_SCHEMA_REF(S, title), "what it is, with the paper's section and figure").form("text"),
        F::str("scene", TACTILE_SCHEMA_REF(S, scene), "the simulated world (params/scenes/*.yaml)").form("a path").needed(),
        F::str("program", TACTILE_SCHEMA_REF(S, program),
-              "the servo's phase program: the scene's own (DeployGuard refuses another)")
+              "the servo's phase program (a scene names none)")
            .form("a path")
            .needed(),
        F::choice(
@@ -56,6 +60,73 @@ ConfigResult readExperimentEntry(const YAML::Node& node, const Where& where, Exp
   if (!(r = schema::checkRanges(registryEntrySchema(), e, where.str()))) return r;
   out = e;
   return r;
+}
+
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path normal(const fs::path& p) { return fs::weakly_canonical(fs::absolute(p)); }
+
+// The program of the experiments whose scene is `scene`; an error when two differ.
+ConfigResult programOfExperiments(const YAML::Node& all, const std::string& registry, const fs::path& dir,
+                                  const fs::path& scene, std::optional<fs::path>& found) {
+  if (!all || !all.IsMap()) return ConfigResult::failure(registry + ": no `experiments:` mapping");
+  std::string first;
+  for (const auto& kv : all) {
+    const YAML::Node e = kv.second;
+    if (!e.IsMap() || !e["scene"] || !e["program"] || normal(dir / e["scene"].as<std::string>()) != scene) continue;
+    const fs::path program = normal(dir / e["program"].as<std::string>());
+    if (found && *found != program)
+      return ConfigResult::failure(registry + ": experiments." + kv.first.as<std::string>() + ".program (" +
+                                   program.string() + ") differs from experiments." + first +
+                                   ".program for the same scene: give the run its program");
+    if (!found) first = kv.first.as<std::string>();
+    found = program;
+  }
+  return ConfigResult::success();
+}
+
+// The `scenes:` entry of the scene, or of the nearest folder holding it.
+ConfigResult programOfScenes(const YAML::Node& map, const std::string& registry, const fs::path& dir,
+                             const fs::path& scene, std::optional<fs::path>& found) {
+  if (!map) return ConfigResult::success();
+  if (!map.IsMap()) return ConfigResult::failure(registry + ": scenes: must map a scene or a folder to a program");
+  std::size_t best = 0;
+  for (const auto& kv : map) {
+    const fs::path key = normal(dir / kv.first.as<std::string>());
+    const auto [end, unused] = std::mismatch(key.begin(), key.end(), scene.begin(), scene.end());
+    const std::size_t depth = static_cast<std::size_t>(std::distance(key.begin(), key.end()));
+    if (end != key.end() || depth <= best) continue;
+    if (!kv.second.IsScalar())
+      return ConfigResult::failure(registry + ": scenes." + kv.first.as<std::string>() + ": must be a program's path");
+    best = depth;
+    found = normal(dir / kv.second.as<std::string>());
+  }
+  return ConfigResult::success();
+}
+
+}  // namespace
+
+ConfigResult programForScene(const std::string& registry_file, const std::string& scene_file, std::string& program) {
+  YAML::Node root;
+  ConfigResult r = loadFile(registry_file, root);
+  if (!r) return r;
+  const fs::path dir = fs::absolute(fs::path(registry_file)).parent_path();
+  const fs::path scene = normal(scene_file);
+  std::optional<fs::path> found;
+  try {
+    if (!(r = programOfExperiments(root["experiments"], registry_file, dir, scene, found))) return r;
+    if (!found && !(r = programOfScenes(root["scenes"], registry_file, dir, scene, found))) return r;
+  } catch (const YAML::Exception& e) {
+    return ConfigResult::failure(registry_file + ": " + e.what() + " (scene, program and scenes: entries are paths)");
+  }
+  if (!found)
+    return ConfigResult::failure(registry_file + ": no program for the scene " + scene_file +
+                                 ": no experiment runs it and `scenes:` lists neither it nor a folder holding it; "
+                                 "give the run its program (tactile_sim run SCENE PROGRAM)");
+  program = found->string();
+  return ConfigResult::success();
 }
 
 std::string registrySchemaMarkdown() { return schema::markdownSection(registryEntrySchema()); }

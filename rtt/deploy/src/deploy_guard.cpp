@@ -225,7 +225,8 @@ class DeployGuard : public RTT::TaskContext {
   // to its peers (the XML's Peers list): a peer with
   // program_file and controller_mode (the Servo) gets both and, when it has
   // the scripting service, the state machine loaded (not activated); a peer
-  // with scene_file gets the scene; one with ReportFile (OCL::FileReporting)
+  // with scene_file gets the scene (and, with program_file alone, the
+  // simulated arm, the program: its pad's mount); one with ReportFile (OCL::FileReporting)
   // the report file. The peers must come after the Guard in the XML (they are
   // configured in order). False, logged, on an unknown entry or a failed load.
   bool configureHook() override {
@@ -260,6 +261,10 @@ class DeployGuard : public RTT::TaskContext {
       if (auto* scene = props->getPropertyType<std::string>("scene_file")) {
         scene->set(scene_file_);
         log(name + ".scene_file = " + scene_file_);
+        if (program && !mode) {  // the simulated arm: its pad mounted as the program says
+          program->set(program_file_);
+          log(name + ".program_file = " + program_file_);
+        }
       }
       if (auto* report = props->getPropertyType<std::string>("ReportFile")) {
         report->set(report_file_);
@@ -417,26 +422,6 @@ class DeployGuard : public RTT::TaskContext {
     return "";
   }
 
-  // The scene names the program its headless run (tactile_sim run) reads;
-  // the deployment must run that same program. "" or the error.
-  static std::string sceneProgramAgrees(const std::string& key, const std::string& scene_file,
-                                        const std::string& program_file) {
-    std::string named;
-    try {
-      const YAML::Node p = YAML::LoadFile(scene_file)["program"];
-      if (!p) return key + "scene: " + scene_file + " names no `program` (the headless run's)";
-      named = p.as<std::string>();
-    } catch (const YAML::Exception& ex) {
-      return key + "scene: " + scene_file + ": program: " + ex.what();
-    }
-    const auto slash = scene_file.find_last_of('/');
-    const std::string scene_dir = slash == std::string::npos ? std::string() : scene_file.substr(0, slash + 1);
-    const std::string from_scene = !named.empty() && named[0] == '/' ? named : scene_dir + named;
-    if (canonical(from_scene) == canonical(program_file)) return "";
-    return key + "program: " + program_file + " is not the scene's program " + from_scene + " (" + scene_file +
-           ": program): the deployment would run another program than the headless run";
-  }
-
   static std::string canonical(const std::string& path) {
     char buf[PATH_MAX];
     return ::realpath(path.c_str(), buf) ? std::string(buf) : path;
@@ -544,7 +529,6 @@ class DeployGuard : public RTT::TaskContext {
       if (std::string err = entryParams(sm, key, type, osd, declared, params); !err.empty()) return err;
       const std::string derived = sceneDurationParam(key, resolved(scene), declared, params);
       if (!derived.empty()) return derived;
-      if (std::string err = sceneProgramAgrees(key, resolved(scene), resolved(program)); !err.empty()) return err;
       // Checked: take it.
       experiment_ = name;
       scene_file_ = resolved(scene);

@@ -1,6 +1,7 @@
 """The experiment registry, experiments.yaml (repository root): one entry per
 experiment (title, scene, program, controller, state_machine, timeout_s,
-robot, metrics); paths relative to the repository root."""
+robot, metrics); paths relative to the repository root. Its `scenes:` (the
+programs of the scenes no experiment runs) is read by `tactile_sim binding`."""
 import os
 
 import yaml
@@ -44,7 +45,7 @@ def main(argv=None):
     """The registry for the shell scripts (scripts/tools/registry.py; run_experiment.sh, run_deployment.sh, run_robot.sh):
       registry.py names [--robot]   the names, one line, space-separated
       registry.py get NAME KEY      one field ('' when null or absent)
-      registry.py rows              NAME SCENE CONTROLLER per line ('-': the program's own)
+      registry.py rows              NAME SCENE PROGRAM CONTROLLER per line ('-': the program's own)
     An unknown name exits 2 with the names the registry has."""
     import argparse
     import sys
@@ -69,5 +70,5 @@ def main(argv=None):
         print("" if v is None else v)
     else:
         for name, e in entries.items():
-            print(name, e["scene"], e.get("controller") or "-")
+            print(name, e["scene"], e["program"], e.get("controller") or "-")
     return 0

@@ -64,11 +64,20 @@ def force_band(name):
     return float((load_scene(name).get("metrics") or {}).get("force_band_n", RUNNER_FORCE_BAND_N))
 
 
+def program_of(name):
+    """The path of the program a run of the scene takes (the one the
+    experiment registry binds to it: `tactile_sim binding`)."""
+    import sys
+    sys.path.insert(0, TOOLS)
+    import program_yaml
+    return program_yaml.program_of(scene_path(name))
+
+
 def paper_program(name):
     """The scene's program as the paper has it: the `*_paper.yaml` beside the
     scene's program (Eq. 2's force alone, CoP_y 0), or None where there is
     none (tests/runner/scene_run.hpp's loadPaper() finds it the same way)."""
-    program = os.path.normpath(os.path.join(SCENE_DIR, load_scene(name)["program"]))
+    program = program_of(name)
     paper = program[:-len(".yaml")] + "_paper.yaml"
     return paper if os.path.exists(paper) else None
 

@@ -20,7 +20,7 @@ namespace config {
 struct ExperimentEntry {
   std::string title;
   std::string scene;    ///< relative to the registry's directory
-  std::string program;  ///< relative to the registry's directory; the scene's own
+  std::string program;  ///< relative to the registry's directory
   /// '' (the program's controller.mode) or a ControllerMode's name.
   std::string controller;
   std::string sm_file;  ///< state_machine.file (.osd)
@@ -36,6 +36,14 @@ const schema::Block<ExperimentEntry>& registryEntrySchema();
 /// "<file>: experiments.<name>"), read and range-checked; its
 /// state_machine.params are left to the caller.
 ConfigResult readExperimentEntry(const YAML::Node& node, const Where& where, ExperimentEntry& out);
+
+/// The phase program a run of `scene_file` takes when it is not given one
+/// (`tactile_sim run SCENE`, the tests): the program of the registry's
+/// experiments whose scene it is (they must agree), else the registry's
+/// `scenes:` entry for the file or for the nearest folder holding it
+/// ("params/scenes/curved/"). Registry paths are relative to its directory;
+/// `program` is returned absolute. An error names the registry and the scene.
+ConfigResult programForScene(const std::string& registry_file, const std::string& scene_file, std::string& program);
 
 /// The registry's key table (Markdown).
 std::string registrySchemaMarkdown();

@@ -16,6 +16,8 @@ namespace sim {
 
 
 ConfigResult Runner::configure(const Scene& scene) {
+  if (scene.program_file.empty())
+    return ConfigResult::failure(scene.file + ": no phase program: a run is a scene with its program (loadRun)");
   ConfigResult r = validateScene(scene);
   if (!r) return r;
   scene_ = scene;

@@ -226,22 +226,44 @@ ConfigResult loadScene(const std::string& file, Scene& s) { return loadScene(fil
 
 namespace {
 
-// The phase program (program, required; the same file the RTT servo
-// component loads), its base merged and the `program.` overrides applied.
-ConfigResult readController(const YAML::Node& root, const Where& w, const std::string& file, const std::string& dir,
-                            const std::vector<std::string>& program_overrides, Scene& s) {
+// One mounting transform {e}T{s}: the program's controller.sensor_mount (what
+// the robot uses).
+void mountPad(Scene& s) {
+  const KDL::Frame& m = s.servo.sensor_mount;
+  double x, y, z, qw;
+  m.M.GetQuaternion(x, y, z, qw);
+  s.world.pad.mount.p = {m.p.x(), m.p.y(), m.p.z()};
+  s.world.pad.mount.q = {x, y, z, qw};
+}
+
+// The run's phase program, its base merged and the `program.` overrides
+// applied; the controller the run names, or the program's controller.mode.
+ConfigResult readProgram(const RunFiles& files, const std::vector<std::string>& program_overrides, Scene& s) {
   ConfigResult r = ConfigResult::success();
-  // Controller: the phase program (the same file the RTT servo component loads).
-  std::string program;
-  if (!(r = read(root, "program", program, w))) return r;
-  if (program.empty()) return fail(w.child("program"), "required: path of the phase program (relative to the scene)");
-  s.program_file = resolve(dir, program);
+  if (files.program.empty())
+    return ConfigResult::failure(files.scene + ": a run needs a phase program (params/programs/*.yaml) beside its scene");
+  s.program_file = files.program;
   YAML::Node doc;  // its `base:` merged, then the overrides of its keys
-  if (!(r = loadProgramDocument(s.program_file, doc))) return ConfigResult::failure(file + ": program: " + r.message());
+  if (!(r = loadProgramDocument(s.program_file, doc))) return r;
   for (const std::string& o : program_overrides)
     if (!(r = applyOverride(doc, o, s.program_file))) return r;
-  if (!(r = loadServoProgram(doc, s.program_file, s.servo)))
-    return ConfigResult::failure(file + ": program: " + r.message());
+  if (!(r = loadServoProgram(doc, s.program_file, s.servo))) return r;
+  mountPad(s);
+  s.controller = s.servo.mode;
+  if (!files.controller.empty() && !parseControllerMode(files.controller, s.controller))
+    return ConfigResult::failure(files.scene + ": controller '" + files.controller + "' must be " +
+                                 kControllerModeNames);
+  return ConfigResult::success();
+}
+
+// A scene names the world only: the keys a run binds are refused with where
+// they belong.
+ConfigResult refuseRunKeys(const YAML::Node& root, const Where& w) {
+  for (const char* key : {"program", "controller"})
+    if (root.IsMap() && root[key])
+      return fail(w.child(key), "a scene does not name its run's " + std::string(key) +
+                                     ": the experiment registry (experiments.yaml) binds scene, program and "
+                                     "controller, as does `tactile_sim run SCENE PROGRAM [--controller C]`");
   return ConfigResult::success();
 }
 
@@ -274,22 +296,14 @@ ConfigResult readSeed(const YAML::Node& root, const Where& w, Scene& s) {
   return r;
 }
 
-// The pad (sensor), mounted as the program says, sized as the features read
-// it, and its calibration.
+// The pad (sensor), sized as the features read it, and its calibration (its
+// mount: the run's program, mountPad()).
 ConfigResult readSensor(const YAML::Node& root, const Where& w, Scene& s) {
   ConfigResult r = ConfigResult::success();
   PadParams& pad = s.world.pad;
   if (const YAML::Node n = root["sensor"]) {
     const Where ws = w.child("sensor");
     if (!(r = config::readBlock(n, ws, sensorSchema(), pad))) return r;
-  }
-  // One mounting transform {e}T{s}: the program's (what the robot uses).
-  {
-    const KDL::Frame& m = s.servo.sensor_mount;
-    double x, y, z, qw;
-    m.M.GetQuaternion(x, y, z, qw);
-    pad.mount.p = {m.p.x(), m.p.y(), m.p.z()};
-    pad.mount.q = {x, y, z, qw};
   }
   pad.rows = s.features.rows;
   pad.cols = s.features.cols;
@@ -418,7 +432,7 @@ ConfigResult readCriteria(const YAML::Node& c, const Where& wc, Scene& s) {
 namespace {
 
 /// The scene file with its own overrides applied; `program_overrides` gets
-/// those of its program ("program.KEY.PATH=VALUE", without "program.").
+/// those of the run's program ("program.KEY.PATH=VALUE", without "program.").
 ConfigResult sceneWithOverrides(const std::string& file, const std::vector<std::string>& overrides, YAML::Node& root,
                                 std::vector<std::string>& program_overrides) {
   ConfigResult r = config::loadFile(file, root);
@@ -431,31 +445,15 @@ ConfigResult sceneWithOverrides(const std::string& file, const std::vector<std::
   return r;
 }
 
-}  // namespace
-
-ConfigResult sceneDocuments(const std::string& file, const std::vector<std::string>& overrides, YAML::Node& scene,
-                            YAML::Node& program) {
-  Scene s;
-  ConfigResult r = loadScene(file, s, overrides);  // checked in full first
-  std::vector<std::string> program_overrides;
-  if (r) r = sceneWithOverrides(file, overrides, scene, program_overrides);
-  if (r) r = loadProgramDocument(s.program_file, program);
-  for (const std::string& o : program_overrides)
-    if (r) r = applyOverride(program, o, s.program_file);
-  return r;
-}
-
-ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std::string>& overrides) {
-  YAML::Node root;
-  std::vector<std::string> program_overrides;  // "program.KEY.PATH=VALUE": a key of the program
-  ConfigResult r = sceneWithOverrides(file, overrides, root, program_overrides);
-  if (!r) return r;
+// The scene's own keys, read into `s` (its run's program aside).
+ConfigResult readSceneKeys(const std::string& file, const YAML::Node& root, Scene& s) {
   const Where w{file, ""};
   s = Scene{};
   s.file = file;
   const std::string dir = dirOf(file);
+  ConfigResult r = refuseRunKeys(root, w);
+  if (!r) return r;
   if (!(r = config::readBlock(root, w, sceneSchema(), s))) return r;  // ranges: validateScene
-  if (!(r = readController(root, w, file, dir, program_overrides, s))) return r;
   if (!(r = readFeaturesFile(root, w, file, dir, s))) return r;
   if (!(r = readSeed(root, w, s))) return r;
   if (!(r = readSensor(root, w, s))) return r;
@@ -464,7 +462,42 @@ ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std:
   if (!(r = readEffects(root, w, s))) return r;
   if (!(r = readFaults(root, w, s))) return r;
   if (!(r = readFriKeys(root, w, file, dir, s))) return r;
-  if (!(r = readCriteria(config::nodeAt(root, "metrics.criteria"), w.child("metrics").child("criteria"), s))) return r;
+  return readCriteria(config::nodeAt(root, "metrics.criteria"), w.child("metrics").child("criteria"), s);
+}
+
+}  // namespace
+
+ConfigResult runDocuments(const RunFiles& files, const std::vector<std::string>& overrides, YAML::Node& scene,
+                          YAML::Node& program) {
+  Scene s;
+  ConfigResult r = loadRun(files, s, overrides);  // checked in full first
+  std::vector<std::string> program_overrides;
+  if (r) r = sceneWithOverrides(files.scene, overrides, scene, program_overrides);
+  if (r) r = loadProgramDocument(s.program_file, program);
+  for (const std::string& o : program_overrides)
+    if (r) r = applyOverride(program, o, s.program_file);
+  return r;
+}
+
+ConfigResult loadScene(const std::string& file, Scene& s, const std::vector<std::string>& overrides) {
+  YAML::Node root;
+  std::vector<std::string> program_overrides;
+  ConfigResult r = sceneWithOverrides(file, overrides, root, program_overrides);
+  if (!r) return r;
+  if (!program_overrides.empty())
+    return ConfigResult::failure(file + ": override 'program." + program_overrides.front() +
+                                 "': a scene has no program; a run (a scene with its program) takes it");
+  if (!(r = readSceneKeys(file, root, s))) return r;
+  return validateScene(s);
+}
+
+ConfigResult loadRun(const RunFiles& files, Scene& s, const std::vector<std::string>& overrides) {
+  YAML::Node root;
+  std::vector<std::string> program_overrides;  // "program.KEY.PATH=VALUE": a key of the program
+  ConfigResult r = sceneWithOverrides(files.scene, overrides, root, program_overrides);
+  if (!r) return r;
+  if (!(r = readSceneKeys(files.scene, root, s))) return r;
+  if (!(r = readProgram(files, program_overrides, s))) return r;
   return validateScene(s);
 }
 
@@ -497,10 +530,13 @@ ConfigResult validateScene(const Scene& s) {
       if (p.name == ph) return true;
     return false;
   };
-  for (const auto& ph : s.metrics.force_phases)
-    if (!known(ph)) return fail(w.child("metrics.force_phases"), "unknown phase '" + ph + "' in " + s.program_file);
-  for (const auto& ph : {s.metrics.align_from, s.metrics.align_to})
-    if (!ph.empty() && !known(ph)) return fail(w.child("metrics.alignment"), "unknown phase '" + ph + "' in " + s.program_file);
+  if (!s.program_file.empty()) {  // a run: the metrics score its program's phases
+    for (const auto& ph : s.metrics.force_phases)
+      if (!known(ph)) return fail(w.child("metrics.force_phases"), "unknown phase '" + ph + "' in " + s.program_file);
+    for (const auto& ph : {s.metrics.align_from, s.metrics.align_to})
+      if (!ph.empty() && !known(ph))
+        return fail(w.child("metrics.alignment"), "unknown phase '" + ph + "' in " + s.program_file);
+  }
   {  // The sensor's response and effects (ranges: TaxelResponse::configure).
     TaxelResponse probe;
     const ConfigResult r = probe.configure(responseParams(s));

@@ -15,13 +15,6 @@ const schema::Block<Scene>& sceneSchema() {
        F::str("description", TACTILE_SCHEMA_REF(S, description), "what the scene is, in one line").form("text"),
        F::str("figure", TACTILE_SCHEMA_REF(S, figure),
               "the paper figure its plots mirror (fig10, fig12, fig14, none)"),
-       F::custom("program", "", "a path, relative to the scene", "", "the servo's phase program (the file the RTT "
-                                                                      "servo loads on the robot)")
-           .needed(),
-       F::choice(
-           "controller", "proposed|baseline|no_rotation", [](const S& s) { return static_cast<int>(s.controller); },
-           [](S& s, int i) { s.controller = static_cast<ControllerMode>(i); },
-           "Eq. 8 (proposed), Li et al., RSS 2013 (baseline) or the ablation; --controller overrides"),
        F::custom("features_file", "", "a path, relative to the scene", "none: the defaults",
                  "the sensor's features and calibration (params/sensors/wts0614.yaml, below)"),
        F::num("duration", "s", "> 0", TACTILE_SCHEMA_REF(S, duration), "simulated seconds"),

@@ -23,6 +23,9 @@ LwrSimComponent::LwrSimComponent(const std::string& name)
   addProperty("scene_file", scene_file_)
       .doc("Scene YAML (params/scenes/*.yaml, the headless runner's files): arm, pad, objects, initial flange "
            "pose, rates (physics step, WTS schedule). Read by configure().");
+  addProperty("program_file", program_file_)
+      .doc("The servo's phase program (params/programs/*.yaml; the deployment sets the Servo's): the simulated pad "
+           "is mounted on the flange as its controller.sensor_mount says, as on the robot. Read by configure().");
   addAtomicAttribute(*provides(), "sim_period", sim_period_);
   addAtomicAttribute(*provides(), "sim_time", sim_time_);
   addAtomicAttribute(*provides(), "sim_status", sim_status_);
@@ -46,8 +49,11 @@ LwrSimComponent::LwrSimComponent(const std::string& name)
 
 bool LwrSimComponent::configureHook() {
   sim::Scene scene;
-  ConfigResult r = scene_file_.empty() ? ConfigResult::failure("scene_file is empty: set it to a scene YAML (params/scenes/*.yaml)")
-                                       : sim::loadScene(scene_file_, scene);
+  ConfigResult r =
+      scene_file_.empty()     ? ConfigResult::failure("scene_file is empty: set it to a scene YAML (params/scenes/*.yaml)")
+      : program_file_.empty() ? ConfigResult::failure("program_file is empty: set it to the Servo's program (the pad's "
+                                                      "mount, controller.sensor_mount)")
+                              : sim::loadRun(sim::RunFiles{scene_file_, program_file_, ""}, scene);
   if (r) {
     world_params_ = sim::worldParams(scene);  // seed and physics step (the KRC cycle's and FRI delay's unit)
     record(sim_period_, 1.0 / scene.rates.sim);

@@ -1,4 +1,8 @@
-// Scene files: what the headless runner simulates and how.
+// Scene files: the world a run simulates, the sensor and the effects.
+//
+// A scene names neither the servo's program nor its controller: a run binds
+// the three (RunFiles), as an entry of the experiment registry
+// (experiments.yaml) or `tactile_sim run SCENE PROGRAM` does.
 //
 // A scene is a YAML file (params/scenes/*.yaml). Paths inside it are relative
 // to the scene file. Every key is optional unless marked; unknown keys are
@@ -87,11 +91,13 @@ struct WrenchErrorParams {
   }
 };
 
+/// A scene as read, and what the run binds to it (loadRun): its program and
+/// controller. loadScene() leaves program_file empty and servo default.
 struct Scene {
   std::string file;         ///< the scene file
   std::string name, description, figure;
-  std::string program_file;
-  ControllerMode controller = ControllerMode::Proposed;
+  std::string program_file;  ///< the run's phase program (RunFiles::program)
+  ControllerMode controller = ControllerMode::Proposed;  ///< the run's (RunFiles::controller)
   double duration = 30.0;
   uint64_t seed = 1;
   Rates rates;
@@ -113,27 +119,46 @@ struct Scene {
 /// The runner and tactile::WtsSimComponent both use it.
 TaxelResponseParams responseParams(const Scene& s);
 
-/// Load and validate a scene (and the program and feature files it names).
-/// Errors name the file and the field.
+/// What one run binds: a scene, the servo's phase program and the controller.
+/// An entry of the experiment registry (experiments.yaml, DeployGuard) or the
+/// command line (`tactile_sim run SCENE PROGRAM [--controller C]`) names them.
+struct RunFiles {
+  std::string scene;    ///< params/scenes/*.yaml
+  std::string program;  ///< params/programs/*.yaml (the file the RTT servo loads)
+  /// '' : the program's controller.mode; else a ControllerMode's name.
+  std::string controller;
+};
+
+/// Load and validate a scene file: the world, the sensor, the effects (and
+/// the feature file it names). The run's program is not read: program_file
+/// stays empty and the pad is not mounted ({e}T{s} the identity; loadRun()
+/// mounts it as the program's controller.sensor_mount says). Errors name the
+/// file and the field.
 ConfigResult loadScene(const std::string& file, Scene& out);
 
 /// The same, with overrides applied to the scene's YAML before it is read:
 /// each "a.b.c=VALUE" sets key c of map b of map a (created if absent) to
 /// VALUE parsed as YAML ("sensor.noise_counts=30", "rates={sim: 500}"); the
-/// result is checked like the file itself (`tactile_sim run --set`). A key
-/// under `program.` is one of the scene's program, set in the program with its
-/// `base:` merged ("program.speed_law.force_budget_n=0.4"). In a list, a
-/// number picks an element by index and a name the element of that `name`
-/// ("program.phases.explore.kp_per_s.x=4.8").
+/// result is checked like the file itself (`tactile_sim run --set`). In a
+/// list, a number picks an element by index and a name the element of that
+/// `name` ("objects.0.radius=0.02"). A `program.` key is refused: loadRun().
 ConfigResult loadScene(const std::string& file, Scene& out, const std::vector<std::string>& overrides);
 
-/// The scene as read: its document with the overrides applied, and its
-/// program's with its `base:` merged and the `program.` overrides applied,
-/// after loadScene() checked them in full (`tactile_sim scene`).
-ConfigResult sceneDocuments(const std::string& file, const std::vector<std::string>& overrides, YAML::Node& scene,
-                            YAML::Node& program);
+/// A run: the scene (as loadScene), its program with its `base:` merged and
+/// the overrides under `program.` applied to it
+/// ("program.speed_law.force_budget_n=0.4",
+/// "program.phases.explore.kp_per_s.x=4.8"), and the controller; then the
+/// checks between them (the scene's metrics name the program's phases).
+ConfigResult loadRun(const RunFiles& files, Scene& out, const std::vector<std::string>& overrides = {});
 
-/// Cross-checks after command-line overrides (rates, sub-samples...).
+/// The run as read: the scene's document with its overrides applied, and the
+/// program's with its `base:` merged and the `program.` overrides applied,
+/// after loadRun() checked them in full (`tactile_sim scene`, `program`).
+ConfigResult runDocuments(const RunFiles& files, const std::vector<std::string>& overrides, YAML::Node& scene,
+                          YAML::Node& program);
+
+/// Cross-checks after command-line overrides (rates, sub-samples...); with a
+/// program (loadRun), also that the metrics name its phases.
 ConfigResult validateScene(const Scene& s);
 
 /// The world's parameters for a scene: scene.world with the scene's seed and

@@ -1,6 +1,6 @@
 // The declared top level of a scene file (tactile_types/schema.hpp): each
 // key with its member, unit, range and meaning. Keys that name a file or
-// hold a block of their own (program, features_file, sensor, arm, objects,
+// hold a block of their own (features_file, sensor, arm, objects,
 // effects, faults, metrics.criteria) are declared for their place and their
 // table row and read by scene.cpp; `sensor`, `arm` and `effects` are
 // declared in sim_schema.hpp, `initial_flange` below. The reader's unknown-key errors, validateScene's range

@@ -1,7 +1,8 @@
 // tactile::LwrSimComponent: the simulated ARM (KUKA LWR 4+ under Cartesian
 // impedance, Eq. 11, with the WTS0614 pad's elastic layer on its flange):
 // thin RTT wrapper around tactile::sim::World, loaded from the headless
-// runner's scene files (params/scenes/*.yaml, tactile::sim::loadScene).
+// runner's scene files (params/scenes/*.yaml) with the servo's program
+// (the pad's mount), as tactile::sim::loadRun reads them.
 //
 // It stands in for the robot: the controller-facing ports are those of the
 // FRI bridge (tactile::FriBridgeComponent), so a deployment swaps the two by
@@ -11,6 +12,7 @@
 //
 // Interface (documented with .doc() in the constructor):
 //   property scene_file (string)   scene YAML (objects, arm, pad, initial pose, rates)
+//   property program_file (string) the servo's program (its controller.sensor_mount mounts the pad)
 //   in   pose_command (/tactile/PoseCommand)  desired {g}T{e} (last valid held; the start pose before any)
 //   out  flange_pose  (/tactile/Pose)         measured {g}T{e}, after every physics step (and at start)
 //   out  estimated_wrench (/tactile/Wrench)   the contact wrench on the flange, {g} axes at the flange
@@ -70,6 +72,7 @@ class LwrSimComponent : public Component {
 
   // properties / attributes
   std::string scene_file_;
+  std::string program_file_;
   // The component's record, read by any thread (atomic_attribute.hpp).
   std::atomic<double> sim_period_{0.001};
   std::atomic<double> sim_time_{0.0};
