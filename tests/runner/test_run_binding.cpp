@@ -88,7 +88,7 @@ TEST(RunBinding,
   const std::string none = programOf(reg, (f.dir / "scenes/b.yaml").string());
   EXPECT_NE(none.find(reg + ": no program for the scene"), std::string::npos)
       << none;
-  EXPECT_NE(none.find("tactile_sim run SCENE PROGRAM"), std::string::npos)
+  EXPECT_NE(none.find("tactile_sim run SCENE --program FILE"), std::string::npos)
       << none;
   const std::string missing = programOf((f.dir / "none.yaml").string(),
                                         (f.dir / "scenes/b.yaml").string());

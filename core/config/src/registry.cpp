@@ -124,7 +124,7 @@ ConfigResult programForScene(const std::string& registry_file, const std::string
   if (!found)
     return ConfigResult::failure(registry_file + ": no program for the scene " + scene_file +
                                  ": no experiment runs it and `scenes:` lists neither it nor a folder holding it; "
-                                 "give the run its program (tactile_sim run SCENE PROGRAM)");
+                                 "give the run its program (tactile_sim run SCENE --program FILE)");
   program = found->string();
   return ConfigResult::success();
 }

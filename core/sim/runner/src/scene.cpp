@@ -98,27 +98,12 @@ ConfigResult readObject(const YAML::Node& n, const Where& w, ObjectParams& o) {
   return ConfigResult::success();
 }
 
-// effects.wrench_error (scene.hpp).
+// effects.wrench_error (declared: wrenchErrorSchema).
 ConfigResult readWrenchError(const YAML::Node& n, const Where& w, WrenchErrorParams& e) {
   if (!n) return ConfigResult::success();
-  ConfigResult r = checkKeys(n, w, {"bias_n", "drift_n_per_m", "scale", "noise_n"});
-  if (!r) return r;
-  Vec3 b{e.bias_n[0], e.bias_n[1], e.bias_n[2]}, d{e.drift_n_per_m[0], e.drift_n_per_m[1], e.drift_n_per_m[2]};
-  for (auto rr : {readVec3(n, "bias_n", b, w), readVec3(n, "drift_n_per_m", d, w), read(n, "scale", e.scale, w),
-                  read(n, "noise_n", e.noise_n, w)})
-    if (!rr) return rr;
-  for (int i = 0; i < 3; ++i) {
-    if (!(std::fabs(b[i]) <= 20.0))
-      return rangeError(w.child("bias_n").str() + "[" + std::to_string(i) + "]", b[i], "must be in [-20, 20] N");
-    if (!(std::fabs(d[i]) <= 100.0))
-      return rangeError(w.child("drift_n_per_m").str() + "[" + std::to_string(i) + "]", d[i],
-                        "must be in [-100, 100] N/m");
-    e.bias_n[i] = b[i];
-    e.drift_n_per_m[i] = d[i];
-  }
-  if (!(std::fabs(e.scale) <= 0.5)) return rangeError(w.child("scale").str(), e.scale, "must be in [-0.5, 0.5]");
-  if (!(e.noise_n >= 0.0 && e.noise_n <= 10.0)) return rangeError(w.child("noise_n").str(), e.noise_n, "must be in [0, 10] N");
-  return ConfigResult::success();
+  ConfigResult r = config::readBlock(n, w, wrenchErrorSchema(), e);
+  if (r) r = schema::checkRanges(wrenchErrorSchema(), e, w.str());
+  return r;
 }
 
 // The sensor's keys of `effects` (declared: sensorEffectsSchema) beside the
@@ -263,7 +248,7 @@ ConfigResult refuseRunKeys(const YAML::Node& root, const Where& w) {
     if (root.IsMap() && root[key])
       return fail(w.child(key), "a scene does not name its run's " + std::string(key) +
                                      ": the experiment registry (experiments.yaml) binds scene, program and "
-                                     "controller, as does `tactile_sim run SCENE PROGRAM [--controller C]`");
+                                     "controller, as does `tactile_sim run SCENE --program FILE [--controller C]`");
   return ConfigResult::success();
 }
 

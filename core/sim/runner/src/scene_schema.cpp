@@ -75,9 +75,26 @@ const schema::Block<InitialFlange>& initialFlangeSchema() {
   return b;
 }
 
+const schema::Block<WrenchErrorParams>& wrenchErrorSchema() {
+  using S = WrenchErrorParams;
+  using F = schema::Field<S>;
+  static const schema::Block<S> b{
+      "effects.wrench_error",
+      "the error of the arm's estimated wrench (estExtTcpFT, from the joint torques) against the contact wrench: "
+      "(1 + scale) F + bias + drift |p - p_0| + noise, the moments exact (EstimatedWrench); all 0: none",
+      {F::vector("bias_n", "N", "x|y|z", "[-20, 20]", TACTILE_SCHEMA_VEC(S, bias_n), "a constant force offset, {g}"),
+       F::vector("drift_n_per_m", "N/m", "x|y|z", "[-100, 100]", TACTILE_SCHEMA_VEC(S, drift_n_per_m),
+                 "an offset growing with the flange's distance from its start (a model error that depends on the "
+                 "posture), {g}"),
+       F::num("scale", "", "[-0.5, 0.5]", TACTILE_SCHEMA_REF(S, scale), "the relative gain error of the force"),
+       F::num("noise_n", "N", "[0, 10]", TACTILE_SCHEMA_REF(S, noise_n),
+              "1-sigma noise per axis, a function of (seed, time) only")}};
+  return b;
+}
+
 std::string sceneFileSchemaMarkdown() {
   return schema::markdownSection(sceneSchema()) + "\n" + schema::markdownSection(initialFlangeSchema()) + "\n" +
-         sceneSchemaMarkdown();
+         sceneSchemaMarkdown() + "\n" + schema::markdownSection(wrenchErrorSchema());
 }
 
 }  // namespace sim

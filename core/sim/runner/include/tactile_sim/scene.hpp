@@ -2,13 +2,14 @@
 //
 // A scene names neither the servo's program nor its controller: a run binds
 // the three (RunFiles), as an entry of the experiment registry
-// (experiments.yaml) or `tactile_sim run SCENE PROGRAM` does.
+// (experiments.yaml) or `tactile_sim run SCENE --program FILE` does.
 //
 // A scene is a YAML file (params/scenes/*.yaml). Paths inside it are relative
 // to the scene file. Every key is optional unless marked; unknown keys are
 // errors. The keys, their units, ranges, defaults and meanings are declared
-// once, in scene_schema.hpp (the top level, initial_flange) and sim_schema.hpp
-// (sensor, arm, effects), and shown in docs/formats.md, "Scenes" (generated:
+// once, in scene_schema.hpp (the top level, initial_flange,
+// effects.wrench_error) and sim_schema.hpp (sensor, arm, effects), and shown
+// in docs/formats.md, "Scenes" (generated:
 // `tactile_sim schema scene`); the faults are tabled there too. What is read
 // here by its own code:
 //
@@ -22,14 +23,6 @@
 //        pitch_stiffness: .., roll_stiffness: .., bearing_damping: .., initial_pitch: .., initial_roll: ..,
 //        fidelity: dynamics}          # per-body fidelity: a dynamic tray (its inertia, springs, bearing
 //                                     # damping integrated in time) on a quasi-static arm; default: the scene's
-//   effects:
-//     wrench_error:                   # the arm's estimated wrench (estExtTcpFT, from the joint torques) is not
-//                                     # the contact wrench: (1 + scale) F + bias + drift |p - p_0| + noise
-//       bias_n: [0, 0, 0]             # N, {g}, each in [-20, 20]: constant force offset
-//       drift_n_per_m: [0, 0, 0]      # N/m, {g}, each in [-100, 100]: offset growing with the flange's distance
-//                                     # from its start position (a model error that depends on the posture)
-//       scale: 0                      # [-0.5, 0.5]: relative gain error of the force
-//       noise_n: 0                    # N, [0, 10]: 1-sigma noise per axis, a function of (seed, time) only
 //   rates.sim must give a physics step 1 / rates.sim <= 0.01 s (>= 100 Hz): a
 //   coarser step would be refused by the world on every cycle.
 //   metrics.criteria: {KEY: {min: .., max: ..}}: the experiment passes when every
@@ -121,7 +114,7 @@ TaxelResponseParams responseParams(const Scene& s);
 
 /// What one run binds: a scene, the servo's phase program and the controller.
 /// An entry of the experiment registry (experiments.yaml, DeployGuard) or the
-/// command line (`tactile_sim run SCENE PROGRAM [--controller C]`) names them.
+/// command line (`tactile_sim run SCENE --program FILE [--controller C]`) names them.
 struct RunFiles {
   std::string scene;    ///< params/scenes/*.yaml
   std::string program;  ///< params/programs/*.yaml (the file the RTT servo loads)

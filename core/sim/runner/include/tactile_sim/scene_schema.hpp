@@ -27,8 +27,11 @@ struct InitialFlange {
 };
 const schema::Block<InitialFlange>& initialFlangeSchema();
 
+/// `effects.wrench_error`: the arm's estimated wrench's error (EstimatedWrench).
+const schema::Block<WrenchErrorParams>& wrenchErrorSchema();
+
 /// The key tables of a scene (Markdown): its top level, `initial_flange`,
-/// then `sensor`, `arm` and `effects` (sim_schema.hpp).
+/// then `sensor`, `arm` and `effects` (sim_schema.hpp), `effects.wrench_error`.
 std::string sceneFileSchemaMarkdown();
 
 }  // namespace sim
