@@ -9,7 +9,7 @@
 //                         [--set KEY.PATH=VALUE ...]
 //   tactile_sim program FILE [--check]   the phase program with its `base:` merged (YAML)
 //   tactile_sim scene FILE [--program FILE] [--set KEY.PATH=VALUE ...]   the scene and its program as read (YAML)
-//   tactile_sim schema [program|scene|sensor|registry]   the key tables of the declared blocks (Markdown)
+//   tactile_sim schema [program|scene|faults|sensor|registry]   the key tables of the declared blocks (Markdown)
 //   tactile_sim binding SCENE [--registry FILE]   the path of the program the registry binds to the scene
 //
 // A run is a scene with a phase program (tactile::sim::RunFiles): --program
@@ -70,6 +70,7 @@
 #include "tactile_servo/servo_schema.hpp"
 #include "tactile_sim/report_table.hpp"
 #include "tactile_sim/scene_schema.hpp"
+#include "tactile_sim/fault_schema.hpp"
 #include "tactile_sim/runner.hpp"
 
 #ifndef TACTILE_SOURCE_DIR
@@ -92,7 +93,7 @@ void usage() {
                "                         [--through-fri] [--no-plots] [--set KEY.PATH=VALUE ...]\n"
                "       tactile_sim program FILE [--check]\n"
                "       tactile_sim scene FILE [--program FILE | --registry FILE] [--set KEY.PATH=VALUE ...]\n"
-               "       tactile_sim schema [program|scene|sensor|registry]\n"
+               "       tactile_sim schema [program|scene|faults|sensor|registry]\n"
                "       tactile_sim binding SCENE [--registry FILE]\n";
 }
 
@@ -365,12 +366,13 @@ int main(int argc, char** argv) {
   }
   if ((argc == 2 || argc == 3) && std::string(argv[1]) == "schema") {
     const std::string which = argc == 3 ? argv[2] : "program";
-    if (which != "program" && which != "scene" && which != "sensor" && which != "registry") {
+    if (which != "program" && which != "scene" && which != "faults" && which != "sensor" && which != "registry") {
       usage();
       return 2;
     }
     std::cout << (which == "program"    ? programSchemaMarkdown()
                   : which == "scene"    ? sceneFileSchemaMarkdown()
+                  : which == "faults"   ? schema::markdownSection(faultSchema())
                   : which == "registry" ? config::registrySchemaMarkdown()
                                         : sensorSchemaMarkdown());
     return 0;

@@ -3,7 +3,7 @@ of the scene's blocks", "Keys of the sensor's blocks", the registry's) are gener
 declarations (core/servo/src/servo_schema.cpp, core/sim/runner/src/scene_schema.cpp,
 core/sim/lwr/src/sim_schema.cpp, core/features/src/features_schema.cpp,
 core/config/src/registry.cpp) by
-`tactile_sim schema program|scene|sensor|registry`. This script writes them into the page or
+`tactile_sim schema program|scene|faults|sensor|registry`. This script writes them into the page or
 checks that the page shows what the declarations say.
 
 usage: parameter_tables.py ROOT [--tool TACTILE_SIM] (--update | --check [--mutate])
@@ -20,7 +20,7 @@ import re
 import subprocess
 import sys
 
-WHICH = ("program", "scene", "sensor", "registry")
+WHICH = ("program", "scene", "faults", "sensor", "registry")
 END = "<!-- END generated -->"
 
 

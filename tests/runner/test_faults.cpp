@@ -96,10 +96,11 @@ TEST(SceneFaults, ErrorsNameTheFileTheKeyAndTheRange) {
   };
   const Case cases[] = {
       {"{kind: stuck}", "faults: must be a list"},
-      {"[{kind: wobble}]", "faults[0].kind: 'wobble' must be stale, disconnect"},
+      {"[{kind: wobble}]", "faults[0].kind: 'wobble': must be one of '', stale, disconnect"},
       {"[{start_s: 1}]", "faults[0].kind: required"},
       {"[{kind: nan, start_s: 1}]", "nan is the RTT simulated sensor's `fault` property only"},
-      {"[{kind: dead, counts: 3}]", "faults[0].counts: unknown key"},
+      {"[{kind: dead, counts: 3}]", "faults[0].counts: only for 'stuck'"},
+      {"[{kind: dead, colour: red}]", "faults[0].colour: unknown key"},
       {"[{kind: dead, rows: [1, 2, 3]}]", "faults[0].rows: must be [first, last]"},
       {"[{kind: dead, rows: [1, 7]}]", "faults[0].rows = [1, 7]: must be [first, last] within [0, 5]"},
       {"[{kind: stale, start_s: 1}]", "faults[0].duration_s = 0: must be in (0, 60] s"},
@@ -107,7 +108,7 @@ TEST(SceneFaults, ErrorsNameTheFileTheKeyAndTheRange) {
       {"[{kind: stuck, counts: -3}]", "faults[0].counts: must be >= 0"},
       {"[{kind: calibration, scale: 20}]", "faults[0].scale = 20: must be in [0.1, 10]"},
       {"[{kind: wrench_bias, bias_n: [0, 0]}]", "faults[0].bias_n: must have 3 entries"},
-      {"[{kind: wrench_frame, axes: tool}]", "faults[0].axes: 'tool' must be flange or sensor"},
+      {"[{kind: wrench_frame, axes: tool}]", "faults[0].axes: 'tool': must be one of flange, sensor"},
       {"[{kind: pad_mass, mass_kg: 9}]", "faults[0].mass_kg = 9: must be in [-5, 5] kg"},
       {"[{kind: tare_creep, start_s: -2}]", "faults[0].start_s = -2: must be >= 0 s"},
   };

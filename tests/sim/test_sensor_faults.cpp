@@ -318,8 +318,8 @@ TEST(SensorFaults, ConfigurationErrorsNameTheKeyAndTheRange) {
       {with(SensorFault::Dead, [](FaultSpec& f) { f.col0 = 5, f.col1 = 3; }), "faults[1].cols = [5, 3]"},
       {with(SensorFault::TareCreep, [](FaultSpec& f) { f.counts_per_min = 5000; }), "counts_per_min = 5000: must be in [-4095, 4095]"},
       {with(SensorFault::Calibration, [](FaultSpec& f) { f.scale = 0.0; }), "faults[1].scale = 0: must be in [0.1, 10]"},
-      {with(SensorFault::WrenchBias, [](FaultSpec& f) { f.bias_n[2] = 200; }), "faults[1].bias_n[2] = 200: must be in [-100, 100] N"},
-      {with(SensorFault::WrenchDrift, [](FaultSpec& f) { f.drift_n_per_min[0] = -101; }), "drift_n_per_min[0] = -101"},
+      {with(SensorFault::WrenchBias, [](FaultSpec& f) { f.bias_n[2] = 200; }), "faults[1].bias_n.z = 200: must be in [-100, 100] N"},
+      {with(SensorFault::WrenchDrift, [](FaultSpec& f) { f.drift_n_per_min[0] = -101; }), "drift_n_per_min.x = -101"},
       {with(SensorFault::WrenchFrame, [](FaultSpec& f) { f.axes = WrenchAxes::Base; }), "faults[1].axes = base"},
       {with(SensorFault::PadMass, [](FaultSpec& f) { f.mass_kg = 6; }), "faults[1].mass_kg = 6: must be in [-5, 5] kg"},
   };

@@ -2,6 +2,10 @@
 // validation, and the per-cycle application to a frame and to the wrench.
 #include "tactile_sim/sensor_faults.hpp"
 
+#include <cmath>
+
+#include "tactile_sim/fault_schema.hpp"
+
 #include <algorithm>
 #include <sstream>
 
@@ -42,16 +46,6 @@ ConfigResult checkRegion(const std::string& key, const char* what, int a, int b,
   return ConfigResult::success();
 }
 
-ConfigResult checkVec(const std::string& key, const std::array<double, 3>& v, double lim, const char* unit) {
-  for (int i = 0; i < 3; ++i)
-    if (!(std::fabs(v[static_cast<std::size_t>(i)]) <= lim)) {
-      std::ostringstream os;
-      os << "must be in [" << -lim << ", " << lim << "] " << unit;
-      return rangeError(key + "[" + std::to_string(i) + "]", v[static_cast<std::size_t>(i)], os.str());
-    }
-  return ConfigResult::success();
-}
-
 }  // namespace
 
 const char* const kSensorFaultNames =
@@ -78,48 +72,29 @@ bool parseSensorFault(const std::string& s, SensorFault& out) {
   return false;
 }
 
+// The declared ranges (faultSchema: start_s, duration_s, each kind's numbers
+// and the wrench's axes), then what the declaration cannot say: the region
+// within the pad, the stuck reading within its full scale.
 ConfigResult SensorFaultSchedule::check(const FaultSpec& f, int index) const {
-  const std::string key = "faults[" + std::to_string(index) + "].";
+  const std::string at = "faults[" + std::to_string(index) + "]";
+  const std::string key = at + ".";
   if (f.kind == SensorFault::None) return ConfigResult::failure(key + "kind: required (" + kSensorFaultNames + ")");
-  if (!(std::isfinite(f.start_s) && f.start_s >= 0.0))
-    return rangeError(key + "start_s", f.start_s, "must be >= 0 s (simulated time)");
-  if (windowFault(f.kind)) {
-    if (!(f.duration_s > 0.0 && f.duration_s <= 60.0))
-      return rangeError(key + "duration_s", f.duration_s, "must be in (0, 60] s for stale, repeat and disconnect");
-  } else if (!(std::isfinite(f.duration_s) && f.duration_s >= 0.0)) {
-    return rangeError(key + "duration_s", f.duration_s, "must be >= 0 s (0: to the end of the run)");
+  if (!std::isfinite(f.start_s)) return rangeError(key + "start_s", f.start_s, "must be >= 0 s (simulated time)");
+  if (f.kind == SensorFault::WrenchFrame && f.axes == WrenchAxes::Base)
+    return ConfigResult::failure(key + "axes = base: must be flange or sensor (the wrong axes)");
+  ConfigResult r = schema::checkRanges(faultSchema(), f, at);
+  if (!r) return r;
+  if (f.kind == SensorFault::Stuck) {
+    if ((f.counts >= 0.0) == (f.force_n >= 0.0))
+      return ConfigResult::failure(key + "counts / force_n: give exactly one (counts per taxel, or N over the region)");
+    if (f.counts >= 0.0 && !(f.counts <= full_scale_))
+      return rangeError(key + "counts", f.counts, "must be in [0, " + std::to_string(full_scale_) + "] counts per taxel");
+    if (f.force_n >= 0.0 && !(f.force_n <= 1000.0))
+      return rangeError(key + "force_n", f.force_n, "must be in [0, 1000] N over the region");
   }
-  ConfigResult r;
-  switch (f.kind) {
-    case SensorFault::Stuck:
-      if ((f.counts >= 0.0) == (f.force_n >= 0.0))
-        return ConfigResult::failure(key + "counts / force_n: give exactly one (counts per taxel, or N over the region)");
-      if (f.counts >= 0.0 && !(f.counts <= full_scale_))
-        return rangeError(key + "counts", f.counts, "must be in [0, " + std::to_string(full_scale_) + "] counts per taxel");
-      if (f.force_n >= 0.0 && !(f.force_n <= 1000.0))
-        return rangeError(key + "force_n", f.force_n, "must be in [0, 1000] N over the region");
-      [[fallthrough]];
-    case SensorFault::Dead:
-      if (!(r = checkRegion(key + "rows", "rows", f.row0, f.row1, rows_))) return r;
-      return checkRegion(key + "cols", "columns", f.col0, f.col1, cols_);
-    case SensorFault::TareCreep:
-      if (!(std::fabs(f.counts_per_min) <= 4095.0))
-        return rangeError(key + "counts_per_min", f.counts_per_min, "must be in [-4095, 4095] counts/min");
-      break;
-    case SensorFault::Calibration:
-      if (!(f.scale >= 0.1 && f.scale <= 10.0))
-        return rangeError(key + "scale", f.scale, "must be in [0.1, 10] (the reader's force / the true force)");
-      break;
-    case SensorFault::WrenchBias: return checkVec(key + "bias_n", f.bias_n, 100.0, "N");
-    case SensorFault::WrenchDrift: return checkVec(key + "drift_n_per_min", f.drift_n_per_min, 100.0, "N/min");
-    case SensorFault::WrenchFrame:
-      if (f.axes == WrenchAxes::Base)
-        return ConfigResult::failure(key + "axes = base: must be flange or sensor (the wrong axes)");
-      break;
-    case SensorFault::PadMass:
-      if (!(std::fabs(f.mass_kg) <= 5.0)) return rangeError(key + "mass_kg", f.mass_kg, "must be in [-5, 5] kg");
-      break;
-    default: break;
+  if (f.kind == SensorFault::Stuck || f.kind == SensorFault::Dead) {
+    if (!(r = checkRegion(key + "rows", "rows", f.row0, f.row1, rows_))) return r;
+    return checkRegion(key + "cols", "columns", f.col0, f.col1, cols_);
   }
   return ConfigResult::success();
 }

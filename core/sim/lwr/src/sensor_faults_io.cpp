@@ -1,6 +1,9 @@
 // One entry of a fault list from YAML (tactile_sim/sensor_faults_io.hpp).
 #include "tactile_sim/sensor_faults_io.hpp"
 
+#include "tactile_config/schema_yaml.hpp"
+#include "tactile_sim/fault_schema.hpp"
+
 #include <array>
 #include <cmath>
 #include <vector>
@@ -8,9 +11,7 @@
 namespace tactile {
 namespace sim {
 
-using config::checkKeys;
 using config::read;
-using config::readVec3;
 using config::Where;
 
 namespace {
@@ -36,51 +37,26 @@ ConfigResult readSpan(const YAML::Node& n, const char* key, const Where& w, int&
   return ConfigResult::success();
 }
 
-// The keys a fault of this kind takes besides kind, start_s and duration_s.
-ConfigResult checkFaultKeys(const YAML::Node& n, const Where& w, SensorFault k) {
-  switch (k) {
-    case SensorFault::Stuck:
-      return checkKeys(n, w, {"kind", "start_s", "duration_s", "rows", "cols", "counts", "force_n"});
-    case SensorFault::Dead: return checkKeys(n, w, {"kind", "start_s", "duration_s", "rows", "cols"});
-    case SensorFault::TareCreep: return checkKeys(n, w, {"kind", "start_s", "duration_s", "counts_per_min"});
-    case SensorFault::Calibration: return checkKeys(n, w, {"kind", "start_s", "duration_s", "scale"});
-    case SensorFault::WrenchBias: return checkKeys(n, w, {"kind", "start_s", "duration_s", "bias_n"});
-    case SensorFault::WrenchDrift: return checkKeys(n, w, {"kind", "start_s", "duration_s", "drift_n_per_min"});
-    case SensorFault::WrenchFrame: return checkKeys(n, w, {"kind", "start_s", "duration_s", "axes"});
-    case SensorFault::PadMass: return checkKeys(n, w, {"kind", "start_s", "duration_s", "mass_kg"});
-    default: return checkKeys(n, w, {"kind", "start_s", "duration_s"});
-  }
-}
-
 }  // namespace
 
-// Ranges: SensorFaultSchedule::configure (a scene's through validateScene).
+// The keys and their ranges: faultSchema() (sim_schema.hpp); the region and
+// the stuck reading: SensorFaultSchedule::configure (a scene's through validateScene).
 ConfigResult readFaultSpec(const YAML::Node& n, const Where& w, FaultSpec& f) {
   if (!n.IsMap()) return fail(w, "must be a mapping {kind: .., start_s: .., ...}");
   std::string kind;
   ConfigResult r = read(n, "kind", kind, w);
   if (!r) return r;
   if (kind.empty() || kind == "none") return fail(w.child("kind"), std::string("required: ") + kSensorFaultNames);
-  if (!parseSensorFault(kind, f.kind)) return fail(w.child("kind"), "'" + kind + "' must be " + kSensorFaultNames);
-  if (f.kind == SensorFault::Nan)
+  if (kind == "nan")
     return fail(w.child("kind"), "nan is the RTT simulated sensor's `fault` property only (raw counts cannot carry a NaN)");
-  if (!(r = checkFaultKeys(n, w, f.kind))) return r;
-  std::array<double, 3> bias{0, 0, 0}, drift{0, 0, 0};
-  std::string axes = "flange";
-  for (auto rr : {read(n, "start_s", f.start_s, w), read(n, "duration_s", f.duration_s, w),
-                  readSpan(n, "rows", w, f.row0, f.row1), readSpan(n, "cols", w, f.col0, f.col1),
-                  read(n, "counts", f.counts, w), read(n, "force_n", f.force_n, w),
-                  read(n, "counts_per_min", f.counts_per_min, w), read(n, "scale", f.scale, w),
-                  readVec3(n, "bias_n", bias, w), readVec3(n, "drift_n_per_min", drift, w), read(n, "axes", axes, w),
-                  read(n, "mass_kg", f.mass_kg, w)})
+  FaultSpec g;
+  if (!(r = config::readBlock(n, w, faultSchema(), g))) return r;
+  for (auto rr : {readSpan(n, "rows", w, g.row0, g.row1), readSpan(n, "cols", w, g.col0, g.col1),
+                  read(n, "counts", g.counts, w), read(n, "force_n", g.force_n, w)})
     if (!rr) return rr;
-  if ((n["counts"] && !(f.counts >= 0.0)) || (n["force_n"] && !(f.force_n >= 0.0)))
+  if ((n["counts"] && !(g.counts >= 0.0)) || (n["force_n"] && !(g.force_n >= 0.0)))
     return fail(w.child(n["counts"] ? "counts" : "force_n"), "must be >= 0");
-  f.bias_n = bias;
-  f.drift_n_per_min = drift;
-  if (axes == "flange") f.axes = WrenchAxes::Flange;
-  else if (axes == "sensor") f.axes = WrenchAxes::Sensor;
-  else return fail(w.child("axes"), "'" + axes + "' must be flange or sensor");
+  f = g;
   return ConfigResult::success();
 }
 

@@ -10,7 +10,7 @@
 // once, in scene_schema.hpp (the top level, initial_flange,
 // effects.wrench_error) and sim_schema.hpp (sensor, arm, effects), and shown
 // in docs/formats.md, "Scenes" (generated:
-// `tactile_sim schema scene`); the faults are tabled there too. What is read
+// `tactile_sim schema scene`; the faults: fault_schema.hpp). What is read
 // here by its own code:
 //
 //   objects:                          # only what the scene needs
