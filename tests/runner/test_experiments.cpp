@@ -430,7 +430,7 @@ TEST(SceneErrors, NameTheFileAndTheField) {
       {"unknown_key.yaml", "name: x\nspeed_of_light: 3\n", "speed_of_light: unknown key"},
       {"zero_rate.yaml", "name: x\nrates: {servo: 0}\n", "rates.servo = 0: must be in (0, rates.sim] Hz"},
       {"servo_above_sim.yaml", "name: x\nrates: {sim: 100, servo: 200}\n", "rates.servo = 200: must be in (0, rates.sim] Hz"},
-      {"unknown_object.yaml", "name: x\nobjects: [{type: teapot}]\n", "objects[0].type: unknown object type 'teapot'"},
+      {"unknown_object.yaml", "name: x\nobjects: [{type: teapot}]\n", "objects[0].type: 'teapot': must be one of plane, sphere, bar, bent_bar, tray"},
       {"inside.yaml",
        "name: x\ninitial_flange: {xyz: [0.72, 0.0, 0.40], rpy_deg: [180, 0, 180]}\n"
        "objects: [{name: ball, type: sphere, center: [0.72, 0.0, 0.36], radius: 0.03}]\n",

@@ -1,5 +1,7 @@
 #include "tactile_sim/objects.hpp"
 
+#include "tactile_sim/sim_schema.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -46,24 +48,22 @@ ConfigResult ObjectSet::configure(const std::vector<ObjectParams>& objects) {
   for (std::size_t i = 0; i < objects.size(); ++i) {
     const ObjectParams& o = objects[i];
     const std::string w = where(o, i);
+    // The declared ranges (objectSchema: finite positions, radii, the tray's
+    // masses, springs and angles), then what a range cannot say.
+    if (const ConfigResult r = schema::checkRanges(objectSchema(), o, w); !r) return r;
     switch (o.type) {
       case ObjectType::Plane: {
-        if (!finite3(o.point) || !finite3(o.normal)) return ConfigResult::failure(w + ".point/normal: must be finite (m)");
         const double n = V(o.normal).Norm();
         if (!(n > 1e-9)) return rangeError(w + ".normal (norm)", n, "must be > 0");
         break;
       }
-      case ObjectType::Sphere:
-        if (!finite3(o.center)) return ConfigResult::failure(w + ".center: must be finite (m)");
-        if (!(o.radius > 0.0) || !(o.radius < 10.0)) return rangeError(w + ".radius", o.radius, "must be in (0, 10) m");
-        break;
+      case ObjectType::Sphere: break;
       case ObjectType::Bar:
       case ObjectType::BentBar: {
         const std::size_t nmin = 2, nmax = o.type == ObjectType::Bar ? 2 : static_cast<std::size_t>(kMaxVertices);
         if (o.vertices.size() < nmin || o.vertices.size() > nmax)
           return rangeError(w + ".vertices (count)", o.vertices.size(),
                             "must be in [" + std::to_string(nmin) + ", " + std::to_string(nmax) + "]");
-        if (!(o.radius > 0.0) || !(o.radius < 1.0)) return rangeError(w + ".radius", o.radius, "must be in (0, 1) m");
         for (std::size_t k = 0; k < o.vertices.size(); ++k) {
           if (!finite3(o.vertices[k]))
             return ConfigResult::failure(w + ".vertices[" + std::to_string(k) + "]: must be finite (m)");
@@ -76,26 +76,7 @@ ConfigResult ObjectSet::configure(const std::vector<ObjectParams>& objects) {
       case ObjectType::Tray: {
         const TrayParams& t = o.tray;
         if (tray_index_ >= 0) return ConfigResult::failure(w + ".type = tray: only one tray per scene");
-        if (!finite3(t.bearing) || !finite3(t.bar_from) || !finite3(t.bar_to) || !finite3(t.tray_com) ||
-            !finite3(t.mass_from) || !finite3(t.mass_to))
-          return ConfigResult::failure(w + ".tray: positions must be finite (m)");
-        if ((V(t.bar_to) - V(t.bar_from)).Norm() < 1e-6) return ConfigResult::failure(w + ".tray.bar_to: equals bar_from");
-        if (!(t.bar_radius > 0.0 && t.bar_radius < 0.1)) return rangeError(w + ".tray.bar_radius", t.bar_radius, "must be in (0, 0.1) m");
-        if (!(t.tray_mass > 0.0 && t.tray_mass < 100.0)) return rangeError(w + ".tray.tray_mass", t.tray_mass, "must be in (0, 100) kg");
-        if (!(t.mass >= 0.0 && t.mass < 100.0)) return rangeError(w + ".tray.mass", t.mass, "must be in [0, 100) kg");
-        if (!(std::isfinite(t.move_start_s))) return rangeError(w + ".tray.move_start_s", t.move_start_s, "must be finite (s)");
-        if (!(t.move_duration_s >= 0.0 && std::isfinite(t.move_duration_s)))
-          return rangeError(w + ".tray.move_duration_s", t.move_duration_s, "must be >= 0 (s)");
-        if (!(t.pitch_stiffness >= 0.0 && std::isfinite(t.pitch_stiffness)))
-          return rangeError(w + ".tray.pitch_stiffness", t.pitch_stiffness, "must be >= 0 (N m/rad)");
-        if (!(t.roll_stiffness >= 0.0 && std::isfinite(t.roll_stiffness)))
-          return rangeError(w + ".tray.roll_stiffness", t.roll_stiffness, "must be >= 0 (N m/rad)");
-        if (!(t.bearing_damping >= 0.0 && std::isfinite(t.bearing_damping)))
-          return rangeError(w + ".tray.bearing_damping", t.bearing_damping, "must be >= 0 (N m s/rad)");
-        if (!(t.inertia_x >= 0.0) || !(t.inertia_y >= 0.0))
-          return ConfigResult::failure(w + ".tray.inertia_x/inertia_y: must be >= 0 (kg m^2; 0 = from the masses)");
-        if (!(std::fabs(t.initial_pitch) < 0.5) || !(std::fabs(t.initial_roll) < 0.5))
-          return ConfigResult::failure(w + ".tray.initial_pitch/initial_roll: must be in (-0.5, 0.5) rad");
+        if ((V(t.bar_to) - V(t.bar_from)).Norm() < 1e-6) return ConfigResult::failure(w + ".bar_to: equals bar_from");
         tray_index_ = static_cast<int>(i);
         tray_ = t;
         // Inertia about the bearing axes from point masses + a plate spread

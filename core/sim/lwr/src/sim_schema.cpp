@@ -94,6 +94,71 @@ const schema::Block<SensorEffects>& sensorEffectsSchema() {
   return b;
 }
 
+const schema::Block<ObjectParams>& objectSchema() {
+  using S = ObjectParams;
+  using F = schema::Field<S>;
+  static const std::string kVerticesValid = "a list of [x, y, z]: 2 for a bar, 2 to " + std::to_string(kMaxVertices) +
+                                            " for a bent bar, no two in a row equal";
+  static const schema::Block<S> b{
+      "objects[]",
+      "one object of the world (ObjectSet, objects.hpp); its keys depend on its `type`; positions in {g}, a tray's "
+      "in its own frame {t} at the bearing",
+      {F::choice(
+           "type", "plane|sphere|bar|bent_bar|tray", [](const S& s) { return static_cast<int>(s.type); },
+           [](S& s, int i) { s.type = static_cast<ObjectType>(i); }, "the shape (table: a plane)")
+           .needed(),
+       F::str("name", TACTILE_SCHEMA_REF(S, name), "the object's name in messages (default: objects[i])"),
+       F::xyz("point", "m", TACTILE_SCHEMA_REF(S, point), "a point of the plane").only("plane"),
+       F::xyz("normal", "", TACTILE_SCHEMA_REF(S, normal), "its outward normal (out of the solid), not zero")
+           .only("plane"),
+       F::xyz("center", "m", TACTILE_SCHEMA_REF(S, center), "the sphere's centre").only("sphere"),
+       F::num("radius", "m", "(0, 10)", TACTILE_SCHEMA_REF(S, radius), "the sphere's radius").only("sphere"),
+       F::num("radius", "m", "(0, 1)", TACTILE_SCHEMA_REF(S, radius), "the bar's rounding radius")
+           .only("bar|bent_bar"),
+       F::custom("vertices", "m", kVerticesValid.c_str(), "[]", "the centreline")
+           .only("bar|bent_bar"),
+       F::xyz("bearing", "m", TACTILE_SCHEMA_REF(S, tray.bearing), "the bearing point, {g}").only("tray"),
+       F::xyz("bar_from", "m", TACTILE_SCHEMA_REF(S, tray.bar_from), "the bar's centreline start, {t}").only("tray"),
+       F::xyz("bar_to", "m", TACTILE_SCHEMA_REF(S, tray.bar_to), "its end, {t}, not bar_from").only("tray"),
+       F::num("bar_radius", "m", "(0, 0.1)", TACTILE_SCHEMA_REF(S, tray.bar_radius), "the bar's radius")
+           .only("tray"),
+       F::num("tray_mass", "kg", "(0, 100)", TACTILE_SCHEMA_REF(S, tray.tray_mass), "the plate and the bar")
+           .only("tray"),
+       F::xyz("tray_com", "m", TACTILE_SCHEMA_REF(S, tray.tray_com), "their centre of mass, {t}").only("tray"),
+       F::num("mass", "kg", "[0, 100)", TACTILE_SCHEMA_REF(S, tray.mass), "the movable weight (Sec. 5.3)")
+           .only("tray"),
+       F::xyz("mass_from", "m", TACTILE_SCHEMA_REF(S, tray.mass_from), "the weight before the move, {t}")
+           .only("tray"),
+       F::xyz("mass_to", "m", TACTILE_SCHEMA_REF(S, tray.mass_to), "after it, {t}").only("tray"),
+       F::num("move_start_s", "s", "", TACTILE_SCHEMA_REF(S, tray.move_start_s), "the scripted move's start")
+           .only("tray"),
+       F::num("move_duration_s", "s", ">= 0", TACTILE_SCHEMA_REF(S, tray.move_duration_s),
+              "the move, linear in time (0: a jump)")
+           .only("tray"),
+       F::num("pitch_stiffness", "N m/rad", ">= 0", TACTILE_SCHEMA_REF(S, tray.pitch_stiffness),
+              "a torsional spring about x_g at the bearing")
+           .only("tray"),
+       F::num("roll_stiffness", "N m/rad", ">= 0", TACTILE_SCHEMA_REF(S, tray.roll_stiffness), "... about y_g")
+           .only("tray"),
+       F::num("bearing_damping", "N m s/rad", ">= 0", TACTILE_SCHEMA_REF(S, tray.bearing_damping),
+              "the bearing's friction, both axes (dynamics)")
+           .only("tray"),
+       F::num("inertia_x", "kg m^2", ">= 0", TACTILE_SCHEMA_REF(S, tray.inertia_x),
+              "about the bearing's x (0: from the masses)")
+           .only("tray"),
+       F::num("inertia_y", "kg m^2", ">= 0", TACTILE_SCHEMA_REF(S, tray.inertia_y), "... y").only("tray"),
+       F::num("initial_pitch", "rad", "(-0.5, 0.5)", TACTILE_SCHEMA_REF(S, tray.initial_pitch), "the start pitch")
+           .only("tray"),
+       F::num("initial_roll", "rad", "(-0.5, 0.5)", TACTILE_SCHEMA_REF(S, tray.initial_roll),
+              "the start roll (the tray angle)")
+           .only("tray"),
+       F::custom("fidelity", "", "quasi_static, dynamics (a dynamics arm: dynamics)", "the scene's",
+                 "the tray's own: its inertia, springs and damping integrated in time on a quasi-static arm")
+           .only("tray")},
+      "type"};
+  return b;
+}
+
 std::string sceneSchemaMarkdown() {
   return schema::markdownSection(sensorSchema()) + "\n" + schema::markdownSection(armSchema()) + "\n" +
          schema::markdownSection(worldEffectsSchema()) +

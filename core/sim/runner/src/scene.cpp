@@ -42,58 +42,22 @@ std::string resolve(const std::string& base_dir, const std::string& path) {
   return base_dir + "/" + path;
 }
 
+// One of `objects` (declared: objectSchema); its vertices read here.
 ConfigResult readObject(const YAML::Node& n, const Where& w, ObjectParams& o) {
   if (!n.IsMap()) return fail(w, "must be a mapping");
-  std::string type;
-  ConfigResult r = read(n, "type", type, w);
-  if (!r) return r;
-  if (type.empty()) return fail(w.child("type"), "required (plane | table | sphere | bar | bent_bar | tray)");
-  if (!parseObjectType(type, o.type))
-    return fail(w.child("type"), "unknown object type '" + type + "' (plane | table | sphere | bar | bent_bar | tray)");
-  if (!(r = read(n, "name", o.name, w))) return r;
-  switch (o.type) {
-    case ObjectType::Plane:
-      if (!(r = checkKeys(n, w, {"name", "type", "point", "normal"}))) return r;
-      if (!(r = readVec3(n, "point", o.point, w)) || !(r = readVec3(n, "normal", o.normal, w))) return r;
-      break;
-    case ObjectType::Sphere:
-      if (!(r = checkKeys(n, w, {"name", "type", "center", "radius"}))) return r;
-      if (!(r = readVec3(n, "center", o.center, w)) || !(r = read(n, "radius", o.radius, w))) return r;
-      break;
-    case ObjectType::Bar:
-    case ObjectType::BentBar: {
-      if (!(r = checkKeys(n, w, {"name", "type", "radius", "vertices"}))) return r;
-      if (!(r = read(n, "radius", o.radius, w))) return r;
-      std::vector<std::vector<double>> v;
-      if (!(r = read(n, "vertices", v, w))) return r;
-      o.vertices.clear();
-      for (std::size_t i = 0; i < v.size(); ++i) {
-        if (v[i].size() != 3) return fail(w.child("vertices[" + std::to_string(i) + "]"), "must have 3 entries (m)");
-        o.vertices.push_back({v[i][0], v[i][1], v[i][2]});
-      }
-      break;
-    }
-    case ObjectType::Tray: {
-      if (!(r = checkKeys(n, w, {"name", "type", "bearing", "bar_from", "bar_to", "bar_radius", "tray_mass", "tray_com",
-                                 "mass", "mass_from", "mass_to", "move_start_s", "move_duration_s", "pitch_stiffness",
-                                 "roll_stiffness", "bearing_damping", "inertia_x", "inertia_y", "initial_pitch",
-                                 "initial_roll", "fidelity"})))
-        return r;
-      TrayParams& t = o.tray;
-      for (auto rr : {readVec3(n, "bearing", t.bearing, w), readVec3(n, "bar_from", t.bar_from, w),
-                      readVec3(n, "bar_to", t.bar_to, w), readVec3(n, "tray_com", t.tray_com, w),
-                      readVec3(n, "mass_from", t.mass_from, w), readVec3(n, "mass_to", t.mass_to, w),
-                      read(n, "bar_radius", t.bar_radius, w), read(n, "tray_mass", t.tray_mass, w),
-                      read(n, "mass", t.mass, w), read(n, "move_start_s", t.move_start_s, w),
-                      read(n, "move_duration_s", t.move_duration_s, w),
-                      read(n, "pitch_stiffness", t.pitch_stiffness, w),
-                      read(n, "roll_stiffness", t.roll_stiffness, w),
-                      read(n, "bearing_damping", t.bearing_damping, w), read(n, "inertia_x", t.inertia_x, w),
-                      read(n, "inertia_y", t.inertia_y, w), read(n, "initial_pitch", t.initial_pitch, w),
-                      read(n, "initial_roll", t.initial_roll, w)})
-        if (!rr) return rr;
-      break;
-    }
+  YAML::Node m = n;
+  if (n["type"] && n["type"].IsScalar() && n["type"].Scalar() == "table") {  // another name of a plane
+    m = YAML::Clone(n);
+    m["type"] = "plane";
+  }
+  ConfigResult r = config::readBlock(m, w, objectSchema(), o);
+  if (!r || (o.type != ObjectType::Bar && o.type != ObjectType::BentBar)) return r;
+  std::vector<std::vector<double>> v;
+  if (!(r = read(n, "vertices", v, w))) return r;
+  o.vertices.clear();
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (v[i].size() != 3) return fail(w.child("vertices[" + std::to_string(i) + "]"), "must have 3 entries (m)");
+    o.vertices.push_back({v[i][0], v[i][1], v[i][2]});
   }
   return ConfigResult::success();
 }

@@ -94,7 +94,8 @@ const schema::Block<WrenchErrorParams>& wrenchErrorSchema() {
 
 std::string sceneFileSchemaMarkdown() {
   return schema::markdownSection(sceneSchema()) + "\n" + schema::markdownSection(initialFlangeSchema()) + "\n" +
-         sceneSchemaMarkdown() + "\n" + schema::markdownSection(wrenchErrorSchema());
+         schema::markdownSection(objectSchema()) + "\n" + sceneSchemaMarkdown() + "\n" +
+         schema::markdownSection(wrenchErrorSchema());
 }
 
 }  // namespace sim

@@ -29,6 +29,12 @@ const schema::Block<WorldParams>& worldEffectsSchema();
 /// is read by the scene reader.
 const schema::Block<SensorEffects>& sensorEffectsSchema();
 
+/// One entry of a scene's `objects:` (ObjectParams); its keys depend on
+/// `type` ("table" is read as "plane"). vertices (bar, bent_bar) and a
+/// tray's fidelity are read by the scene reader; the vertices' count and
+/// spacing, a plane's normal and one tray per scene are ObjectSet's checks.
+const schema::Block<ObjectParams>& objectSchema();
+
 /// The key tables of the declared scene blocks (Markdown).
 std::string sceneSchemaMarkdown();
 

@@ -8,21 +8,11 @@
 // to the scene file. Every key is optional unless marked; unknown keys are
 // errors. The keys, their units, ranges, defaults and meanings are declared
 // once, in scene_schema.hpp (the top level, initial_flange,
-// effects.wrench_error) and sim_schema.hpp (sensor, arm, effects), and shown
+// effects.wrench_error) and sim_schema.hpp (objects, sensor, arm, effects), and shown
 // in docs/formats.md, "Scenes" (generated:
-// `tactile_sim schema scene`; the faults: fault_schema.hpp). What is read
-// here by its own code:
+// `tactile_sim schema scene`; the faults: fault_schema.hpp). Checked across
+// keys here:
 //
-//   objects:                          # only what the scene needs
-//     - {name: table, type: plane, point: [0,0,0], normal: [0,0,1]}
-//     - {name: ball, type: sphere, center: [..], radius: 0.02}
-//     - {name: bar, type: bar, radius: 0.003, vertices: [[..], [..]]}
-//     - {name: bent, type: bent_bar, radius: 0.003, vertices: [[..], [..], ...]}
-//     - {name: tray, type: tray, bearing: [..], bar_from: [..], bar_to: [..], bar_radius: .., tray_mass: ..,
-//        tray_com: [..], mass: 0.2, mass_from: [..], mass_to: [..], move_start_s: .., move_duration_s: ..,
-//        pitch_stiffness: .., roll_stiffness: .., bearing_damping: .., initial_pitch: .., initial_roll: ..,
-//        fidelity: dynamics}          # per-body fidelity: a dynamic tray (its inertia, springs, bearing
-//                                     # damping integrated in time) on a quasi-static arm; default: the scene's
 //   rates.sim must give a physics step 1 / rates.sim <= 0.01 s (>= 100 Hz): a
 //   coarser step would be refused by the world on every cycle.
 //   metrics.criteria: {KEY: {min: .., max: ..}}: the experiment passes when every

@@ -31,7 +31,7 @@ const schema::Block<InitialFlange>& initialFlangeSchema();
 const schema::Block<WrenchErrorParams>& wrenchErrorSchema();
 
 /// The key tables of a scene (Markdown): its top level, `initial_flange`,
-/// then `sensor`, `arm` and `effects` (sim_schema.hpp), `effects.wrench_error`.
+/// then `objects[]`, `sensor`, `arm` and `effects` (sim_schema.hpp), `effects.wrench_error`.
 std::string sceneFileSchemaMarkdown();
 
 }  // namespace sim
