@@ -86,7 +86,7 @@
 #include "tactile_fri/sim_krc.hpp"
 #include "tactile_lab/krc_schedule.hpp"
 #include "tactile_lab/world_plant.hpp"
-#include "tactile_sim/scene.hpp"
+#include "tactile_sim_runner/scene.hpp"
 #include "tactile_types/kdl_pose.hpp"
 #include "tactile_wts/sim_device.hpp"
 

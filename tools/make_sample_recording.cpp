@@ -15,7 +15,7 @@
 #include <cstdio>
 #include <random>
 
-#include "tactile_sim/elastic_pad.hpp"
+#include "tactile_sim_contact/elastic_pad.hpp"
 
 using namespace tactile;
 

@@ -51,7 +51,7 @@
 
 #include "tactile_config/yaml_params.hpp"
 #include "tactile_features/params_io.hpp"
-#include "tactile_sim/world.hpp"
+#include "tactile_sim_lwr/world.hpp"
 
 #ifndef TACTILE_RECORD_DEFAULT_PARAMS
 #define TACTILE_RECORD_DEFAULT_PARAMS ""

@@ -31,7 +31,7 @@
 // and then, as a second YAML document, its program as `program` prints it
 // with the `program.` overrides: what `run` would read, checked in full. `schema` prints what
 // docs/formats.md shows for each declared block of a program
-// (tactile_servo/servo_schema.hpp), of a scene (tactile_sim/scene_schema.hpp), of a
+// (tactile_servo/servo_schema.hpp), of a scene (tactile_sim_runner/scene_schema.hpp), of a
 // sensor's parameter file (tactile_features/features_schema.hpp) or of the
 // experiment registry (tactile_config/registry.hpp).
 //
@@ -68,10 +68,10 @@
 #include "tactile_config/registry.hpp"
 #include "tactile_features/features_schema.hpp"
 #include "tactile_servo/servo_schema.hpp"
-#include "tactile_sim/report_table.hpp"
-#include "tactile_sim/scene_schema.hpp"
-#include "tactile_sim/fault_schema.hpp"
-#include "tactile_sim/runner.hpp"
+#include "tactile_sim_runner/report_table.hpp"
+#include "tactile_sim_runner/scene_schema.hpp"
+#include "tactile_sim_faults/fault_schema.hpp"
+#include "tactile_sim_runner/runner.hpp"
 
 #ifndef TACTILE_SOURCE_DIR
 #define TACTILE_SOURCE_DIR "."

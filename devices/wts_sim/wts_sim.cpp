@@ -26,7 +26,7 @@
 // noise of SIGMA counts (default 60).
 // --fault (repeatable, at most 8): a scheduled fault in the device's time (s
 // from its start), one entry of a scene's `faults:` list as YAML
-// (tactile_sim/sensor_faults.hpp, docs/formats.md "Faults"): stuck (counts
+// (tactile_sim_faults/sensor_faults.hpp, docs/formats.md "Faults"): stuck (counts
 // only), dead, tare_creep, saturated and repeat on the frames' counts; stale
 // holds the stream (no frame sent, commands answered); disconnect unplugs the
 // device for the window and plugs it back behind the same --link. The kinds
@@ -47,7 +47,7 @@
 #include <thread>
 #include <vector>
 
-#include "tactile_sim/sensor_faults_io.hpp"
+#include "tactile_sim_faults/sensor_faults_io.hpp"
 #include "tactile_types/sensor_geometry.hpp"
 #include "tactile_wts/sim_device.hpp"
 

@@ -7,7 +7,7 @@ usage: fault_table.py [--sim build/bin/tactile_sim] [--out out/faults] [--jobs N
 
 Runs the edge exploration (params/scenes/edge_exploration.yaml: the unattended
 robot experiment of Sec. 5.2) headless once per row of FAULTS, with the fault
-given on the command line (`--set faults=[...]`, tactile_sim/sensor_faults.hpp),
+given on the command line (`--set faults=[...]`, tactile_sim_faults/sensor_faults.hpp),
 from FAULT_START_S (mid-slide: the slide runs from about 4.6 s to 27.7 s) or
 from the start (a wrong calibration or load model), and the phantom contact
 (params/scenes/faults/phantom_contact.yaml: the pad reports 8 N, nothing touches).

@@ -8,7 +8,7 @@
 
 #include "opencv_reference.hpp"
 #include "tactile_features/extractor.hpp"
-#include "tactile_sim/elastic_pad.hpp"
+#include "tactile_sim_contact/elastic_pad.hpp"
 
 using namespace tactile;
 

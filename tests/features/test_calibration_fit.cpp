@@ -32,7 +32,7 @@
 #include "tactile_config/yaml_params.hpp"
 #include "tactile_features/calibration_fit.hpp"
 #include "tactile_features/params_io.hpp"
-#include "tactile_sim/taxel_response.hpp"
+#include "tactile_sim_lwr/taxel_response.hpp"
 #include "temp_file.hpp"
 
 using namespace tactile;

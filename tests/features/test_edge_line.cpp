@@ -7,7 +7,7 @@
 
 #include "alloc_counter.hpp"
 #include "tactile_features/edge_line.hpp"
-#include "tactile_sim/elastic_pad.hpp"
+#include "tactile_sim_contact/elastic_pad.hpp"
 
 using namespace tactile;
 

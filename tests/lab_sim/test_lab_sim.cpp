@@ -18,8 +18,8 @@
 #include "tactile_lab/krc_schedule.hpp"
 #include "tactile_lab/world_plant.hpp"
 #include "tactile_config/registry.hpp"
-#include "tactile_sim/loop.hpp"
-#include "tactile_sim/scene.hpp"
+#include "tactile_sim_runner/loop.hpp"
+#include "tactile_sim_runner/scene.hpp"
 #include "tactile_types/kdl_pose.hpp"
 
 using namespace tactile;

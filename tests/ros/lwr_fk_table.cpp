@@ -21,7 +21,7 @@
 
 #include <kdl/chainfksolverpos_recursive.hpp>
 
-#include "tactile_sim/lwr_arm.hpp"
+#include "tactile_sim_lwr/lwr_arm.hpp"
 
 namespace {
 

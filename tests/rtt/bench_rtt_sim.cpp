@@ -14,8 +14,8 @@
 #include <cmath>
 #include <string>
 
-#include "tactile_sim/scene.hpp"
-#include "tactile_sim/world.hpp"
+#include "tactile_sim_runner/scene.hpp"
+#include "tactile_sim_lwr/world.hpp"
 #include "tactile_sim_rtt/lwr_sim_component.hpp"
 #include "rtt_benchmark_main.hpp"
 

@@ -19,7 +19,7 @@
 #include "tactile_features/calibration.hpp"
 #include "tactile_features/extractor.hpp"
 #include "tactile_features_rtt/feature_component.hpp"
-#include "tactile_sim/elastic_pad.hpp"
+#include "tactile_sim_contact/elastic_pad.hpp"
 #include "support/rtt_environment.hpp"
 #include "temp_file.hpp"
 #include "tactile_types_rtt/atomic_attribute.hpp"

@@ -1,4 +1,4 @@
-// tactile::WtsSimComponent's fault schedule (tests only; tactile_sim/sensor_faults.hpp),
+// tactile::WtsSimComponent's fault schedule (tests only; tactile_sim_faults/sensor_faults.hpp),
 // in-process on a SlaveActivity with RTT's TimeService set by the test: off
 // by default and then the same frames as without it, each fault does what
 // the deployed fault tests (tests/rtt/faults) rely on, configuration errors

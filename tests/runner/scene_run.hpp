@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "tactile_config/registry.hpp"
-#include "tactile_sim/runner.hpp"
+#include "tactile_sim_runner/runner.hpp"
 
 namespace tactile {
 namespace sim {

@@ -13,8 +13,8 @@
 #include <string>
 
 #include "scene_run.hpp"
-#include "tactile_sim/loop.hpp"
-#include "tactile_sim/runner.hpp"
+#include "tactile_sim_runner/loop.hpp"
+#include "tactile_sim_runner/runner.hpp"
 
 using namespace tactile;
 using namespace tactile::sim;

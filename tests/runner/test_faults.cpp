@@ -1,4 +1,4 @@
-// The scene's `faults:` list (tactile_sim/scene.hpp, tactile_sim/sensor_faults.hpp):
+// The scene's `faults:` list (tactile_sim_runner/scene.hpp, tactile_sim_faults/sensor_faults.hpp):
 //  * read from the file and from `--set faults=[...]`, every kind's keys;
 //  * errors name the file, the key and the valid range;
 //  * the estimated wrench's faults (tactile::sim::EstimatedWrench) at known
@@ -15,9 +15,9 @@
 
 #include "scene_run.hpp"
 #include "alloc_counter.hpp"
-#include "tactile_sim/loop.hpp"
-#include "tactile_sim/runner.hpp"
-#include "tactile_sim/scene.hpp"
+#include "tactile_sim_runner/loop.hpp"
+#include "tactile_sim_runner/runner.hpp"
+#include "tactile_sim_runner/scene.hpp"
 
 using namespace tactile;
 using namespace tactile::sim;

@@ -19,7 +19,7 @@
 #include "scene_run.hpp"
 #include "tactile_fri/bridge.hpp"
 #include "tactile_fri/params_io.hpp"
-#include "tactile_sim/runner.hpp"
+#include "tactile_sim_runner/runner.hpp"
 
 using namespace tactile;
 using namespace tactile::sim;

@@ -1,4 +1,4 @@
-// The loop's shared rules (tactile_sim/loop.hpp): the schedule of Table 2's
+// The loop's shared rules (tactile_sim_runner/loop.hpp): the schedule of Table 2's
 // rates, the end rule, and the simulated sensor's response from the one
 // calibration file (tactile::sim::TaxelResponse).
 #include <gtest/gtest.h>
@@ -7,9 +7,9 @@
 
 #include "alloc_counter.hpp"
 #include "tactile_features/calibration.hpp"
-#include "tactile_sim/loop.hpp"
-#include "tactile_sim/scene.hpp"
-#include "tactile_sim/taxel_response.hpp"
+#include "tactile_sim_runner/loop.hpp"
+#include "tactile_sim_runner/scene.hpp"
+#include "tactile_sim_lwr/taxel_response.hpp"
 
 using namespace tactile;
 using namespace tactile::sim;

@@ -9,9 +9,9 @@
 #include <string>
 #include <utility>
 
-#include "tactile_sim/loop.hpp"
-#include "tactile_sim/runner.hpp"
-#include "tactile_sim/scene.hpp"
+#include "tactile_sim_runner/loop.hpp"
+#include "tactile_sim_runner/runner.hpp"
+#include "tactile_sim_runner/scene.hpp"
 
 using namespace tactile;
 using namespace tactile::sim;

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "scene_run.hpp"
-#include "tactile_sim/runner.hpp"
+#include "tactile_sim_runner/runner.hpp"
 
 using namespace tactile;
 using namespace tactile::sim;

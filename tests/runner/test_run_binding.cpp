@@ -7,7 +7,7 @@
 #include <string>
 
 #include "tactile_config/registry.hpp"
-#include "tactile_sim/scene.hpp"
+#include "tactile_sim_runner/scene.hpp"
 
 namespace fs = std::filesystem;
 using tactile::ConfigResult;

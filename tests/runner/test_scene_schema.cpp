@@ -1,4 +1,4 @@
-// The declared top level of a scene (tactile_sim/scene_schema.hpp): every
+// The declared top level of a scene (tactile_sim_runner/scene_schema.hpp): every
 // range readable and enforced with its message (a rate's upper end is
 // rates.sim), the defaults inside them, each key declared once with a
 // meaning, and every shipped scene read through it.
@@ -7,7 +7,7 @@
 #include <string>
 
 #include "schema_checks.hpp"
-#include "tactile_sim/scene_schema.hpp"
+#include "tactile_sim_runner/scene_schema.hpp"
 
 namespace tactile {
 namespace sim {

@@ -23,9 +23,9 @@
 #include "scene_run.hpp"
 #include "alloc_counter.hpp"
 #include "tactile_features/calibration.hpp"
-#include "tactile_sim/runner.hpp"
-#include "tactile_sim/scene.hpp"
-#include "tactile_sim/taxel_response.hpp"
+#include "tactile_sim_runner/runner.hpp"
+#include "tactile_sim_runner/scene.hpp"
+#include "tactile_sim_lwr/taxel_response.hpp"
 
 using namespace tactile;
 using namespace tactile::sim;

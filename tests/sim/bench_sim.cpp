@@ -17,8 +17,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "tactile_sim/taxel_response.hpp"
-#include "tactile_sim/world.hpp"
+#include "tactile_sim_lwr/taxel_response.hpp"
+#include "tactile_sim_lwr/world.hpp"
 #include "sim_scenes.hpp"
 
 using namespace tactile;

@@ -2,7 +2,7 @@
 // world-level scenes are built from.
 #pragma once
 
-#include "tactile_sim/world.hpp"
+#include "tactile_sim_lwr/world.hpp"
 
 namespace tactile {
 namespace sim {

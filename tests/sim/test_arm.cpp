@@ -13,8 +13,8 @@
 #include <kdl/chainjnttojacsolver.hpp>
 
 #include "alloc_counter.hpp"
-#include "tactile_sim/lwr_arm.hpp"
-#include "tactile_sim/world.hpp"
+#include "tactile_sim_lwr/lwr_arm.hpp"
+#include "tactile_sim_lwr/world.hpp"
 
 using namespace tactile;
 using namespace tactile::sim;

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "alloc_counter.hpp"
-#include "tactile_sim/world.hpp"
+#include "tactile_sim_lwr/world.hpp"
 #include "sim_scenes.hpp"
 
 using namespace tactile;

@@ -12,8 +12,8 @@
 
 #include "alloc_counter.hpp"
 #include "tactile_features/calibration.hpp"
-#include "tactile_sim/lwr_arm.hpp"
-#include "tactile_sim/pad_sensor.hpp"
+#include "tactile_sim_lwr/lwr_arm.hpp"
+#include "tactile_sim_lwr/pad_sensor.hpp"
 #include "tactile_types/sensor_geometry.hpp"
 
 using namespace tactile;

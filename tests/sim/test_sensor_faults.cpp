@@ -1,5 +1,5 @@
 // The simulated pad's fault schedule (tactile::sim::SensorFaultSchedule
-// through tactile::sim::TaxelResponse, tactile_sim/sensor_faults.hpp): each
+// through tactile::sim::TaxelResponse, tactile_sim_faults/sensor_faults.hpp): each
 // fault's effect on the frames at known times against counts computed here
 // (noise off: the response is the calibration's exact inverse, rounded), the
 // stream's faults on the frames that reach the reader, configuration errors
@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "alloc_counter.hpp"
-#include "tactile_sim/sensor_faults.hpp"
-#include "tactile_sim/taxel_response.hpp"
+#include "tactile_sim_faults/sensor_faults.hpp"
+#include "tactile_sim_lwr/taxel_response.hpp"
 
 using namespace tactile;
 using namespace tactile::sim;

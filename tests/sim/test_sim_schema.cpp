@@ -1,10 +1,10 @@
-// The declared scene blocks (tactile_sim/sim_schema.hpp): every range
+// The declared scene blocks (tactile_sim_lwr/sim_schema.hpp): every range
 // readable and enforced with its message, the defaults inside them, each key
 // declared once with a meaning.
 #include <gtest/gtest.h>
 
 #include "schema_checks.hpp"
-#include "tactile_sim/sim_schema.hpp"
+#include "tactile_sim_lwr/sim_schema.hpp"
 
 namespace tactile {
 namespace {

@@ -24,7 +24,7 @@
 #include "tactile_wts/driver.hpp"
 #include "tactile_wts/params_io.hpp"
 #include "tactile_features/calibration.hpp"
-#include "tactile_sim/elastic_pad.hpp"
+#include "tactile_sim_contact/elastic_pad.hpp"
 #include "tactile_wts/sim_device.hpp"
 #include "wts_test_util.hpp"
 

@@ -20,7 +20,7 @@ FORCE_BAND_N = 0.5
 FORCE_RMS_MAX_N = 0.4
 FORCE_IN_BAND_MIN = 0.95
 
-# The runner's band where a scene sets none (core/sim/runner/include/tactile_sim/scene.hpp).
+# The runner's band where a scene sets none (core/sim/runner/include/tactile_sim_runner/scene.hpp).
 RUNNER_FORCE_BAND_N = 1.0
 
 # Scene -> its key metrics (summary.json keys); scenes not listed use FORCE_METRICS.

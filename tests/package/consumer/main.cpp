@@ -14,7 +14,7 @@
 #include "tactile_fri/params_io.hpp"
 #include "tactile_servo/program_io.hpp"
 #include "tactile_servo/servo.hpp"
-#include "tactile_sim/pad_sensor.hpp"
+#include "tactile_sim_lwr/pad_sensor.hpp"
 #include "tactile_types/sensor_geometry.hpp"
 #include "tactile_types/types.hpp"
 #include "tactile_wts/protocol.hpp"

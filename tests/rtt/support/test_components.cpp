@@ -44,7 +44,7 @@
 #include "tactile_config/yaml_params.hpp"
 #include "tactile_features/calibration.hpp"
 #include "tactile_features/params_io.hpp"
-#include "tactile_sim/elastic_pad.hpp"
+#include "tactile_sim_contact/elastic_pad.hpp"
 #include "tactile_types/types.hpp"
 #include "tactile_types_rtt/component.hpp"
 

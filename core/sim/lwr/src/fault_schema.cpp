@@ -1,4 +1,4 @@
-#include "tactile_sim/fault_schema.hpp"
+#include "tactile_sim_faults/fault_schema.hpp"
 
 namespace tactile {
 namespace sim {

@@ -1,6 +1,6 @@
-#include "tactile_sim/objects.hpp"
+#include "tactile_sim_lwr/objects.hpp"
 
-#include "tactile_sim/sim_schema.hpp"
+#include "tactile_sim_lwr/sim_schema.hpp"
 
 #include <algorithm>
 #include <cmath>

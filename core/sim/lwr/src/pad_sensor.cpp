@@ -1,5 +1,5 @@
-#include "tactile_sim/pad_sensor.hpp"
-#include "tactile_sim/sim_schema.hpp"
+#include "tactile_sim_lwr/pad_sensor.hpp"
+#include "tactile_sim_lwr/sim_schema.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <string>
 #include <type_traits>
 
-#include "tactile_sim/lwr_arm.hpp"  // toFrame, validPose
+#include "tactile_sim_lwr/lwr_arm.hpp"  // toFrame, validPose
 
 namespace tactile {
 namespace sim {

@@ -1,10 +1,10 @@
-// The simulated sensors' fault schedule (tactile_sim/sensor_faults.hpp):
+// The simulated sensors' fault schedule (tactile_sim_faults/sensor_faults.hpp):
 // validation, and the per-cycle application to a frame and to the wrench.
-#include "tactile_sim/sensor_faults.hpp"
+#include "tactile_sim_faults/sensor_faults.hpp"
 
 #include <cmath>
 
-#include "tactile_sim/fault_schema.hpp"
+#include "tactile_sim_faults/fault_schema.hpp"
 
 #include <algorithm>
 #include <sstream>

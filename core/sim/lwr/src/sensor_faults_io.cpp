@@ -1,8 +1,8 @@
-// One entry of a fault list from YAML (tactile_sim/sensor_faults_io.hpp).
-#include "tactile_sim/sensor_faults_io.hpp"
+// One entry of a fault list from YAML (tactile_sim_faults/sensor_faults_io.hpp).
+#include "tactile_sim_faults/sensor_faults_io.hpp"
 
 #include "tactile_config/schema_yaml.hpp"
-#include "tactile_sim/fault_schema.hpp"
+#include "tactile_sim_faults/fault_schema.hpp"
 
 #include <array>
 #include <cmath>

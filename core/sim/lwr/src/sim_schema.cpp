@@ -1,4 +1,4 @@
-#include "tactile_sim/sim_schema.hpp"
+#include "tactile_sim_lwr/sim_schema.hpp"
 
 
 namespace tactile {

@@ -1,6 +1,6 @@
-#include "tactile_sim/taxel_response.hpp"
+#include "tactile_sim_lwr/taxel_response.hpp"
 
-#include "tactile_sim/sim_schema.hpp"
+#include "tactile_sim_lwr/sim_schema.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
-#include "tactile_sim/world.hpp"
-#include "tactile_sim/sim_schema.hpp"
+#include "tactile_sim_lwr/world.hpp"
+#include "tactile_sim_lwr/sim_schema.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // A scene's pass criteria against a run's summary (summaryMetric, checkCriteria).
-#include "tactile_sim/loop.hpp"
+#include "tactile_sim_runner/loop.hpp"
 
 #include <cstdio>
 #include <limits>

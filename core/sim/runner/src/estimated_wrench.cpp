@@ -1,6 +1,6 @@
 // The arm's estimated wrench the force estimate reads: the true wrench at the flange (fillEstimatedWrench)
 // plus the scene's wrench-error model (EstimatedWrench: scale, bias, drift, seeded noise) and its wrench faults.
-#include "tactile_sim/loop.hpp"
+#include "tactile_sim_runner/loop.hpp"
 
 #include <cmath>
 #include <cstdint>

@@ -1,5 +1,5 @@
 // The run's summary metrics from its rows (computeSummary).
-#include "tactile_sim/loop.hpp"
+#include "tactile_sim_runner/loop.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <sstream>
 
-#include "tactile_sim/runner.hpp"
+#include "tactile_sim_runner/runner.hpp"
 
 namespace tactile {
 namespace sim {

@@ -1,4 +1,4 @@
-#include "tactile_sim/report_table.hpp"
+#include "tactile_sim_runner/report_table.hpp"
 
 #include <cmath>
 #include <cstdlib>
@@ -6,7 +6,7 @@
 #include <sstream>
 #include <unordered_map>
 
-#include "tactile_sim/loop.hpp"
+#include "tactile_sim_runner/loop.hpp"
 
 namespace tactile {
 namespace sim {

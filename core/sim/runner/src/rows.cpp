@@ -1,5 +1,5 @@
 // The loop's records: the ground truth of a cycle (fillTruth), a log row (makeRow) and the phase entries.
-#include "tactile_sim/loop.hpp"
+#include "tactile_sim_runner/loop.hpp"
 
 #include <array>
 #include <limits>

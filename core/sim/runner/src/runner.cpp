@@ -1,10 +1,10 @@
-#include "tactile_sim/runner.hpp"
+#include "tactile_sim_runner/runner.hpp"
 
 #include <algorithm>
 #include <chrono>
 
 #include "tactile_features/edge_line.hpp"
-#include "tactile_sim/loop.hpp"
+#include "tactile_sim_runner/loop.hpp"
 
 #include "tactile_fri/params_io.hpp"
 #include "tactile_fri/protocol.hpp"

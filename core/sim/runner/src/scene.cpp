@@ -1,4 +1,4 @@
-#include "tactile_sim/scene.hpp"
+#include "tactile_sim_runner/scene.hpp"
 
 #include "tactile_fri/krc_model.hpp"
 
@@ -13,10 +13,10 @@
 #include "tactile_features/params_io.hpp"
 #include "tactile_config/schema_yaml.hpp"
 #include "tactile_servo/program_io.hpp"
-#include "tactile_sim/scene_schema.hpp"
-#include "tactile_sim/sim_schema.hpp"
-#include "tactile_sim/run_log.hpp"
-#include "tactile_sim/sensor_faults_io.hpp"
+#include "tactile_sim_runner/scene_schema.hpp"
+#include "tactile_sim_lwr/sim_schema.hpp"
+#include "tactile_sim_runner/run_log.hpp"
+#include "tactile_sim_faults/sensor_faults_io.hpp"
 
 namespace tactile {
 namespace sim {

@@ -1,6 +1,6 @@
-#include "tactile_sim/scene_schema.hpp"
+#include "tactile_sim_runner/scene_schema.hpp"
 
-#include "tactile_sim/sim_schema.hpp"
+#include "tactile_sim_lwr/sim_schema.hpp"
 
 namespace tactile {
 namespace sim {

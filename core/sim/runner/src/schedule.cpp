@@ -1,5 +1,5 @@
 // The loop's schedule (Schedule), end rule (EndRule) and the summary's end status (applyEnd).
-#include "tactile_sim/loop.hpp"
+#include "tactile_sim_runner/loop.hpp"
 
 #include <algorithm>
 #include <cmath>

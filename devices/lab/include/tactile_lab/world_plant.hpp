@@ -43,10 +43,10 @@
 #include <kdl/frames.hpp>
 
 #include "tactile_fri/sim_krc.hpp"
-#include "tactile_sim/loop.hpp"
-#include "tactile_sim/scene.hpp"
-#include "tactile_sim/taxel_response.hpp"
-#include "tactile_sim/world.hpp"
+#include "tactile_sim_runner/loop.hpp"
+#include "tactile_sim_runner/scene.hpp"
+#include "tactile_sim_lwr/taxel_response.hpp"
+#include "tactile_sim_lwr/world.hpp"
 #include "tactile_types/config_result.hpp"
 #include "tactile_types/types.hpp"
 
@@ -89,7 +89,7 @@ class WorldPlant : public fri::Plant {
   bool latestFrame(RawTactileFrame& out) const;
 
   /// The sensor's link faults at the world's time (the scene's `faults:`,
-  /// tactile_sim/sensor_faults.hpp): inside a disconnect's window (lab_sim
+  /// tactile_sim_faults/sensor_faults.hpp): inside a disconnect's window (lab_sim
   /// unplugs the WTS device for it) or a stale window (the device sends no
   /// frame). Thread-safe.
   bool sensorLinkDown() const { return link_down_.load(); }

@@ -8,7 +8,7 @@
 
 #include <cmath>
 
-#include "tactile_sim/scene.hpp"
+#include "tactile_sim_runner/scene.hpp"
 
 namespace tactile {
 

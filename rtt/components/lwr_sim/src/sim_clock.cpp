@@ -13,7 +13,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "tactile_sim/scene.hpp"
+#include "tactile_sim_runner/scene.hpp"
 
 namespace tactile {
 

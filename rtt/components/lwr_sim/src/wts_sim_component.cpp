@@ -7,7 +7,7 @@
 
 #include <cmath>
 
-#include "tactile_sim/scene.hpp"
+#include "tactile_sim_runner/scene.hpp"
 
 namespace tactile {
 
@@ -20,10 +20,10 @@ WtsSimComponent::WtsSimComponent(const std::string& name)
       .doc("Scene YAML (params/scenes/*.yaml): its features_file's `calibration:` block (the real reader's "
            "calibration, inverted), sensor.noise_counts, sensor.threshold, seed and the sensor's `effects:` "
            "(transfer delay, gains, dead taxels, calibration error, crosstalk, creep, hysteresis, device noise) "
-           "and the pad's scheduled `faults:` (tactile_sim/sensor_faults.hpp). Read by configure().");
+           "and the pad's scheduled `faults:` (tactile_sim_faults/sensor_faults.hpp). Read by configure().");
   addAtomicAttribute(*provides(), "frames", frames_);
   addProperty("fault", fault_)
-      .doc("TESTS ONLY, fault injection (tactile_sim/sensor_faults.hpp): '' = none (default), stale (no frame in "
+      .doc("TESTS ONLY, fault injection (tactile_sim_faults/sensor_faults.hpp): '' = none (default), stale (no frame in "
            "[fault_start, fault_start + fault_duration)), disconnect (the same, link_status Disconnected, then "
            "Reconnected), nan (the first acquisition at or after fault_start goes out on fault_frame with a NaN "
            "taxel instead of raw_frame), saturated (that acquisition at full scale on every taxel). Read by configure().");

@@ -46,8 +46,8 @@
 #include <atomic>
 #include <string>
 
-#include "tactile_sim/loop.hpp"
-#include "tactile_sim/world.hpp"
+#include "tactile_sim_runner/loop.hpp"
+#include "tactile_sim_lwr/world.hpp"
 #include "tactile_fri/krc_model.hpp"
 #include "tactile_types/types.hpp"
 

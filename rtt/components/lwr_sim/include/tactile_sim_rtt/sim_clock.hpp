@@ -66,7 +66,7 @@
 #include <atomic>
 #include <string>
 
-#include "tactile_sim/loop.hpp"
+#include "tactile_sim_runner/loop.hpp"
 
 namespace tactile {
 

@@ -14,7 +14,7 @@
 //   attr frames (int)   frames written since start
 //   op   string lastError()
 // Fault injection (off by default, nothing done when off: the schedule of
-// tactile::sim::TaxelResponse, tactile_sim/sensor_faults.hpp): the scene's
+// tactile::sim::TaxelResponse, tactile_sim_faults/sensor_faults.hpp): the scene's
 // `faults:` list (the pad's: stuck, dead, tare_creep, calibration,
 // saturated, stale, repeat, disconnect), and one more fault by property
 // (tests only):
@@ -44,8 +44,8 @@
 #include <atomic>
 #include <string>
 
-#include "tactile_sim/sensor_faults.hpp"
-#include "tactile_sim/taxel_response.hpp"
+#include "tactile_sim_faults/sensor_faults.hpp"
+#include "tactile_sim_lwr/taxel_response.hpp"
 #include "tactile_types/types.hpp"
 
 namespace tactile {

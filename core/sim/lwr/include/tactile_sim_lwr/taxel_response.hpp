@@ -37,7 +37,7 @@
 //     (serial transfer): acquire() queues it in a ring allocated by
 //     configure(), deliver(now) hands over the frames whose transfer ended.
 // FAULTS (TaxelResponseParams::faults, the scene's `faults:` list; the
-// schedule of tactile_sim/sensor_faults.hpp, none by default, nothing done
+// schedule of tactile_sim_faults/sensor_faults.hpp, none by default, nothing done
 // without one): `calibration` scales the load after 3 (the reader's force =
 // scale x the true force), `tare_creep` adds its zero's drift to the counts
 // before 7's noise and threshold, `stuck`, `dead` and `saturated` overwrite
@@ -57,7 +57,7 @@
 #include <vector>
 
 #include "tactile_features/calibration.hpp"
-#include "tactile_sim/sensor_faults.hpp"
+#include "tactile_sim_faults/sensor_faults.hpp"
 #include "tactile_types/config_result.hpp"
 #include "tactile_types/types.hpp"
 

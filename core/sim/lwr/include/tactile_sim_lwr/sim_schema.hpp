@@ -9,9 +9,9 @@
 
 #include <string>
 
-#include "tactile_sim/lwr_arm.hpp"
-#include "tactile_sim/pad_sensor.hpp"
-#include "tactile_sim/world.hpp"
+#include "tactile_sim_lwr/lwr_arm.hpp"
+#include "tactile_sim_lwr/pad_sensor.hpp"
+#include "tactile_sim_lwr/world.hpp"
 #include "tactile_types/schema.hpp"
 
 namespace tactile {

@@ -32,10 +32,10 @@
 #include "tactile_fri/bridge.hpp"
 #include "tactile_fri/krc_model.hpp"
 #include "tactile_servo/servo_stage.hpp"
-#include "tactile_sim/loop.hpp"
-#include "tactile_sim/run_log.hpp"
-#include "tactile_sim/scene.hpp"
-#include "tactile_sim/taxel_response.hpp"
+#include "tactile_sim_runner/loop.hpp"
+#include "tactile_sim_runner/run_log.hpp"
+#include "tactile_sim_runner/scene.hpp"
+#include "tactile_sim_lwr/taxel_response.hpp"
 
 namespace tactile {
 namespace sim {

@@ -5,7 +5,7 @@
 // headless runner and lab_sim (through tactile::sim::TaxelResponse and
 // tactile::sim::EstimatedWrench), tactile::WtsSimComponent and the simulated
 // arm component (the same two classes), configured from a scene's `faults:`
-// list (tactile_sim/scene.hpp, docs/formats.md; tactile_sim/sensor_faults_io.hpp
+// list (tactile_sim_runner/scene.hpp, docs/formats.md; tactile_sim_faults/sensor_faults_io.hpp
 // reads an entry) or, for the RTT sensor's `fault` properties, one fault by
 // name; the bench tool wts_sim plays the counts' and the stream's faults in
 // its device time (`--fault`). Off by default: no fault, nothing is done and

@@ -31,9 +31,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "tactile_sim/lwr_arm.hpp"
-#include "tactile_sim/objects.hpp"
-#include "tactile_sim/pad_sensor.hpp"
+#include "tactile_sim_lwr/lwr_arm.hpp"
+#include "tactile_sim_lwr/objects.hpp"
+#include "tactile_sim_lwr/pad_sensor.hpp"
 
 namespace tactile {
 namespace sim {

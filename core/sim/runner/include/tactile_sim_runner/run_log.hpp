@@ -1,6 +1,6 @@
 // What one run of the loop logs (timeseries.csv rows, phases, snapshots,
 // contacts) and its summary.json: the headless runner fills it, and the RTT
-// sim deployment's recordings give the same rows (tactile_sim/loop.hpp).
+// sim deployment's recordings give the same rows (tactile_sim_runner/loop.hpp).
 #pragma once
 
 #include <array>

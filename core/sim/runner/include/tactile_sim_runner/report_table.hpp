@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "tactile_sim/runner.hpp"
+#include "tactile_sim_runner/runner.hpp"
 #include "tactile_types/config_result.hpp"
 
 namespace tactile {

@@ -4,7 +4,7 @@
 // table (`tactile_sim schema faults`) come from it.
 #pragma once
 
-#include "tactile_sim/sensor_faults.hpp"
+#include "tactile_sim_faults/sensor_faults.hpp"
 #include "tactile_types/schema.hpp"
 
 namespace tactile {

@@ -26,8 +26,8 @@
 
 #include "tactile_features/extractor.hpp"
 #include "tactile_servo/servo.hpp"
-#include "tactile_sim/taxel_response.hpp"
-#include "tactile_sim/world.hpp"
+#include "tactile_sim_lwr/taxel_response.hpp"
+#include "tactile_sim_lwr/world.hpp"
 #include "tactile_types/config_result.hpp"
 
 namespace YAML {

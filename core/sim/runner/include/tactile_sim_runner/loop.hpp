@@ -32,10 +32,10 @@
 #include <string>
 #include <vector>
 
-#include "tactile_sim/run_log.hpp"
-#include "tactile_sim/scene.hpp"
-#include "tactile_sim/sensor_faults.hpp"
-#include "tactile_sim/world.hpp"
+#include "tactile_sim_runner/run_log.hpp"
+#include "tactile_sim_runner/scene.hpp"
+#include "tactile_sim_faults/sensor_faults.hpp"
+#include "tactile_sim_lwr/world.hpp"
 #include "tactile_types/types.hpp"
 
 namespace tactile {
@@ -138,7 +138,7 @@ void fillEstimatedWrench(const SimState& state, Wrench& out);
 /// The arm's estimated external wrench with the scene's estimation error
 /// (effects.wrench_error, scene.hpp): force (1 + scale) F + bias + drift
 /// |p_flange - p_flange(0)| + noise, moments exact; then the scene's wrench
-/// faults active at the state's time (`faults:`, tactile_sim/sensor_faults.hpp:
+/// faults active at the state's time (`faults:`, tactile_sim_faults/sensor_faults.hpp:
 /// wrench_bias, wrench_drift and pad_mass added in {g}, then wrench_frame's
 /// axes and wrench_sign's sign on the whole wrench). The noise is a function
 /// of (seed, the state's time) only and the faults of the time, so the

@@ -11,7 +11,7 @@
 #include <array>
 #include <string>
 
-#include "tactile_sim/scene.hpp"
+#include "tactile_sim_runner/scene.hpp"
 #include "tactile_types/schema.hpp"
 
 namespace tactile {

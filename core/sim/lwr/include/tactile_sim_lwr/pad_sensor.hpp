@@ -52,9 +52,9 @@
 #include <kdl/frames.hpp>
 
 #include "tactile_features/calibration.hpp"
-#include "tactile_sim/elastic_pad.hpp"
-#include "tactile_sim/objects.hpp"
-#include "tactile_sim/taxel_response.hpp"
+#include "tactile_sim_contact/elastic_pad.hpp"
+#include "tactile_sim_lwr/objects.hpp"
+#include "tactile_sim_lwr/taxel_response.hpp"
 #include "tactile_types/config_result.hpp"
 #include "tactile_types/types.hpp"
 

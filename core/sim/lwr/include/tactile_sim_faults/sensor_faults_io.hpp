@@ -1,5 +1,5 @@
-// Reading one fault of the simulated sensors' schedule (tactile_sim/sensor_faults.hpp)
-// from YAML: an entry of a scene's `faults:` list (tactile_sim/scene.hpp,
+// Reading one fault of the simulated sensors' schedule (tactile_sim_faults/sensor_faults.hpp)
+// from YAML: an entry of a scene's `faults:` list (tactile_sim_runner/scene.hpp,
 // docs/formats.md "Faults") or of `wts_sim --fault`. Errors name the file
 // and the entry's key (`faults[2].rows: ...`); the ranges are checked by
 // SensorFaultSchedule::configure(). Not on a per-cycle path.
@@ -10,7 +10,7 @@
 #include <string>
 
 #include "tactile_config/yaml_params.hpp"
-#include "tactile_sim/sensor_faults.hpp"
+#include "tactile_sim_faults/sensor_faults.hpp"
 #include "tactile_types/config_result.hpp"
 
 namespace tactile {
