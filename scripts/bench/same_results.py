@@ -9,7 +9,17 @@ taken with the binaries before and after a change, compare equal when every
 run is bit-identical.
 
 usage: same_results.py run --sim TACTILE_SIM --out DIR [--jobs N]   (writes DIR/fingerprint.json)
+       same_results.py deployed --root CHECKOUT --out DIR   (writes DIR/fingerprint.json)
        same_results.py compare A/fingerprint.json B/fingerprint.json   (exit 1 on any difference)
+
+`deployed` runs every experiment of CHECKOUT's registry through
+CHECKOUT/scripts/run_deployment.sh (its build: the OCL deployer, simulated
+time) one after the other, and fingerprints the run directories the same
+way, the checkout's path in summary.json written as <root>: the reporter's
+table (report.dat) carries a wall-clock TimeStamp column and is left out;
+what the deployment computed is in the files made from it. Two checkouts
+built before and after a change compare equal when every deployed run is
+bit-identical.
 """
 import argparse
 import concurrent.futures
@@ -39,13 +49,24 @@ def jobs():
     return out
 
 
-def digest(path, strip_wall=False):
+def digest(path, strip_wall=False, root=None):
     try:
         with open(path) as f:
             text = f.read()
     except OSError:
         return None
-    return hashlib.sha256((WALL.sub("", text) if strip_wall else text).encode()).hexdigest()
+    if strip_wall:
+        text = WALL.sub("", text)
+    if root:
+        text = text.replace(root, "<root>")
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def fingerprint(d, returncode, root=None):
+    files = {"summary.json": digest(os.path.join(d, "summary.json"), strip_wall=True, root=root)}
+    for f in ("timeseries.csv", "contacts.csv", "snapshots.csv"):
+        files[f] = digest(os.path.join(d, f))
+    return {"exit": returncode, "files": files}
 
 
 def one(sim, out, job):
@@ -53,10 +74,24 @@ def one(sim, out, job):
     d = os.path.join(out, name)
     p = subprocess.run([sim, "run", os.path.join(ROOT, scene), "--out", d, "--no-plots"] + args,
                        capture_output=True, text=True)
-    files = {"summary.json": digest(os.path.join(d, "summary.json"), strip_wall=True)}
-    for f in ("timeseries.csv", "contacts.csv", "snapshots.csv"):
-        files[f] = digest(os.path.join(d, f))
-    return name, {"exit": p.returncode, "files": files}
+    return name, fingerprint(d, p.returncode)
+
+
+def deployed(a):
+    root = os.path.realpath(a.root)
+    names = subprocess.run(["/usr/bin/python3", os.path.join(root, "scripts", "tools", "registry.py"), "names"],
+                           check=True, capture_output=True, text=True).stdout.split()
+    out = os.path.realpath(a.out)
+    os.makedirs(out, exist_ok=True)
+    result = {}
+    for k, name in enumerate(names, 1):
+        p = subprocess.run(["bash", os.path.join(root, "scripts", "run_deployment.sh"), name],
+                           env=dict(os.environ, DEPLOY_OUT=out), capture_output=True, text=True)
+        result[name] = fingerprint(os.path.join(out, name), p.returncode, root=root)
+        print(f"[{k}/{len(names)}] {name}: exit {p.returncode}", flush=True)
+    with open(os.path.join(out, "fingerprint.json"), "w") as f:
+        json.dump(result, f, indent=1, sort_keys=True)
+    return 0
 
 
 def run(a):
@@ -92,11 +127,14 @@ def main():
     r.add_argument("--sim", required=True)
     r.add_argument("--out", required=True)
     r.add_argument("--jobs", type=int, default=2)
+    d = sub.add_parser("deployed")
+    d.add_argument("--root", required=True)
+    d.add_argument("--out", required=True)
     c = sub.add_parser("compare")
     c.add_argument("a")
     c.add_argument("b")
     a = ap.parse_args()
-    return run(a) if a.cmd == "run" else compare(a)
+    return {"run": run, "deployed": deployed, "compare": compare}[a.cmd](a)
 
 
 if __name__ == "__main__":
