@@ -5,6 +5,9 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
+
+#include <yaml-cpp/yaml.h>
 
 #include "tactile_config/registry.hpp"
 #include "tactile_sim_runner/scene.hpp"
@@ -88,7 +91,8 @@ TEST(RunBinding,
   const std::string none = programOf(reg, (f.dir / "scenes/b.yaml").string());
   EXPECT_NE(none.find(reg + ": no program for the scene"), std::string::npos)
       << none;
-  EXPECT_NE(none.find("tactile_sim run SCENE --program FILE"), std::string::npos)
+  EXPECT_NE(none.find("tactile_sim run SCENE --program FILE"),
+            std::string::npos)
       << none;
   const std::string missing = programOf((f.dir / "none.yaml").string(),
                                         (f.dir / "scenes/b.yaml").string());
@@ -129,4 +133,30 @@ TEST(RunBinding, EveryShippedSceneHasAProgramThatLoadsWithIt) {
   EXPECT_EQ(program, fs::weakly_canonical(
                          kRoot + "/params/programs/bent_bar_to_end_cap.yaml")
                          .string());
+}
+
+// The registry's `scenes:` names files and folders that exist, programs that
+// exist, and no scene an experiment runs (that entry would never be read).
+TEST(RunBinding, TheRegistrysScenesEntriesAreLive) {
+  const YAML::Node root = YAML::LoadFile(kRoot + "/experiments.yaml");
+  std::vector<fs::path> experiment_scenes;
+  for (const auto &e : root["experiments"])
+    experiment_scenes.push_back(fs::weakly_canonical(
+        kRoot + "/" + e.second["scene"].as<std::string>()));
+  ASSERT_TRUE(root["scenes"].IsMap());
+  int entries = 0;
+  for (const auto &kv : root["scenes"]) {
+    ++entries;
+    const std::string key = kv.first.as<std::string>(),
+                      program = kv.second.as<std::string>();
+    const fs::path at = kRoot + "/" + key;
+    EXPECT_TRUE(key.back() == '/' ? fs::is_directory(at)
+                                  : fs::is_regular_file(at))
+        << key;
+    EXPECT_TRUE(fs::is_regular_file(kRoot + "/" + program))
+        << key << ": " << program;
+    for (const fs::path &s : experiment_scenes)
+      EXPECT_NE(fs::weakly_canonical(at), s) << key << " is an experiment's";
+  }
+  EXPECT_GE(entries, 1);
 }
