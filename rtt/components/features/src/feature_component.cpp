@@ -41,12 +41,7 @@ bool FeatureComponent::load() {
   CalibrationParams cp;
   ConfigResult r = loadSensorParamFile(param_file_, fp, cp);
   if (r) r = stage_.configure(fp, cp);
-  if (!r) {
-    last_error_ = r.message();
-    RTT::log(RTT::Error) << getName() << ": " << last_error_ << RTT::endlog();
-    return false;
-  }
-  last_error_.clear();
+  if (!verdict(r, last_error_)) return false;
   // Preallocate the output samples (fixed-size types: this sizes the port buffers).
   frame_ = TactileFrame();
   frame_.rows = static_cast<uint16_t>(fp.rows);

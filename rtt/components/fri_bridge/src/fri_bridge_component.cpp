@@ -111,12 +111,7 @@ bool FriBridgeComponent::configureHook() {
     socket_.close();  // never watched here: start() watches it, stop() unwatches it
     r = socket_.open(up);
   }
-  if (!r) {
-    last_error_ = r.message();
-    RTT::log(RTT::Error) << getName() << ": " << last_error_ << RTT::endlog();
-    return false;
-  }
-  last_error_.clear();
+  if (!verdict(r, last_error_)) return false;
   record(local_port_, static_cast<int>(socket_.localPort()));
   measured_ = Pose();
   pose_out_.setDataSample(measured_);

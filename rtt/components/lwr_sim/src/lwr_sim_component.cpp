@@ -63,17 +63,12 @@ bool LwrSimComponent::configureHook() {
     if (r) r = schedule_.configure(scene.rates, scene.duration);
     if (!r) r = ConfigResult::failure(scene_file_ + ": " + r.message());
   }
-  if (!r) {
-    last_error_ = r.message();
-    RTT::log(RTT::Error) << getName() << ": " << last_error_ << RTT::endlog();
-    return false;
-  }
+  if (!verdict(r, last_error_)) return false;
   const double sim_period = sim_period_.load();
   if (getPeriod() > 0.0 && std::fabs(getPeriod() - sim_period) > 1e-9)
     RTT::log(RTT::Warning) << getName() << ": activity period " << getPeriod() << " s differs from the scene's physics step "
                            << sim_period << " s: simulated time runs at " << sim_period / getPeriod()
                            << " x wall time" << RTT::endlog();
-  last_error_.clear();
   // Preallocate the output samples (fixed-size types).
   forces_ = world_.pad().trueTaxelForces();
   pose_out_.setDataSample(world_.state().flange_g);

@@ -90,16 +90,11 @@ bool SimClock::configureHook() {
     if (!servo_status_) r = ConfigResult::failure("peer '" + servo_name_ + "' has no int attribute last_status (tactile::ServoComponent)");
     else if (!sim_status_) r = ConfigResult::failure("peer '" + robot_name_ + "' has no int attribute sim_status (tactile::LwrSimComponent)");
   }
-  if (!r) {
-    last_error_ = r.message();
-    RTT::log(RTT::Error) << getName() << ": " << last_error_ << RTT::endlog();
-    return false;
-  }
+  if (!verdict(r, last_error_)) return false;
   end_.configure(scene.rates);
   // With a WTS transfer delay the sensor delivers frames between acquisitions:
   // it runs every tick (it acquires only on new taxel forces).
   sensor_every_tick_ = scene.sensor_effects.wts_transfer_delay_s > 0.0;
-  last_error_.clear();
   return true;
 }
 

@@ -59,12 +59,7 @@ bool WtsSimComponent::configureHook() {
     r = response_.configure(rp);
     if (!r) r = ConfigResult::failure(scene_file_ + ": sensor: " + r.message());
   }
-  if (!r) {
-    last_error_ = r.message();
-    RTT::log(RTT::Error) << getName() << ": " << last_error_ << RTT::endlog();
-    return false;
-  }
-  last_error_.clear();
+  if (!verdict(r, last_error_)) return false;
   raw_ = RawTactileFrame();
   raw_.rows = static_cast<uint16_t>(scene.calibration.rows);
   raw_.cols = static_cast<uint16_t>(scene.calibration.cols);

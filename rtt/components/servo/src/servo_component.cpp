@@ -81,12 +81,7 @@ bool ServoComponent::configureHook() {
   // dt of the first cycle: `period`, else the activity period (1 ms without one).
   if (r && !(period_ >= 0.0 && period_ <= 10.0)) r = rangeError("period", period_, "must be in [0, 10] s (0: the activity's)");
   if (r) r = stage_.configure(p, period_ > 0.0 ? period_ : getPeriod() > 0.0 ? getPeriod() : 1e-3);
-  if (!r) {
-    last_error_ = r.message();
-    RTT::log(RTT::Error) << getName() << ": " << last_error_ << RTT::endlog();
-    return false;
-  }
-  last_error_.clear();
+  if (!verdict(r, last_error_)) return false;
   mode_in_use_ = toString(p.mode);
   features_ = ContactFeatures();
   out_ = ServoOutput();

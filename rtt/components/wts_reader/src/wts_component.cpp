@@ -53,12 +53,7 @@ bool WtsComponent::configureHook() {
   if (r && !(poll_timeout_ > 0.0 && poll_timeout_ <= 1.0)) r = rangeError("poll_timeout", poll_timeout_, "(0, 1] s");
   if (r && !(stop_timeout_ >= 1.0 && stop_timeout_ <= 60.0)) r = rangeError("stop_timeout", stop_timeout_, "[1, 60] s");
   if (r) r = driver_.configure(p);
-  if (!r) {
-    last_error_ = r.message();
-    RTT::log(RTT::Error) << getName() << ": " << last_error_ << RTT::endlog();
-    return false;
-  }
-  last_error_.clear();
+  if (!verdict(r, last_error_)) return false;
   raw_ = RawTactileFrame();
   raw_.rows = static_cast<uint16_t>(p.cells.rows);
   raw_.cols = static_cast<uint16_t>(p.cells.cols);

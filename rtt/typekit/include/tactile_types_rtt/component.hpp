@@ -20,6 +20,8 @@
 #include <rtt/extras/SlaveActivity.hpp>
 #include <rtt/os/MainThread.hpp>
 
+#include "tactile_types/config_result.hpp"
+
 namespace tactile {
 
 class Component : public RTT::TaskContext {
@@ -36,6 +38,20 @@ class Component : public RTT::TaskContext {
   bool cleanup() override { return ordered([this] { return RTT::TaskContext::cleanup(); }); }
 
  protected:
+  /// A configuring hook's verdict on `r`: a failure's message goes to
+  /// `last_error` (the component's lastError()) and to the log, and it is
+  /// false; a success clears `last_error`. Hooks outside updateHook() only
+  /// (it logs).
+  bool verdict(const ConfigResult& r, std::string& last_error) const {
+    if (r) {
+      last_error.clear();
+      return true;
+    }
+    last_error = r.message();
+    RTT::log(RTT::Error) << getName() << ": " << last_error << RTT::endlog();
+    return false;
+  }
+
   /// Every derived destructor's first statement (after its own stop(), if any):
   /// stops the activity while the derived members (ports, cores)
   /// still exist. RTT stops a component's activity only in ~TaskContext,
