@@ -66,7 +66,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path normal(const fs::path& p) { return fs::weakly_canonical(fs::absolute(p)); }
+// The path made absolute and canonical as far as it exists (lexically
+// normal where the file system cannot answer: no exception escapes).
+fs::path normal(const fs::path& p) {
+  std::error_code ec;
+  fs::path abs = fs::absolute(p, ec);
+  if (ec) abs = p;
+  const fs::path c = fs::weakly_canonical(abs, ec);
+  return ec ? abs.lexically_normal() : c;
+}
 
 // The program of the experiments whose scene is `scene`; an error when two differ.
 ConfigResult programOfExperiments(const YAML::Node& all, const std::string& registry, const fs::path& dir,
@@ -112,7 +120,8 @@ ConfigResult programForScene(const std::string& registry_file, const std::string
   YAML::Node root;
   ConfigResult r = loadFile(registry_file, root);
   if (!r) return r;
-  const fs::path dir = fs::absolute(fs::path(registry_file)).parent_path();
+  std::error_code ec;
+  const fs::path dir = fs::absolute(fs::path(registry_file), ec).parent_path();
   const fs::path scene = normal(scene_file);
   std::optional<fs::path> found;
   try {
